@@ -1,0 +1,40 @@
+"""pfeie: partitioned finite element / interface element dynamics of jointed structures.
+
+The public API is flat; the subpackages mirror the method:
+
+- :mod:`pfeie.mesh` — meshes and structured generators;
+- :mod:`pfeie.element` — reference elements and quadrature;
+- :mod:`pfeie.assembly` — vectorised element kernels and sparse assembly;
+- :mod:`pfeie.model` — physics objects (materials, blocks, supports, loads) and the model;
+- :mod:`pfeie.solvers` — sparse factorisations, statics, modal analysis;
+- :mod:`pfeie.dynamics` — Newmark / HHT-α time integration.
+
+A whole analysis:
+
+>>> import pfeie as pf
+>>> mesh = pf.rectangle(10.0, 1.0, 40, 4, cell="quad8")
+>>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(E=30e9, nu=0.2, rho=2400))])
+>>> model.fix("xmin")
+>>> model.add_gravity()
+>>> tip = pf.solve_static(model).u[model.nearest_node([10.0, 0.5]), 1]
+>>> bool(tip < 0)
+True
+"""
+
+import logging
+
+from ._version import __version__
+from .dynamics import History, Newmark, State
+from .errors import MechanismError, MeshError, ModelError, PfeieError, SolverError
+from .mesh import Mesh, box, graded, rectangle
+from .model import Block, Elastic, Model, Rayleigh
+from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+__all__ = [
+    "Block", "Elastic", "History", "MechanismError", "Mesh", "MeshError", "ModalResult",
+    "Model", "ModelError", "Newmark", "PfeieError", "Rayleigh", "SolverError", "State",
+    "StaticResult", "__version__", "box", "factorize", "graded", "modal", "rectangle",
+    "solve_static",
+]  # fmt: skip

@@ -1,0 +1,24 @@
+"""Finite element machinery: vectorised kernels and sparse assembly (no physics objects)."""
+
+from ._kernels import (
+    CellValues,
+    FacetValues,
+    cell_values,
+    facet_load,
+    facet_values,
+    load,
+    lump_hrz,
+    mass_degree,
+    scalar_mass,
+    stiffness,
+    stiffness_degree,
+    strain,
+    stress,
+)
+from ._sparse import assemble_matrix, assemble_vector, element_dofs
+
+__all__ = [
+    "CellValues", "FacetValues", "assemble_matrix", "assemble_vector", "cell_values",
+    "element_dofs", "facet_load", "facet_values", "load", "lump_hrz", "mass_degree",
+    "scalar_mass", "stiffness", "stiffness_degree", "strain", "stress",
+]  # fmt: skip

@@ -1,0 +1,27 @@
+"""Typed exceptions of pfeie.
+
+Every error that a user can cause derives from :class:`PfeieError`, so that a driver
+(the command line, a batch over many records) can tell a modelling mistake from a bug.
+"""
+
+from __future__ import annotations
+
+
+class PfeieError(Exception):
+    """Base class of all errors raised by pfeie on purpose."""
+
+
+class MeshError(PfeieError):
+    """A mesh is malformed, or names a group it does not have."""
+
+
+class ModelError(PfeieError):
+    """A model is inconsistent: unknown group, bad material, bad load or support."""
+
+
+class MechanismError(PfeieError):
+    """The stiffness is singular: some part of the model can move without resistance."""
+
+
+class SolverError(PfeieError):
+    """A linear or eigenvalue solver failed or is unavailable."""

@@ -1,0 +1,270 @@
+"""The in-memory mesh: points, cells by type, named cell groups and named facet groups.
+
+The type maps one to one onto :class:`meshio.Mesh`: cells are meshio cell blocks (one per
+cell type, meshio's names and node orders); a cell group is a meshio ``cell_set`` over the
+volume blocks; a facet group is a set of lower-dimensional cell blocks (lines in 2D,
+triangles or quads in 3D) with a ``cell_set`` of the same name. Groups of gmsh physical
+names arrive as such ``cell_sets``.
+
+Sign convention: the facets of a facet group carry no trusted orientation; where a normal
+is needed (pressure), it is oriented away from the adjacent cell.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..element import reference
+from ..element._reference import FloatArray, IntArray
+from ..errors import MeshError
+
+
+@dataclass
+class Mesh:
+    """A finite element mesh.
+
+    Parameters
+    ----------
+    points: node coordinates, shape (n_points, dim), dim = 2 or 3.
+    cells: connectivity per cell type, each of shape (n_cells, n_nodes_per_cell).
+    cell_groups: group name → cell type → indices into ``cells[type]``.
+    facet_groups: group name → facet type → facet connectivity (n_facets, n_nodes).
+    """
+
+    points: FloatArray
+    cells: dict[str, IntArray]
+    cell_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
+    facet_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.points = np.ascontiguousarray(self.points, dtype=float)
+        if self.points.ndim != 2 or self.points.shape[1] not in (2, 3):
+            raise MeshError(f"points must have shape (n, 2) or (n, 3), got {self.points.shape}")
+        self.cells = {k: np.ascontiguousarray(v, dtype=np.int64) for k, v in self.cells.items()}
+        for ctype, conn in self.cells.items():
+            ref = reference(ctype)
+            if ref.dim != self.dim:
+                raise MeshError(f"cell type {ctype!r} has dimension {ref.dim}, mesh is {self.dim}D")
+            if conn.ndim != 2 or conn.shape[1] != ref.n_nodes:
+                raise MeshError(f"cells {ctype!r} need {ref.n_nodes} nodes each, got {conn.shape}")
+            if conn.size and (conn.min() < 0 or conn.max() >= self.n_points):
+                raise MeshError(f"cells {ctype!r} refer to nodes outside 0..{self.n_points - 1}")
+        for name, grp in self.cell_groups.items():
+            for ctype, idx in grp.items():
+                if ctype not in self.cells:
+                    raise MeshError(f"cell group {name!r} refers to absent cell type {ctype!r}")
+                grp[ctype] = np.asarray(idx, dtype=np.int64)
+        for name, fgrp in self.facet_groups.items():
+            for ftype, conn in fgrp.items():
+                if reference(ftype).dim != self.dim - 1:
+                    raise MeshError(f"facet group {name!r}: {ftype!r} is not a facet type")
+                fgrp[ftype] = np.asarray(conn, dtype=np.int64)
+
+    @property
+    def dim(self) -> int:
+        return int(self.points.shape[1])
+
+    @property
+    def n_points(self) -> int:
+        return int(self.points.shape[0])
+
+    @property
+    def n_cells(self) -> int:
+        return int(sum(c.shape[0] for c in self.cells.values()))
+
+    def cell_group(self, name: str) -> dict[str, IntArray]:
+        """Cells of a named group, by type; a clear error lists the groups there are."""
+        if name not in self.cell_groups:
+            raise MeshError(
+                f"no cell group {name!r}; the mesh has: {sorted(self.cell_groups) or 'none'}"
+            )
+        return self.cell_groups[name]
+
+    def facet_group(self, name: str) -> dict[str, IntArray]:
+        """Facets of a named group, by type; a clear error lists the groups there are."""
+        if name not in self.facet_groups:
+            raise MeshError(
+                f"no facet group {name!r}; the mesh has: {sorted(self.facet_groups) or 'none'}"
+            )
+        return self.facet_groups[name]
+
+    def group_nodes(self, name: str) -> IntArray:
+        """Sorted unique node indices of a facet group or a cell group."""
+        if name in self.facet_groups:
+            parts = [c.ravel() for c in self.facet_groups[name].values()]
+        elif name in self.cell_groups:
+            parts = [self.cells[t][i].ravel() for t, i in self.cell_groups[name].items()]
+        else:
+            raise MeshError(
+                f"no group {name!r}; cell groups: {sorted(self.cell_groups) or 'none'}, "
+                f"facet groups: {sorted(self.facet_groups) or 'none'}"
+            )
+        return np.unique(np.concatenate(parts)) if parts else np.zeros(0, dtype=np.int64)
+
+    def add_cell_group(
+        self, name: str, where: Callable[[FloatArray], Any] | None = None
+    ) -> dict[str, IntArray]:
+        """Add a cell group of the cells whose centroid satisfies ``where(x)``.
+
+        ``where`` receives centroids of shape (n, dim) and returns a boolean mask; ``None``
+        selects every cell.
+        """
+        grp: dict[str, IntArray] = {}
+        for ctype, conn in self.cells.items():
+            if where is None:
+                grp[ctype] = np.arange(conn.shape[0])
+                continue
+            mask = np.asarray(where(self.points[conn].mean(axis=1)), dtype=bool)
+            grp[ctype] = np.flatnonzero(mask)
+        self.cell_groups[name] = grp
+        return grp
+
+    def add_facet_group(
+        self, name: str, where: Callable[[FloatArray], Any], boundary_only: bool = True
+    ) -> dict[str, IntArray]:
+        """Add a facet group of the (boundary) facets whose centroid satisfies ``where(x)``."""
+        grp: dict[str, IntArray] = {}
+        for ftype, conn in self.facets(boundary_only=boundary_only).items():
+            mask = np.asarray(where(self.points[conn].mean(axis=1)), dtype=bool)
+            if mask.any():
+                grp[ftype] = conn[mask]
+        self.facet_groups[name] = grp
+        return grp
+
+    def facets(self, boundary_only: bool = True) -> dict[str, IntArray]:
+        """All facets (or those on the boundary: owned by exactly one cell), by type."""
+        out: dict[str, list[IntArray]] = {}
+        for ftype, conn, _, _, _, count in self._facet_table():
+            keep = conn if not boundary_only else conn[count == 1]
+            out.setdefault(ftype, []).append(keep)
+        return {k: np.concatenate(v) for k, v in out.items()}
+
+    def facet_cells(self, ftype: str, facets: IntArray) -> tuple[str, IntArray]:
+        """The cell type and the index of one cell adjacent to each facet."""
+        keys = _corner_keys(facets, ftype)
+        for table in self._facet_table():
+            if table[0] != ftype:
+                continue
+            at, found = _lookup(table[3], keys)
+            if found.all():
+                return table[4], table[2][at]
+        raise MeshError(f"some facets of type {ftype!r} are not faces of any cell of the mesh")
+
+    def _facet_table(self) -> list[tuple[str, IntArray, IntArray, IntArray, str, IntArray]]:
+        """Per cell type: (facet type, facet connectivity, owner cell, sorted corner keys,
+        cell type, multiplicity of each facet over the whole mesh)."""
+        parts = []
+        for ctype, conn in self.cells.items():
+            ref = reference(ctype)
+            fconn = conn[:, np.asarray(ref.facets)].reshape(-1, len(ref.facets[0]))
+            owner = np.repeat(np.arange(conn.shape[0]), len(ref.facets))
+            parts.append((ref.facet_type, fconn, owner, _corner_keys(fconn, ref.facet_type), ctype))
+        out = []
+        for width in {p[3].shape[1] for p in parts}:
+            same = [p for p in parts if p[3].shape[1] == width]
+            pool = np.concatenate([p[3] for p in same])
+            _, inv, counts = np.unique(pool, axis=0, return_inverse=True, return_counts=True)
+            mult = counts[inv.ravel()]
+            start = 0
+            for p in same:
+                n = p[3].shape[0]
+                out.append((*p, mult[start : start + n]))
+                start += n
+        return out
+
+    # -- meshio ---------------------------------------------------------------------------
+    def to_meshio(self) -> Any:
+        """The same mesh as a :class:`meshio.Mesh` (cell blocks, then facet blocks)."""
+        import meshio
+
+        blocks: list[tuple[str, IntArray]] = list(self.cells.items())
+        cell_sets: dict[str, list[IntArray]] = {}
+        ctypes = list(self.cells)
+        facet_blocks: list[tuple[str, str]] = []
+        for gname, fgrp in self.facet_groups.items():
+            for ftype, conn in fgrp.items():
+                blocks.append((ftype, conn))
+                facet_blocks.append((gname, ftype))
+        for gname, grp in self.cell_groups.items():
+            sets = [np.asarray(grp.get(t, np.zeros(0, np.int64))) for t in ctypes]
+            sets += [np.zeros(0, np.int64) for _ in facet_blocks]
+            cell_sets[gname] = sets
+        for i, (gname, _) in enumerate(facet_blocks):
+            sets = [np.zeros(0, np.int64) for _ in ctypes]
+            for j, (g2, _) in enumerate(facet_blocks):
+                n = blocks[len(ctypes) + j][1].shape[0]
+                sets.append(np.arange(n) if (g2 == gname and j == i) else np.zeros(0, np.int64))
+            if gname in cell_sets:
+                raise MeshError(f"name {gname!r} is both a cell group and a facet group")
+            prev = cell_sets.get(gname)
+            cell_sets[gname] = (
+                sets
+                if prev is None
+                else [np.union1d(a, b) for a, b in zip(prev, sets, strict=True)]
+            )
+        return meshio.Mesh(self.points, blocks, cell_sets=cell_sets)
+
+    @classmethod
+    def from_meshio(cls, m: Any, dim: int | None = None) -> Mesh:
+        """Build a mesh from a :class:`meshio.Mesh` whose ``cell_sets`` name the groups.
+
+        Blocks of the top dimension are cells; blocks one dimension lower are facets,
+        which belong to the facet groups whose ``cell_sets`` select them.
+        """
+        dims = [reference(b.type).dim for b in m.cells]
+        top = max(dims) if dim is None else dim
+        points = np.asarray(m.points, dtype=float)[:, :top]
+        cells: dict[str, list[IntArray]] = {}
+        offsets: list[int] = []
+        for b, d in zip(m.cells, dims, strict=True):
+            if d == top:
+                prev = sum(c.shape[0] for c in cells.get(b.type, []))
+                offsets.append(prev)
+                cells.setdefault(b.type, []).append(np.asarray(b.data))
+            else:
+                offsets.append(0)
+        cgroups: dict[str, dict[str, IntArray]] = {}
+        fgroups: dict[str, dict[str, IntArray]] = {}
+        for name, sets in getattr(m, "cell_sets", {}).items():
+            for b, d, off, idx in zip(m.cells, dims, offsets, sets, strict=True):
+                idx = np.asarray(idx, dtype=np.int64)
+                if idx.size == 0:
+                    continue
+                if d == top:
+                    g = cgroups.setdefault(name, {})
+                    g[b.type] = np.concatenate([g.get(b.type, np.zeros(0, np.int64)), idx + off])
+                elif d == top - 1:
+                    f = fgroups.setdefault(name, {})
+                    data = np.asarray(b.data)[idx]
+                    f[b.type] = np.concatenate([f[b.type], data]) if b.type in f else data
+        return cls(points, {k: np.concatenate(v) for k, v in cells.items()}, cgroups, fgroups)
+
+
+def _corner_keys(conn: IntArray, ftype: str) -> IntArray:
+    """Sorted corner node ids of facets: a key equal for the two sides of a facet."""
+    ncorner = reference(reference(ftype).linear).n_nodes
+    return np.sort(conn[:, :ncorner], axis=1)
+
+
+def _lookup(table: IntArray, keys: IntArray) -> tuple[IntArray, np.ndarray]:
+    """Row index in ``table`` of each row of ``keys`` (first match) and a found-mask."""
+    both = np.concatenate([table, keys])
+    _, inv = np.unique(both, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    first = np.full(inv.max() + 1, -1, dtype=np.int64)
+    first[inv[: table.shape[0]][::-1]] = np.arange(table.shape[0])[::-1]
+    found_at = first[inv[table.shape[0] :]]
+    return found_at, found_at >= 0
+
+
+def merge_groups(groups: Iterable[Mapping[str, IntArray]]) -> dict[str, IntArray]:
+    """Union of several by-type index or connectivity maps."""
+    out: dict[str, list[IntArray]] = {}
+    for g in groups:
+        for k, v in g.items():
+            out.setdefault(k, []).append(v)
+    return {k: np.concatenate(v) for k, v in out.items()}

@@ -1,0 +1,460 @@
+"""The model: a mesh cut into blocks, with supports and loads, and its discrete operators.
+
+A :class:`Model` turns the physics objects of :mod:`pfeie.model._physics` into the
+matrices of the semi-discrete equations of motion
+
+    M ü + C u̇ + K u = f(t),      u = ū on prescribed DOFs,
+
+with global DOFs numbered node-major (``dof = node · dim + component``). The operators
+on the free DOFs are handed to solvers and time integrators through
+:class:`LinearSystem`, which knows nothing of meshes.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import assembly as asm
+from ..element import quadrature, reference
+from ..element._reference import FloatArray, IntArray
+from ..errors import ModelError
+from ..mesh import Mesh
+from ._physics import Amplitude, Block, Load, Rayleigh, Support, VectorField
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class _CellSet:
+    """The cells of one type that belong to blocks, with per-cell material data."""
+
+    cell_type: str
+    conn: IntArray
+    lam: FloatArray
+    mu: FloatArray
+    rho: FloatArray
+    block: IntArray  # index of the owning block per cell
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """M, C, K and loads restricted to the free DOFs, and the maps to full vectors.
+
+    ``C`` is None for an undamped model. ``load(t)`` returns the free-DOF load vector
+    f_f(t) − K_fp ū − (C_fp, M_fp terms vanish: prescribed values are constant).
+    """
+
+    M: sp.csr_matrix
+    K: sp.csr_matrix
+    C: sp.csr_matrix | None
+    free: IntArray
+    n_dof: int
+    prescribed: IntArray
+    prescribed_values: FloatArray
+    _patterns: FloatArray
+    _amplitudes: tuple[Amplitude | None, ...]
+    _constant: FloatArray
+
+    @property
+    def n(self) -> int:
+        return int(self.free.size)
+
+    def load(self, t: float) -> FloatArray:
+        """Free-DOF load vector at time t (N)."""
+        if not self._amplitudes:
+            return self._constant.copy()
+        amps = np.array([1.0 if a is None else float(a(t)) for a in self._amplitudes])
+        return self._constant + self._patterns @ amps
+
+    def expand(self, x_free: FloatArray, prescribed: bool = True) -> FloatArray:
+        """Full DOF vector from a free-DOF vector (prescribed DOFs at their values or 0)."""
+        out = np.zeros(self.n_dof) if x_free.ndim == 1 else np.zeros((self.n_dof, x_free.shape[1]))
+        out[self.free] = x_free
+        if prescribed and x_free.ndim == 1:
+            out[self.prescribed] = self.prescribed_values
+        return out
+
+
+class Model:
+    """Blocks of a mesh with supports and loads.
+
+    Parameters
+    ----------
+    mesh: the mesh; each block names one of its cell groups.
+    blocks: the blocks; every cell used must belong to exactly one block.
+    plane: "strain" or "stress", the 2D hypothesis (ignored in 3D).
+    thickness: out-of-plane thickness in 2D (m); forces are then per this thickness.
+    damping: Rayleigh damping of the whole model, or None.
+
+    Example
+    -------
+    >>> import pfeie as pf
+    >>> mesh = pf.rectangle(4.0, 1.0, 8, 2)
+    >>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(E=1e9, nu=0.25, rho=2000))])
+    >>> model.fix("xmin")
+    >>> model.add_gravity()
+    >>> round(float(-model.load_vector().sum() / 9.81), 6)  # total weight / g = mass, kg
+    8000.0
+    """
+
+    def __init__(
+        self,
+        mesh: Mesh,
+        blocks: Sequence[Block],
+        *,
+        plane: str = "strain",
+        thickness: float = 1.0,
+        damping: Rayleigh | None = None,
+    ) -> None:
+        if plane not in ("strain", "stress"):
+            raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
+        if not thickness > 0:
+            raise ModelError(f"thickness must be > 0 m, got {thickness}")
+        if not blocks:
+            raise ModelError("a model needs at least one block")
+        names = [b.name for b in blocks]
+        if len(set(names)) != len(names):
+            raise ModelError(f"block names must be unique, got {names}")
+        self.mesh = mesh
+        self.blocks = list(blocks)
+        self.plane = plane
+        self.thickness = thickness if mesh.dim == 2 else 1.0
+        self.damping = damping
+        self.supports: list[Support] = []
+        self.loads: list[Load] = []
+        self._cellsets = self._collect_cells()
+
+    # -- topology -------------------------------------------------------------------------
+    @property
+    def dim(self) -> int:
+        return self.mesh.dim
+
+    @property
+    def n_dof(self) -> int:
+        return self.mesh.n_points * self.dim
+
+    def _collect_cells(self) -> list[_CellSet]:
+        owner: dict[str, IntArray] = {
+            t: np.full(c.shape[0], -1, dtype=np.int64) for t, c in self.mesh.cells.items()
+        }
+        for ib, blk in enumerate(self.blocks):
+            try:
+                grp = self.mesh.cell_group(blk.cell_group)
+            except Exception as exc:
+                raise ModelError(f"block {blk.name!r}: {exc}") from None
+            for ctype, idx in grp.items():
+                clash = owner[ctype][idx] >= 0
+                if clash.any():
+                    other = self.blocks[int(owner[ctype][idx][clash][0])].name
+                    raise ModelError(
+                        f"block {blk.name!r} shares {int(clash.sum())} {ctype} cell(s) "
+                        f"with block {other!r}; a cell belongs to one block"
+                    )
+                owner[ctype][idx] = ib
+        lame = np.array([b.material.lame(self.dim, self.plane) for b in self.blocks])
+        rho = np.array([b.material.rho for b in self.blocks])
+        sets = []
+        for ctype, conn in self.mesh.cells.items():
+            which = owner[ctype]
+            if np.any(which < 0):
+                log.info("%d %s cell(s) belong to no block: ignored", (which < 0).sum(), ctype)
+            keep = np.flatnonzero(which >= 0)
+            if keep.size == 0:
+                continue
+            b = which[keep]
+            sets.append(_CellSet(ctype, conn[keep], lame[b, 0], lame[b, 1], rho[b], b))
+        return sets
+
+    @cached_property
+    def active_nodes(self) -> IntArray:
+        """Nodes used by at least one block cell."""
+        return np.unique(np.concatenate([s.conn.ravel() for s in self._cellsets]))
+
+    def block_nodes(self, name: str) -> IntArray:
+        """Nodes of one block."""
+        ib = [b.name for b in self.blocks].index(name)
+        return np.unique(np.concatenate([s.conn[s.block == ib].ravel() for s in self._cellsets]))
+
+    def _nodes(self, where: str | Iterable[int] | IntArray) -> tuple[IntArray, str]:
+        if isinstance(where, str):
+            try:
+                return self.mesh.group_nodes(where), where
+            except Exception as exc:
+                raise ModelError(str(exc)) from None
+        seq = where if isinstance(where, np.ndarray) else list(where)
+        nodes = np.unique(np.asarray(seq, dtype=np.int64))
+        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.mesh.n_points):
+            raise ModelError(f"node indices must lie in 0..{self.mesh.n_points - 1}")
+        return nodes, f"{nodes.size} node(s)"
+
+    def nodes_at(self, where: Callable[[FloatArray], Any]) -> IntArray:
+        """Indices of the nodes whose coordinates (n, dim) satisfy ``where``."""
+        return np.flatnonzero(np.asarray(where(self.mesh.points), dtype=bool))
+
+    def nearest_node(self, x: Sequence[float]) -> int:
+        """Index of the node nearest to a point."""
+        d = np.linalg.norm(self.mesh.points - np.asarray(x, dtype=float), axis=1)
+        return int(np.argmin(d))
+
+    # -- supports and loads ---------------------------------------------------------------
+    def fix(
+        self,
+        where: str | Iterable[int] | IntArray,
+        components: Sequence[int] | int | None = None,
+        value: float = 0.0,
+    ) -> None:
+        """Prescribe displacement ``value`` (m) on ``components`` (default: all) of the
+        nodes of a facet or cell group, or of given node indices."""
+        nodes, label = self._nodes(where)
+        comps = tuple(range(self.dim)) if components is None else tuple(np.atleast_1d(components))
+        if any(c < 0 or c >= self.dim for c in comps):
+            raise ModelError(f"fix {label}: components must lie in 0..{self.dim - 1}")
+        self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
+        self.__dict__.pop("_dofmap", None)
+
+    def add_gravity(
+        self,
+        g: float = 9.81,
+        direction: Sequence[float] | None = None,
+        amplitude: Amplitude | None = None,
+    ) -> None:
+        """Self-weight ρ g along ``direction`` (default −y in 2D, −z in 3D)."""
+        e = np.zeros(self.dim)
+        e[-1] = -1.0
+        if direction is not None:
+            e = np.asarray(direction, dtype=float)
+            e = e / np.linalg.norm(e)
+        self.loads.append(Load("gravity", None, g * e, amplitude))
+
+    def add_body_force(
+        self,
+        value: VectorField,
+        amplitude: Amplitude | None = None,
+        blocks: Sequence[str] | None = None,
+    ) -> None:
+        """A body force density (N/m³): a vector, or a function of points (..., d)."""
+        self.loads.append(Load("body", None, value, amplitude,
+                               blocks=None if blocks is None else tuple(blocks)))  # fmt: skip
+
+    def add_traction(
+        self, group: str, value: VectorField, amplitude: Amplitude | None = None
+    ) -> None:
+        """A traction (N/m²) on a facet group: a vector or a function of points."""
+        self.mesh.facet_group(group)
+        self.loads.append(Load("traction", group, value, amplitude))
+
+    def add_pressure(
+        self,
+        group: str,
+        value: float | Callable[[FloatArray], FloatArray],
+        amplitude: Amplitude | None = None,
+    ) -> None:
+        """A pressure (Pa, positive pushing into the body) on a facet group."""
+        self.mesh.facet_group(group)
+        self.loads.append(Load("pressure", group, value, amplitude))
+
+    def add_nodal_force(
+        self,
+        nodes: Iterable[int] | IntArray,
+        value: Sequence[float],
+        amplitude: Amplitude | None = None,
+    ) -> None:
+        """A force (N) applied at each of the given nodes."""
+        idx, _ = self._nodes(nodes)
+        self.loads.append(Load("nodal", None, np.asarray(value, dtype=float), amplitude, idx))
+
+    # -- discrete operators ---------------------------------------------------------------
+    def _values(self, cs: _CellSet, degree: int) -> asm.CellValues:
+        return asm.cell_values(self.mesh.points, cs.cell_type, cs.conn, degree, self.thickness)
+
+    def stiffness(self) -> sp.csr_matrix:
+        """Global stiffness K (n_dof × n_dof, N/m)."""
+        return self._assemble(
+            lambda cs: asm.stiffness(
+                self._values(cs, asm.stiffness_degree(cs.cell_type)), cs.lam, cs.mu
+            )
+        )
+
+    def mass(self, lumped: bool = False) -> sp.csr_matrix:
+        """Global mass M (kg): consistent, or HRZ-lumped (diagonal) when ``lumped``."""
+        n = self.n_dof
+        if lumped:
+            diag = np.zeros(n)
+            for cs in self._cellsets:
+                me = asm.scalar_mass(self._values(cs, asm.mass_degree(cs.cell_type)), cs.rho)
+                ml = asm.lump_hrz(me)
+                dofs = asm.element_dofs(cs.conn, self.dim)
+                diag += asm.assemble_vector(dofs, np.repeat(ml, self.dim, axis=1), n)
+            return sp.diags(diag, format="csr")
+
+        def block(cs: _CellSet) -> FloatArray:
+            me = asm.scalar_mass(self._values(cs, asm.mass_degree(cs.cell_type)), cs.rho)
+            return np.einsum("cab,ij->caibj", me, np.eye(self.dim)).reshape(
+                me.shape[0], me.shape[1] * self.dim, -1
+            )
+
+        return self._assemble(block)
+
+    def _assemble(self, kernel: Callable[[_CellSet], FloatArray]) -> sp.csr_matrix:
+        total: sp.csr_matrix | None = None
+        for cs in self._cellsets:
+            m = asm.assemble_matrix(asm.element_dofs(cs.conn, self.dim), kernel(cs), self.n_dof)
+            total = m if total is None else total + m
+        assert total is not None
+        return total
+
+    def load_patterns(self) -> tuple[FloatArray, list[Amplitude | None]]:
+        """Spatial load vectors (n_dof, n_loads) and their amplitudes."""
+        cols = [self._load_vector(ld) for ld in self.loads]
+        pats = np.stack(cols, axis=1) if cols else np.zeros((self.n_dof, 0))
+        return pats, [ld.amplitude for ld in self.loads]
+
+    def load_vector(self, t: float = 0.0) -> FloatArray:
+        """The total load vector f(t) (N) on all DOFs."""
+        pats, amps = self.load_patterns()
+        a = np.array([1.0 if f is None else float(f(t)) for f in amps])
+        return pats @ a if a.size else np.zeros(self.n_dof)
+
+    def _load_vector(self, ld: Load) -> FloatArray:
+        n, d = self.n_dof, self.dim
+        f = np.zeros(n)
+        if ld.kind in ("gravity", "body"):
+            names = [b.name for b in self.blocks]
+            for cs in self._cellsets:
+                cv = self._values(cs, asm.mass_degree(cs.cell_type) + 2)
+                vals = _field(ld.value, cv.x)
+                if ld.kind == "gravity":
+                    vals = vals * cs.rho[:, None, None]
+                if ld.blocks is not None:
+                    mask = np.isin(np.asarray(names)[cs.block], ld.blocks)
+                    vals = vals * mask[:, None, None]
+                fe = asm.load(cv, vals).reshape(cs.conn.shape[0], -1)
+                f += asm.assemble_vector(asm.element_dofs(cs.conn, d), fe, n)
+        elif ld.kind in ("traction", "pressure"):
+            assert ld.target is not None
+            for ftype, conn in self.mesh.facet_group(ld.target).items():
+                fv = asm.facet_values(self.mesh.points, ftype, conn,
+                                      2 * reference(ftype).degree + 2, self.thickness)  # fmt: skip
+                if ld.kind == "traction":
+                    tr = _field(ld.value, fv.x)
+                else:
+                    outward = self._outward(ftype, conn, fv)
+                    p = _scalar_field(ld.value, fv.x)
+                    tr = -p[..., None] * fv.normal * outward[:, None, None]
+                fe = asm.facet_load(fv, tr).reshape(conn.shape[0], -1)
+                f += asm.assemble_vector(asm.element_dofs(conn, d), fe, n)
+        elif ld.kind == "nodal":
+            assert ld.nodes is not None
+            vec = np.asarray(ld.value, dtype=float)
+            if vec.shape != (d,):
+                raise ModelError(f"nodal force needs {d} components, got {vec.shape}")
+            f.reshape(-1, d)[ld.nodes] += vec
+        return f
+
+    def _outward(self, ftype: str, conn: IntArray, fv: asm.FacetValues) -> FloatArray:
+        """+1 where the facet normal points out of its adjacent cell, −1 otherwise."""
+        ctype, cell = self.mesh.facet_cells(ftype, conn)
+        centre = self.mesh.points[self.mesh.cells[ctype][cell]].mean(axis=1)
+        side = np.einsum("fd,fd->f", fv.x.mean(axis=1) - centre, fv.normal.mean(axis=1))
+        return np.where(side >= 0.0, 1.0, -1.0)
+
+    @cached_property
+    def _dofmap(self) -> tuple[IntArray, IntArray, FloatArray]:
+        d = self.dim
+        values = np.full(self.n_dof, np.nan)
+        inactive = np.setdiff1d(np.arange(self.mesh.n_points), self.active_nodes)
+        values.reshape(-1, d)[inactive] = 0.0
+        for s in self.supports:
+            for c in s.components:
+                values.reshape(-1, d)[s.nodes, c] = s.value
+        prescribed = np.flatnonzero(~np.isnan(values))
+        free = np.flatnonzero(np.isnan(values))
+        return free, prescribed, values[prescribed]
+
+    def system(self, lumped_mass: bool = False) -> LinearSystem:
+        """The operators restricted to the free DOFs, for solvers and integrators."""
+        free, pres, pval = self._dofmap
+        K = self.stiffness()
+        M = self.mass(lumped=lumped_mass)
+        pats, amps = self.load_patterns()
+        Kff = K[free][:, free].tocsr()
+        shift = -(K[free][:, pres] @ pval) if pres.size else np.zeros(free.size)
+        constant = shift + pats[free][:, [a is None for a in amps]].sum(axis=1)
+        varying = [i for i, a in enumerate(amps) if a is not None]
+        C = None
+        if self.damping is not None and (self.damping.alpha or self.damping.beta):
+            C = (self.damping.alpha * M + self.damping.beta * K)[free][:, free].tocsr()
+        return LinearSystem(
+            M=M[free][:, free].tocsr(), K=Kff, C=C, free=free, n_dof=self.n_dof,
+            prescribed=pres, prescribed_values=pval, _patterns=pats[free][:, varying],
+            _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
+        )  # fmt: skip
+
+    # -- post-processing ------------------------------------------------------------------
+    def stress(self, u: FloatArray) -> dict[str, tuple[FloatArray, FloatArray]]:
+        """Stress (c, q, 3, 3) in Pa at the stiffness quadrature points of each cell type,
+        with the points (c, q, d). ``u`` is a full DOF vector or (n_points, d) array."""
+        U = np.asarray(u, dtype=float).reshape(self.mesh.n_points, self.dim)
+        out = {}
+        for cs in self._cellsets:
+            cv = self._values(cs, asm.stiffness_degree(cs.cell_type))
+            sig = asm.stress(asm.strain(cv, U[cs.conn]), cs.lam, cs.mu, self.plane)
+            out[cs.cell_type] = (sig, cv.x)
+        return out
+
+    def nodal_stress(self, u: FloatArray) -> FloatArray:
+        """Nodal stresses (n_points, 3, 3), Pa: per cell, a least-squares fit of the
+        Gauss-point values by the corner (linear) shape functions, evaluated at the
+        nodes, then averaged over the cells sharing each node."""
+        acc = np.zeros((self.mesh.n_points, 9))
+        cnt = np.zeros(self.mesh.n_points)
+        for ctype, (sig, _) in self.stress(u).items():
+            lin = reference(reference(ctype).linear)
+            xi, _ = quadrature(ctype, asm.stiffness_degree(ctype))
+            Nq, _ = lin.shape_functions(xi)
+            Nn, _ = lin.shape_functions(reference(ctype).nodes)
+            extrap = Nn @ np.linalg.pinv(Nq)  # (n, q)
+            conn = next(cs.conn for cs in self._cellsets if cs.cell_type == ctype)
+            nod = np.einsum("nq,cqk->cnk", extrap, sig.reshape(sig.shape[0], sig.shape[1], 9))
+            for k in range(9):
+                acc[:, k] += np.bincount(conn.ravel(), nod[:, :, k].ravel(), self.mesh.n_points)
+            cnt += np.bincount(conn.ravel(), minlength=self.mesh.n_points)
+        return (acc / np.maximum(cnt, 1)[:, None]).reshape(-1, 3, 3)
+
+    def total_mass(self) -> float:
+        """Mass of all blocks (kg; per unit thickness × thickness in 2D)."""
+        total = 0.0
+        for cs in self._cellsets:
+            cv = self._values(cs, asm.mass_degree(cs.cell_type))
+            total += float((cv.dV * cs.rho[:, None]).sum())
+        return total
+
+    def summary(self) -> dict[str, Any]:
+        """Counts that describe the model: blocks, cells, nodes, DOFs."""
+        free, pres, _ = self._dofmap
+        return {
+            "dim": self.dim, "blocks": [b.name for b in self.blocks],
+            "cells": {cs.cell_type: int(cs.conn.shape[0]) for cs in self._cellsets},
+            "nodes": int(self.active_nodes.size), "dof": int(self.n_dof),
+            "free_dof": int(free.size), "prescribed_dof": int(pres.size),
+        }  # fmt: skip
+
+
+def _field(value: VectorField | float, x: FloatArray) -> FloatArray:
+    out = value(x) if callable(value) else np.asarray(value, dtype=float)
+    return np.broadcast_to(np.asarray(out, dtype=float), x.shape)
+
+
+def _scalar_field(value: Any, x: FloatArray) -> FloatArray:
+    out = value(x) if callable(value) else np.asarray(value, dtype=float)
+    return np.broadcast_to(np.asarray(out, dtype=float), x.shape[:-1])
+
+
+__all__ = ["LinearSystem", "Model"]

@@ -1,0 +1,44 @@
+"""Shared helpers for the verification tests."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.element import reference
+
+CELLS_2D = ["triangle", "quad", "triangle6", "quad8", "quad9"]
+CELLS_3D = ["tetra", "hexahedron", "tetra10"]
+
+
+def unit_mesh(cell: str, n: int) -> pf.Mesh:
+    """A unit square or cube of n elements per side."""
+    if cell in CELLS_2D:
+        return pf.rectangle(1.0, 1.0, n, n, cell=cell)
+    return pf.box(1.0, 1.0, 1.0, n, n, n, cell=cell)
+
+
+def distort(mesh: pf.Mesh, amount: float, seed: int = 0) -> pf.Mesh:
+    """Move interior nodes randomly by up to ``amount`` × the smallest spacing."""
+    rng = np.random.default_rng(seed)
+    pts = mesh.points.copy()
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    interior = np.all((pts > lo + 1e-9) & (pts < hi - 1e-9), axis=1)
+    pts[interior] += amount * rng.uniform(-1, 1, size=(interior.sum(), mesh.dim))
+    for ctype, conn in mesh.cells.items():  # straight edges: mid-edge nodes at midpoints
+        ref = reference(ctype)
+        if ref.degree == 1:
+            continue
+        ne = len(ref.edges)
+        nc = ref.n_corners
+        edges = np.asarray(ref.edges)
+        pts[conn[:, nc : nc + ne]] = 0.5 * (pts[conn[:, edges[:, 0]]] + pts[conn[:, edges[:, 1]]])
+        if ref.n_nodes > nc + ne:
+            pts[conn[:, -1]] = pts[conn[:, :nc]].mean(axis=1)
+    return pf.Mesh(pts, mesh.cells, mesh.cell_groups, mesh.facet_groups)
+
+
+@pytest.fixture(params=CELLS_2D + CELLS_3D)
+def cell(request: pytest.FixtureRequest) -> str:
+    return str(request.param)
