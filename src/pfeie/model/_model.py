@@ -275,7 +275,12 @@ class Model:
         return asm.cell_values(self.mesh.points, cs.cell_type, cs.conn, degree, self.thickness)
 
     def stiffness(self) -> sp.csr_matrix:
-        """Global stiffness K (n_dof × n_dof, N/m)."""
+        """Global stiffness K (n_dof × n_dof, N/m); assembled once per model (blocks and
+        materials are fixed at construction)."""
+        return self._stiffness
+
+    @cached_property
+    def _stiffness(self) -> sp.csr_matrix:
         return self._assemble(
             lambda cs: asm.stiffness(
                 self._values(cs, asm.stiffness_degree(cs.cell_type)), cs.lam, cs.mu
