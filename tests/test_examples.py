@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -18,9 +19,10 @@ def test_readme_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
     assert code is not None
     scope: dict[str, object] = {}
     exec(compile(code.group(1), "README.md", "exec"), scope)
-    # Euler-Bernoulli: f1 = 1.8751²/(2π L²) √(EI/(ρA)); L/h = 10 so shear lowers it ~1 %
+    # Euler-Bernoulli: f1 = (β₁L)²/(2π L²) √(EI/(ρA)); L/h = 10 so shear lowers it ~1 %
     E, rho, L, h = 30e9, 2400.0, 10.0, 1.0
-    f_eb = 1.875104**2 / (2 * np.pi * L**2) * np.sqrt(E * h**2 / 12 / rho)
+    beta1 = brentq(lambda x: np.cos(x) * np.cosh(x) + 1, 1.0, 2.5)  # cos βL cosh βL = −1
+    f_eb = beta1**2 / (2 * np.pi * L**2) * np.sqrt(E * h**2 / 12 / rho)
     assert float(scope["f1"]) == pytest.approx(f_eb, rel=0.03)  # type: ignore[arg-type]
     # static tip deflection under self-weight: q L⁴ / (8 EI) (+ shear, a few %)
     static = scope["static"]
