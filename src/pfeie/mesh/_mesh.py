@@ -12,7 +12,7 @@ is needed (pressure), it is oriented away from the adjacent cell.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -259,12 +259,3 @@ def _lookup(table: IntArray, keys: IntArray) -> tuple[IntArray, np.ndarray]:
     first[inv[: table.shape[0]][::-1]] = np.arange(table.shape[0])[::-1]
     found_at = first[inv[table.shape[0] :]]
     return found_at, found_at >= 0
-
-
-def merge_groups(groups: Iterable[Mapping[str, IntArray]]) -> dict[str, IntArray]:
-    """Union of several by-type index or connectivity maps."""
-    out: dict[str, list[IntArray]] = {}
-    for g in groups:
-        for k, v in g.items():
-            out.setdefault(k, []).append(v)
-    return {k: np.concatenate(v) for k, v in out.items()}

@@ -389,16 +389,17 @@ class Model:
         K = self.stiffness()
         M = self.mass(lumped=lumped_mass)
         pats, amps = self.load_patterns()
-        Kff = K[free][:, free].tocsr()
-        shift = -(K[free][:, pres] @ pval) if pres.size else np.zeros(free.size)
-        constant = shift + pats[free][:, [a is None for a in amps]].sum(axis=1)
+        Kf, pf_ = K[free], pats[free]
+        Kff = Kf[:, free].tocsr()
+        shift = -(Kf[:, pres] @ pval) if pres.size else np.zeros(free.size)
+        constant = shift + pf_[:, [a is None for a in amps]].sum(axis=1)
         varying = [i for i, a in enumerate(amps) if a is not None]
         C = None
         if self.damping is not None and (self.damping.alpha or self.damping.beta):
             C = (self.damping.alpha * M + self.damping.beta * K)[free][:, free].tocsr()
         return LinearSystem(
             M=M[free][:, free].tocsr(), K=Kff, C=C, free=free, n_dof=self.n_dof,
-            prescribed=pres, prescribed_values=pval, _patterns=pats[free][:, varying],
+            prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
         )  # fmt: skip
 
