@@ -5,13 +5,17 @@ Backends, in the order "auto" tries them:
 
 - ``cholmod``: CHOLMOD (SuiteSparse) supernodal Cholesky, from the cvxopt wheel
   (extra ``pfeie[fast]``; no compiler needed). Symmetric positive definite only.
+  The fill-reducing ordering is METIS nested dissection (pymetis wheel, same extra) on
+  the quotient graph of rows with identical patterns (the nodes, for node-major DOFs);
+  without pymetis CHOLMOD falls back to its own AMD, which fills 3D meshes far more.
 - ``superlu``: SciPy's SuperLU with the MMD ordering of AᵀA + A and symmetric mode,
   always available; also the backend for indefinite or unsymmetric matrices.
 
 Measured on a 2-core machine, one thread, 2D Q4 plane strain of 100k DOF (factorise /
 one back-substitution): CHOLMOD 0.76 s / 26 ms; SuperLU 1.6 s / 37 ms; cholespy
 2.1 s / 21 ms but 142 s to factorise a 100k-DOF 3D matrix (CHOLMOD: 19 s), so it is not
-used. The environment variable ``PFEIE_SOLVER`` overrides "auto".
+used. 3D Hex8 of 95k DOF with CHOLMOD: METIS ordering 9.4 s / 175 ms and 1.7 GB,
+AMD ordering 42 s / 384 ms and 3.3 GB. The environment variable ``PFEIE_SOLVER`` overrides "auto".
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..element._reference import FloatArray
+from ..element._reference import FloatArray, IntArray
 from ..errors import MechanismError, SolverError
 
 log = logging.getLogger(__name__)
@@ -66,6 +70,47 @@ class _SuperLU:
         return np.asarray(self._lu.solve(np.asarray(b, dtype=float)))
 
 
+def nested_dissection(A: sp.spmatrix) -> IntArray | None:
+    """A METIS nested-dissection permutation of symmetric A, or None without pymetis.
+
+    Rows with the same sparsity pattern (the DOFs of one node) are merged first, so
+    METIS orders the node graph, which is several times smaller; the permutation of
+    the merged graph is then expanded, keeping the DOFs of a node together. The merge
+    key is (row length, Σ col, Σ col²): a collision can only worsen the fill, never
+    the result.
+    """
+    try:
+        import pymetis
+    except ImportError:
+        return None
+    G = sp.csr_matrix(A, copy=True)
+    G.sum_duplicates()
+    G.sort_indices()
+    n = G.shape[0]
+    if n < 64:
+        return None
+    cols = G.indices.astype(np.int64)
+    row = np.repeat(np.arange(n), np.diff(G.indptr))
+    key = np.stack([
+        np.diff(G.indptr),
+        np.bincount(row, cols, minlength=n).astype(np.int64),
+        np.bincount(row, (cols * cols).astype(float), minlength=n).astype(np.int64),
+    ], axis=1)  # fmt: skip
+    _, group = np.unique(key, axis=0, return_inverse=True)
+    group = group.ravel()
+    n_groups = int(group.max()) + 1
+    Q = sp.csr_matrix((np.ones(cols.size), (group[row], group[cols])), shape=(n_groups, n_groups))
+    Q.setdiag(0)
+    Q.eliminate_zeros()
+    Q.sort_indices()
+    if Q.nnz == 0:
+        return None
+    perm_g, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(Q.indptr, Q.indices))
+    rank = np.empty(n_groups, dtype=np.int64)
+    rank[np.asarray(perm_g, dtype=np.int64)] = np.arange(n_groups)
+    return np.lexsort((np.arange(n), rank[group]))
+
+
 class _Cholmod:
     backend = "cholmod"
 
@@ -80,8 +125,13 @@ class _Cholmod:
         S = cvxopt.spmatrix(low.data, low.row.astype(np.int64), low.col.astype(np.int64),
                             (self.n, self.n))  # fmt: skip
         cholmod.options["supernodal"] = 2
+        perm = nested_dissection(A)
+        self.ordering = "amd" if perm is None else "metis"
         try:
-            self._F = cholmod.symbolic(S)
+            if perm is None:
+                self._F = cholmod.symbolic(S)
+            else:
+                self._F = cholmod.symbolic(S, p=cvxopt.matrix(perm.tolist(), tc="i"))
             cholmod.numeric(S, self._F)
         except ArithmeticError:
             raise MechanismError(
