@@ -5,9 +5,11 @@ The public API is flat; the subpackages mirror the method:
 - :mod:`pfeie.mesh` — meshes and structured generators;
 - :mod:`pfeie.element` — reference elements and quadrature;
 - :mod:`pfeie.assembly` — vectorised element kernels and sparse assembly;
-- :mod:`pfeie.model` — physics objects (materials, blocks, supports, loads) and the model;
+- :mod:`pfeie.model` — physics objects (materials, blocks, joints, supports, loads, ground
+  motion) and the model;
+- :mod:`pfeie.interface` — cutting blocks apart, point pairs, the joint law and its solver;
 - :mod:`pfeie.solvers` — sparse factorisations, statics, modal analysis;
-- :mod:`pfeie.dynamics` — Newmark / HHT-α time integration.
+- :mod:`pfeie.dynamics` — Newmark / HHT-α time integration and the PFE/IE step.
 
 A whole analysis:
 
@@ -24,16 +26,24 @@ True
 import logging
 
 from ._version import __version__
-from .dynamics import History, Newmark, State
-from .errors import MechanismError, MeshError, ModelError, PfeieError, SolverError
+from .dynamics import Dynamic, DynamicResult, History, Newmark, State
+from .errors import (
+    InterfaceError,
+    MechanismError,
+    MeshError,
+    ModelError,
+    PfeieError,
+    SolverError,
+)  # fmt: skip
 from .mesh import Mesh, box, graded, rectangle
-from .model import Block, Elastic, Model, Rayleigh
+from .model import Block, Elastic, GroundMotion, Interface, Joint, Model, Rayleigh
 from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
-    "Block", "Elastic", "History", "MechanismError", "Mesh", "MeshError", "ModalResult",
+    "Block", "Dynamic", "DynamicResult", "Elastic", "GroundMotion", "History", "Interface",
+    "InterfaceError", "Joint", "MechanismError", "Mesh", "MeshError", "ModalResult",
     "Model", "ModelError", "Newmark", "PfeieError", "Rayleigh", "SolverError", "State",
     "StaticResult", "__version__", "box", "factorize", "graded", "modal", "rectangle",
     "solve_static",

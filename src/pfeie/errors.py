@@ -25,3 +25,8 @@ class MechanismError(PfeieError):
 
 class SolverError(PfeieError):
     """A linear or eigenvalue solver failed or is unavailable."""
+
+
+class InterfaceError(PfeieError):
+    """The interface problem of a step did not converge (the message names the step,
+    the pairs that kept changing state and the residual)."""

@@ -1,5 +1,9 @@
-"""Time integration, apart from the spatial operators."""
+"""Time integration: Newmark / HHT-α, and the PFE/IE step that couples it to interfaces."""
 
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
+from ._pfeie import Dynamic, DynamicResult, StepState
 
-__all__ = ["History", "MatrixSystem", "Newmark", "SecondOrderSystem", "State"]
+__all__ = [
+    "Dynamic", "DynamicResult", "History", "MatrixSystem", "Newmark", "SecondOrderSystem",
+    "State", "StepState",
+]  # fmt: skip

@@ -62,9 +62,12 @@ log = logging.getLogger(__name__)
 class SecondOrderSystem(Protocol):
     """What a time integrator needs: M, K, optional C (sparse, n × n) and f(t)."""
 
-    M: sp.spmatrix
-    K: sp.spmatrix
-    C: sp.spmatrix | None
+    @property
+    def M(self) -> sp.spmatrix: ...
+    @property
+    def K(self) -> sp.spmatrix: ...
+    @property
+    def C(self) -> sp.spmatrix | None: ...
 
     def load(self, t: float) -> FloatArray: ...
 

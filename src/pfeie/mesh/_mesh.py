@@ -176,6 +176,23 @@ class Mesh:
                 start += n
         return out
 
+    def restrict(self, groups: list[str]) -> Mesh:
+        """The mesh of the cells of the named cell groups only (points and facet groups
+        kept; cell groups re-indexed, cells outside every listed group dropped)."""
+        keep = {t: np.zeros(c.shape[0], dtype=bool) for t, c in self.cells.items()}
+        for g in groups:
+            for t, idx in self.cell_group(g).items():
+                keep[t][idx] = True
+        if all(k.all() for k in keep.values()):
+            return self
+        new_index = {t: np.cumsum(k) - 1 for t, k in keep.items()}
+        cells = {t: c[keep[t]] for t, c in self.cells.items() if keep[t].any()}
+        cgroups = {
+            name: {t: new_index[t][idx[keep[t][idx]]] for t, idx in grp.items() if t in cells}
+            for name, grp in self.cell_groups.items()
+        }
+        return Mesh(self.points, cells, cgroups, {k: dict(v) for k, v in self.facet_groups.items()})
+
     # -- meshio ---------------------------------------------------------------------------
     def to_meshio(self) -> Any:
         """The same mesh as a :class:`meshio.Mesh` (cell blocks, then facet blocks)."""

@@ -24,9 +24,11 @@ import scipy.sparse as sp
 from .. import assembly as asm
 from ..element import quadrature, reference
 from ..element._reference import FloatArray, IntArray
-from ..errors import ModelError
+from ..errors import MeshError, ModelError
+from ..interface._law import PairProperties
+from ..interface._split import PairGeometry, SplitMesh, split
 from ..mesh import Mesh
-from ._physics import Amplitude, Block, Load, Rayleigh, Support, VectorField
+from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
 
 log = logging.getLogger(__name__)
 
@@ -92,6 +94,10 @@ class Model:
     plane: "strain" or "stress", the 2D hypothesis (ignored in 3D).
     thickness: out-of-plane thickness in 2D (m); forces are then per this thickness.
     damping: Rayleigh damping of the whole model, or None.
+    interfaces: facet groups that cut the blocks apart, each with its joint law. The mesh
+        is split along them (:func:`pfeie.interface.split`); ``self.mesh`` is the split
+        mesh and ``self.input_mesh`` the one given. Each connected part of the split mesh
+        is a *body* with its own rigid modes.
 
     Example
     -------
@@ -112,6 +118,7 @@ class Model:
         plane: str = "strain",
         thickness: float = 1.0,
         damping: Rayleigh | None = None,
+        interfaces: Sequence[Interface] = (),
     ) -> None:
         if plane not in ("strain", "stress"):
             raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
@@ -122,6 +129,19 @@ class Model:
         names = [b.name for b in blocks]
         if len(set(names)) != len(names):
             raise ModelError(f"block names must be unique, got {names}")
+        self.input_mesh = mesh
+        self.interfaces = list(interfaces)
+        self.split: SplitMesh | None = None
+        if self.interfaces:
+            mesh = mesh.restrict([b.cell_group for b in blocks])
+            names = [i.group for i in self.interfaces]
+            if len(set(names)) != len(names):
+                raise ModelError(f"interface groups must be unique, got {names}")
+            try:
+                self.split = split(mesh, names, thickness if mesh.dim == 2 else 1.0)
+            except MeshError as exc:
+                raise ModelError(str(exc)) from None
+            mesh = self.split.mesh
         self.mesh = mesh
         self.blocks = list(blocks)
         self.plane = plane
@@ -402,6 +422,135 @@ class Model:
             prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
         )  # fmt: skip
+
+    # -- interfaces and bodies -------------------------------------------------------------
+    @property
+    def pairs(self) -> PairGeometry | None:
+        """The interface point pairs, or None without interfaces."""
+        return None if self.split is None else self.split.pairs
+
+    @cached_property
+    def pair_properties(self) -> PairProperties:
+        if self.split is None:
+            raise ModelError("the model has no interfaces")
+        return PairProperties.from_joints(self.split.pairs, [i.joint for i in self.interfaces])
+
+    def relative_operator(self) -> sp.csr_matrix:
+        """G (m·d × n_dof): w = G u is the relative displacement T_k (u_b − u_a) of
+        every pair in its local frame, row k·d + i for component i of pair k."""
+        P = self.pairs
+        d = self.dim
+        if P is None:
+            return sp.csr_matrix((0, self.n_dof))
+        m = P.n
+        rows = np.repeat(np.arange(m * d), d)
+        cols_b = (P.node_b[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
+        cols_a = (P.node_a[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
+        vals = P.frame  # (m, i, j): component i of the local vector from global j
+        G = sp.coo_matrix(
+            (np.concatenate([vals.ravel(), -vals.ravel()]),
+             (np.concatenate([rows, rows]), np.concatenate([cols_b.ravel(), cols_a.ravel()]))),
+            shape=(m * d, self.n_dof),
+        )  # fmt: skip
+        return G.tocsr()
+
+    @cached_property
+    def body_of_node(self) -> IntArray:
+        """Body (connected part) of every node, −1 for unused nodes."""
+        if self.split is not None:
+            return self.split.body
+        from scipy.sparse.csgraph import connected_components
+
+        used = self.active_nodes
+        n = self.mesh.n_points
+        conn = [s.conn for s in self._cellsets]
+        rows = np.concatenate([c.ravel() for c in conn])
+        cols = np.concatenate([np.repeat(np.arange(c.shape[0]), c.shape[1]) for c in conn])
+        offs = np.cumsum([0] + [c.shape[0] for c in conn])[:-1]
+        cols = cols + np.repeat(offs, [c.size for c in conn]) + n
+        nt = n + sum(c.shape[0] for c in conn)
+        _, lab = connected_components(sp.coo_matrix((np.ones(rows.size), (rows, cols)),
+                                                    shape=(nt, nt)), directed=False)  # fmt: skip
+        body = np.full(n, -1, dtype=np.int64)
+        _, inv = np.unique(lab[used], return_inverse=True)
+        body[used] = inv.ravel()
+        return body
+
+    @property
+    def n_bodies(self) -> int:
+        return int(self.body_of_node.max()) + 1
+
+    def body_names(self) -> list[str]:
+        """A name per body: its block names joined by '+', numbered when repeated."""
+        names = []
+        b_of = self.body_of_node
+        for ib in range(self.n_bodies):
+            blocks = sorted({self.blocks[int(k)].name for cs in self._cellsets
+                             for k in np.unique(cs.block[np.isin(cs.conn[:, 0],
+                                                np.flatnonzero(b_of == ib))])})  # fmt: skip
+            names.append("+".join(blocks))
+        seen: dict[str, int] = {}
+        out = []
+        for n in names:
+            seen[n] = seen.get(n, 0) + 1
+            out.append(n if names.count(n) == 1 else f"{n}#{seen[n]}")
+        return out
+
+    @cached_property
+    def body_mass_props(self) -> tuple[FloatArray, FloatArray]:
+        """Mass (b,) in kg and mass centroid (b, d) of every body, from the lumped mass."""
+        mdiag = self.mass(lumped=True).diagonal().reshape(-1, self.dim)[:, 0]
+        b = self.body_of_node
+        use = b >= 0
+        mass = np.bincount(b[use], mdiag[use], self.n_bodies).astype(float)
+        cen = np.stack([np.bincount(b[use], (mdiag * self.mesh.points[:, i])[use], self.n_bodies)
+                        for i in range(self.dim)], axis=1) / mass[:, None]  # fmt: skip
+        return mass, cen
+
+    def rigid_modes(self) -> sp.csr_matrix:
+        """Φ (n_dof × n_bodies·r): the rigid modes of every body about its mass centroid,
+        r = 3 in 2D (u_x, u_y, θ_z) and 6 in 3D (u, then rotations θ_x, θ_y, θ_z, rad),
+        column body·r + mode."""
+        d = self.dim
+        r = 3 if d == 2 else 6
+        _, cen = self.body_mass_props
+        b = self.body_of_node
+        nodes = np.flatnonzero(b >= 0)
+        x = self.mesh.points[nodes] - cen[b[nodes]]
+        rows, cols, vals = [], [], []
+        for i in range(d):  # translations
+            rows.append(nodes * d + i)
+            cols.append(b[nodes] * r + i)
+            vals.append(np.ones(nodes.size))
+        if d == 2:
+            rot = [(2, [(0, -x[:, 1]), (1, x[:, 0])])]
+        else:  # ω × x: θx → (0, −z, y); θy → (z, 0, −x); θz → (−y, x, 0)
+            rot = [(3, [(1, -x[:, 2]), (2, x[:, 1])]), (4, [(0, x[:, 2]), (2, -x[:, 0])]),
+                   (5, [(0, -x[:, 1]), (1, x[:, 0])])]  # fmt: skip
+        for mode, comps in rot:
+            for i, v in comps:
+                rows.append(nodes * d + i)
+                cols.append(b[nodes] * r + mode)
+                vals.append(v)
+        return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(self.n_dof, self.n_bodies * r)).tocsr()  # fmt: skip
+
+    def rigid_motion(self, u: FloatArray) -> FloatArray:
+        """Rigid motion (n_bodies, r) of each body about its mass centroid that best fits
+        the nodal field u (full DOF vector or (n_points, d)) in the mass norm: the
+        translation of the centroid and the rotation (rad)."""
+        Phi = self.rigid_modes()
+        mdiag = self.mass(lumped=True).diagonal()
+        U = np.asarray(u, dtype=float).reshape(self.n_dof, -1)
+        MPhi = Phi.multiply(mdiag[:, None]).tocsc()
+        G = (Phi.T @ MPhi).toarray()
+        q = np.linalg.solve(G + 1e-300 * np.eye(G.shape[0]), (MPhi.T @ U))
+        r = 3 if self.dim == 2 else 6
+        return (
+            q.reshape(self.n_bodies, r, -1).squeeze(-1)
+            if U.shape[1] == 1
+            else q.reshape(self.n_bodies, r, -1)
+        )
 
     # -- post-processing ------------------------------------------------------------------
     def stress(self, u: FloatArray) -> dict[str, tuple[FloatArray, FloatArray]]:

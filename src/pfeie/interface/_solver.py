@@ -1,0 +1,515 @@
+"""The interface problem of one step (method.md §5): find the pair forces and states.
+
+With the Delassus operator W (M × M, M = m·d, row ``k·d + i`` for component i of pair k)
+and the free relative displacement w_free (m, d), the pairs obey
+
+    w = w_free + W X (+ E q),      s = w + C X,
+
+with the pair law of :mod:`pfeie.interface._law`. Optional border (statics, §5.2): the
+rigid-mode amplitudes q of floating blocks with equilibrium Eᵀ X = e.
+
+Algorithm (the paper's state iteration, §5.3): assume states; solve the reduced linear
+system (intact and stick pairs: s = s_prev in all components, closed normal s_n = 0;
+sliding pairs: s_n = 0 and X_t = −(c A + μ X_n) ŝ; open pairs: X = 0); check the law;
+update states (breaking is irreversible and monotone within the step; 3D slip directions
+ŝ follow the slip increment); repeat until no state changes and the directions settle.
+The answer is accepted only when the complementarity residual
+
+    r_k = ρ|Δs_k| (intact, stick), |X_t − Π_{τ_max}(X_t − ρ Δs_t)| (broken, closed),
+          max(0, −ρ s_n) (open), plus any strength violation,
+
+scaled by max(|X|, ρ |w_free|), is below ``tol`` (ρ = 1/mean diag W). When the states
+cycle or the iteration limit is hit, a projected Gauss-Seidel sweep over the pairs with
+exact local solutions takes over from the last iterate; if that also fails,
+:class:`InterfaceError` names the pairs that kept changing and the residual.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..element._reference import FloatArray
+from ..errors import InterfaceError, MechanismError
+from ._law import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairProperties, PairState
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class SolveInfo:
+    """How a step's interface problem was solved."""
+
+    iterations: int
+    residual: float
+    method: str
+
+
+class InterfaceSolver:
+    """Solves the interface problem for a fixed Delassus operator W (see module doc).
+
+    Parameters
+    ----------
+    W: Delassus operator (M, M), N → m.
+    props: pair properties.
+    border: optional (E (M, r), label) for statics with floating blocks.
+    tol: complementarity residual tolerance (relative), default 1e-8.
+    max_iter: state-iteration limit, default 60.
+    """
+
+    def __init__(
+        self,
+        W: FloatArray,
+        props: PairProperties,
+        *,
+        border: FloatArray | None = None,
+        tol: float = 1e-8,
+        max_iter: int = 60,
+        regularize: float = 0.0,
+    ) -> None:
+        self.props = props
+        self.m = props.n
+        self.d = props.compliance.shape[1] if props.n else 1
+        self.W = np.asarray(W, dtype=float)
+        diag = np.diag(self.W)
+        self.rho = 1.0 / float(diag.mean()) if diag.size else 1.0
+        reg = regularize * float(diag.mean()) if diag.size else 0.0
+        self.Wc = self.W + np.diag(props.compliance.ravel() + reg)
+        # the border is scaled to the size of W so that the LU pivots are comparable
+        self._escale = float(diag.mean()) if diag.size else 1.0
+        self.E = None if border is None else np.asarray(border, dtype=float) * self._escale
+        self.tol, self.max_iter = tol, max_iter
+        self._cache: dict[bytes, tuple[object, ...]] = {}
+        self.last = SolveInfo(0, 0.0, "none")
+
+    # -- reduced linear system for given states ---------------------------------------------
+    def _linear(
+        self, st: PairState, prev: PairState, w_free: FloatArray, e: FloatArray | None
+    ) -> tuple[FloatArray, FloatArray]:
+        m, d = self.m, self.d
+        state = st.state
+        c, mu, _ = self.props.strength(st.broken)
+        comp = np.zeros((m, d), dtype=np.int8)  # 0 kin, 1 zero, 2 friction
+        comp[state == OPEN] = 1
+        sl = state == SLIDE
+        comp[sl, :-1] = 2
+        target = prev.s.copy()
+        closed_broken = st.broken | (state != INTACT)
+        target[closed_broken, -1] = 0.0
+        flat = comp.ravel()
+        kin = np.flatnonzero(flat == 0)
+        fr = np.flatnonzero(flat == 2)
+        pair_fr = fr // d
+        tdir = st.slip_dir[sl].ravel() if d > 1 else np.zeros(0)
+        coef = -mu[pair_fr] * tdir  # X_t = coef · X_n + x0
+        x0 = -c[pair_fr] * tdir
+        pos = np.full(m * d, -1)
+        pos[kin] = np.arange(kin.size)
+        ncol = pos[pair_fr * d + d - 1]
+        key = kin.tobytes() + ncol.tobytes() + np.round(coef, 14).tobytes()
+        r = 0 if self.E is None else self.E.shape[1]
+        cached = self._cache.get(key)
+        Wk = self.Wc[kin]
+        if cached is None:
+            A = Wk[:, kin].copy()
+            if fr.size:
+                np.add.at(A.T, ncol, (Wk[:, fr] * coef[None, :]).T)
+            if r:
+                assert self.E is not None
+                Ek = self.E[kin].copy()
+                if fr.size:
+                    np.add.at(Ek, ncol, self.E[fr] * coef[:, None])
+                A = np.block([[A, self.E[kin]], [Ek.T, np.zeros((r, r))]])
+            if A.size == 0:
+                lu = None
+            else:
+                lu = sla.lu_factor(A, check_finite=False)
+                piv = np.abs(np.diag(lu[0]))
+                if piv.min() <= 1e-15 * piv.max():
+                    raise MechanismError(
+                        "the interface system is singular: with the current pair states some "
+                        "block is not restrained (a mechanism)"
+                    )
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[key] = (lu,)
+            cached = (lu,)
+        (lu,) = cached
+        rhs = target.ravel()[kin] - w_free.ravel()[kin]
+        if fr.size:
+            rhs -= Wk[:, fr] @ x0
+        if r:
+            assert self.E is not None and e is not None
+            rhs = np.concatenate([rhs, self._escale * e - (self.E[fr].T @ x0 if fr.size else 0.0)])
+        y = sla.lu_solve(lu, rhs, check_finite=False) if lu is not None else np.zeros(0)
+        X = np.zeros(m * d)
+        X[kin] = y[: kin.size]
+        if fr.size:
+            X[fr] = coef * X[ncol_to_flat(kin, ncol)] + x0
+        q = y[kin.size :] * self._escale
+        return X.reshape(m, d), q
+
+    def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
+        """w = w_free + W X (+ E q)."""
+        w = w_free.ravel() + self.W @ X.ravel()
+        if self.E is not None and q.size:
+            w = w + self.E @ (q / self._escale)
+        return w.reshape(self.m, self.d)
+
+    # -- the law ------------------------------------------------------------------------------
+    def _scale(self, X: FloatArray, w_free: FloatArray) -> float:
+        return max(float(np.abs(X).max(initial=0.0)),
+                   self.rho * float(np.abs(w_free).max(initial=0.0)), 1e-300)  # fmt: skip
+
+    def _update(self, st: PairState, prev: PairState, fscale: float) -> PairState:
+        """New states from a solution (X, s) under the current states."""
+        new = st.copy()
+        X, s = st.X, st.s
+        Xn, Xt = X[:, -1], X[:, :-1]
+        nt = np.linalg.norm(Xt, axis=1)
+        tolF = 1e-10 * fscale
+        tolD = tolF / self.rho
+        c, mu, t = self.props.strength(st.broken)
+        tau = c + mu * Xn
+        ds = s[:, :-1] - prev.s[:, :-1]
+        state = st.state
+        # intact → broken
+        it = state == INTACT
+        ten = it & (Xn < -t - tolF)
+        she = it & ~ten & (nt > tau + tolF)
+        new.broken = st.broken | ten | she
+        new.state[ten] = OPEN
+        new.state[she] = SLIDE
+        with np.errstate(invalid="ignore", divide="ignore"):
+            dir_from_force = -Xt / nt[:, None]
+        new.slip_dir[she] = dir_from_force[she]
+        cr, mur, tr = self.props.strength(np.ones(self.m, dtype=bool))
+        tau_r = np.where(st.broken, tau, cr + mur * Xn)
+        t_r = np.where(st.broken, t, tr)
+        # stick
+        sk = state == STICK
+        op = sk & (Xn < -t_r - tolF)
+        sd = sk & ~op & (nt > tau_r + tolF)
+        new.state[op] = OPEN
+        new.state[sd] = SLIDE
+        new.slip_dir[sd] = dir_from_force[sd]
+        # slide
+        sl = state == SLIDE
+        op = sl & (Xn < -t_r - tolF)
+        proj = np.einsum("mj,mj->m", ds, st.slip_dir)
+        back = sl & ~op & (proj < -tolD)
+        new.state[op] = OPEN
+        new.state[back] = STICK
+        if self.d == 3:
+            nds = np.linalg.norm(ds, axis=1)
+            upd = sl & ~op & ~back & (nds > tolD)
+            new.slip_dir[upd] = ds[upd] / nds[upd, None]
+        # open
+        cl = (state == OPEN) & (s[:, -1] < -tolD)
+        new.state[cl] = STICK
+        return new
+
+    def residual(self, st: PairState, prev: PairState, w_free: FloatArray) -> FloatArray:
+        """Scaled complementarity residual per pair (see module doc)."""
+        X, s = st.X, st.s
+        fscale = self._scale(X, w_free)
+        rho = self.rho
+        c, mu, t = self.props.strength(st.broken)
+        Xn, Xt = X[:, -1], X[:, :-1]
+        tau = np.maximum(c + mu * Xn, 0.0)
+        ds = s - prev.s
+        r = np.zeros(self.m)
+        it = st.state == INTACT
+        r[it] = rho * np.linalg.norm(ds[it], axis=1)
+        r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
+            0.0, np.linalg.norm(Xt[it], axis=1) - tau[it]
+        )
+        op = st.state == OPEN
+        r[op] = np.maximum(0.0, -rho * s[op, -1]) + np.linalg.norm(X[op], axis=1)
+        cl = ~it & ~op
+        z = Xt[cl] - rho * ds[cl, :-1]
+        nz = np.linalg.norm(z, axis=1)
+        proj = z * np.minimum(1.0, tau[cl] / np.maximum(nz, 1e-300))[:, None]
+        r[cl] = np.linalg.norm(Xt[cl] - proj, axis=1) + rho * np.abs(s[cl, -1])
+        r[cl] += np.maximum(0.0, -(Xn[cl] + t[cl]))
+        return r / fscale
+
+    # -- driver -------------------------------------------------------------------------------
+    def solve(
+        self,
+        w_free: FloatArray,
+        prev: PairState,
+        e: FloatArray | None = None,
+        label: str = "",
+    ) -> tuple[PairState, FloatArray]:
+        """Trial pair state for the step and the border unknowns q (empty without border).
+
+        ``prev`` is the committed state at the start of the step; it is not modified.
+        """
+        st = prev.copy()
+        reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
+        st.state[reopen] = STICK
+        seen: dict[bytes, int] = {}
+        q = np.zeros(0)
+        history: list[np.ndarray] = []
+        for it in range(1, self.max_iter + 1):
+            X, q = self._linear(st, prev, w_free, e)
+            st.X = X
+            st.w = self.relative(X, q, w_free)
+            st.s = st.w + self.props.compliance * X
+            new = self._update(st, prev, self._scale(X, w_free))
+            same = np.array_equal(new.state, st.state) and np.array_equal(new.broken, st.broken)
+            if same and np.allclose(new.slip_dir, st.slip_dir, rtol=0, atol=1e-9):
+                res = float(self.residual(st, prev, w_free).max(initial=0.0))
+                if res <= self.tol:
+                    self.last = SolveInfo(it, res, "state iteration")
+                    return st, q
+                log.debug("%s: states settled but residual %.2e > tol", label, res)
+                break
+            key = new.state.tobytes() + new.broken.tobytes()
+            history.append(new.state.copy())
+            if key in seen and self.d == 2:
+                log.debug("%s: pair states cycle after %d iterations", label, it)
+                break
+            seen[key] = it
+            new.X, new.w, new.s = st.X, st.w, st.s
+            st = new
+        if self.E is not None:
+            raise InterfaceError(self._diagnose(label, history, st, prev, w_free))
+        st2, n_it = self._newton(st, prev, w_free)
+        res = float(self.residual(st2, prev, w_free).max(initial=0.0))
+        if res <= self.tol:
+            self.last = SolveInfo(self.max_iter + n_it, res, "semismooth Newton")
+            log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
+            return st2, q
+        st3 = self._gauss_seidel(st2, prev, w_free)
+        res3 = float(self.residual(st3, prev, w_free).max(initial=0.0))
+        if res3 <= self.tol:
+            self.last = SolveInfo(self.max_iter, res3, "projected Gauss-Seidel")
+            log.debug("%s: solved by projected Gauss-Seidel, residual %.2e", label, res3)
+            return st3, q
+        raise InterfaceError(self._diagnose(label, history, st3 if res3 < res else st2, prev,
+                                            w_free))  # fmt: skip
+
+    def _newton(
+        self, st: PairState, prev: PairState, w_free: FloatArray, max_iter: int = 100
+    ) -> tuple[PairState, int]:
+        """Semismooth Newton on the Alart-Curnier natural map (all pairs at once).
+
+        For broken pairs, with r = ρ, g = s_n, Δs_t = s_t − s_t,prev, Y = X_n + σ_t,r A:
+        F_n = Y − max(0, Y − r g), F_t = X_t − Π_{B(τ)}(X_t − r Δs_t), τ = c_r A + μ_r X_n⁺;
+        intact pairs: F = r (s − s_prev). A pair that exceeds its strength at the solution
+        breaks and the Newton solve is repeated (at most once per pair).
+        """
+        m, d = self.m, self.d
+        Wc = self.Wc
+        X = st.X.copy()
+        broken = st.broken.copy()
+        total = 0
+        sdir = st.slip_dir.copy()
+        for _ in range(m + 1):
+            fscale = self._scale(X, w_free)
+            Xv = X.ravel().copy()
+            F, J = self._natural_map(Xv, broken, w_free, prev)
+            for _ in range(max_iter):
+                total += 1
+                nF = float(np.linalg.norm(F))
+                if nF <= 0.1 * self.tol * fscale:
+                    break
+                try:
+                    assert J is not None
+                    dX = np.linalg.solve(J, -F)
+                except np.linalg.LinAlgError:
+                    dX = np.linalg.lstsq(J, -F, rcond=None)[0]  # type: ignore[arg-type]
+                step = 1.0
+                for _ in range(30):
+                    F2, _ = self._natural_map(Xv + step * dX, broken, w_free, prev, jac=False)
+                    if np.linalg.norm(F2) <= (1 - 1e-4 * step) * nF:
+                        break
+                    step *= 0.5
+                Xv = Xv + step * dX
+                F, J = self._natural_map(Xv, broken, w_free, prev)
+            X = Xv.reshape(m, d)
+            s_ = (w_free.ravel() + Wc @ Xv).reshape(m, d)
+            # intact pairs that exceed their strength break; repeat
+            Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
+            tolF = 1e-10 * fscale
+            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool))
+            fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
+            if not fail.any():
+                break
+            broken = broken | fail
+        out = st.copy()
+        out.X, out.broken = X, broken
+        out.w = s_ - self.props.compliance * X
+        out.s = s_
+        g = s_[:, -1]
+        state = np.full(m, INTACT, dtype=np.int8)
+        c, mu, t = self.props.strength(broken)
+        opened = broken & (X[:, -1] + t - self.rho * g <= 0)
+        nt = np.linalg.norm(X[:, :-1], axis=1)
+        tau = c + mu * X[:, -1]
+        sliding = broken & ~opened & (nt >= tau * (1 - 1e-9)) & (nt > 0)
+        state[broken] = STICK
+        state[sliding] = SLIDE
+        state[opened] = OPEN
+        with np.errstate(invalid="ignore", divide="ignore"):
+            sdir[sliding] = -X[sliding, :-1] / nt[sliding, None]
+        out.state, out.slip_dir = state, sdir
+        return out, total
+
+    def _diagnose(
+        self,
+        label: str,
+        history: list[np.ndarray],
+        st: PairState,
+        prev: PairState,
+        w_free: FloatArray,
+    ) -> str:
+        res = self.residual(st, prev, w_free)
+        if len(history) > 1:
+            H = np.array(history[-8:])
+            cyc = np.flatnonzero((H[-1] != H).any(axis=0))
+        else:
+            cyc = np.zeros(0, dtype=np.int64)
+        worst = np.argsort(res)[::-1][:5]
+        cyc_txt = ", ".join(f"{k} ({'/'.join(STATE_NAMES[s] for s in sorted(set(H[:, k])))})"
+                            for k in cyc[:10]) if cyc.size else "none"  # fmt: skip
+        return (
+            f"{label}: the interface problem did not converge: residual "
+            f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
+            f"{cyc_txt}; largest residuals at pairs {worst.tolist()}. Try a smaller time step."
+        )
+
+    def _natural_map(
+        self, Xv: FloatArray, broken: np.ndarray, w_free: FloatArray, prev: PairState,
+        jac: bool = True,
+    ) -> tuple[FloatArray, FloatArray | None]:  # fmt: skip
+        """Alart-Curnier residual F(X) (M,) and, if ``jac``, a generalised Jacobian."""
+        m, d, r, Wc = self.m, self.d, self.rho, self.Wc
+        I = np.eye(m * d)
+        c, mu, t = self.props.strength(broken)
+        Xm = Xv.reshape(m, d)
+        sv = w_free.ravel() + Wc @ Xv
+        s_ = sv.reshape(m, d)
+        F = np.zeros((m, d))
+        J = np.zeros((m, d, m * d if jac else 0))
+        Wr = Wc.reshape(m, d, m * d)
+        Ir = I.reshape(m, d, m * d)
+        # intact
+        it = ~broken
+        F[it] = r * (s_[it] - prev.s[it])
+        if jac:
+            J[it] = r * Wr[it]
+        br = broken
+        Y = Xm[:, -1] + t
+        g = s_[:, -1]
+        contact = br & (Y - r * g > 0)
+        F[br, -1] = np.where(contact[br], r * g[br], Y[br])
+        if jac:
+            J[contact, -1] = r * Wr[contact, -1]
+            sep = br & ~contact
+            J[sep, -1] = Ir[sep, -1]
+        Xt = Xm[:, :-1]
+        z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
+        nz = np.linalg.norm(z, axis=1)
+        tau = np.maximum(c + mu * np.maximum(Xm[:, -1], 0.0), 0.0)
+        stick = br & (nz <= tau)
+        slide = br & ~stick
+        F[stick, :-1] = Xt[stick] - z[stick]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            zh = z / nz[:, None]
+        F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
+        if jac:
+            J[stick, :-1] = r * Wr[stick, :-1]
+            for k in np.flatnonzero(slide):
+                dz = Ir[k, :-1] - r * Wr[k, :-1]  # (d-1, M)
+                P = (np.eye(d - 1) - np.outer(zh[k], zh[k])) * (tau[k] / nz[k])
+                dtau = np.zeros(m * d)
+                if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
+                    dtau[k * d + d - 1] = mu[k]
+                J[k, :-1] = Ir[k, :-1] - np.outer(zh[k], dtau) - P @ dz
+        return F.ravel(), (J.reshape(m * d, m * d) if jac else None)
+
+    def _gauss_seidel(
+        self, st: PairState, prev: PairState, w_free: FloatArray, sweeps: int = 500
+    ) -> PairState:
+        """Projected Gauss-Seidel with exact local solutions, from the iterate ``st``."""
+        m, d = self.m, self.d
+        Wc = self.Wc.reshape(m, d, m, d)
+        X = st.X.copy()
+        broken = st.broken.copy()
+        state = st.state.copy()
+        sdir = st.slip_dir.copy()
+        b_all = w_free + np.einsum("kilj,lj->ki", Wc, X)
+        trial = st.copy()
+        for sweep in range(1, sweeps + 1):
+            for k in range(m):
+                Wkk = Wc[k, :, k, :]
+                b = b_all[k] - Wkk @ X[k]
+                Xk, _, state[k], broken[k], sdir[k] = self._local(
+                    k, Wkk, b, prev, broken[k], sdir[k])  # fmt: skip
+                dX = Xk - X[k]
+                if np.any(dX):
+                    b_all += np.einsum("lik,k->li", Wc[:, :, k, :], dX)
+                    X[k] = Xk
+            if sweep % 5 == 0:
+                trial.X, trial.state, trial.broken, trial.slip_dir = X, state, broken, sdir
+                trial.w = self.relative(X, np.zeros(0), w_free)
+                trial.s = trial.w + self.props.compliance * X
+                if self.residual(trial, prev, w_free).max(initial=0.0) <= self.tol:
+                    break
+        out = st.copy()
+        out.X, out.state, out.broken, out.slip_dir = X, state, broken, sdir
+        out.w = self.relative(X, np.zeros(0), w_free)
+        out.s = out.w + self.props.compliance * X
+        return out
+
+    def _local(
+        self, k: int, Wkk: FloatArray, b: FloatArray, prev: PairState, broken: bool,
+        sdir: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, int, bool, FloatArray]:  # fmt: skip
+        """Exact solution of pair k's law for s = b + Wkk X (others frozen)."""
+        d = self.d
+        p = self.props
+        A = p.area[k]
+        target = prev.s[k].copy()
+        if not broken:
+            X = np.linalg.solve(Wkk, target - b)
+            tau = p.c[k] * A + p.mu[k] * X[-1]
+            if X[-1] >= -p.tensile[k] * A and np.linalg.norm(X[:-1]) <= tau:
+                return X, b + Wkk @ X, INTACT, False, sdir
+            broken = True
+        cA, mu, tA = p.c_r[k] * A, p.mu_r[k], p.tensile_r[k] * A
+        if b[-1] >= 0:
+            return np.zeros(d), b.copy(), OPEN, broken, sdir
+        target[-1] = 0.0
+        X = np.linalg.solve(Wkk, target - b)
+        if X[-1] >= -tA and np.linalg.norm(X[:-1]) <= cA + mu * X[-1]:
+            return X, b + Wkk @ X, STICK, broken, sdir
+        sh = -X[:-1] / max(float(np.linalg.norm(X[:-1])), 1e-300)
+        for _ in range(50):
+            # unknown X_n; X_t = −(cA + μ X_n) ŝ; normal row: (Wkk X)_n + b_n = 0
+            a_n = Wkk[-1, -1] - mu * Wkk[-1, :-1] @ sh
+            xn = (-b[-1] + cA * Wkk[-1, :-1] @ sh) / a_n
+            X = np.concatenate([-(cA + mu * xn) * sh, [xn]])
+            s = b + Wkk @ X
+            ds = s[:-1] - prev.s[k, :-1]
+            nds = float(np.linalg.norm(ds))
+            if nds == 0 or np.allclose(ds / nds, sh, atol=1e-12):
+                break
+            sh = ds / nds
+        if X[-1] < -tA:
+            return np.zeros(d), b.copy(), OPEN, broken, sdir
+        return X, s, SLIDE, broken, sh
+
+
+def ncol_to_flat(kin: np.ndarray, ncol: np.ndarray) -> np.ndarray:
+    """Flat component index of the reduced unknowns at positions ``ncol``."""
+    return kin[ncol]
+
+
+__all__ = ["InterfaceSolver", "SolveInfo"]

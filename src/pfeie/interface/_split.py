@@ -1,0 +1,281 @@
+"""Cutting a conforming mesh along interfaces into blocks joined by point pairs.
+
+A node that lies on an interface facet is duplicated once per group of cells around it
+that remain connected through facets which are not interface facets. So an interface
+that crosses the mesh separates two bodies; one that ends inside a body (a crack tip)
+leaves its tip node whole; at a T junction three copies meet and at an X junction four.
+Every couple of copies that face each other across an interface facet becomes a *pair*.
+
+Conventions (all arrays have the pair index first):
+
+- side a and side b: the unit normal n of a pair points from side a into side b;
+- local frame ``frame`` (m, d, d), rows (t₁, n) in 2D and (t₁, t₂, n) in 3D, so a local
+  vector is ``frame @ global``; in 2D t₁ = (n_y, −n_x), in 3D t₁ is the normalised
+  projection of the global axis least aligned with n and t₂ = n × t₁;
+- ``area`` (m,): tributary area of the pair, the HRZ-lumped facet "mass" ∫ N_a N_b dA
+  (× thickness in 2D), positive for linear and quadratic facets;
+- the normal of an interface is made consistent along it by orienting every facet normal
+  on the side of the interface's dominant direction; an interface must therefore not
+  turn by more than 90° (split a curved joint into several named groups if it does).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from ..assembly import facet_values, lump_hrz
+from ..element import reference
+from ..element._reference import FloatArray, IntArray
+from ..errors import MeshError
+from ..mesh import Mesh
+from ..mesh._mesh import _corner_keys, _lookup
+
+
+@dataclass(frozen=True)
+class PairGeometry:
+    """The point pairs of all interfaces of a split mesh (see the module docstring)."""
+
+    names: tuple[str, ...]
+    interface: IntArray  # (m,) index into names
+    node_a: IntArray  # (m,)
+    node_b: IntArray  # (m,)
+    frame: FloatArray  # (m, d, d)
+    area: FloatArray  # (m,)
+    x: FloatArray  # (m, d)
+
+    @property
+    def n(self) -> int:
+        return int(self.node_a.size)
+
+    @property
+    def dim(self) -> int:
+        return int(self.x.shape[1])
+
+    def of(self, name: str) -> IntArray:
+        """Indices of the pairs of one interface."""
+        return np.flatnonzero(self.interface == self.names.index(name))
+
+
+@dataclass(frozen=True)
+class SplitMesh:
+    """A mesh cut along its interfaces, the pairs, and the bodies (connected parts)."""
+
+    mesh: Mesh
+    pairs: PairGeometry
+    parent: IntArray  # (n_points,) original node of every node of the split mesh
+    body: IntArray  # (n_points,) connected body of every node (-1: unused node)
+    n_bodies: int
+
+
+def _frames(normal: FloatArray) -> FloatArray:
+    m, d = normal.shape
+    F = np.zeros((m, d, d))
+    F[:, -1] = normal
+    if d == 2:
+        F[:, 0, 0], F[:, 0, 1] = normal[:, 1], -normal[:, 0]
+        return F
+    axis = np.argmin(np.abs(normal), axis=1)
+    e = np.zeros((m, 3))
+    e[np.arange(m), axis] = 1.0
+    t1 = e - np.einsum("md,md->m", e, normal)[:, None] * normal
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    F[:, 0] = t1
+    F[:, 1] = np.cross(normal, t1)
+    return F
+
+
+def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0) -> SplitMesh:
+    """Duplicate the nodes of the named facet groups and pair the copies (see module doc).
+
+    Facet groups that are not interfaces keep their facets on the copies of the cell
+    they bound; an interface group ``j`` is replaced by ``j:a`` and ``j:b``, its facets
+    on either side (e.g. for water pressure inside a joint).
+
+    Example
+    -------
+    >>> import pfeie as pf
+    >>> mesh = pf.rectangle(2.0, 2.0, 2, 2)
+    >>> _ = mesh.add_facet_group("mid", lambda x: abs(x[:, 1] - 1.0) < 1e-9, boundary_only=False)
+    >>> s = split(mesh, ["mid"])
+    >>> s.mesh.n_points - mesh.n_points, s.pairs.n, s.n_bodies
+    (3, 3, 2)
+    """
+    dim = mesh.dim
+    n0 = mesh.n_points
+    table = mesh._facet_table()
+    ctypes = list(mesh.cells)
+    offset = dict(zip(ctypes, np.cumsum([0] + [mesh.cells[t].shape[0] for t in ctypes])[:-1],
+                      strict=True))  # fmt: skip
+    n_cells = mesh.n_cells
+    # every facet of every cell: key, global owner cell, local facet nodes
+    keys, owner, fnodes, width = [], [], [], []
+    for ftype, fconn, own, key, ctype, _ in table:
+        keys.append(key)
+        owner.append(own + offset[ctype])
+        fnodes.append(fconn)
+        width.append(ftype)
+    if len({k.shape[1] for k in keys}) > 1:
+        raise MeshError("interfaces between cells with different facet shapes are not supported")
+    K = np.concatenate(keys)
+    O = np.concatenate(owner)
+    _, fid, fcount = np.unique(K, axis=0, return_inverse=True, return_counts=True)
+    fid = fid.ravel()
+    # interface membership of every facet instance
+    iface = np.full(K.shape[0], -1, dtype=np.int64)
+    for j, name in enumerate(names):
+        for ftype, conn in mesh.facet_group(name).items():
+            at, found = _lookup(K, _corner_keys(conn, ftype))
+            if not found.all():
+                raise MeshError(f"interface {name!r}: {int((~found).sum())} facet(s) are not faces "
+                                "of the mesh (is the mesh conforming across it?)")  # fmt: skip
+            hit = np.isin(fid, fid[at])
+            iface[hit] = j
+        inner = np.isin(fid, fid[iface == j]) & (fcount[fid] == 2)
+        if not inner[iface == j].all():
+            raise MeshError(
+                f"interface {name!r} has facets on the mesh boundary (only one cell); at "
+                f"{np.round(mesh.points[K[(iface == j) & ~inner][0]].mean(axis=0), 6).tolist()}"
+            )
+    # the two instances of every interior facet: (first, second) in instance order
+    order = np.argsort(fid, kind="stable")
+    sf = fid[order]
+    twin = np.full(K.shape[0], -1, dtype=np.int64)
+    starts = np.flatnonzero(np.r_[True, sf[1:] != sf[:-1]])
+    has2 = np.diff(np.r_[starts, sf.size]) == 2
+    a_inst, b_inst = order[starts[has2]], order[starts[has2] + 1]
+    twin[a_inst], twin[b_inst] = b_inst, a_inst
+    F = np.concatenate(fnodes) if len({f.shape[1] for f in fnodes}) == 1 else None
+    if F is None:
+        raise MeshError("mixed facet node counts across cell types are not supported")
+    iface_nodes = np.unique(F[iface >= 0]) if (iface >= 0).any() else np.zeros(0, np.int64)
+    # incidences (node, cell) of interface nodes, and their links through non-interface facets
+    cell_conn = [(mesh.cells[t], offset[t]) for t in ctypes]
+    inc_node = np.concatenate([c.ravel() for c, _ in cell_conn])
+    inc_cell = np.concatenate(
+        [np.repeat(np.arange(c.shape[0]) + o, c.shape[1]) for c, o in cell_conn]
+    )
+    on_iface = np.isin(inc_node, iface_nodes)
+    sel = np.flatnonzero(on_iface)
+    key_ic = inc_node[sel] * n_cells + inc_cell[sel]
+    srt = np.argsort(key_ic)
+    key_sorted = key_ic[srt]
+
+    def inc_index(node: IntArray, cell: IntArray) -> IntArray:
+        return srt[np.searchsorted(key_sorted, node * n_cells + cell)]
+
+    link = np.flatnonzero((twin >= 0) & (iface < 0))
+    link = link[O[link] < O[twin[link]]]
+    ln = F[link]  # (l, k) facet nodes
+    la = np.repeat(O[link], ln.shape[1])
+    lb = np.repeat(O[twin[link]], ln.shape[1])
+    lnode = ln.ravel()
+    keep = np.isin(lnode, iface_nodes)
+    ea = inc_index(lnode[keep], la[keep])
+    eb = inc_index(lnode[keep], lb[keep])
+    ninc = sel.size
+    G = sp.coo_matrix((np.ones(ea.size), (ea, eb)), shape=(ninc, ninc))
+    ncomp, comp = connected_components(G, directed=False)
+    # a new node per component; the first component of each node keeps its id
+    comp_node = np.zeros(ncomp, dtype=np.int64)
+    comp_node[comp] = inc_node[sel]
+    o = np.lexsort((np.arange(ncomp), comp_node))
+    is_first = np.r_[True, comp_node[o][1:] != comp_node[o][:-1]]
+    new_id = np.empty(ncomp, dtype=np.int64)
+    new_id[o[is_first]] = comp_node[o[is_first]]
+    extra = o[~is_first]
+    new_id[extra] = n0 + np.arange(extra.size)
+    parent = np.concatenate([np.arange(n0), comp_node[extra]])
+    flat = inc_node.copy()
+    flat[sel] = new_id[comp]
+    cells: dict[str, IntArray] = {}
+    start = 0
+    for t in ctypes:
+        c = mesh.cells[t]
+        cells[t] = flat[start : start + c.size].reshape(c.shape)
+        start += c.size
+    points = mesh.points[parent]
+
+    def copy_of(node: IntArray, cell: IntArray) -> IntArray:
+        out = node.copy()
+        m = np.isin(node, iface_nodes)
+        out[m] = new_id[comp[inc_index(node[m], cell[m])]]
+        return out
+
+    # pairs: the two instances of every interface facet, node by node
+    ftype = width[0]
+    inst = np.flatnonzero((iface >= 0) & (twin >= 0))
+    inst = inst[O[inst] < O[twin[inst]]]
+    fv = facet_values(mesh.points, ftype, F[inst], 2 * reference(ftype).degree, thickness)
+    nrm = np.einsum("fq,fqd->fd", fv.dA, fv.normal)
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    for j in range(len(names)):
+        m = iface[inst] == j
+        if m.any():
+            S = nrm[m].T @ nrm[m]
+            ref = np.linalg.eigh(S)[1][:, -1]
+            nrm[m] *= np.where(nrm[m] @ ref < 0, -1.0, 1.0)[:, None]
+    cen = np.zeros((n_cells, dim))
+    for c, o_ in cell_conn:
+        cen[o_ : o_ + c.shape[0]] = mesh.points[c].mean(axis=1)
+    ca, cb = O[inst], O[twin[inst]]
+    flip = np.einsum("fd,fd->f", cen[cb] - cen[ca], nrm) < 0
+    ca, cb = np.where(flip, cb, ca), np.where(flip, ca, cb)
+    me = np.einsum("fq,qa,qb->fab", fv.dA, fv.N, fv.N)
+    lumped = lump_hrz(me)  # (f, k)
+    fn = F[inst]
+    k = fn.shape[1]
+    pa = copy_of(fn.ravel(), np.repeat(ca, k))
+    pb = copy_of(fn.ravel(), np.repeat(cb, k))
+    pj = np.repeat(iface[inst], k)
+    w_area = lumped.ravel()
+    w_norm = (lumped.sum(axis=1)[:, None] * nrm).repeat(k, axis=0)
+    real = pa != pb  # a crack tip stays one node: no pair
+    pa, pb, pj, w_area, w_norm = pa[real], pb[real], pj[real], w_area[real], w_norm[real]
+    pk = np.stack([pa, pb], axis=1)
+    uniq, pinv = np.unique(pk, axis=0, return_inverse=True)
+    pinv = pinv.ravel()
+    m_pairs = uniq.shape[0]
+    area = np.bincount(pinv, w_area, m_pairs).astype(float)
+    summed = np.stack([np.bincount(pinv, w_norm[:, i], m_pairs) for i in range(dim)], axis=1)
+    normal: FloatArray = summed / np.linalg.norm(summed, axis=1)[:, None]
+    which = np.zeros(m_pairs, dtype=np.int64)
+    which[pinv] = pj
+    pairs = PairGeometry(tuple(names), which, uniq[:, 0], uniq[:, 1], _frames(normal), area,
+                         points[uniq[:, 0]])  # fmt: skip
+    # facet groups on the split mesh
+    cell_a = np.full(fcount.size, -1, dtype=np.int64)
+    cell_b = cell_a.copy()
+    cell_a[fid[inst]], cell_b[fid[inst]] = ca, cb
+    fgroups: dict[str, dict[str, IntArray]] = {}
+    for gname, grp in mesh.facet_groups.items():
+        for gtype, conn in grp.items():
+            at, found = _lookup(K, _corner_keys(conn, gtype))
+            if not found.any():
+                continue
+            conn, at = conn[found], at[found]  # facets of cells in no block are dropped
+            kk = conn.shape[1]
+            if gname in names:
+                for side, owner_of in (("a", cell_a), ("b", cell_b)):
+                    c_ = np.repeat(owner_of[fid[at]], kk)
+                    fgroups.setdefault(f"{gname}:{side}", {})[gtype] = copy_of(
+                        conn.ravel(), c_).reshape(conn.shape)  # fmt: skip
+            else:
+                c_ = np.repeat(O[at], kk)
+                fgroups.setdefault(gname, {})[gtype] = copy_of(conn.ravel(), c_).reshape(conn.shape)
+    out = Mesh(points, cells, {k_: dict(v) for k_, v in mesh.cell_groups.items()}, fgroups)
+    # bodies: connected components of the split mesh
+    used = np.concatenate([c.ravel() for c in cells.values()])
+    cid = np.concatenate([np.repeat(np.arange(c.shape[0]) + offset[t], c.shape[1])
+                          for t, c in cells.items()])  # fmt: skip
+    Bg = sp.coo_matrix((np.ones(used.size), (used, cid + points.shape[0])),
+                       shape=(points.shape[0] + n_cells,) * 2)  # fmt: skip
+    _nb, lab = connected_components(Bg, directed=False)
+    body = np.full(points.shape[0], -1, dtype=np.int64)
+    body[used] = lab[used]
+    _, body_used = np.unique(body[used], return_inverse=True)
+    body[used] = body_used.ravel()
+    return SplitMesh(out, pairs, parent, body, int(body[used].max()) + 1 if used.size else 0)

@@ -1,0 +1,143 @@
+"""Exact rigid sliding-block integrator: the independent reference of V2–V5.
+
+A rigid block slides on a plane with Coulomb friction under a base acceleration given
+as a piecewise-linear record. Its relative displacement x obeys, while sliding in the
+direction σ = sign(ẋ),
+
+    ẍ = p(t) − σ q,          p(t) = κ (−a_g(t)) + p₀,
+
+and stays stuck while |p(t)| ≤ q (two-way) or p(t) ≤ q (one-way: only σ = +1 allowed).
+On each linear piece of p the motion is a cubic in time, so the stop instants (ẋ = 0)
+and the start instants (p = ±q) are roots of quadratics and lines: the integration is
+exact (no time step). Used for: the horizontal plane (κ = 1, q = μ g, Newmark 1965); the
+one-way Newmark block (p = −a_g, q = k_y g); an incline (κ, q from the geometry).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+
+def _roots_in(c2: float, c1: float, c0: float, lo: float, hi: float) -> list[float]:
+    """Real roots of c2 τ² + c1 τ + c0 in (lo, hi]."""
+    if abs(c2) < 1e-300:
+        if abs(c1) < 1e-300:
+            return []
+        r = [-c0 / c1]
+    else:
+        disc = c1 * c1 - 4 * c2 * c0
+        if disc < 0:
+            return []
+        sq = np.sqrt(disc)
+        q = -0.5 * (c1 + np.copysign(sq, c1))
+        r = [q / c2] + ([c0 / q] if q != 0 else [])
+    return sorted(x for x in r if lo < x <= hi)
+
+
+class RigidBlock:
+    """Event-driven exact integration (see module doc).
+
+    Parameters: record times ``t`` and values ``a`` (m/s², linearly interpolated, zero
+    after the end), ``q`` (m/s²), ``kappa`` (default 1), ``two_way`` (default True),
+    ``t_end`` (s).
+    """
+
+    def __init__(
+        self, t: np.ndarray, a: np.ndarray, q: float, *, kappa: float = 1.0,
+        two_way: bool = True, t_end: float | None = None,
+    ) -> None:  # fmt: skip
+        t = np.asarray(t, float)
+        p = -kappa * np.asarray(a, float)
+        if t_end is not None and t_end > t[-1]:
+            t = np.r_[t, t[-1] + 1e-12, t_end]
+            p = np.r_[p, 0.0, 0.0]
+        self.q, self.two_way = q, two_way
+        self.knots = [0.0]
+        self.state = [(0.0, 0.0, 0)]  # x, v, sigma at each knot (sigma 0: stuck)
+        self.p = (t, p)
+        self.starts: list[float] = []
+        self.stops: list[float] = []
+        self._integrate(t, p)
+
+    def _integrate(self, t: np.ndarray, p: np.ndarray) -> None:
+        x, v, sig = 0.0, 0.0, 0
+        q = self.q
+        for i in range(t.size - 1):
+            ta, tb = t[i], t[i + 1]
+            pa, slope = p[i], (p[i + 1] - p[i]) / (tb - ta)
+            tau = 0.0
+            L = tb - ta
+            while tau < L - 1e-15:
+                p0 = pa + slope * tau
+                if sig == 0:
+                    # stuck: find when p crosses +q (or −q two-way)
+                    cands = []
+                    if p0 > q * (1 + 1e-12):
+                        sig = 1
+                    elif self.two_way and p0 < -q * (1 + 1e-12):
+                        sig = -1
+                    else:
+                        for level in ([q, -q] if self.two_way else [q]):
+                            cands += [r for r in _roots_in(0.0, slope, p0 - level, 1e-15, L - tau)
+                                      if (slope > 0) == (level > 0)]  # fmt: skip
+                        if not cands:
+                            self._push(ta + L, x, v, 0)
+                            tau = L
+                            break
+                        dt_ = min(cands)
+                        tau += dt_
+                        sig = 1 if pa + slope * tau > 0 else -1
+                        self._push(ta + tau, x, v, sig)
+                    self.starts.append(ta + tau)
+                    continue
+                net = (p0 - sig * q) * sig  # drive along the slip direction
+                if v * sig <= 1e-12 and (net < -1e-12 * q or (net <= 0 and slope * sig <= 0)):
+                    v, sig = 0.0, 0  # stopped exactly at a knot
+                    self.stops.append(ta + tau)
+                    self._push(ta + tau, x, v, sig)
+                    continue
+                # sliding: v(τ') = v + (p0 − σq) τ' + slope τ'²/2
+                c2, c1, c0 = 0.5 * slope, p0 - sig * q, v
+                stop = _roots_in(c2, c1, c0, 1e-14, L - tau)
+                stop = [r for r in stop if (c1 + 2 * c2 * r) * sig <= 0]
+                h = stop[0] if stop else L - tau
+                x = x + v * h + 0.5 * c1 * h * h + slope * h**3 / 6
+                v = v + c1 * h + c2 * h * h
+                tau += h
+                if stop:
+                    v = 0.0
+                    sig = 0
+                    self.stops.append(ta + tau)
+                self._push(ta + tau, x, v, sig)
+
+    def _push(self, tk: float, x: float, v: float, sig: int) -> None:
+        self.knots.append(tk)
+        self.state.append((x, v, sig))
+
+    def displacement(self, times: np.ndarray) -> np.ndarray:
+        """x at the given times (exact, from the knots)."""
+        tk = np.asarray(self.knots)
+        t, p = self.p
+        out = np.empty(len(times))
+        for j, tt in enumerate(np.atleast_1d(times)):
+            i = max(int(np.searchsorted(tk, tt, side="right")) - 1, 0)
+            x, v, sig = self.state[i]
+            h = tt - tk[i]
+            if sig == 0 or h <= 0:
+                out[j] = x
+                continue
+            # integrate with small sub-steps using the exact piecewise-linear p (Simpson)
+            n = max(8, int(h / 1e-4))
+            s = np.linspace(tk[i], tt, n + 1)
+            acc = np.interp(s, t, p, right=0.0) - sig * self.q
+            vel = v + np.concatenate([[0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * np.diff(s))])
+            out[j] = x + float(np.sum(0.5 * (vel[1:] + vel[:-1]) * np.diff(s)))
+        return out
+
+
+def sampled(fn: Callable[[np.ndarray], np.ndarray], t_end: float, dt: float) -> tuple:
+    """(t, a) samples of a function on [0, t_end] at step dt."""
+    t = np.arange(round(t_end / dt) + 1) * dt
+    return t, fn(t)
