@@ -33,9 +33,11 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) benchmarks/run.py
+	$(PY) benchmarks/interfaces.py
 
 bench-quick: $(STAMP)
 	$(PY) benchmarks/run.py --quick
+	$(PY) benchmarks/interfaces.py --quick
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build src/*.egg-info

@@ -35,6 +35,16 @@ def test_readme_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
     assert "tip" in capsys.readouterr().out
 
 
+def test_readme_sliding_block(capsys: pytest.CaptureFixture[str]) -> None:
+    """The second README snippet reproduces V2b: u = 0.179804 m (Newmark 1965; the
+    closed form of verification-cases.md), to 1 %."""
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
+    scope: dict[str, object] = {}
+    exec(compile(blocks[1], "README.md", "exec"), scope)
+    assert -float(scope["slip"]) == pytest.approx(0.179804, rel=1e-2)  # type: ignore[arg-type]
+    assert "slip" in capsys.readouterr().out
+
+
 def test_dam_demo_short() -> None:
     sys.path.insert(0, str(ROOT / "examples"))
     try:

@@ -171,3 +171,16 @@ def test_joint_validation() -> None:
         pf.Joint(initial="glued")
     with pytest.raises(pf.ModelError, match="kn"):
         pf.Joint(kn=-1.0)
+
+
+def test_pair_on_a_roller_boundary() -> None:
+    """A block whose side is on rollers (u_x = 0) next to a fixed base: the corner pair's
+    tangential component is prescribed on both sides, carries no force, and the statics
+    still balances the weight."""
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    model.fix(model.nodes_at(lambda x: np.abs(x[:, 0]) < 1e-9), 0)
+    res = pf.solve_static(model)
+    corner = int(np.argmin(np.linalg.norm(model.pairs.x, axis=1)))
+    assert res.pairs.X[corner, 0] == 0.0
+    applied = model.load_vector().reshape(-1, 2).sum(axis=0)
+    np.testing.assert_allclose(res.reactions.sum(axis=0), -applied, atol=1e-9 * abs(applied[1]))

@@ -46,8 +46,16 @@ Energy (J), accumulated over the run:
 ``interface`` = −Σ X_{n+1}·Δw (friction and contact work dissipated; the plain rule uses
 the step average of X), ``impact`` = kinetic energy removed by the projection.
 
-Ground motion, relative form: each record adds −M ι a_g(t); outputs are relative to
-the ground, absolute accelerations are a + Σ ι a_g.
+Ground motion, two forms (method.md §6):
+
+- ``form="relative"`` (default): a fixed base; each record adds the inertia load
+  −M ι a_g(t); outputs are relative to the ground, absolute accelerations a + Σ ι a_g;
+- ``form="absolute"``: every prescribed DOF moves with the ground, u_p(t) = ū_p + Σ ι d_g(t),
+  d_g integrated exactly from the piecewise-linear record (apply
+  :meth:`GroundMotion.baseline_corrected` first to remove drift); the blocks see the
+  loads −K_fp u_p − C_fp v_p (the mass is lumped, so M_fp = 0) and the pairs on the base
+  the prescribed relative motion; outputs are absolute. The energy balance then includes
+  the work of the support reactions (``support_work``).
 """
 
 from __future__ import annotations
@@ -134,7 +142,8 @@ class Dynamic:
     model: the model (blocks, interfaces, supports, loads).
     dt: time step (s); K̂ is factorised once for it.
     beta, gamma, alpha: Newmark / HHT-α parameters (default average acceleration).
-    ground: ground-motion records (relative form).
+    ground: ground-motion records.
+    form: "relative" (fixed base, inertia loads) or "absolute" (the supports move).
     stabilize: the contact stabilisation of the module docstring (default True).
     tol: complementarity residual tolerance of the interface solver.
 
@@ -158,6 +167,7 @@ class Dynamic:
         gamma: float | None = None,
         alpha: float = 0.0,
         ground: Sequence[GroundMotion] = (),
+        form: str = "relative",
         stabilize: bool = True,
         tol: float = 1e-8,
         backend: str = "auto",
@@ -172,14 +182,30 @@ class Dynamic:
             if g.direction.size != d:
                 raise ModelError(f"ground motion {g.name!r}: direction has {g.direction.size} "
                                  f"components, the model is {d}D")  # fmt: skip
+        if form not in ("relative", "absolute"):
+            raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
+        self.form = form
         free, pres = self.system.free, self.system.prescribed
         self.minv = 1.0 / self.system.M.diagonal()
-        self._iota_M = [
-            self.system.M @ np.tile(g.direction, model.mesh.n_points)[free] for g in self.ground
-        ]
+        iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
+        self._iota_M = [self.system.M @ i[free] for i in iota] if form == "relative" else []
+        self._iota_p = [i[pres] for i in iota] if form == "absolute" else []
+        self._drive: list[tuple[FloatArray, FloatArray | None]] = []
+        if form == "absolute" and self.ground:
+            if not pres.size:
+                raise ModelError("the absolute form needs supports that move with the ground")
+            K_fp = model.stiffness()[free][:, pres]
+            C_fp = None
+            if model.damping is not None and (model.damping.alpha or model.damping.beta):
+                M_full = model.mass(lumped=True)
+                C_full = model.damping.alpha * M_full + model.damping.beta * model.stiffness()
+                C_fp = C_full[free][:, pres]
+            for ip in self._iota_p:
+                self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip)))
         G = model.relative_operator()
         self.G = G[:, free].tocsr()
-        self.w_pres = (G[:, pres] @ self.system.prescribed_values) if pres.size else np.zeros(
+        self.Gp = G[:, pres].tocsr()
+        self.w_pres = (self.Gp @ self.system.prescribed_values) if pres.size else np.zeros(
             G.shape[0])  # fmt: skip
         self.stabilize = stabilize
         self._proj_cache: dict[bytes, tuple[Any, ...]] = {}
@@ -207,9 +233,30 @@ class Dynamic:
     def load(self, t: float) -> FloatArray:
         """External load on the free DOFs at t (N): model loads and ground inertia."""
         f = self.system.load(t)
-        for g, mi in zip(self.ground, self._iota_M, strict=True):
+        for g, mi in zip(self.ground, self._iota_M, strict=False):
             f = f - mi * g(t)
+        for g, (kg, cg) in zip(self.ground, self._drive, strict=False):
+            d, v, _ = g.motion(t)
+            f = f + kg * d
+            if cg is not None:
+                f = f + cg * v
         return f
+
+    def prescribed(self, t: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Displacement, velocity and acceleration of the prescribed DOFs at t."""
+        u = self.system.prescribed_values.copy()
+        v, a = np.zeros_like(u), np.zeros_like(u)
+        for g, ip in zip(self.ground, self._iota_p, strict=False):
+            dg, vg, ag = g.motion(t)
+            u += ip * dg
+            v += ip * vg
+            a += ip * ag
+        return u, v, a
+
+    def _w_pres(self, t: float) -> FloatArray:
+        if not self._iota_p:
+            return self.w_pres
+        return self.Gp @ self.prescribed(t)[0]
 
     # -- start ------------------------------------------------------------------------------
     def initial(self, static: object | None = None, t0: float = 0.0) -> StepState:
@@ -246,9 +293,12 @@ class Dynamic:
         c[ps.state == SLIDE, -1] = True
         return c.ravel()
 
-    def _project(self, x: FloatArray, ps: PairState) -> tuple[FloatArray, FloatArray]:
-        """Mass-weighted projection of x so that G_c x = 0 on closed components; returns
-        the projected field and the multipliers λ (N·s or N) per component (M,)."""
+    def _project(
+        self, x: FloatArray, ps: PairState, offset: FloatArray | None = None
+    ) -> tuple[FloatArray, FloatArray]:
+        """Mass-weighted projection of x so that G_c x + offset_c = 0 on the closed
+        components (offset: the prescribed side's part, absolute form); returns the
+        projected field and the multipliers λ per component (M,)."""
         closed = self._closed(ps)
         lam = np.zeros(self.m * self.d)
         if not closed.any():
@@ -273,7 +323,10 @@ class Dynamic:
             hit = (c, Gc, GcT, solve)
             self._proj_cache[key] = hit
         c, Gc, GcT, solve = hit
-        lam_c = solve(Gc @ x)
+        g = Gc @ x
+        if offset is not None:
+            g = g + offset[c]
+        lam_c = solve(g)
         lam[c] = lam_c
         return x - self.minv * (GcT @ lam_c), lam
 
@@ -289,7 +342,7 @@ class Dynamic:
             new = self.nm.advance(kin, u_free, f_ext)
             return StepState(new, cur.pairs, cur.X_eff, cur.step + 1), 0.0
         assert self.isolver is not None
-        w_free = (self.G @ u_free + self.w_pres).reshape(m, d)
+        w_free = (self.G @ u_free + self._w_pres(t1)).reshape(m, d)
         try:
             trial, _ = self.isolver.solve(w_free, cur.pairs, label=f"step {cur.step + 1} "
                                           f"(t = {t1:.6g} s)")  # fmt: skip
@@ -309,7 +362,8 @@ class Dynamic:
                 new.v = new.v + self.dt * extra * impulse
             mass = 1.0 / self.minv
             ke0 = 0.5 * float(new.v @ (mass * new.v))
-            new.v, _ = self._project(new.v, trial)
+            vp = self.Gp @ self.prescribed(t1)[1] if self._iota_p else None
+            new.v, _ = self._project(new.v, trial, vp)
             lost = ke0 - 0.5 * float(new.v @ (mass * new.v))
         else:
             new = self.nm.advance(kin, u, f_ext + GX)
@@ -364,13 +418,24 @@ class Dynamic:
             k = st.kin
             out_t[i] = k.t
             full_u = self.system.expand(k.u)
+            full_v = self.system.expand(k.v, prescribed=False)
+            full_a = self.system.expand(k.a, prescribed=False)
+            if self.form == "absolute":
+                pres = self.system.prescribed
+                full_u[pres], full_v[pres], full_a[pres] = self.prescribed(k.t)
             U = full_u.reshape(-1, d)
             pu[i] = U[probes]
-            pv[i] = self.system.expand(k.v, prescribed=False).reshape(-1, d)[probes]
-            A = self.system.expand(k.a, prescribed=False).reshape(-1, d)[probes]
+            pv[i] = full_v.reshape(-1, d)[probes]
+            A = full_a.reshape(-1, d)[probes]
+            if self.stabilize and m:  # a holds the smooth part; add the pair forces
+                A = A + self.system.expand(self.minv * (self.G.T @ st.X_eff.ravel()),
+                                           prescribed=False).reshape(-1, d)[probes]  # fmt: skip
             pa[i] = A
-            ag = sum((g.direction * g(k.t) for g in self.ground), np.zeros(d))
-            paa[i] = A + ag
+            if self.form == "relative":
+                ag = sum((g.direction * g(k.t) for g in self.ground), np.zeros(d))
+                paa[i] = A + ag
+            else:
+                paa[i] = A
             rigid[i] = np.linalg.solve(PhiMPhi, MPhi.T @ full_u).reshape(-1, r)
             if m:
                 HX[i], Hw[i], Hs[i] = st.pairs.X, st.pairs.w, st.pairs.s
@@ -381,7 +446,7 @@ class Dynamic:
                 E[key][i] = acc[key]
 
         if m and start is not None and not isinstance(start, StepState):
-            cur.pairs.w = (self.G @ cur.kin.u + self.w_pres).reshape(m, d)
+            cur.pairs.w = (self.G @ cur.kin.u + self._w_pres(cur.kin.t)).reshape(m, d)
         record(0, cur)
         t_wall = _time.perf_counter()
         completed = True
@@ -402,6 +467,11 @@ class Dynamic:
             if m:
                 dw = (self.G @ du).reshape(m, d)
                 Xw = nxt.X_eff if self.stabilize else 0.5 * (cur.X_eff + nxt.X_eff)
+                if self.form == "absolute" and self.ground:
+                    # the moving base works on the blocks through the joints
+                    dwp = (self._w_pres(nxt.kin.t) - self._w_pres(cur.kin.t)).reshape(m, d)
+                    acc["external_work"] -= float(np.sum(Xw * dwp))
+                    dw = dw + dwp
                 acc["interface"] -= float(np.sum(Xw * dw))
                 acc["impact"] += lost
                 iters[i] = self.isolver.last.iterations if self.isolver else 0

@@ -2,9 +2,10 @@
 
 G (M × n) maps block displacements to pair relative displacements (local frames).
 Columns of Gᵀ are solved in chunks; W is kept (dense, M × M). The solutions
-Z = K̂⁻¹ Gᵀ are kept too when n·M is small enough (``keep`` entries, default 2.5e7,
-i.e. 200 MB), so that the corrector u = u_free + Z X is a matrix-vector product instead of
-a second back-substitution; otherwise the corrector solves K̂ Δu = Gᵀ X.
+Z = K̂⁻¹ Gᵀ are kept too when n·M is small (``keep`` entries, default 1e6, 8 MB): then the
+corrector u = u_free + Z X is a matrix-vector product instead of a second
+back-substitution. Above that the product costs as much as the solve (both stream about
+n·M or nnz(L) numbers), so the corrector solves K̂ Δu = Gᵀ X.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from ..solvers import Factorization
 
 
 def delassus(
-    factor: Factorization, G: sp.csr_matrix, *, chunk: int = 256, keep: float = 2.5e7
+    factor: Factorization, G: sp.csr_matrix, *, chunk: int = 256, keep: float = 1e6
 ) -> tuple[FloatArray, FloatArray | None]:
     """W (M, M) and, if small enough, Z = K̂⁻¹ Gᵀ (n, M).
 

@@ -78,6 +78,12 @@ class InterfaceSolver:
         self.rho = 1.0 / float(diag.mean()) if diag.size else 1.0
         reg = regularize * float(diag.mean()) if diag.size else 0.0
         self.Wc = self.W + np.diag(props.compliance.ravel() + reg)
+        # components prescribed on both sides (e.g. a pair on a fixed boundary) cannot
+        # move: a unit compliance keeps the system regular and their force at zero
+        dead = diag <= 1e-12 * float(diag.max(initial=0.0))
+        if dead.any():
+            self.Wc[np.flatnonzero(dead), np.flatnonzero(dead)] += float(diag[~dead].mean())
+            log.info("%d pair component(s) are prescribed on both sides", int(dead.sum()))
         # the border is scaled to the size of W so that the LU pivots are comparable
         self._escale = float(diag.mean()) if diag.size else 1.0
         self.E = None if border is None else np.asarray(border, dtype=float) * self._escale
@@ -270,21 +276,23 @@ class InterfaceSolver:
                 log.debug("%s: states settled but residual %.2e > tol", label, res)
                 break
             key = new.state.tobytes() + new.broken.tobytes()
+            if self.d == 3:
+                key += np.round(new.slip_dir[new.state == SLIDE], 6).tobytes()
             history.append(new.state.copy())
-            if key in seen and self.d == 2:
+            if key in seen:
                 log.debug("%s: pair states cycle after %d iterations", label, it)
                 break
             seen[key] = it
             new.X, new.w, new.s = st.X, st.w, st.s
             st = new
-        if self.E is not None:
-            raise InterfaceError(self._diagnose(label, history, st, prev, w_free))
-        st2, n_it = self._newton(st, prev, w_free)
+        st2, q2, n_it = self._newton(st, q, prev, w_free, e)
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
         if res <= self.tol:
             self.last = SolveInfo(self.max_iter + n_it, res, "semismooth Newton")
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
-            return st2, q
+            return st2, q2
+        if self.E is not None:
+            raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
         st3 = self._gauss_seidel(st2, prev, w_free)
         res3 = float(self.residual(st3, prev, w_free).max(initial=0.0))
         if res3 <= self.tol:
@@ -295,25 +303,35 @@ class InterfaceSolver:
                                             w_free))  # fmt: skip
 
     def _newton(
-        self, st: PairState, prev: PairState, w_free: FloatArray, max_iter: int = 100
-    ) -> tuple[PairState, int]:
+        self,
+        st: PairState,
+        q0: FloatArray,
+        prev: PairState,
+        w_free: FloatArray,
+        e: FloatArray | None,
+        max_iter: int = 100,
+    ) -> tuple[PairState, FloatArray, int]:
         """Semismooth Newton on the Alart-Curnier natural map (all pairs at once).
 
         For broken pairs, with r = ρ, g = s_n, Δs_t = s_t − s_t,prev, Y = X_n + σ_t,r A:
         F_n = Y − max(0, Y − r g), F_t = X_t − Π_{B(τ)}(X_t − r Δs_t), τ = c_r A + μ_r X_n⁺;
         intact pairs: F = r (s − s_prev). A pair that exceeds its strength at the solution
-        breaks and the Newton solve is repeated (at most once per pair).
+        breaks and the Newton solve is repeated (at most once per pair). With a border
+        (statics) the unknowns include q and the rows ρ (Eᵀ X − e).
         """
         m, d = self.m, self.d
-        Wc = self.Wc
+        M = m * d
+        Wc = self.Wc if self.E is None else np.hstack([self.Wc, self.E])
+        z_q = q0 / self._escale if self.E is not None and q0.size else np.zeros(
+            0 if self.E is None else self.E.shape[1])  # fmt: skip
         X = st.X.copy()
         broken = st.broken.copy()
         total = 0
         sdir = st.slip_dir.copy()
         for _ in range(m + 1):
             fscale = self._scale(X, w_free)
-            Xv = X.ravel().copy()
-            F, J = self._natural_map(Xv, broken, w_free, prev)
+            Xv = np.concatenate([X.ravel(), z_q])
+            F, J = self._natural_map(Xv, broken, w_free, prev, e)
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.linalg.norm(F))
@@ -326,13 +344,14 @@ class InterfaceSolver:
                     dX = np.linalg.lstsq(J, -F, rcond=None)[0]  # type: ignore[arg-type]
                 step = 1.0
                 for _ in range(30):
-                    F2, _ = self._natural_map(Xv + step * dX, broken, w_free, prev, jac=False)
+                    F2, _ = self._natural_map(Xv + step * dX, broken, w_free, prev, e, False)
                     if np.linalg.norm(F2) <= (1 - 1e-4 * step) * nF:
                         break
                     step *= 0.5
                 Xv = Xv + step * dX
-                F, J = self._natural_map(Xv, broken, w_free, prev)
-            X = Xv.reshape(m, d)
+                F, J = self._natural_map(Xv, broken, w_free, prev, e)
+            X = Xv[:M].reshape(m, d)
+            z_q = Xv[M:]
             s_ = (w_free.ravel() + Wc @ Xv).reshape(m, d)
             # intact pairs that exceed their strength break; repeat
             Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
@@ -359,7 +378,7 @@ class InterfaceSolver:
         with np.errstate(invalid="ignore", divide="ignore"):
             sdir[sliding] = -X[sliding, :-1] / nt[sliding, None]
         out.state, out.slip_dir = state, sdir
-        return out, total
+        return out, z_q * self._escale, total
 
     def _diagnose(
         self,
@@ -385,20 +404,25 @@ class InterfaceSolver:
         )
 
     def _natural_map(
-        self, Xv: FloatArray, broken: np.ndarray, w_free: FloatArray, prev: PairState,
-        jac: bool = True,
+        self, zv: FloatArray, broken: np.ndarray, w_free: FloatArray, prev: PairState,
+        e: FloatArray | None = None, jac: bool = True,
     ) -> tuple[FloatArray, FloatArray | None]:  # fmt: skip
-        """Alart-Curnier residual F(X) (M,) and, if ``jac``, a generalised Jacobian."""
-        m, d, r, Wc = self.m, self.d, self.rho, self.Wc
-        I = np.eye(m * d)
+        """Alart-Curnier residual F(z) and, if ``jac``, a generalised Jacobian; z = X, or
+        (X, q / scale) with the border, whose equilibrium rows are appended."""
+        m, d, r = self.m, self.d, self.rho
+        M = m * d
+        Wc = self.Wc if self.E is None else np.hstack([self.Wc, self.E])
+        N = Wc.shape[1]
+        I = np.eye(M, N)
+        Xv = zv[:M]
         c, mu, t = self.props.strength(broken)
         Xm = Xv.reshape(m, d)
-        sv = w_free.ravel() + Wc @ Xv
+        sv = w_free.ravel() + Wc @ zv
         s_ = sv.reshape(m, d)
         F = np.zeros((m, d))
-        J = np.zeros((m, d, m * d if jac else 0))
-        Wr = Wc.reshape(m, d, m * d)
-        Ir = I.reshape(m, d, m * d)
+        J = np.zeros((m, d, N if jac else 0))
+        Wr = Wc.reshape(m, d, N)
+        Ir = I.reshape(m, d, N)
         # intact
         it = ~broken
         F[it] = r * (s_[it] - prev.s[it])
@@ -428,11 +452,20 @@ class InterfaceSolver:
             for k in np.flatnonzero(slide):
                 dz = Ir[k, :-1] - r * Wr[k, :-1]  # (d-1, M)
                 P = (np.eye(d - 1) - np.outer(zh[k], zh[k])) * (tau[k] / nz[k])
-                dtau = np.zeros(m * d)
+                dtau = np.zeros(N)
                 if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
                     dtau[k * d + d - 1] = mu[k]
                 J[k, :-1] = Ir[k, :-1] - np.outer(zh[k], dtau) - P @ dz
-        return F.ravel(), (J.reshape(m * d, m * d) if jac else None)
+        Fv, Jv = F.ravel(), (J.reshape(M, N) if jac else None)
+        if self.E is None:
+            return Fv, Jv
+        assert e is not None
+        Feq = r * (self.E.T @ Xv - self._escale * e)
+        Fv = np.concatenate([Fv, Feq])
+        if Jv is not None:
+            Jeq = np.hstack([r * self.E.T, np.zeros((self.E.shape[1],) * 2)])
+            Jv = np.vstack([Jv, Jeq])
+        return Fv, Jv
 
     def _gauss_seidel(
         self, st: PairState, prev: PairState, w_free: FloatArray, sweeps: int = 500

@@ -95,6 +95,37 @@ class GroundMotion:
         """a_g(t) in m/s² (linear interpolation, 0 outside the record)."""
         return float(np.interp(t, self.time, self.acceleration, left=0.0, right=0.0))
 
+    def baseline_corrected(self) -> GroundMotion:
+        """The record minus the constant acceleration that brings the final ground velocity
+        to zero (the zeroth-order baseline correction), for the absolute form."""
+        v_end = float(np.sum(0.5 * (self.acceleration[1:] + self.acceleration[:-1])
+                             * np.diff(self.time)))  # fmt: skip
+        shift = v_end / self.duration
+        return GroundMotion(self.time, self.acceleration - shift, self.direction, self.name)
+
+    def motion(self, t: float) -> tuple[float, float, float]:
+        """Ground displacement (m), velocity (m/s) and acceleration (m/s²) at t, integrated
+        exactly from the piecewise-linear record (zero before its start, constant velocity
+        after its end)."""
+        tt, a = self.time, self.acceleration
+        h = np.diff(tt)
+        if not hasattr(self, "_vd"):
+            v = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * h)])
+            d = np.concatenate([[0.0], np.cumsum(v[:-1] * h + h * h * (2 * a[:-1] + a[1:]) / 6)])
+            object.__setattr__(self, "_vd", (v, d))
+        v, d = self._vd  # type: ignore[attr-defined]
+        if t <= tt[0]:
+            return 0.0, 0.0, 0.0
+        if t >= tt[-1]:
+            return float(d[-1] + v[-1] * (t - tt[-1])), float(v[-1]), 0.0
+        i = int(np.searchsorted(tt, t, side="right")) - 1
+        tau, hi = t - tt[i], h[i]
+        da = (a[i + 1] - a[i]) / hi
+        acc = a[i] + da * tau
+        vel = v[i] + a[i] * tau + 0.5 * da * tau * tau
+        dis = d[i] + v[i] * tau + 0.5 * a[i] * tau * tau + da * tau**3 / 6
+        return float(dis), float(vel), float(acc)
+
     @property
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])

@@ -1,0 +1,110 @@
+"""PFE/IE benchmark: a jointed gravity-dam section under El Centro.
+
+A 100 m × 60 m section (Q4, plane strain): a rock block fixed at its base, and a concrete
+dam cut by a bonded dam-rock joint (y = 20 m) and a lift joint (y = 40 m), gravity, then
+El Centro scaled ×2 in the relative form (Δt = 0.01 s). For each size it prints: DOF,
+pairs, the static analysis time, the set-up time (factorisation of K̂ and the Delassus
+operator from one multi-right-hand-side solve), the time of one back-substitution, the
+mean step time and its ratio to the back-substitution (method.md §5.1: the floor is about
+two), the share of the step spent in the interface solver, and the pair counts at the end.
+
+    python benchmarks/interfaces.py           # nx = 100, 200 (12k, 49k DOF)
+    python benchmarks/interfaces.py --quick   # nx = 50
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+from pathlib import Path
+
+for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(var, "1")
+
+import numpy as np  # noqa: E402
+
+import pfeie as pf  # noqa: E402
+
+RECORD = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_ns_chopra.csv"
+
+
+def build(nx: int) -> pf.Model:
+    mesh = pf.rectangle(100.0, 60.0, nx, int(0.6 * nx), cell="quad")
+    mesh.add_cell_group("rock", lambda x: x[:, 1] < 20)
+    mesh.add_cell_group("dam", lambda x: x[:, 1] > 20)
+    mesh.add_facet_group("base", lambda x: np.abs(x[:, 1] - 20) < 1e-6, boundary_only=False)
+    mesh.add_facet_group("lift", lambda x: np.abs(x[:, 1] - 40) < 1e-6, boundary_only=False)
+    rock, concrete = pf.Elastic(30e9, 0.25, 2600), pf.Elastic(25e9, 0.2, 2400)
+    model = pf.Model(
+        mesh,
+        [pf.Block("rock", rock), pf.Block("dam", concrete)],
+        interfaces=[
+            pf.Interface("base", pf.Joint(c=0.3e6, phi=45, tensile=0.3e6, initial="intact")),
+            pf.Interface("lift", pf.Joint(c=0.2e6, phi=40, tensile=0.1e6, initial="intact")),
+        ],
+    )
+    model.fix("ymin")
+    model.add_gravity()
+    return model
+
+
+def case(nx: int, steps: int) -> dict[str, float]:
+    model = build(nx)
+    t0 = time.perf_counter()
+    static = pf.solve_static(model)
+    t_static = time.perf_counter() - t0
+    data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
+    gm = pf.GroundMotion.from_samples(2.0 * data[:, 1], time=data[:, 0], units="g")
+    t0 = time.perf_counter()
+    an = pf.Dynamic(model, 0.01, ground=[gm])
+    t_setup = time.perf_counter() - t0
+    b = np.random.default_rng(0).standard_normal(an.system.n)
+    an.nm.factor.solve(b)
+    ts = []
+    for _ in range(7):
+        t0 = time.perf_counter()
+        an.nm.factor.solve(b)
+        ts.append(time.perf_counter() - t0)
+    t_solve = float(np.median(ts))
+    t_iface = 0.0
+    solve_fn = an.isolver.solve  # type: ignore[union-attr]
+
+    def timed(*args, **kw):  # type: ignore[no-untyped-def]
+        nonlocal t_iface
+        t1 = time.perf_counter()
+        out = solve_fn(*args, **kw)
+        t_iface += time.perf_counter() - t1
+        return out
+
+    an.isolver.solve = timed  # type: ignore[union-attr,method-assign]
+    t0 = time.perf_counter()
+    res = an.run(n_steps=steps, start=static)
+    t_run = time.perf_counter() - t0
+    counts = res.final.pairs.counts() if res.final else {}
+    return dict(dof=an.system.n, pairs=model.pairs.n if model.pairs else 0, t_static=t_static,
+                t_setup=t_setup, t_solve=t_solve, t_step=t_run / steps,
+                iface=t_iface / t_run, **{k: float(v) for k, v in counts.items()})  # fmt: skip
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="small size only")
+    ap.add_argument("--steps", type=int, default=300, help="time steps per case")
+    args = ap.parse_args()
+    sizes = [50] if args.quick else [100, 200]
+    hdr = (f"{'DOF':>7} {'pairs':>6} {'static s':>9} {'setup s':>8} {'solve ms':>9} "
+           f"{'step ms':>8} {'step/solve':>10} {'iface %':>8}  end state")  # fmt: skip
+    print(hdr)
+    print("-" * len(hdr))
+    for nx in sizes:
+        r = case(nx, args.steps)
+        end = ", ".join(f"{k} {int(r[k])}" for k in ("intact", "stick", "slide", "open", "broken"))
+        print(f"{int(r['dof']):>7} {int(r['pairs']):>6} {r['t_static']:>9.2f} {r['t_setup']:>8.2f} "
+              f"{1e3 * r['t_solve']:>9.1f} {1e3 * r['t_step']:>8.1f} "
+              f"{r['t_step'] / r['t_solve']:>10.2f} {100 * r['iface']:>8.0f}  {end}",
+              flush=True)  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
