@@ -90,6 +90,15 @@ class InterfaceSolver:
         self.tol, self.max_iter = tol, max_iter
         self._cache: dict[bytes, tuple[object, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
+        # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
+        # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
+        self._winv: FloatArray | None = None
+        if border is None and regularize == 0.0 and self.m:
+            try:
+                cf = sla.cho_factor(self.Wc, check_finite=False)
+                self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
+            except (np.linalg.LinAlgError, sla.LinAlgError):
+                self._winv = None
 
     # -- reduced linear system for given states ---------------------------------------------
     def _linear(
@@ -116,6 +125,8 @@ class InterfaceSolver:
         pos[kin] = np.arange(kin.size)
         ncol = pos[pair_fr * d + d - 1]
         key = kin.tobytes() + ncol.tobytes() + np.round(coef, 14).tobytes()
+        if self._winv is not None:
+            return self._woodbury(key, flat, kin, fr, coef, x0, target, w_free), np.zeros(0)
         r = 0 if self.E is None else self.E.shape[1]
         cached = self._cache.get(key)
         Wk = self.Wc[kin]
@@ -157,6 +168,42 @@ class InterfaceSolver:
             X[fr] = coef * X[ncol_to_flat(kin, ncol)] + x0
         q = y[kin.size :] * self._escale
         return X.reshape(m, d), q
+
+    def _woodbury(
+        self, key: bytes, flat: np.ndarray, kin: np.ndarray, fr: np.ndarray,
+        coef: FloatArray, x0: FloatArray, target: FloatArray, w_free: FloatArray,
+    ) -> FloatArray:  # fmt: skip
+        """The state system A X = b with A = W_c + U V (U V replaces the rows of the open
+        and sliding-tangential components): X = y − W_c⁻¹U Cap⁻¹ (C y − b_o), y = W_c⁻¹ b,
+        Cap = C W_c⁻¹ U (the rows C: X_j = 0 or X_t − coef X_n = x₀)."""
+        Winv = self._winv
+        assert Winv is not None
+        d = self.d
+        b = np.zeros(flat.size)
+        b[kin] = target.ravel()[kin] - w_free.ravel()[kin]
+        b[fr] = x0
+        y = Winv @ b
+        oth = np.flatnonzero(flat != 0)
+        if oth.size == 0:
+            return y.reshape(self.m, d)
+        rows_fr = np.searchsorted(oth, fr)
+        nidx = (fr // d) * d + d - 1
+        cached = self._cache.get(b"w" + key)
+        if cached is None:
+            cap = Winv[np.ix_(oth, oth)].copy()
+            if fr.size:
+                cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
+            lu = sla.lu_factor(cap, check_finite=False)
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[b"w" + key] = (lu,)
+        else:
+            (lu,) = cached
+        cy = y[oth].copy()
+        if fr.size:
+            cy[rows_fr] -= coef * y[nidx]
+        corr = sla.lu_solve(lu, cy - b[oth], check_finite=False)
+        return (y - Winv[:, oth] @ corr).reshape(self.m, d)
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
         """w = w_free + W X (+ E q)."""
