@@ -170,21 +170,22 @@ def test_v5_one_way_newmark_block_el_centro(ky: float) -> None:
     assert s[-1] == pytest.approx(u_ref, rel=2e-2)
 
 
-def test_v5_two_way_el_centro() -> None:
-    """V5 two-way: El Centro (first 12 s) on a horizontal joint with μ = 0.10: the slip
-    history follows the exact rigid integration within 2 % of its peak."""
+@pytest.mark.parametrize("mu", [0.05, 0.10, 0.15])
+def test_v5_two_way_el_centro(mu: float) -> None:
+    """V5 two-way: El Centro (first 12 s) on a horizontal joint with μ = k_y: the slip
+    history follows the exact rigid integration within 2 % of its peak. Δt = 1 ms: slip
+    reversals are resolved to O(Δt) (at 2.5 ms the error reaches 4 % for k_y = 0.15)."""
     t, a = _elcentro()
     keep = t <= 12.0
     t, a = t[keep], a[keep]
-    mu = 0.10
     ref = RigidBlock(t, a, mu * G, t_end=13.0)
     model = block_on_base(joint=pf.Joint(phi=_phi(mu)))
     gm = pf.GroundMotion.from_samples(a, time=t, direction=[1.0, 0.0])
-    res = pf.Dynamic(model, 0.0025, ground=[gm]).run(13.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, 0.001, ground=[gm]).run(13.0, start=pf.solve_static(model), every=5)
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     peak = np.abs(xr).max()
-    assert peak > 0.01
+    assert peak > 0.004
     assert np.abs(x - xr).max() < 2e-2 * peak
 
 
@@ -199,7 +200,7 @@ def test_v8a_lift_off_under_vertical_shaking() -> None:
     model = block_on_base(joint=pf.Joint(phi=40.0))
     top = model.nearest_node([0.5, 1.0])
     res = pf.Dynamic(model, dt, ground=[gm]).run(0.8, start=pf.solve_static(model), probes=[top])
-    gap = res.w[:, :, -1].mean(axis=1)
+    gap = res.opening.mean(axis=1)
     is_open = np.all(res.state == OPEN, axis=1)
     i_open = int(np.argmax(is_open))
     t_open = res.t[i_open]
@@ -230,7 +231,7 @@ def test_v8b_tensile_strength() -> None:
     t_ref = st_ * 1.0 / (m * k)  # σ A = m a, a = k t
     _t, _a, gm = _record(lambda t: -k * t, 1.0, dt, direction=(0.0, 1.0))
     res = pf.Dynamic(model, dt, ground=[gm]).run(1.0)
-    sigma = res.X[:, :, -1] / model.pairs.area  # compression positive
+    sigma = res.normal_stress  # compression positive
     # pair forces are step averages (they act at t_{n+1/2}; see pfeie.dynamics)
     before = (res.t > 0.1) & (res.t < t_ref - dt)
     expected = -m * k * (res.t[before] - dt / 2)
