@@ -18,7 +18,7 @@ $(STAMP): pyproject.toml
 	@touch $(STAMP)
 
 demo: $(STAMP)
-	$(PY) examples/dam_monolith.py
+	$(VENV)/bin/pfeie run examples/koyna/koyna.toml
 
 test: $(STAMP)
 	$(PY) -m pytest -m "not slow" --doctest-modules src tests examples

@@ -30,3 +30,12 @@ class SolverError(PfeieError):
 class InterfaceError(PfeieError):
     """The interface problem of a step did not converge (the message names the step,
     the pairs that kept changing state and the residual)."""
+
+
+class RecordError(PfeieError):
+    """A ground-motion record file is missing, malformed or inconsistent."""
+
+
+class InputError(PfeieError):
+    """A model file is invalid: the message names the file, the key path, what was
+    expected and what was found."""

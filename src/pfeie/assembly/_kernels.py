@@ -131,7 +131,9 @@ def lump_hrz(me: FloatArray) -> FloatArray:
     Returns the lumped nodal masses (c, n).
     """
     diag = np.einsum("caa->ca", me)
-    return diag * (me.sum(axis=(1, 2)) / diag.sum(axis=1))[:, None]
+    dsum = diag.sum(axis=1)
+    scale = np.divide(me.sum(axis=(1, 2)), dsum, out=np.zeros_like(dsum), where=dsum != 0)
+    return diag * scale[:, None]
 
 
 def load(cv: CellValues, values: FloatArray) -> FloatArray:

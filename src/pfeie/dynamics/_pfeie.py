@@ -86,6 +86,11 @@ from ._newmark import Newmark, State
 log = logging.getLogger(__name__)
 
 
+class RunStopped(Exception):
+    """Raised by a run callback to stop the run cleanly (e.g. on Ctrl-C); the run
+    returns what it has computed, with ``completed = False``."""
+
+
 @dataclass
 class StepState:
     """Everything the next step needs: the kinematic state and the committed pairs."""
@@ -94,6 +99,7 @@ class StepState:
     pairs: PairState
     X_eff: FloatArray
     step: int = 0
+    v_raw: FloatArray | None = None  # velocity before the contact projection
 
 
 @dataclass
@@ -128,6 +134,7 @@ class DynamicResult:
     wall_time: float = 0.0
     completed: bool = True
     pair_area: FloatArray = field(default_factory=lambda: np.zeros(0))
+    stop_reason: str | None = None
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -212,7 +219,11 @@ class Dynamic:
             raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
         self.form = form
         free, pres = self.system.free, self.system.prescribed
-        self.minv = 1.0 / self.system.M.diagonal()
+        # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
+        # their nodes take no part in the velocity projection (M⁻¹ = 0 there)
+        self.mass = np.asarray(self.system.M.diagonal(), dtype=float)
+        self.minv = np.divide(1.0, self.mass, out=np.zeros_like(self.mass),
+                              where=self.mass > 0)  # fmt: skip
         iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
         self._iota_M = [self.system.M @ i[free] for i in iota] if form == "relative" else []
         self._iota_p = [i[pres] for i in iota] if form == "absolute" else []
@@ -230,6 +241,14 @@ class Dynamic:
                 self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip)))
         G = model.relative_operator()
         self.G = G[:, free].tocsr()
+        if stabilize and self.G.shape[0]:
+            touched = np.flatnonzero(np.abs(self.G).sum(axis=0).A1 > 0)
+            if np.any(self.mass[touched] <= 0):
+                raise ModelError(
+                    "the contact-stabilised scheme needs mass on both sides of every "
+                    "interface: give massless blocks a small density (e.g. 1 % of the "
+                    "structure's) to model a massless foundation"
+                )
         self.Gp = G[:, pres].tocsr()
         self.w_pres = (self.Gp @ self.system.prescribed_values) if pres.size else np.zeros(
             G.shape[0])  # fmt: skip
@@ -341,7 +360,8 @@ class Dynamic:
                 solve = spla.factorized((Hc + eps * sp.eye(c.size)).tocsc())
             elif Hc.nnz == c.size:
                 hd = Hc.diagonal()
-                solve = lambda g: g / hd  # noqa: E731
+                hinv = np.divide(1.0, hd, out=np.zeros_like(hd), where=hd > 0)
+                solve = lambda g: g * hinv  # noqa: E731
             else:
                 solve = spla.factorized(Hc)
             if len(self._proj_cache) > 256:
@@ -386,15 +406,17 @@ class Dynamic:
             extra = 1.0 - self.nm.gamma * self._scale
             if extra:
                 new.v = new.v + self.dt * extra * impulse
-            mass = 1.0 / self.minv
+            mass = self.mass
+            v_raw = new.v.copy()
             ke0 = 0.5 * float(new.v @ (mass * new.v))
             vp = self.Gp @ self.prescribed(t1)[1] if self._iota_p else None
             new.v, _ = self._project(new.v, trial, vp)
             lost = ke0 - 0.5 * float(new.v @ (mass * new.v))
         else:
             new = self.nm.advance(kin, u, f_ext + GX)
+            v_raw = None
         X_eff = trial.X.copy()
-        return StepState(new, trial, X_eff, cur.step + 1), lost
+        return StepState(new, trial, X_eff, cur.step + 1, v_raw), lost
 
     # -- run --------------------------------------------------------------------------------
     def run(
@@ -420,7 +442,7 @@ class Dynamic:
         cur = start if isinstance(start, StepState) else self.initial(start)
         model, d, m = self.model, self.d, self.m
         probes = np.asarray(probes, dtype=np.int64)
-        n_out = n // every + 1
+        n_out = n // every + 2  # one spare row for a stop between recorded steps
         r = 3 if d == 2 else 6
         out_t = np.zeros(n_out)
         pu, pv, pa, paa = (np.zeros((n_out, probes.size, d)) for _ in range(4))
@@ -432,10 +454,10 @@ class Dynamic:
         names = ("kinetic", "strain", "external_work", "damping", "interface", "impact")
         E = {k: np.zeros(n_out) for k in names}
         acc = dict.fromkeys(names, 0.0)
-        mass = 1.0 / self.minv
+        mass = self.mass
         Kf, C = self.system.K, self.system.C
         Phi = model.rigid_modes()
-        mdiag = model.mass(lumped=True).diagonal()
+        mdiag = np.repeat(model.body_weights, d)
         MPhi = Phi.multiply(mdiag[:, None]).tocsc()
         PhiMPhi = (Phi.T @ MPhi).toarray()
         PhiMPhi += 1e-300 * np.eye(PhiMPhi.shape[0])
@@ -476,20 +498,22 @@ class Dynamic:
         record(0, cur)
         t_wall = _time.perf_counter()
         completed = True
+        reason: str | None = None
         j = 0
         for i in range(1, n + 1):
             try:
                 nxt, lost = self.step(cur)
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
-                completed = False
+                completed, reason = False, str(exc)
                 break
             du = nxt.kin.u - cur.kin.u
             f0 = cur.kin.f - (self.G.T @ cur.X_eff.ravel() if m and not self.stabilize else 0.0)
             f1 = nxt.kin.f - (self.G.T @ nxt.X_eff.ravel() if m and not self.stabilize else 0.0)
             acc["external_work"] += 0.5 * float(du @ (f0 + f1))
             if C is not None:
-                acc["damping"] += 0.5 * float(du @ (C @ (cur.kin.v + self._unprojected_v(nxt))))
+                # Newmark's equilibrium holds with the velocities before the projection
+                acc["damping"] += 0.5 * float(du @ (C @ (_raw(cur) + _raw(nxt))))
             if m:
                 dw = (self.G @ du).reshape(m, d)
                 Xw = nxt.X_eff if self.stabilize else 0.5 * (cur.X_eff + nxt.X_eff)
@@ -502,13 +526,19 @@ class Dynamic:
                 acc["impact"] += lost
                 iters[i] = self.isolver.last.iterations if self.isolver else 0
             cur = nxt
-            if callback is not None:
-                callback(cur)
             if i % every == 0:
                 j = i // every
                 record(j, cur)
-        else:
-            j = n // every
+            if callback is not None:
+                try:
+                    callback(cur)
+                except RunStopped as exc:
+                    log.warning("run stopped at step %d (t = %.4g s): %s", i, cur.kin.t, exc)
+                    completed, reason = False, f"stopped: {exc}"
+                    if i % every:
+                        j += 1
+                        record(j, cur)
+                    break
         wall = _time.perf_counter() - t_wall
         keep = slice(0, j + 1)
         tot = E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
@@ -517,11 +547,12 @@ class Dynamic:
             out_t[keep], probes, pu[keep], pv[keep], pa[keep], paa[keep], rigid[keep],
             HX[keep], Hw[keep], Hs[keep], Hst[keep], Hbr[keep],
             {k: v[keep] for k, v in E.items()}, cur, iters, wall, completed,
-            model.pairs.area if model.pairs is not None else np.zeros(0),
+            model.pairs.area if model.pairs is not None else np.zeros(0), reason,
         )  # fmt: skip
 
-    def _unprojected_v(self, st: StepState) -> FloatArray:
-        return st.kin.v
+
+def _raw(st: StepState) -> FloatArray:
+    return st.kin.v if st.v_raw is None else st.v_raw
 
 
-__all__ = ["Dynamic", "DynamicResult", "StepState"]
+__all__ = ["Dynamic", "DynamicResult", "RunStopped", "StepState"]

@@ -176,6 +176,25 @@ class Mesh:
                 start += n
         return out
 
+    def orient(self) -> int:
+        """Make 2D cells counter-clockwise (positive Jacobian), as meshers such as gmsh
+        may store clockwise surfaces; returns the number of cells flipped."""
+        if self.dim != 2:
+            return 0
+        flipped = 0
+        for ctype, conn in self.cells.items():
+            perm = _FLIP_2D.get(ctype)
+            if perm is None:
+                continue
+            x = self.points[conn[:, :3]]
+            a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+            area = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+            bad = area < 0
+            if bad.any():
+                conn[bad] = conn[bad][:, perm]
+                flipped += int(bad.sum())
+        return flipped
+
     def restrict(self, groups: list[str]) -> Mesh:
         """The mesh of the cells of the named cell groups only (points and facet groups
         kept; cell groups re-indexed, cells outside every listed group dropped)."""
@@ -259,6 +278,16 @@ class Mesh:
                     data = np.asarray(b.data)[idx]
                     f[b.type] = np.concatenate([f[b.type], data]) if b.type in f else data
         return cls(points, {k: np.concatenate(v) for k, v in cells.items()}, cgroups, fgroups)
+
+
+# node permutations that reverse the orientation of 2D cells (meshio / VTK order)
+_FLIP_2D: dict[str, list[int]] = {
+    "triangle": [0, 2, 1],
+    "triangle6": [0, 2, 1, 5, 4, 3],
+    "quad": [0, 3, 2, 1],
+    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
+    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
+}
 
 
 def _corner_keys(conn: IntArray, ftype: str) -> IntArray:

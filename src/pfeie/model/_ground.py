@@ -127,6 +127,11 @@ class GroundMotion:
         return float(dis), float(vel), float(acc)
 
     @property
+    def pga(self) -> float:
+        """Peak ground acceleration |a_g|max (m/s²)."""
+        return float(np.abs(self.acceleration).max())
+
+    @property
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
 

@@ -497,14 +497,35 @@ class Model:
         return out
 
     @cached_property
-    def body_mass_props(self) -> tuple[FloatArray, FloatArray]:
-        """Mass (b,) in kg and mass centroid (b, d) of every body, from the lumped mass."""
+    def body_weights(self) -> FloatArray:
+        """Nodal weights (n_points,) for centroids and rigid-motion fits: the lumped mass,
+        or the lumped volume for a massless body."""
         mdiag = self.mass(lumped=True).diagonal().reshape(-1, self.dim)[:, 0]
         b = self.body_of_node
         use = b >= 0
+        mass = np.bincount(b[use], mdiag[use], self.n_bodies)
+        massless = np.flatnonzero(mass <= 0)
+        if massless.size:
+            vol = np.zeros(self.mesh.n_points)
+            for cs in self._cellsets:
+                cv = self._values(cs, asm.mass_degree(cs.cell_type))
+                me = asm.scalar_mass(cv, np.ones(cs.conn.shape[0]))
+                vol += np.bincount(cs.conn.ravel(), asm.lump_hrz(me).ravel(), self.mesh.n_points)
+            sel = np.isin(b, massless)
+            mdiag = np.where(sel, vol, mdiag)
+        return np.asarray(mdiag, dtype=float)
+
+    @cached_property
+    def body_mass_props(self) -> tuple[FloatArray, FloatArray]:
+        """Mass (b,) in kg and centroid (b, d) of every body (of its volume if massless)."""
+        mdiag = self.mass(lumped=True).diagonal().reshape(-1, self.dim)[:, 0]
+        w = self.body_weights
+        b = self.body_of_node
+        use = b >= 0
         mass = np.bincount(b[use], mdiag[use], self.n_bodies).astype(float)
-        cen = np.stack([np.bincount(b[use], (mdiag * self.mesh.points[:, i])[use], self.n_bodies)
-                        for i in range(self.dim)], axis=1) / mass[:, None]  # fmt: skip
+        wsum = np.bincount(b[use], w[use], self.n_bodies)
+        cen = np.stack([np.bincount(b[use], (w * self.mesh.points[:, i])[use], self.n_bodies)
+                        for i in range(self.dim)], axis=1) / wsum[:, None]  # fmt: skip
         return mass, cen
 
     def rigid_modes(self) -> sp.csr_matrix:
@@ -540,7 +561,7 @@ class Model:
         the nodal field u (full DOF vector or (n_points, d)) in the mass norm: the
         translation of the centroid and the rotation (rad)."""
         Phi = self.rigid_modes()
-        mdiag = self.mass(lumped=True).diagonal()
+        mdiag = np.repeat(self.body_weights, self.dim)
         U = np.asarray(u, dtype=float).reshape(self.n_dof, -1)
         MPhi = Phi.multiply(mdiag[:, None]).tocsc()
         G = (Phi.T @ MPhi).toarray()

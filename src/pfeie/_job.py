@@ -1,0 +1,232 @@
+"""Running a model file: static state, dynamic run, results on disk, a summary.
+
+Outputs in the folder of ``[output]``:
+
+- ``results.npz``: times, probe motions, block rigid motions, pair histories (forces,
+  relative displacements, slip and gap, states, broken flags), pair coordinates and
+  interfaces, energy terms, and metadata (model file hash, pfeie version, completed);
+- ``summary.json`` and ``summary.txt``: the model summary and the results summary (peak
+  crest motion, residual slip, maximum opening and broken share of each joint).
+
+A run stopped by Ctrl-C or SIGTERM, or by an interface step that does not converge,
+still writes everything computed so far, and says so (``completed = false``).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import signal
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+
+from ._version import __version__
+from .dynamics import Dynamic, DynamicResult, StepState
+from .dynamics._pfeie import RunStopped
+from .interface import OPEN, SLIDE
+from .io._modelfile import Job
+from .solvers import StaticResult, solve_static
+
+log = logging.getLogger(__name__)
+
+
+class Progress:
+    """A one-line progress report on a stream: step, time, elapsed, ETA, pair counts."""
+
+    def __init__(self, n_steps: int, dt: float, stream: TextIO | None = None) -> None:
+        self.n, self.dt = n_steps, dt
+        self.stream = stream or sys.stderr
+        self.t0 = time.perf_counter()
+        self.last = -1.0
+        self.tty = self.stream.isatty()
+
+    def __call__(self, st: StepState) -> None:
+        now = time.perf_counter()
+        if now - self.last < (0.25 if self.tty else 5.0) and st.step < self.n:
+            return
+        self.last = now
+        el = now - self.t0
+        eta = el / max(st.step, 1) * (self.n - st.step)
+        p = st.pairs
+        c = (f" open {int((p.state == OPEN).sum())} slide {int((p.state == SLIDE).sum())} "
+             f"broken {int(p.broken.sum())}") if p.state.size else ""  # fmt: skip
+        line = (f"step {st.step}/{self.n}  t {st.kin.t:.3f} s  elapsed {el:.1f} s  "
+                f"ETA {eta:.1f} s {c}")  # fmt: skip
+        if self.tty:
+            self.stream.write("\r" + line.ljust(100))
+            if st.step >= self.n:
+                self.stream.write("\n")
+        else:
+            self.stream.write(line + "\n")
+        self.stream.flush()
+
+
+def run_job(
+    job: Job, *, progress: bool = True, duration: float | None = None,
+    stream: TextIO | None = None,
+) -> dict[str, Any]:  # fmt: skip
+    """Run a validated model file; returns the results summary (also written to disk)."""
+    out = job.folder
+    out.mkdir(parents=True, exist_ok=True)
+    a = job.spec["analysis"]
+    model = job.model
+    static: StaticResult | None = None
+    t0 = time.perf_counter()
+    if a["static"]:
+        static = solve_static(model, tol=a["tolerance"])
+        log.info("static state solved in %.2f s", time.perf_counter() - t0)
+    result: DynamicResult | None = None
+    stopped: str | None = None
+    if a["dynamic"]:
+        dyn = Dynamic(model, a["dt"], beta=a["beta"], gamma=a["gamma"], alpha=a["alpha"],
+                      ground=job.records, form=a["form"], stabilize=a["stabilize"],
+                      tol=a["tolerance"])  # fmt: skip
+        T = job.duration if duration is None else duration
+        n = round(T / a["dt"])
+        flag: dict[str, str] = {}
+
+        def on_signal(signum: int, _frame: Any) -> None:
+            flag["why"] = signal.Signals(signum).name
+
+        old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+        bar = Progress(n, a["dt"], stream) if progress else None
+
+        def callback(st: StepState) -> None:
+            if bar is not None:
+                bar(st)
+            if flag:
+                raise RunStopped(flag["why"])
+
+        try:
+            result = dyn.run(n_steps=n, start=static, probes=list(job.probes.values()),
+                             every=job.spec["output"]["every"], callback=callback)  # fmt: skip
+        finally:
+            for s, h in old.items():
+                signal.signal(s, h)
+        if not result.completed:
+            stopped = result.stop_reason or "stopped"
+    summary = summarize(job, static, result)
+    summary["stopped"] = stopped
+    summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    write_results(job, static, result, summary)
+    return summary
+
+
+def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) -> dict[str, Any]:
+    """Peak probe motions; per joint: residual slip, maximum opening, share broken."""
+    s: dict[str, Any] = {"model": job.summary(), "version": __version__}
+    model = job.model
+    if res is None:
+        if static is not None and static.pairs is not None:
+            s["static_pairs"] = static.pairs.counts()
+        return s
+    s["completed"] = res.completed
+    s["time_reached_s"] = float(res.t[-1])
+    s["steps"] = len(res.t) - 1
+    probes = {}
+    for k, (name, _node) in enumerate(job.probes.items()):
+        u = res.probe_u[:, k]
+        if job.spec["analysis"]["form"] == "absolute":
+            base = np.array([sum((g.direction * g.motion(t)[0] for g in job.records),
+                                 np.zeros(model.dim)) for t in res.t])  # fmt: skip
+            u = u - base
+        u = u - u[0]
+        probes[name] = {
+            "peak_displacement_m": float(np.abs(u).max(axis=0).max()),
+            "peak_displacement_xyz_m": np.abs(u).max(axis=0).round(6).tolist(),
+            "peak_abs_acceleration_g": float(np.abs(res.probe_a_abs[:, k]).max() / 9.81),
+        }
+    s["probes"] = probes
+    joints = {}
+    if model.pairs is not None and res.X.shape[1]:
+        for name in model.pairs.names:
+            idx = model.pairs.of(name)
+            area = model.pairs.area[idx]
+            slip = res.slip[:, idx]
+            slip_mag = np.linalg.norm(slip, axis=-1)
+            joints[name] = {
+                "pairs": int(idx.size),
+                "residual_slip_max_m": float(slip_mag[-1].max()),
+                "residual_slip_mean_m": float((slip_mag[-1] * area).sum() / area.sum()),
+                "max_opening_m": float(res.opening[:, idx].max()),
+                "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
+            }
+    s["joints"] = joints
+    s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
+    return s
+
+
+def write_results(
+    job: Job, static: StaticResult | None, res: DynamicResult | None, summary: dict[str, Any]
+) -> Path:
+    """results.npz, summary.json and summary.txt in the output folder."""
+    out = job.folder
+    arrays: dict[str, Any] = {
+        "pfeie_version": np.array(__version__), "model_sha256": np.array(job.digest),
+        "model_file": np.array(str(job.path)),
+        "completed": np.array(bool(res.completed) if res is not None else True),
+        "probe_names": np.array(list(job.probes)),
+        "probe_nodes": np.array(list(job.probes.values())),
+        "points": job.model.mesh.points,
+    }  # fmt: skip
+    if static is not None:
+        arrays["static_u"] = static.u
+    m = job.model
+    if m.pairs is not None:
+        arrays.update(pair_x=m.pairs.x, pair_interface=m.pairs.interface,
+                      interface_names=np.array(m.pairs.names), pair_area=m.pairs.area,
+                      pair_frame=m.pairs.frame)  # fmt: skip
+    if res is not None:
+        arrays.update(t=res.t, probe_u=res.probe_u, probe_v=res.probe_v, probe_a=res.probe_a,
+                      probe_a_abs=res.probe_a_abs, rigid=res.rigid, body_names=np.array(
+                          m.body_names()), X=res.X, w=res.w, s=res.s, state=res.state,
+                      broken=res.broken)  # fmt: skip
+        for k, v in res.energy.items():
+            arrays[f"energy_{k}"] = v
+    np.savez_compressed(out / "results.npz", **arrays)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str) + "\n")
+    (out / "summary.txt").write_text(format_summary(summary) + "\n")
+    return out
+
+
+def format_summary(s: dict[str, Any]) -> str:
+    """The results summary as aligned text lines."""
+    mdl = s["model"]
+    lines = [f"{mdl['title'] or Path(mdl['file']).stem}  (pfeie {s['version']})"]
+    lines.append(f"  model file   {mdl['file']}  sha256 {mdl['sha256'][:12]}")
+    lines.append(f"  blocks {len(mdl['blocks'])}, bodies {mdl['bodies']}, DOF {mdl['dof']}, "
+                 f"pairs {sum(mdl['pairs'].values())}")  # fmt: skip
+    for r in mdl["records"]:
+        lines.append(f"  record       {r}")
+    if "completed" in s:
+        state = "completed" if s["completed"] else f"STOPPED ({s.get('stopped')})"
+        lines.append(f"  run          {state} at t = {s['time_reached_s']:.3f} s, "
+                     f"{s['steps']} steps")  # fmt: skip
+    for name, p in s.get("probes", {}).items():
+        lines.append(
+            f"  {name:<12} peak displacement {1e3 * p['peak_displacement_m']:.1f} mm, "
+            f"peak absolute acceleration {p['peak_abs_acceleration_g']:.3f} g"
+        )
+    for name, j in s.get("joints", {}).items():
+        lines.append(
+            f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "
+            f"(mean {1e3 * j['residual_slip_mean_m']:.2f}), max opening "
+            f"{1e3 * j['max_opening_m']:.2f} mm, broken {100 * j['broken_share']:.0f} %"
+        )
+    if "energy_J" in s:
+        e = s["energy_J"]
+        lines.append(
+            f"  energy       friction/contact {e.get('interface', 0):.4g} J, damping "
+            f"{e.get('damping', 0):.4g} J, balance {e.get('balance', 0):.2e} J"
+        )
+    if "wall_time_s" in s:
+        lines.append(f"  wall time    {s['wall_time_s']:.1f} s")
+    return "\n".join(lines)
+
+
+Callback = Callable[[StepState], None]

@@ -1,0 +1,131 @@
+"""The command line: ``pfeie run``, ``pfeie check``, ``pfeie --version``.
+
+Exit codes:
+
+- 0: success;
+- 1: the analysis failed (a mechanism in statics, an interface step that did not
+  converge); the results computed so far are written;
+- 2: invalid input (model file, mesh, record, command-line arguments);
+- 130: interrupted (Ctrl-C or SIGTERM); the results computed so far are written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from collections.abc import Sequence
+
+from ._version import __version__
+from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError
+
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(
+        prog="pfeie",
+        description="Dynamic analysis of jointed structures by the PFE/IE method.",
+        epilog="Exit codes: 0 success, 1 analysis failed, 2 invalid input, 130 interrupted.",
+    )
+    ap.add_argument("--version", action="version", version=f"pfeie {__version__}")
+    ap.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND")
+    run = sub.add_parser(
+        "run",
+        help="run a model file (static state, then the earthquake)",
+        description="Run a model file: the static state, then the dynamic "
+        "analysis; writes results.npz, summary.json and summary.txt to the "
+        "output folder. Ctrl-C stops cleanly and keeps what was computed.",
+    )
+    run.add_argument("model", help="model file (TOML)")
+    run.add_argument("--duration", type=float, help="override the duration (s)")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    chk = sub.add_parser("check", help="validate a model file and print its summary",
+                         description="Validate a model file (mesh, groups, records) and print "
+                         "the model summary: blocks, DOF, pairs per interface, records, "
+                         "estimated memory.")  # fmt: skip
+    chk.add_argument("model", help="model file (TOML)")
+    chk.add_argument("--json", action="store_true", help="print the summary as JSON")
+    return ap
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``pfeie`` command; returns the exit code."""
+    ap = _parser()
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help, --version (0) or usage errors (2)
+        return int(exc.code or 0)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")  # fmt: skip
+    if args.command is None:
+        ap.print_help()
+        return EXIT_INPUT
+    from ._job import format_summary, run_job
+    from .io import load_job
+
+    try:
+        job = load_job(args.model)
+    except (InputError, MeshError, RecordError) as exc:
+        print(f"pfeie: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except PfeieError as exc:
+        print(f"pfeie: error: {args.model}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    if args.command == "check":
+        s = job.summary()
+        if args.json:
+            print(json.dumps(s, indent=2, default=str))
+        else:
+            print(_format_check(s))
+        return EXIT_OK
+    for r in job.records:
+        print(f"record: {r.summary()}", file=sys.stderr)
+    try:
+        summary = run_job(job, progress=not args.quiet, duration=args.duration)
+    except MechanismError as exc:
+        print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    except PfeieError as exc:
+        print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    print(format_summary(summary))
+    print(f"results in {job.folder}")
+    stopped = summary.get("stopped")
+    if stopped and stopped.startswith("stopped"):
+        return EXIT_INTERRUPTED
+    if stopped:
+        print(f"pfeie: analysis failed: {stopped}", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _format_check(s: dict[str, object]) -> str:
+    lines = [f"model file   {s['file']}", f"title        {s['title']}",
+             f"dimension    {s['dimension']}D"]  # fmt: skip
+    blocks = s["blocks"]
+    assert isinstance(blocks, dict)
+    for name, mat in blocks.items():
+        lines.append(
+            f"block        {name}: E = {mat.E:.4g} Pa, nu = {mat.nu}, rho = {mat.rho} kg/m³"
+        )
+    lines.append(f"bodies       {s['bodies']}")
+    lines.append(f"cells        {s['cells']}")
+    lines.append(f"nodes        {s['nodes']}, DOF {s['dof']} ({s['free_dof']} free)")
+    pairs = s["pairs"]
+    assert isinstance(pairs, dict)
+    for name, n in pairs.items():
+        lines.append(f"interface    {name}: {n} pairs")
+    records = s["records"]
+    assert isinstance(records, list)
+    for r in records:
+        lines.append(f"record       {r}")
+    lines.append(f"time steps   {s['steps']} of {s['dt']} s ({s['duration']:.2f} s)")
+    lines.append(f"memory       about {s['estimated_memory_mb']} MB")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,8 @@
+"""Input and output: gmsh meshes, ground-motion records, model files."""
+
+from ._gmsh import from_gmsh, read_mesh
+from ._modelfile import SPEC, Job, load_job, reference_rows
+from ._records import read_record, write_at2
+
+__all__ = ["SPEC", "Job", "from_gmsh", "load_job", "read_mesh", "read_record", "reference_rows",
+           "write_at2"]  # fmt: skip

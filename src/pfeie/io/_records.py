@@ -1,0 +1,184 @@
+"""Ground-motion records from files: PEER NGA ``.AT2``, two columns, one column.
+
+Formats (``fmt``):
+
+- ``"at2"``: the PEER NGA format. Four header lines; the third states the units
+  ("... IN UNITS OF G"), the fourth NPTS and DT, either as ``NPTS=  4000, DT=   .0100 SEC``
+  (NGA-West1) or as ``4000   0.0100   NPTS, DT`` (NGA-West2). Then the samples, several
+  per line, in g. Numbers written without a separating blank (``1.234E-02-5.678E-03``) are
+  split. The number of samples must equal NPTS.
+- ``"two-column"``: time (s) and acceleration, separated by commas, semicolons, tabs or
+  blanks; an optional header line (any non-numeric first line).
+- ``"one-column"``: one acceleration per line (or several per line, read row by row),
+  sampled at the ``dt`` given; an optional header line.
+- ``"auto"``: ``.at2`` files are AT2; otherwise two columns if the first data line has
+  two numbers, else one column (which then needs ``dt``).
+
+Units: ``"g"`` (×9.81 m/s²), ``"m/s2"``, ``"cm/s2"`` (= gal). Every error names the file
+and, where it applies, the line.
+
+>>> import tempfile, pathlib
+>>> p = pathlib.Path(tempfile.mkdtemp()) / "rec.csv"
+>>> _ = p.write_text("time,acc\\n0,0\\n0.01,0.1\\n0.02,-0.2\\n")
+>>> gm = read_record(p, units="g")
+>>> round(gm.pga / 9.81, 3), float(gm.time[-1])
+(0.2, 0.02)
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..element._reference import FloatArray
+from ..errors import RecordError
+from ..model import GroundMotion
+
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
+_SEP = re.compile(r"[,;\s]+")
+_ALLOWED = re.compile(r"^[\s0-9eEdD.+\-,;]*$")
+
+
+def _numbers(line: str, path: Path, lineno: int) -> list[float]:
+    """All numbers of a data line, fused ones split; non-numeric text is an error."""
+    if not _ALLOWED.match(line):
+        bad = re.sub(r"[\s0-9eEdD.+\-,;]", "", line)[:20]
+        raise RecordError(f"{path}: line {lineno}: non-numeric text {bad!r} in the data")
+    tokens = _NUMBER.findall(line)
+    rest = _NUMBER.sub(" ", line)
+    if rest.replace(",", " ").replace(";", " ").strip():
+        raise RecordError(f"{path}: line {lineno}: cannot read numbers from {line.strip()!r}")
+    return [float(t.replace("d", "e").replace("D", "e")) for t in tokens]
+
+
+def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArray, float, str]:
+    if len(lines) < 5:
+        raise RecordError(f"{path}: an AT2 file needs 4 header lines and data; it has "
+                          f"{len(lines)} line(s)")  # fmt: skip
+    unit_line = lines[2].upper()
+    if "UNITS OF G" not in unit_line and not re.search(r"\bG\b", unit_line):
+        raise RecordError(f"{path}: line 3: expected the units 'IN UNITS OF G', found "
+                          f"{lines[2].strip()!r}")  # fmt: skip
+    if units not in (None, "g"):
+        raise RecordError(f"{path}: AT2 records are in g; the model asks for units {units!r}")
+    head = lines[3]
+    m1 = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([0-9.eE+-]+)", head, re.I)
+    m2 = re.match(r"\s*(\d+)\s+([0-9.eE+-]+)\s+NPTS\s*,\s*DT", head, re.I)
+    m = m1 or m2
+    if m is None:
+        raise RecordError(f"{path}: line 4: expected 'NPTS=..., DT=...' or '<npts> <dt> NPTS, "
+                          f"DT', found {head.strip()!r}")  # fmt: skip
+    npts, dt = int(m.group(1)), float(m.group(2))
+    if not dt > 0:
+        raise RecordError(f"{path}: line 4: DT must be > 0 s, found {dt}")
+    values: list[float] = []
+    for i, line in enumerate(lines[4:], start=5):
+        if line.strip():
+            values.extend(_numbers(line, path, i))
+    if len(values) != npts:
+        raise RecordError(f"{path}: the header says NPTS = {npts} but the file has "
+                          f"{len(values)} sample(s) (truncated or wrong header?)")  # fmt: skip
+    name = lines[1].strip() or path.stem
+    return np.asarray(values, dtype=float), dt, name
+
+
+def _data_lines(path: Path, lines: list[str]) -> tuple[list[tuple[int, list[float]]], bool]:
+    """Numeric rows (line number, numbers), skipping one header line and blank lines."""
+    rows: list[tuple[int, list[float]]] = []
+    header = False
+    for i, line in enumerate(lines, start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        if not rows and not header and not _ALLOWED.match(line):
+            header = True  # a text header line
+            continue
+        rows.append((i, _numbers(line, path, i)))
+    if not rows:
+        raise RecordError(f"{path}: no numeric data")
+    return rows, header
+
+
+def read_record(
+    path: str | Path,
+    *,
+    fmt: str = "auto",
+    dt: float | None = None,
+    units: str | None = None,
+    scale: float = 1.0,
+    direction: Sequence[float] = (1.0, 0.0),
+    baseline: bool = False,
+    name: str | None = None,
+) -> GroundMotion:
+    """Read an acceleration record into a :class:`GroundMotion` (see the module doc).
+
+    ``units`` defaults to "g" for AT2 files and must be given otherwise (no guessing).
+    ``baseline`` applies :meth:`GroundMotion.baseline_corrected`.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise RecordError(f"{p}: record file not found")
+    try:
+        lines = p.read_text(errors="strict").splitlines()
+    except UnicodeDecodeError:
+        raise RecordError(f"{p}: not a text file") from None
+    kind = fmt.lower()
+    if kind not in ("auto", "at2", "two-column", "one-column"):
+        raise RecordError(f"{p}: format must be auto, at2, two-column or one-column, got {fmt!r}")
+    if kind == "auto":
+        if p.suffix.lower() == ".at2":
+            kind = "at2"
+        else:
+            rows, _ = _data_lines(p, lines)
+            kind = "two-column" if len(rows[0][1]) == 2 else "one-column"
+    label = name or p.stem
+    if kind == "at2":
+        acc, step, title = _read_at2(p, lines, units)
+        gm = GroundMotion.from_samples(acc, dt=step, units="g", scale=scale, direction=direction,
+                                       name=name or title)  # fmt: skip
+    else:
+        if units is None:
+            raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")
+        rows, _ = _data_lines(p, lines)
+        if kind == "two-column":
+            bad = [i for i, r in rows if len(r) != 2]
+            if bad:
+                raise RecordError(f"{p}: line {bad[0]}: expected 2 columns (time, acceleration)")
+            data = np.array([r for _, r in rows])
+            if dt is not None:
+                raise RecordError(f"{p}: a two-column record has its own times; do not give dt")
+            if np.any(np.diff(data[:, 0]) <= 0):
+                i = int(np.argmax(np.diff(data[:, 0]) <= 0)) + 1
+                raise RecordError(f"{p}: line {rows[i][0]}: times must increase")
+            t, acc = data[:, 0], data[:, 1]
+            gm = _make(p, acc, None, t, units, scale, direction, label)
+        else:
+            if dt is None:
+                raise RecordError(f"{p}: a one-column record needs its time step dt")
+            acc = np.array([x for _, r in rows for x in r])
+            gm = _make(p, acc, dt, None, units, scale, direction, label)
+    return gm.baseline_corrected() if baseline else gm
+
+
+def _make(
+    p: Path, acc: FloatArray, dt: float | None, t: FloatArray | None, units: str, scale: float,
+    direction: Sequence[float], label: str,
+) -> GroundMotion:  # fmt: skip
+    try:
+        return GroundMotion.from_samples(acc, dt=dt, time=t, units=units, scale=scale,
+                                         direction=direction, name=label)  # fmt: skip
+    except Exception as exc:  # ModelError with the reason
+        raise RecordError(f"{p}: {exc}") from None
+
+
+def write_at2(path: str | Path, acc_g: FloatArray, dt: float, title: str = "record") -> None:
+    """Write a record (in g) in the PEER NGA AT2 format (NGA-West1 header, 5 per line)."""
+    acc = np.asarray(acc_g, dtype=float)
+    lines = ["PEER NGA STRONG MOTION DATABASE RECORD", title,
+             "ACCELERATION TIME SERIES IN UNITS OF G",
+             f"NPTS= {acc.size:5d}, DT= {dt:9.4f} SEC"]  # fmt: skip
+    for i in range(0, acc.size, 5):
+        lines.append("".join(f"{x:15.7E}" for x in acc[i : i + 5]))
+    Path(path).write_text("\n".join(lines) + "\n")

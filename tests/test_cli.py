@@ -1,0 +1,163 @@
+"""Model files and the command line, end to end: validation errors (file, key path,
+expected, found), ``pfeie check`` on the demo, ``pfeie run`` on a small model (exit code,
+files), a clean stop on SIGINT that keeps the results, ``--version`` and ``--help``."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfeie.cli import main
+from pfeie.errors import InputError, RecordError
+from pfeie.io import SPEC, load_job, reference_rows
+from pfeie.io._modelfile import reference_markdown
+
+ROOT = Path(__file__).resolve().parents[1]
+MESH = Path(__file__).resolve().parent / "data" / "two_blocks_v41.msh"
+
+SMALL = f"""
+title = "two blocks"
+[mesh]
+file = "{MESH}"
+[materials.concrete]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+rock = "concrete"
+dam = "concrete"
+[interfaces.joint]
+friction_angle = 26.565
+[[supports]]
+group = "bottom"
+[[ground_motion]]
+file = "pulse.csv"
+units = "g"
+[analysis]
+dt = 0.005
+duration = DURATION
+[output]
+folder = "out"
+probes = {{ top = [1.0, 2.0] }}
+"""
+
+
+def _write(tmp: Path, text: str, duration: float = 0.6) -> Path:
+    t = np.arange(0.0, 0.4 + 1e-9, 0.005)
+    np.savetxt(tmp / "pulse.csv", np.c_[t, 0.5 * np.sin(np.pi * t / 0.4)], delimiter=",",
+               header="time,acc", comments="")  # fmt: skip
+    p = tmp / "model.toml"
+    p.write_text(text.replace("DURATION", str(duration)))
+    return p
+
+
+def test_small_model_runs_and_writes_results(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A block on a joint (μ = 0.5) under a 0.5 g half-sine: exit 0, the files, and the
+    slip of the summary equals the rigid-block reference (0.5 g pulse, μ = 0.5: the block
+    follows the base, no slip) to 1 mm."""
+    p = _write(tmp_path, SMALL)
+    assert main(["run", str(p), "--quiet"]) == 0
+    out = tmp_path / "out"
+    assert {"results.npz", "summary.json", "summary.txt"} <= {f.name for f in out.iterdir()}
+    res = np.load(out / "results.npz")
+    assert bool(res["completed"]) and res["t"][-1] == pytest.approx(0.6)
+    assert str(res["model_sha256"]) == load_job(p).digest
+    s = json.loads((out / "summary.json").read_text())
+    assert s["joints"]["joint"]["residual_slip_max_m"] < 1e-3
+    assert "joint joint" in capsys.readouterr().out
+
+
+def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["check", str(ROOT / "examples" / "koyna" / "koyna.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "interface    dam_rock: 37 pairs" in out and "interface    neck: 9 pairs" in out
+    assert "record       elcentro_1940_ns_chopra: PGA 0.191 g" in out
+    assert "memory" in out
+
+
+def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--version"]) == 0
+    assert "pfeie 0.1.0" in capsys.readouterr().out
+    for cmd in (["--help"], ["run", "--help"], ["check", "--help"]):
+        assert main(cmd) == 0
+        assert "usage: pfeie" in capsys.readouterr().out
+    assert main(["frobnicate"]) == 2
+
+
+@pytest.mark.parametrize(
+    ("edit", "error", "match"),
+    [
+        (lambda s: s.replace("[mesh]", "[mesh\n"), InputError, "not valid TOML"),
+        (lambda s: s.replace("nu = 0.2", "nu = 0.2\nnuu = 0.3"), InputError,
+         r"materials\.concrete\.nuu: unknown key; expected one of: E, nu, rho"),
+        (lambda s: s.replace('file = "pulse.csv"', ""), InputError,
+         r"ground_motion\[0\]\.file: missing \(required\)"),
+        (lambda s: s.replace("E = 30e9", 'E = "stiff"'), InputError,
+         r"materials\.concrete\.E: expected a number, found a string 'stiff'"),
+        (lambda s: s.replace("dt = 0.005", "dt = -0.005"), InputError,
+         r"analysis\.dt: expected a number > 0, found -0.005"),
+        (lambda s: s.replace('dam = "concrete"', 'dam = "steel"'), InputError,
+         r"blocks\.dam: unknown material 'steel'"),
+        (lambda s: s.replace('dam = "concrete"', 'dome = "concrete"'), InputError,
+         r"blocks\.dome: no physical group 'dome'.*dimension 2: \['dam', 'rock'\]"),
+        (lambda s: s.replace('dam = "concrete"', 'joint = "concrete"'), InputError,
+         r"'joint' is a group of dimension 1, a block needs 2"),
+        (lambda s: s.replace("[interfaces.joint]", "[interfaces.rock]"), InputError,
+         r"'rock' is a group of dimension 2, this needs 1"),
+        (lambda s: s.replace('units = "g"', 'units = "g"\ncomponent = "z"'), InputError,
+         r"ground_motion\[0\]\.component: 'z' in a 2D model"),
+        (lambda s: s.replace('file = "pulse.csv"', 'file = "none.csv"'), RecordError,
+         r"ground_motion\[0\]: .*none.csv: record file not found"),
+        (lambda s: s.replace('units = "g"', 'units = "furlongs"'), InputError,
+         r"ground_motion\[0\]\.units: expected one of 'g', 'm/s2', 'cm/s2'"),
+        (lambda s: s + "[damping]\nratio = 0.05\n", InputError, r"damping\.frequencies: missing"),
+    ],
+)  # fmt: skip
+def test_model_file_errors(tmp_path: Path, edit, error: type, match: str) -> None:  # type: ignore[no-untyped-def]
+    p = _write(tmp_path, edit(SMALL))
+    with pytest.raises(error, match=match) as err:
+        load_job(p)
+    assert str(p) in str(err.value)
+    assert main(["check", str(p)]) == 2
+
+
+def test_every_key_is_documented() -> None:
+    """docs/model-file.md lists every key of the schema (it is generated from it)."""
+    text = (ROOT / "docs" / "model-file.md").read_text()
+    rows = reference_rows()
+    assert len(rows) > 40
+    missing = [k for k, _, _ in rows if f"`{k}`" not in text]
+    assert not missing
+    assert reference_markdown() in text  # regenerate with docs/make_model_file_doc.py
+    assert "analysis" in SPEC.keys
+
+
+def test_interrupted_run_keeps_its_results(tmp_path: Path) -> None:
+    """SIGINT during a run: exit code 130, and results.npz holds the steps computed so
+    far, marked as not completed."""
+    p = _write(tmp_path, SMALL, duration=400.0)
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(p)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    assert proc.stderr is not None
+    t0 = time.time()
+    for line in proc.stderr:  # wait until the run has started stepping
+        if line.startswith("step") or time.time() - t0 > 60:
+            break
+    proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 130
+    res = np.load(tmp_path / "out" / "results.npz")
+    assert not bool(res["completed"])
+    assert 0 < res["t"][-1] < 400.0
+    assert "STOPPED" in out
