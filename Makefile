@@ -19,6 +19,8 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(VENV)/bin/pfeie run examples/koyna/koyna.toml
+	$(VENV)/bin/pfeie plot examples/koyna/results/results.h5
+	$(VENV)/bin/pfeie report examples/koyna/results/results.h5
 
 test: $(STAMP)
 	$(PY) -m pytest -m "not slow" --doctest-modules src tests examples

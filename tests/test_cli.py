@@ -17,7 +17,7 @@ import pytest
 
 from pfeie.cli import main
 from pfeie.errors import InputError, RecordError
-from pfeie.io import SPEC, load_job, reference_rows
+from pfeie.io import SPEC, Results, load_job, reference_rows
 from pfeie.io._modelfile import reference_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,6 +59,19 @@ def _write(tmp: Path, text: str, duration: float = 0.6) -> Path:
     return p
 
 
+def start_run(model: Path, wait: float) -> subprocess.Popen[str]:
+    """``pfeie run`` in a subprocess, returned once it has stepped for ``wait`` seconds."""
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(model)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    assert proc.stderr is not None
+    t0 = time.time()
+    for line in proc.stderr:  # progress lines: the run is stepping
+        if (line.startswith("step") and time.time() - t0 > wait) or time.time() - t0 > 60:
+            break
+    return proc
+
+
 def test_small_model_runs_and_writes_results(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -68,10 +81,10 @@ def test_small_model_runs_and_writes_results(
     p = _write(tmp_path, SMALL)
     assert main(["run", str(p), "--quiet"]) == 0
     out = tmp_path / "out"
-    assert {"results.npz", "summary.json", "summary.txt"} <= {f.name for f in out.iterdir()}
-    res = np.load(out / "results.npz")
-    assert bool(res["completed"]) and res["t"][-1] == pytest.approx(0.6)
-    assert str(res["model_sha256"]) == load_job(p).digest
+    assert {"results.h5", "summary.json", "summary.txt"} <= {f.name for f in out.iterdir()}
+    with Results(out / "results.h5") as res:
+        assert res.completed and res.time[-1] == pytest.approx(0.6)
+        assert res.meta["model_sha256"] == load_job(p).digest
     s = json.loads((out / "summary.json").read_text())
     assert s["joints"]["joint"]["residual_slip_max_m"] < 1e-3
     assert "joint joint" in capsys.readouterr().out
@@ -145,19 +158,11 @@ def test_every_key_is_documented() -> None:
 def test_interrupted_run_keeps_its_results(tmp_path: Path) -> None:
     """SIGINT during a run: exit code 130, and results.npz holds the steps computed so
     far, marked as not completed."""
-    p = _write(tmp_path, SMALL, duration=400.0)
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(p)], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
-    assert proc.stderr is not None
-    t0 = time.time()
-    for line in proc.stderr:  # wait until the run has started stepping
-        if line.startswith("step") or time.time() - t0 > 60:
-            break
+    proc = start_run(_write(tmp_path, SMALL, duration=400.0), wait=0.0)
     proc.send_signal(signal.SIGINT)
     out, _ = proc.communicate(timeout=120)
     assert proc.returncode == 130
-    res = np.load(tmp_path / "out" / "results.npz")
-    assert not bool(res["completed"])
-    assert 0 < res["t"][-1] < 400.0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert not res.completed and "SIGINT" in res.meta["stop_reason"]
+        assert 0 < res.time[-1] < 400.0
     assert "STOPPED" in out

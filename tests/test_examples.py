@@ -90,4 +90,4 @@ def test_koyna_demo_statics_and_short_run(tmp_path: Path) -> None:
     assert s["completed"] and s["time_reached_s"] == pytest.approx(2.0)
     e = s["energy_J"]
     assert abs(e["balance"]) < 1e-6 * (e["damping"] + e["interface"] + 1.0)
-    assert (tmp_path / "results.npz").is_file()
+    assert (tmp_path / "results.h5").is_file() and (tmp_path / "blocks.xdmf").is_file()

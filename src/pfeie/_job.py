@@ -2,14 +2,15 @@
 
 Outputs in the folder of ``[output]``:
 
-- ``results.npz``: times, probe motions, block rigid motions, pair histories (forces,
-  relative displacements, slip and gap, states, broken flags), pair coordinates and
-  interfaces, energy terms, and metadata (model file hash, pfeie version, completed);
+- ``results.h5``: the results file, written while the run goes (see
+  :mod:`pfeie.io._results`): metadata (model file and hash, pfeie version, settings,
+  units), histories (probes, block rigid motions, every pair, energy), nodal fields;
+- ``blocks.xdmf``, ``interfaces.xdmf`` (+ ``.h5``): the ParaView series;
 - ``summary.json`` and ``summary.txt``: the model summary and the results summary (peak
-  crest motion, residual slip, maximum opening and broken share of each joint).
+  probe motions; per joint: residual slip, maximum opening, broken share).
 
 A run stopped by Ctrl-C or SIGTERM, or by an interface step that does not converge,
-still writes everything computed so far, and says so (``completed = false``).
+keeps everything computed so far, and says so (``completed = false``).
 """
 
 from __future__ import annotations
@@ -28,8 +29,11 @@ import numpy as np
 from ._version import __version__
 from .dynamics import Dynamic, DynamicResult, StepState
 from .dynamics._pfeie import RunStopped
+from .errors import PfeieError
 from .interface import OPEN, SLIDE
 from .io._modelfile import Job
+from .io._paraview import write_paraview
+from .io._results import ResultsWriter
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
@@ -77,9 +81,15 @@ def run_job(
     model = job.model
     static: StaticResult | None = None
     t0 = time.perf_counter()
-    if a["static"]:
-        static = solve_static(model, tol=a["tolerance"])
-        log.info("static state solved in %.2f s", time.perf_counter() - t0)
+    writer = ResultsWriter(out / "results.h5", job, field_every=job.spec["output"]["field_every"])
+    try:
+        if a["static"]:
+            static = solve_static(model, tol=a["tolerance"])
+            writer.write_static(static)
+            log.info("static state solved in %.2f s", time.perf_counter() - t0)
+    except PfeieError as exc:
+        writer.close(False, f"static analysis failed: {exc}")
+        raise
     result: DynamicResult | None = None
     stopped: str | None = None
     if a["dynamic"]:
@@ -104,7 +114,8 @@ def run_job(
 
         try:
             result = dyn.run(n_steps=n, start=static, probes=list(job.probes.values()),
-                             every=job.spec["output"]["every"], callback=callback)  # fmt: skip
+                             every=job.spec["output"]["every"], callback=callback,
+                             on_record=writer.append)  # fmt: skip
         finally:
             for s, h in old.items():
                 signal.signal(s, h)
@@ -113,7 +124,11 @@ def run_job(
     summary = summarize(job, static, result)
     summary["stopped"] = stopped
     summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    write_results(job, static, result, summary)
+    writer.close(stopped is None, stopped, summary)
+    if job.spec["output"]["paraview"] and result is not None:
+        write_paraview(out / "results.h5", model, out)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str) + "\n")
+    (out / "summary.txt").write_text(format_summary(summary) + "\n")
     return summary
 
 
@@ -159,39 +174,6 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     s["joints"] = joints
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     return s
-
-
-def write_results(
-    job: Job, static: StaticResult | None, res: DynamicResult | None, summary: dict[str, Any]
-) -> Path:
-    """results.npz, summary.json and summary.txt in the output folder."""
-    out = job.folder
-    arrays: dict[str, Any] = {
-        "pfeie_version": np.array(__version__), "model_sha256": np.array(job.digest),
-        "model_file": np.array(str(job.path)),
-        "completed": np.array(bool(res.completed) if res is not None else True),
-        "probe_names": np.array(list(job.probes)),
-        "probe_nodes": np.array(list(job.probes.values())),
-        "points": job.model.mesh.points,
-    }  # fmt: skip
-    if static is not None:
-        arrays["static_u"] = static.u
-    m = job.model
-    if m.pairs is not None:
-        arrays.update(pair_x=m.pairs.x, pair_interface=m.pairs.interface,
-                      interface_names=np.array(m.pairs.names), pair_area=m.pairs.area,
-                      pair_frame=m.pairs.frame)  # fmt: skip
-    if res is not None:
-        arrays.update(t=res.t, probe_u=res.probe_u, probe_v=res.probe_v, probe_a=res.probe_a,
-                      probe_a_abs=res.probe_a_abs, rigid=res.rigid, body_names=np.array(
-                          m.body_names()), X=res.X, w=res.w, s=res.s, state=res.state,
-                      broken=res.broken)  # fmt: skip
-        for k, v in res.energy.items():
-            arrays[f"energy_{k}"] = v
-    np.savez_compressed(out / "results.npz", **arrays)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str) + "\n")
-    (out / "summary.txt").write_text(format_summary(summary) + "\n")
-    return out
 
 
 def format_summary(s: dict[str, Any]) -> str:

@@ -1,4 +1,5 @@
-"""The command line: ``pfeie run``, ``pfeie check``, ``pfeie --version``.
+"""The command line: ``pfeie run``, ``check``, ``plot``, ``export``, ``report``,
+``pfeie --version``.
 
 Exit codes:
 
@@ -27,7 +28,8 @@ def _parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="pfeie",
         description="Dynamic analysis of jointed structures by the PFE/IE method.",
-        epilog="Exit codes: 0 success, 1 analysis failed, 2 invalid input, 130 interrupted.",
+        epilog="Exit codes: 0 success, 1 analysis failed, 2 invalid input (or results file), "
+        "130 interrupted.",
     )
     ap.add_argument("--version", action="version", version=f"pfeie {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress details")
@@ -48,6 +50,21 @@ def _parser() -> argparse.ArgumentParser:
                          "estimated memory.")  # fmt: skip
     chk.add_argument("model", help="model file (TOML)")
     chk.add_argument("--json", action="store_true", help="print the summary as JSON")
+    post = {
+        "plot": ("figures of a results file (PNG)", "Write the figures of a results file: "
+                 "probe histories, joint slip and opening, pair-state maps, rigid motions, "
+                 "energy.", ("--out", "output folder (default: figures/ beside the results)")),
+        "export": ("tidy CSV tables of a results file", "Write tidy CSV tables (one "
+                   "observation per row): probes, bodies, energy, joints, and the final state "
+                   "of every pair.", ("--csv", "output folder (required)")),
+        "report": ("a self-contained HTML report of a results file", "Write report.html: "
+                   "model and record summaries, the figures and a table of joint results.",
+                   ("--out", "HTML file (default: report.html beside the results)")),
+    }  # fmt: skip
+    for name, (short, long, (flag, flag_help)) in post.items():
+        p = sub.add_parser(name, help=short, description=long)
+        p.add_argument("results", help="results file (results.h5)")
+        p.add_argument(flag, required=flag == "--csv", metavar="PATH", help=flag_help)
     return ap
 
 
@@ -63,6 +80,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         ap.print_help()
         return EXIT_INPUT
+    if args.command in ("plot", "export", "report"):
+        return _post(args)
     from ._job import format_summary, run_job
     from .io import load_job
 
@@ -99,6 +118,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     if stopped:
         print(f"pfeie: analysis failed: {stopped}", file=sys.stderr)
         return EXIT_FAILED
+    return EXIT_OK
+
+
+def _post(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    try:
+        if args.command == "plot":
+            from .plot import plot_all
+
+            out = Path(args.out) if args.out else Path(args.results).with_name("figures")
+            files = plot_all(args.results, out)
+        elif args.command == "export":
+            from .io._export import export_csv
+
+            files = export_csv(args.results, args.csv)
+        else:
+            from .plot import write_report
+
+            files = [write_report(args.results, args.out)]
+    except PfeieError as exc:
+        print(f"pfeie: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    for f in files:
+        print(f)
     return EXIT_OK
 
 

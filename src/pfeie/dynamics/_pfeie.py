@@ -428,9 +428,12 @@ class Dynamic:
         probes: Sequence[int] | IntArray = (),
         every: int = 1,
         callback: Callable[[StepState], None] | None = None,
+        on_record: Callable[[dict[str, Any]], None] | None = None,
     ) -> DynamicResult:
         """Integrate over ``duration`` (s) or ``n_steps`` steps, recording every
         ``every`` steps. ``start`` is a :class:`StepState`, a static result or None.
+        ``on_record`` receives every recorded row (probe, rigid, pair and energy values,
+        and the full nodal u, v, a), e.g. to stream them to a results file.
 
         If a step fails (the interface problem does not converge), the histories up to
         the last completed step are returned with ``completed = False`` and the error is
@@ -492,6 +495,26 @@ class Dynamic:
             E["strain"][i] = 0.5 * float(k.u @ (Kf @ k.u))
             for key in names[2:]:
                 E[key][i] = acc[key]
+            if on_record is not None:
+                full_a_out = full_a
+                if self.stabilize and m:
+                    full_a_out = full_a + self.system.expand(
+                        self.minv * (self.G.T @ st.X_eff.ravel()), prescribed=False
+                    )
+                e_row = {key: float(E[key][i]) for key in names}
+                e_row["balance"] = (
+                    sum(e_row[key] for key in names if key != "external_work")
+                    - E["kinetic"][0]
+                    - E["strain"][0]
+                    - e_row["external_work"]
+                )
+                on_record({
+                    "t": k.t, "probe_u": pu[i], "probe_v": pv[i], "probe_a": pa[i],
+                    "probe_a_abs": paa[i], "rigid": rigid[i], "X": st.pairs.X, "w": st.pairs.w,
+                    "s": st.pairs.s, "state": st.pairs.state, "broken": st.pairs.broken,
+                    "energy": e_row, "u": full_u.reshape(-1, d), "v": full_v.reshape(-1, d),
+                    "a": full_a_out.reshape(-1, d),
+                })  # fmt: skip
 
         if m and start is not None and not isinstance(start, StepState):
             cur.pairs.w = (self.G @ cur.kin.u + self._w_pres(cur.kin.t)).reshape(m, d)

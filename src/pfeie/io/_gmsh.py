@@ -6,12 +6,11 @@ groups: interfaces, supports, loaded faces. Lower groups (points) are ignored wi
 message. The mesh dimension is that of the highest-dimensional cells; a 2D mesh drawn in
 the plane z = 0 keeps x and y.
 
-Example (with a file written by gmsh):
+Example (the demo's mesh; ``tests/test_io.py`` reads MSH 2.2 and 4.1 files)::
 
->>> from pfeie.io import read_mesh
->>> mesh = read_mesh("examples/koyna/koyna.msh")          # doctest: +SKIP
->>> sorted(mesh.cell_groups)                               # doctest: +SKIP
-['dam_lower', 'dam_upper', 'rock']
+    from pfeie.io import read_mesh
+    mesh = read_mesh("examples/koyna/koyna.msh")
+    sorted(mesh.cell_groups)      # ['dam_lower', 'dam_upper', 'rock']
 """
 
 from __future__ import annotations

@@ -148,7 +148,11 @@ SPEC = Table({
     }),
     "output": Table({
         "folder": Key(S, "output folder", default="results"),
-        "every": Key(I, "record every n-th step", default=1, check=positive),
+        "every": Key(I, "record the histories every n-th step", default=1, check=positive),
+        "field_every": Key(I, "store the nodal fields (u, v, a) every n-th recorded step",
+                           default=10, check=positive),
+        "paraview": Key(B, "write the ParaView series (blocks.xdmf, interfaces.xdmf)",
+                        default=True),
         "probes": Named(Key(L, "probe point coordinates (m); the nearest node is used",
                             check=vector()), "named probe points"),
     }),

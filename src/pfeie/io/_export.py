@@ -1,0 +1,96 @@
+"""Tidy CSV tables of a results file (one observation per row)."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from ._results import Results
+
+AXES = "xyz"
+
+
+def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
+    """Write probes.csv, bodies.csv, energy.csv, joints.csv and pairs_final.csv."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    with Results(results) as res:
+        t = res.time
+        path = out / "probes.csv"
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time_s", "probe", "quantity", "component", "value", "unit"])
+            units = {"u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2"}
+            for name in res.probe_names:
+                p = res.probe(name)
+                for q, arr in p.items():
+                    for i in range(arr.shape[1]):
+                        for ti, val in zip(t, arr[:, i], strict=True):
+                            w.writerow([f"{ti:.6g}", name, q, AXES[i], f"{val:.9g}", units[q]])
+        files.append(path)
+        path = out / "bodies.csv"
+        rig = np.asarray(res.f["history/rigid"][...])
+        d = int(res.f["mesh/points"].shape[1])
+        dof_names = ["ux", "uy", "rz"] if d == 2 else ["ux", "uy", "uz", "rx", "ry", "rz"]
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time_s", "body", "dof", "value", "unit"])
+            for b, name in enumerate(res.body_names):
+                for k, dn in enumerate(dof_names):
+                    unit = "rad" if dn.startswith("r") else "m"
+                    for ti, val in zip(t, rig[:, b, k], strict=True):
+                        w.writerow([f"{ti:.6g}", name, dn, f"{val:.9g}", unit])
+        files.append(path)
+        path = out / "energy.csv"
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time_s", "term", "value_J"])
+            for term, arr in res.energy().items():
+                for ti, val in zip(t, arr, strict=True):
+                    w.writerow([f"{ti:.6g}", term, f"{val:.9g}"])
+        files.append(path)
+        if res.interface_names:
+            path = out / "joints.csv"
+            final = out / "pairs_final.csv"
+            with path.open("w", newline="") as fh, final.open("w", newline="") as fh2:
+                w = csv.writer(fh)
+                w.writerow(["time_s", "joint", "quantity", "value", "unit"])
+                w2 = csv.writer(fh2)
+                coords = [f"{a}_m" for a in AXES[:d]]
+                w2.writerow(["joint", "pair", *coords, "area_m2", "residual_slip_m",
+                             "max_opening_m", "final_state", "broken"])  # fmt: skip
+                for name in res.interface_names:
+                    pr = res.pairs(name)
+                    A = pr["area"]
+                    slip = np.linalg.norm(pr["slip"], axis=-1)
+                    series = {
+                        ("slip_max", "m"): slip.max(axis=1),
+                        ("slip_mean", "m"): (slip * A).sum(axis=1) / A.sum(),
+                        ("opening_max", "m"): pr["opening"].max(axis=1),
+                        ("broken_share", "-"): (pr["broken"] * A).sum(axis=1) / A.sum(),
+                        ("sliding_share", "-"): ((pr["state"] == 2) * A).sum(axis=1) / A.sum(),
+                        ("open_share", "-"): ((pr["state"] == 3) * A).sum(axis=1) / A.sum(),
+                    }
+                    for (qn, unit), arr in series.items():
+                        for ti, val in zip(t, arr, strict=True):
+                            w.writerow([f"{ti:.6g}", name, qn, f"{val:.9g}", unit])
+                    names = ["intact", "stick", "slide", "open"]
+                    for k in range(A.size):
+                        xk = [f"{c:.6g}" for c in pr["x"][k]]
+                        w2.writerow(
+                            [
+                                name,
+                                k,
+                                *xk,
+                                f"{A[k]:.6g}",
+                                f"{slip[-1, k]:.9g}",
+                                f"{pr['opening'][:, k].max():.9g}",
+                                names[int(pr["state"][-1, k])],
+                                int(pr["broken"][-1, k]),
+                            ]
+                        )
+            files += [path, final]
+    return files

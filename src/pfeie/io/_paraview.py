@@ -1,0 +1,116 @@
+"""ParaView output: XDMF + HDF5 time series of the blocks and of the interfaces.
+
+``blocks.xdmf`` (with ``blocks.h5``): the split mesh with, at every field output time,
+``displacement``, ``velocity``, ``acceleration`` (point data, m, m/s, m/s²) and ``stress``
+(point data, the 3 × 3 tensor as 9 components, Pa), plus the cell data ``body``.
+
+``interfaces.xdmf``: the interfaces as their own mesh (the side-a faces of each joint,
+whose nodes are the pairs) with, at every field output time, point data ``opening`` (m),
+``slip`` (m, tangential components), ``normal_stress`` (Pa, compression +),
+``shear_stress`` (Pa), ``state`` (0 intact, 1 stick, 2 slide, 3 open), ``broken`` (0/1)
+and the cell data ``interface`` (index into the names). Open either file in ParaView
+(XDMF3 reader) and play the time steps.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import PfeieError
+from ._results import Results
+
+
+def write_paraview(results: str | Path, model: Any, folder: str | Path) -> list[Path]:
+    """Write the blocks and interfaces series of a results file; returns the XDMF paths."""
+    try:
+        from meshio.xdmf import TimeSeriesWriter
+    except ImportError:  # pragma: no cover
+        raise PfeieError("ParaView output needs meshio: pip install 'pfeie[io]'") from None
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    with Results(results) as res:
+        tf, fields = res.fields()
+        hist_t = res.time
+        mesh = model.mesh
+        cells = [(t, c) for t, c in mesh.cells.items()]
+        body = model.body_of_node
+        cell_body = [body[c[:, 0]] for _, c in cells]
+        path = out / "blocks.xdmf"
+        with contextlib.chdir(out), TimeSeriesWriter(path.name) as w:  # meshio writes the .h5
+            # beside the working directory's file name
+            w.write_points_cells(mesh.points, cells)
+            for i, t in enumerate(tf):
+                u = fields["u"][i]
+                sig = model.nodal_stress(u.ravel()).reshape(-1, 9)
+                w.write_data(float(t), point_data={
+                    "displacement": _pad3(u), "velocity": _pad3(fields["v"][i]),
+                    "acceleration": _pad3(fields["a"][i]), "stress": sig,
+                }, cell_data={"body": cell_body})  # fmt: skip
+        written.append(path)
+        if model.pairs is not None and res.interface_names:
+            path = out / "interfaces.xdmf"
+            pts, icells, cell_iface, order = _interface_mesh(model)
+            pairs = res.pairs()
+            with contextlib.chdir(out), TimeSeriesWriter(path.name) as w:
+                w.write_points_cells(pts, icells)
+                for t in tf:
+                    j = int(np.argmin(np.abs(hist_t - t)))
+                    data = {
+                        "opening": pairs["opening"][j],
+                        "slip": pairs["slip"][j],
+                        "normal_stress": pairs["normal_stress"][j],
+                        "shear_stress": pairs["shear_stress"][j],
+                        "state": pairs["state"][j].astype(float),
+                        "broken": pairs["broken"][j].astype(float),
+                    }
+                    pd = {k: _on_points(v, order) for k, v in data.items()}
+                    w.write_data(float(t), point_data=pd, cell_data={"interface": cell_iface})
+            written.append(path)
+    return written
+
+
+def _pad3(a: np.ndarray) -> np.ndarray:
+    """2D vectors padded to 3 components (ParaView's vectors)."""
+    if a.shape[1] == 3:
+        return a
+    return np.hstack([a, np.zeros((a.shape[0], 3 - a.shape[1]))])
+
+
+def _interface_mesh(model: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], list[Any], Any]:
+    """Points (one per pair, plus crack-tip nodes), the side-a faces as cells, the
+    interface index per cell, and the map from points to pairs (−1: no pair)."""
+    P = model.pairs
+    mesh = model.mesh
+    pair_of_node = np.full(mesh.n_points, -1, dtype=np.int64)
+    pair_of_node[P.node_a] = np.arange(P.n)
+    cells, tags = [], []
+    extra: list[int] = []
+    for j, name in enumerate(P.names):
+        for ftype, conn in mesh.facet_groups.get(f"{name}:a", {}).items():
+            ids = pair_of_node[conn]
+            missing = np.unique(conn[ids < 0])
+            for node in missing:  # crack-tip nodes: points without a pair
+                if node not in extra:
+                    extra.append(int(node))
+            cells.append((ftype, conn))
+            tags.append(np.full(conn.shape[0], j))
+    nodes = np.concatenate([P.node_a, np.asarray(extra, dtype=np.int64)])
+    local = np.full(mesh.n_points, -1, dtype=np.int64)
+    local[nodes] = np.arange(nodes.size)
+    cells = [(t, local[c]) for t, c in cells]
+    order = np.concatenate([np.arange(P.n), np.full(len(extra), -1)])
+    return mesh.points[nodes], cells, tags, order
+
+
+def _on_points(values: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """Pair values on the interface points (NaN on crack-tip points)."""
+    shape = (order.size, *values.shape[1:])
+    out = np.full(shape, np.nan)
+    ok = order >= 0
+    out[ok] = values[order[ok]]
+    return out

@@ -1,0 +1,317 @@
+"""The results file (HDF5), written while the run goes, and the :class:`Results` reader.
+
+Layout (every dataset carries a ``units`` attribute; arrays have time first):
+
+- ``/`` attributes: ``pfeie_version``, ``model_file``, ``model_sha256``, ``form``,
+  ``completed`` (false until the run ends normally), ``stop_reason``, and JSON strings
+  ``model_summary``, ``analysis``, ``units``;
+- ``/mesh``: ``points`` (n, d), ``cells/<type>``, ``body`` (n,), ``body_names``;
+- ``/pairs``: ``x`` (m, d), ``frame`` (m, d, d), ``area`` (m,), ``interface`` (m,),
+  ``node_a``, ``node_b``, attribute ``names``;
+- ``/records/<i>``: ``time``, ``acceleration``, ``direction``, attribute ``name``;
+- ``/static``: ``u`` (n, d) and the pair state ``X``, ``w``, ``s``, ``state``, ``broken``;
+- ``/history``: ``time`` (n_t), ``probes/{u,v,a,a_abs}`` (n_t, k, d) with attributes
+  ``names`` and ``nodes``, ``rigid`` (n_t, n_bodies, 3 or 6), ``pairs/{X,w,s}``
+  (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
+  ``pairs/broken``, ``energy/<term>`` (n_t);
+- ``/fields``: ``time`` (n_f) and ``u``, ``v``, ``a`` (n_f, n, d) every ``field_every``-th
+  recorded step.
+
+The writer extends its datasets row by row and flushes at least every ``flush_s``
+seconds, so a run that is killed leaves a readable file with every completed output row
+(and ``completed`` false).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._version import __version__
+from ..element._reference import FloatArray
+from ..errors import PfeieError
+
+UNITS = {
+    "time": "s", "u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2", "X": "N", "w": "m",
+    "s": "m", "rigid": "m (translations), rad (rotations)", "energy": "J", "points": "m",
+    "area": "m^2 (x thickness in 2D)", "acceleration": "m/s^2", "state": "code",
+    "broken": "flag",
+}  # fmt: skip
+
+
+def _h5py() -> Any:
+    try:
+        import h5py
+    except ImportError:  # pragma: no cover - h5py is in the io extra
+        raise PfeieError("results files need h5py: pip install 'pfeie[io]'") from None
+    return h5py
+
+
+class ResultsWriter:
+    """Streams a run into an HDF5 results file (see the module doc)."""
+
+    def __init__(
+        self, path: str | Path, job: Any, *, field_every: int = 10, flush_s: float = 2.0
+    ) -> None:
+        h5py = _h5py()
+        self.path = Path(path)
+        self.f = h5py.File(self.path, "w")
+        self.field_every, self.flush_s = max(int(field_every), 1), flush_s
+        self.rows = 0
+        self._buf: list[dict[str, Any]] = []
+        self._last_flush = time.perf_counter()
+        model = job.model
+        d = model.dim
+        f = self.f
+        f.attrs.update(
+            pfeie_version=__version__, model_file=str(job.path), model_sha256=job.digest,
+            form=job.spec["analysis"]["form"], completed=False, stop_reason="",
+            model_summary=json.dumps(job.summary(), default=str),
+            analysis=json.dumps(job.spec["analysis"]), units=json.dumps(UNITS),
+        )  # fmt: skip
+        g = f.create_group("mesh")
+        self._ds(g, "points", model.mesh.points, "m")
+        for ctype, conn in model.mesh.cells.items():
+            g.create_dataset(f"cells/{ctype}", data=conn)
+        g.create_dataset("body", data=model.body_of_node)
+        g.attrs["body_names"] = json.dumps(model.body_names())
+        P = model.pairs
+        m = 0 if P is None else P.n
+        if P is not None:
+            pg = f.create_group("pairs")
+            self._ds(pg, "x", P.x, "m")
+            pg.create_dataset("frame", data=P.frame)
+            self._ds(pg, "area", P.area, UNITS["area"])
+            pg.create_dataset("interface", data=P.interface)
+            pg.create_dataset("node_a", data=P.node_a)
+            pg.create_dataset("node_b", data=P.node_b)
+            pg.attrs["names"] = json.dumps(list(P.names))
+        for i, rec in enumerate(job.records):
+            rg = f.create_group(f"records/{i}")
+            self._ds(rg, "time", rec.time, "s")
+            self._ds(rg, "acceleration", rec.acceleration, "m/s^2")
+            rg.create_dataset("direction", data=rec.direction)
+            rg.attrs["name"] = rec.name
+        k = len(job.probes)
+        nb = model.n_bodies
+        r = 3 if d == 2 else 6
+        n = model.mesh.n_points
+        h = f.create_group("history")
+        self._grow(h, "time", (), "s")
+        pr = h.create_group("probes")
+        pr.attrs["names"] = json.dumps(list(job.probes))
+        pr.attrs["nodes"] = json.dumps([int(v) for v in job.probes.values()])
+        for key in ("u", "v", "a", "a_abs"):
+            self._grow(pr, key, (k, d), UNITS[key])
+        self._grow(h, "rigid", (nb, r), UNITS["rigid"])
+        hp = h.create_group("pairs")
+        for key in ("X", "w", "s"):
+            self._grow(hp, key, (m, d), UNITS[key])
+        self._grow(hp, "state", (m,), "code", np.int8)
+        self._grow(hp, "broken", (m,), "flag", np.bool_)
+        he = h.create_group("energy")
+        for key in ("kinetic", "strain", "external_work", "damping", "interface", "impact",
+                    "balance"):  # fmt: skip
+            self._grow(he, key, (), "J")
+        fg = f.create_group("fields")
+        self._grow(fg, "time", (), "s")
+        for key in ("u", "v", "a"):
+            self._grow(fg, key, (n, d), UNITS[key], chunk_rows=1)
+        f.flush()
+
+    @staticmethod
+    def _ds(g: Any, name: str, data: Any, units: str) -> None:
+        g.create_dataset(name, data=data)
+        g[name].attrs["units"] = units
+
+    @staticmethod
+    def _grow(
+        g: Any, name: str, shape: tuple[int, ...], units: str, dtype: Any = np.float64,
+        chunk_rows: int = 64,
+    ) -> None:  # fmt: skip
+        chunk = (chunk_rows, *[max(s, 1) for s in shape])
+        g.create_dataset(name, shape=(0, *shape), maxshape=(None, *shape), dtype=dtype,
+                         chunks=chunk)  # fmt: skip
+        g[name].attrs["units"] = units
+
+    @staticmethod
+    def _extend(ds: Any, values: list[Any]) -> None:
+        if not values:
+            return
+        n = ds.shape[0]
+        ds.resize(n + len(values), axis=0)
+        ds[n:] = np.stack([np.asarray(v) for v in values])
+
+    def write_static(self, static: Any) -> None:
+        """The static state: displacements and pair state."""
+        g = self.f.create_group("static")
+        self._ds(g, "u", static.u, "m")
+        if static.pairs is not None:
+            for key in ("X", "w", "s"):
+                self._ds(g, key, getattr(static.pairs, key), UNITS[key])
+            g.create_dataset("state", data=static.pairs.state)
+            g.create_dataset("broken", data=static.pairs.broken)
+        self.f.flush()
+
+    def append(self, row: dict[str, Any]) -> None:
+        """One recorded time (the ``on_record`` rows of :meth:`Dynamic.run`); rows are
+        buffered and written in blocks, at least every ``flush_s`` seconds."""
+        keep = {k: (np.array(v, copy=True) if isinstance(v, np.ndarray) else v)
+                for k, v in row.items() if k not in ("u", "v", "a")}  # fmt: skip
+        if self.rows % self.field_every == 0:
+            keep["fields"] = {k: np.array(row[k], copy=True) for k in ("u", "v", "a")}
+        self._buf.append(keep)
+        self.rows += 1
+        now = time.perf_counter()
+        if len(self._buf) >= 256 or now - self._last_flush > self.flush_s:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write the buffered rows and flush the file."""
+        f, buf = self.f, self._buf
+        if buf:
+            self._extend(f["history/time"], [r["t"] for r in buf])
+            for key in ("u", "v", "a", "a_abs"):
+                self._extend(f[f"history/probes/{key}"], [r[f"probe_{key}"] for r in buf])
+            self._extend(f["history/rigid"], [r["rigid"] for r in buf])
+            if buf[0]["X"].size:
+                for key in ("X", "w", "s", "state", "broken"):
+                    self._extend(f[f"history/pairs/{key}"], [r[key] for r in buf])
+            for key in buf[0]["energy"]:
+                self._extend(f[f"history/energy/{key}"], [r["energy"][key] for r in buf])
+            fr = [r for r in buf if "fields" in r]
+            self._extend(f["fields/time"], [r["t"] for r in fr])
+            for key in ("u", "v", "a"):
+                self._extend(f[f"fields/{key}"], [r["fields"][key] for r in fr])
+            self._buf = []
+        f.flush()
+        self._last_flush = time.perf_counter()
+
+    def close(self, completed: bool, reason: str | None = None,
+              summary: dict[str, Any] | None = None) -> None:  # fmt: skip
+        """Mark the file completed (or not, with the reason) and close it."""
+        self.flush()
+        self.f.attrs["completed"] = bool(completed)
+        self.f.attrs["stop_reason"] = reason or ""
+        if summary is not None:
+            self.f.attrs["results_summary"] = json.dumps(summary, default=str)
+        self.f.close()
+
+
+class Results:
+    """A results file opened for reading; arrays come with their times and units.
+
+    Example (after ``make demo``; ``tests/test_results.py`` checks every array)::
+
+        res = Results("examples/koyna/results/results.h5")
+        t, u = res.time, res.probe("crest")["u"]
+        res.units("history/probes/u")      # 'm'
+    """
+
+    def __init__(self, path: str | Path) -> None:
+        h5py = _h5py()
+        self.path = Path(path)
+        if not self.path.is_file():
+            raise PfeieError(f"{self.path}: results file not found")
+        try:
+            self.f = h5py.File(self.path, "r")
+        except OSError as exc:
+            raise PfeieError(f"{self.path}: not a readable results file ({exc})") from None
+
+    def close(self) -> None:
+        self.f.close()
+
+    def __enter__(self) -> Results:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- metadata --------------------------------------------------------------------------
+    @property
+    def meta(self) -> dict[str, Any]:
+        """Version, model file and hash, completed flag, stop reason, summaries."""
+        out: dict[str, Any] = {}
+        for k, v in self.f.attrs.items():
+            val = v.decode() if isinstance(v, bytes) else v
+            if k in ("model_summary", "analysis", "units", "results_summary"):
+                val = json.loads(val)
+            out[k] = val.item() if isinstance(val, np.generic) else val
+        return out
+
+    @property
+    def completed(self) -> bool:
+        return bool(self.f.attrs["completed"])
+
+    def units(self, dataset: str) -> str:
+        """Units of a dataset, e.g. ``units("history/pairs/X")`` → 'N'."""
+        return str(self.f[dataset].attrs["units"])
+
+    # -- histories -------------------------------------------------------------------------
+    @property
+    def time(self) -> FloatArray:
+        """Times of the recorded steps (s)."""
+        return np.asarray(self.f["history/time"][...])
+
+    @property
+    def probe_names(self) -> list[str]:
+        return list(json.loads(self.f["history/probes"].attrs["names"]))
+
+    def probe(self, name: str) -> dict[str, FloatArray]:
+        """u, v, a, a_abs (n_t, d) of a named probe (relative to the ground in the
+        relative form)."""
+        names = self.probe_names
+        if name not in names:
+            raise PfeieError(f"{self.path}: no probe {name!r}; probes: {names}")
+        k = names.index(name)
+        return {key: np.asarray(self.f[f"history/probes/{key}"][:, k])
+                for key in ("u", "v", "a", "a_abs")}  # fmt: skip
+
+    @property
+    def body_names(self) -> list[str]:
+        return list(json.loads(self.f["mesh"].attrs["body_names"]))
+
+    def rigid(self, body: str | int) -> FloatArray:
+        """Rigid motion (n_t, 3 or 6) of a body: centroid translation (m), rotation (rad)."""
+        idx = self.body_names.index(body) if isinstance(body, str) else int(body)
+        return np.asarray(self.f["history/rigid"][:, idx])
+
+    @property
+    def interface_names(self) -> list[str]:
+        return list(json.loads(self.f["pairs"].attrs["names"])) if "pairs" in self.f else []
+
+    def pairs(self, interface: str | None = None) -> dict[str, FloatArray]:
+        """Pair geometry and histories, for one interface or all: x, area, frame; X, w, s
+        (n_t, m, d); state, broken (n_t, m); and derived normal_stress, shear_stress (Pa,
+        compression +), opening (m), slip (m, since the start of the run)."""
+        if "pairs" not in self.f:
+            raise PfeieError(f"{self.path}: the model has no interfaces")
+        sel: Any = slice(None)
+        if interface is not None:
+            names = self.interface_names
+            if interface not in names:
+                raise PfeieError(f"{self.path}: no interface {interface!r}; interfaces: "
+                                 f"{names}")  # fmt: skip
+            sel = np.flatnonzero(self.f["pairs/interface"][...] == names.index(interface))
+        out = {k: np.asarray(self.f[f"pairs/{k}"][...])[sel] for k in ("x", "area", "frame")}
+        for k in ("X", "w", "s", "state", "broken"):
+            out[k] = np.asarray(self.f[f"history/pairs/{k}"][...])[:, sel]
+        A = out["area"]
+        out["normal_stress"] = out["X"][..., -1] / A
+        out["shear_stress"] = out["X"][..., :-1] / A[None, :, None]
+        out["opening"] = np.maximum(out["s"][..., -1], 0.0)
+        out["slip"] = out["s"][..., :-1] - out["s"][:1, :, :-1]
+        return out
+
+    def energy(self) -> dict[str, FloatArray]:
+        """Energy terms (n_t,) in J."""
+        return {k: np.asarray(v[...]) for k, v in self.f["history/energy"].items()}
+
+    def fields(self) -> tuple[FloatArray, dict[str, FloatArray]]:
+        """Times (n_f,) and the nodal fields u, v, a (n_f, n, d)."""
+        g = self.f["fields"]
+        return np.asarray(g["time"][...]), {k: np.asarray(g[k][...]) for k in ("u", "v", "a")}

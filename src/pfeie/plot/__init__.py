@@ -1,0 +1,7 @@
+"""Figures and the HTML report of a results file."""
+
+from ._plots import plot_all, plot_energy, plot_joint, plot_probe, plot_rigid, plot_states
+from ._report import write_report
+
+__all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_states",
+           "write_report"]  # fmt: skip

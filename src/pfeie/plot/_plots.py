@@ -1,0 +1,189 @@
+"""Figures of a results file (matplotlib, no display needed).
+
+``plot_all(results, folder)`` writes PNG files:
+
+- ``probe_<name>.png``: displacement (relative to the ground) and absolute acceleration
+  histories of each probe;
+- ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest)
+  histories of each interface, with the broken share;
+- ``states_<name>.png``: a space-time map of the pair states along each interface
+  (position along the joint × time; intact, stick, slide, open);
+- ``rigid_motion.png``: translation and rotation histories of the bodies that move;
+- ``energy.png``: the energy terms and the balance residual.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import PfeieError
+from ..io._results import Results
+
+STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
+STATE_LABELS = ["intact", "stick", "slide", "open"]
+AXES = "xyz"
+
+
+def _plt() -> Any:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:  # pragma: no cover - matplotlib is in the plot extra
+        raise PfeieError("plots need matplotlib: pip install 'pfeie[plot]'") from None
+    return plt
+
+
+def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
+    """Every figure of a results file into ``folder``; returns the files written."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    files: list[Path] = []
+    with Results(results) as res:
+        title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        for name in res.probe_names:
+            files.append(plot_probe(res, name, out / f"probe_{name}.png", title))
+        for name in res.interface_names:
+            files.append(plot_joint(res, name, out / f"joint_{name}.png", title))
+            files.append(plot_states(res, name, out / f"states_{name}.png", title))
+        files.append(plot_rigid(res, out / "rigid_motion.png", title))
+        files.append(plot_energy(res, out / "energy.png", title))
+    return files
+
+
+def _finish(fig: Any, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    return path
+
+
+def _style(fig: Any, ax: Any, title: str, path: Path, legend: str) -> Path:
+    """Time axis, grids, legends and the title; then save."""
+    ax[-1].set_xlabel("time (s)")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(loc=legend, fontsize=8)
+    ax[0].set_title(title, fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_probe(res: Results, name: str, path: Path, title: str = "") -> Path:
+    plt = _plt()
+    t = res.time
+    p = res.probe(name)
+    u = p["u"] - p["u"][:1]
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    for i in range(u.shape[1]):
+        ax[0].plot(t, 1e3 * u[:, i], lw=0.9, label=f"u_{AXES[i]}")
+        ax[1].plot(t, p["a_abs"][:, i] / 9.81, lw=0.7, label=f"a_{AXES[i]}")
+    ax[0].set_ylabel("displacement (mm)\n(relative to the ground)")
+    ax[1].set_ylabel("absolute acceleration (g)")
+    return _style(fig, ax, f"{title}\nprobe {name}", path, "upper right")
+
+
+def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
+    plt = _plt()
+    t = res.time
+    pr = res.pairs(name)
+    A = pr["area"]
+    slip = np.linalg.norm(pr["slip"], axis=-1)
+    fig, ax = plt.subplots(3, 1, figsize=(8, 7), sharex=True)
+    ax[0].plot(t, 1e3 * slip.max(axis=1), lw=1.0, label="largest")
+    ax[0].plot(t, 1e3 * (slip * A).sum(axis=1) / A.sum(), lw=1.0, label="area mean")
+    ax[0].set_ylabel("slip (mm)")
+    ax[1].plot(t, 1e3 * pr["opening"].max(axis=1), lw=1.0, color="C3", label="largest")
+    ax[1].set_ylabel("opening (mm)")
+    ax[2].plot(t, 100 * (pr["broken"] * A).sum(axis=1) / A.sum(), lw=1.0, color="k",
+               label="broken")  # fmt: skip
+    for k, lab in ((2, "slide"), (3, "open")):
+        ax[2].plot(t, 100 * ((pr["state"] == k) * A).sum(axis=1) / A.sum(), lw=0.8,
+                   color=STATE_COLOURS[k], label=lab)  # fmt: skip
+    ax[2].set_ylabel("share of the joint (%)")
+    return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
+
+
+def _arc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Order of the pairs along a joint (its main direction) and their positions (m)."""
+    c = x - x.mean(axis=0)
+    direction = np.linalg.svd(c, full_matrices=False)[2][0]
+    s = c @ direction
+    order = np.argsort(s)
+    return order, s[order] - s[order][0]
+
+
+def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
+    plt = _plt()
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    t = res.time
+    pr = res.pairs(name)
+    order, s = _arc(pr["x"])
+    st = pr["state"][:, order]
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    cmap = ListedColormap(STATE_COLOURS)
+    norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
+    edges = np.concatenate([[s[0]], 0.5 * (s[1:] + s[:-1]), [s[-1]]]) if s.size > 1 else np.r_[0, 1]
+    tedges = (
+        np.concatenate([[t[0]], 0.5 * (t[1:] + t[:-1]), [t[-1]]]) if t.size > 1 else np.r_[0, 1]
+    )
+    im = ax.pcolormesh(edges, tedges, st, cmap=cmap, norm=norm, shading="flat")
+    cb = fig.colorbar(im, ax=ax, ticks=[0, 1, 2, 3])
+    cb.ax.set_yticklabels(STATE_LABELS)
+    ax.set_xlabel("position along the joint (m)")
+    ax.set_ylabel("time (s)")
+    ax.set_title(f"{title}\npair states along {name}", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_rigid(res: Results, path: Path, title: str = "") -> Path:
+    plt = _plt()
+    t = res.time
+    q = np.asarray(res.f["history/rigid"][...])
+    q = q - q[:1]
+    d = int(res.f["mesh/points"].shape[1])
+    moving = [b for b in range(q.shape[1]) if np.abs(q[:, b]).max() > 0]
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    for b in moving:
+        name = res.body_names[b]
+        for i in range(d):
+            ax[0].plot(t, 1e3 * q[:, b, i], lw=0.9, label=f"{name} u_{AXES[i]}")
+        rot = q[:, b, d:] if d == 3 else q[:, b, 2:3]
+        for i in range(rot.shape[1]):
+            lab = f"{name} θ_{AXES[i] if d == 3 else 'z'}"
+            ax[1].plot(t, 1e3 * rot[:, i], lw=0.9, label=lab)
+    ax[0].set_ylabel("centroid translation (mm)")
+    ax[1].set_ylabel("rotation (mrad)")
+    ax[1].set_xlabel("time (s)")
+    for a in ax:
+        a.grid(alpha=0.3)
+        if a.lines:
+            a.legend(loc="upper left", fontsize=7, ncol=2)
+    ax[0].set_title(f"{title}\nrigid motion of the bodies (relative to the start)", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_energy(res: Results, path: Path, title: str = "") -> Path:
+    plt = _plt()
+    t = res.time
+    e = res.energy()
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True,
+                           gridspec_kw={"height_ratios": [3, 1]})  # fmt: skip
+    for key, lab in (("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"),
+                     ("interface", "friction and contact"), ("impact", "impact"),
+                     ("external_work", "work of the loads")):  # fmt: skip
+        if key in e:
+            ax[0].plot(t, e[key] - (e[key][0] if key == "strain" else 0.0), lw=1.0, label=lab)
+    ax[0].set_ylabel("energy (J)\n(strain: change)")
+    ax[0].legend(loc="upper left", fontsize=8)
+    ax[1].plot(t, e.get("balance", np.zeros_like(t)), lw=0.9, color="k")
+    ax[1].set_ylabel("balance (J)")
+    ax[1].set_xlabel("time (s)")
+    for a in ax:
+        a.grid(alpha=0.3)
+    ax[0].set_title(f"{title}\nenergy balance", fontsize=10)
+    return _finish(fig, path)

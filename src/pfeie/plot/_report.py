@@ -1,0 +1,91 @@
+"""A single self-contained HTML page: model, records, figures, joint results."""
+
+from __future__ import annotations
+
+import base64
+import html
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..io._results import Results
+from ._plots import plot_all
+
+
+def joint_table(res: Results) -> list[dict[str, Any]]:
+    """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share."""
+    rows = []
+    for name in res.interface_names:
+        pr = res.pairs(name)
+        A = pr["area"]
+        slip = np.linalg.norm(pr["slip"][-1], axis=-1)
+        rows.append({
+            "joint": name, "pairs": int(A.size),
+            "residual slip, largest (mm)": 1e3 * float(slip.max()),
+            "residual slip, mean (mm)": 1e3 * float((slip * A).sum() / A.sum()),
+            "largest opening (mm)": 1e3 * float(pr["opening"].max()),
+            "broken (%)": 100 * float((pr["broken"][-1] * A).sum() / A.sum()),
+        })  # fmt: skip
+    return rows
+
+
+def write_report(results: str | Path, out: str | Path | None = None) -> Path:
+    """Write ``report.html`` beside the results file (or at ``out``); figures embedded."""
+    rpath = Path(results)
+    target = Path(out) if out is not None else rpath.with_name("report.html")
+    with tempfile.TemporaryDirectory() as tmp:
+        figs = plot_all(rpath, tmp)
+        images = [(f.stem, base64.b64encode(f.read_bytes()).decode()) for f in figs]
+    with Results(rpath) as res:
+        meta = res.meta
+        summ = meta["model_summary"]
+        joints = joint_table(res)
+        t_end = float(res.time[-1]) if res.time.size else 0.0
+    esc = html.escape
+    title = summ.get("title") or Path(meta["model_file"]).stem
+    status = ("completed" if meta["completed"] else
+              f"<b>stopped</b>: {esc(str(meta.get('stop_reason', '')))}")  # fmt: skip
+    model_rows = [
+        ("model file", meta["model_file"]), ("SHA-256", meta["model_sha256"]),
+        ("pfeie", meta["pfeie_version"]), ("dimension", f"{summ['dimension']}D"),
+        ("blocks", ", ".join(summ["blocks"])), ("bodies", summ["bodies"]),
+        ("cells", summ["cells"]), ("DOF", f"{summ['dof']} ({summ['free_dof']} free)"),
+        ("pairs", ", ".join(f"{k}: {v}" for k, v in summ["pairs"].items()) or "none"),
+        ("time step", f"{summ['dt']} s"), ("run", f"{status} at t = {t_end:.3f} s"),
+        ("ground motion form", meta.get("form", "")),
+    ]  # fmt: skip
+    parts = [
+        "<!DOCTYPE html><html><head><meta charset='utf-8'>",
+        f"<title>{esc(title)}</title>",
+        "<style>body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}"
+        "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;"
+        "padding:4px 8px;text-align:left}th{background:#f3f3f3}img{max-width:100%}"
+        "</style></head><body>",
+        f"<h1>{esc(title)}</h1>",
+        "<h2>Model</h2><table>",
+        *[f"<tr><th>{esc(k)}</th><td>{esc(str(v))}</td></tr>" for k, v in model_rows],
+        "</table><h2>Ground motion</h2><ul>",
+        *[f"<li>{esc(r)}</li>" for r in summ.get("records", [])],
+        "</ul><h2>Joints</h2>",
+    ]
+    if joints:
+        keys = list(joints[0])
+        parts.append("<table><tr>" + "".join(f"<th>{esc(k)}</th>" for k in keys) + "</tr>")
+        for row in joints:
+            cells = "".join(
+                f"<td>{v:.2f}</td>" if isinstance(v, float) else f"<td>{esc(str(v))}</td>"
+                for v in row.values()
+            )
+            parts.append(f"<tr>{cells}</tr>")
+        parts.append("</table>")
+    else:
+        parts.append("<p>No interfaces.</p>")
+    parts.append("<h2>Figures</h2>")
+    for name, data in images:
+        parts.append(f"<h3>{esc(name.replace('_', ' '))}</h3>"
+                     f"<img alt='{esc(name)}' src='data:image/png;base64,{data}'>")  # fmt: skip
+    parts.append("</body></html>")
+    target.write_text("\n".join(parts))
+    return target

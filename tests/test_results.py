@@ -1,0 +1,120 @@
+"""Results files, ParaView output, plots, CSV export and the report: every stored
+quantity round-trips, the ParaView series read back, each command writes its files, and
+a killed run leaves a readable file."""
+
+from __future__ import annotations
+
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfeie.cli import main
+from pfeie.io import Results, ResultsWriter, load_job, write_paraview
+from test_cli import SMALL, _write, start_run
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object, object]:
+    """The small two-block model run once, streamed to a results file by hand."""
+    import pfeie as pf
+
+    tmp = tmp_path_factory.mktemp("res")
+    job = load_job(_write(tmp, SMALL, duration=0.6))
+    static = pf.solve_static(job.model)
+    path = tmp / "results.h5"
+    w = ResultsWriter(path, job, field_every=3)
+    w.write_static(static)
+    dyn = pf.Dynamic(job.model, 0.005, ground=job.records)
+    res = dyn.run(0.6, start=static, probes=list(job.probes.values()), every=2,
+                  on_record=w.append)  # fmt: skip
+    w.close(res.completed, None, {"note": "test"})
+    return path, res, job
+
+
+def test_every_quantity_round_trips(small_run) -> None:  # type: ignore[no-untyped-def]
+    path, res, job = small_run
+    with Results(path) as r:
+        assert r.completed and r.meta["model_sha256"] == job.digest
+        assert r.meta["results_summary"] == {"note": "test"}
+        np.testing.assert_array_equal(r.time, res.t)
+        p = r.probe("top")
+        for key, arr in (("u", res.probe_u), ("v", res.probe_v), ("a", res.probe_a),
+                         ("a_abs", res.probe_a_abs)):  # fmt: skip
+            np.testing.assert_array_equal(p[key], arr[:, 0])
+        np.testing.assert_array_equal(r.f["history/rigid"][...], res.rigid)
+        pr = r.pairs()
+        for key in ("X", "w", "s", "state", "broken"):
+            np.testing.assert_array_equal(pr[key], getattr(res, key))
+        np.testing.assert_array_equal(pr["normal_stress"], res.normal_stress)
+        np.testing.assert_array_equal(pr["slip"], res.slip)
+        for key, arr in res.energy.items():
+            np.testing.assert_allclose(r.energy()[key], arr, rtol=1e-12, atol=1e-9)
+        tf, fields = r.fields()
+        np.testing.assert_array_equal(tf, res.t[::3])
+        assert fields["u"].shape == (tf.size, job.model.mesh.n_points, 2)
+        assert r.units("history/pairs/X") == "N" and r.units("history/probes/a") == "m/s^2"
+        assert r.rigid("dam").shape == (res.t.size, 3)
+        with pytest.raises(Exception, match="no probe"):
+            r.probe("nowhere")
+
+
+def test_paraview_series_read_back(small_run, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    import meshio
+
+    path, res, job = small_run
+    files = write_paraview(path, job.model, tmp_path)
+    assert [f.name for f in files] == ["blocks.xdmf", "interfaces.xdmf"]
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "blocks.xdmf")) as rd:
+        points, _cells = rd.read_points_cells()
+        assert points.shape[0] == job.model.mesh.n_points
+        assert rd.num_steps == res.t[::3].size
+        _t, pd, _cd = rd.read_data(rd.num_steps - 1)
+        assert {"displacement", "velocity", "acceleration", "stress"} <= set(pd)
+        assert pd["stress"].shape == (points.shape[0], 9)
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "interfaces.xdmf")) as rd:
+        points, _cells = rd.read_points_cells()
+        assert points.shape[0] >= job.model.pairs.n
+        _t, pd, _cd = rd.read_data(0)
+        assert {"opening", "slip", "normal_stress", "shear_stress", "state", "broken"} <= set(pd)
+
+
+def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[no-untyped-def]
+                                     capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    path, _, _ = small_run
+    assert main(["plot", str(path), "--out", str(tmp_path / "fig")]) == 0
+    pngs = sorted(p.name for p in (tmp_path / "fig").iterdir())
+    assert pngs == ["energy.png", "joint_joint.png", "probe_top.png", "rigid_motion.png",
+                    "states_joint.png"]  # fmt: skip
+    assert all((tmp_path / "fig" / p).stat().st_size > 10_000 for p in pngs)
+    assert main(["export", str(path), "--csv", str(tmp_path / "csv")]) == 0
+    probes = (tmp_path / "csv" / "probes.csv").read_text().splitlines()
+    assert probes[0] == "time_s,probe,quantity,component,value,unit"
+    assert len(probes) == 1 + 4 * 2 * 61  # 4 quantities × 2 components × 61 times
+    assert main(["report", str(path), "--out", str(tmp_path / "r.html")]) == 0
+    html = (tmp_path / "r.html").read_text()
+    assert "<h2>Joints</h2>" in html and html.count("data:image/png;base64") == 5
+    assert main(["plot", str(tmp_path / "none.h5")]) == 2
+    capsys.readouterr()
+
+
+def test_run_writes_everything(tmp_path: Path) -> None:
+    p = _write(tmp_path, SMALL)
+    assert main(["run", str(p), "--quiet"]) == 0
+    names = {f.name for f in (tmp_path / "out").iterdir()}
+    assert {"results.h5", "blocks.xdmf", "blocks.h5", "interfaces.xdmf", "interfaces.h5",
+            "summary.json", "summary.txt"} <= names  # fmt: skip
+
+
+def test_killed_run_leaves_a_readable_file(tmp_path: Path) -> None:
+    """SIGKILL in the middle of a run: results.h5 opens and holds the rows written so far,
+    marked not completed."""
+    proc = start_run(_write(tmp_path, SMALL, duration=400.0), wait=6.0)
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate(timeout=60)
+    with Results(tmp_path / "out" / "results.h5") as r:
+        assert not r.completed
+        n = r.time.size
+        assert n > 0 and r.probe("top")["u"].shape == (n, 2)
+        assert r.pairs()["X"].shape[0] == n
