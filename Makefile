@@ -7,7 +7,7 @@ export OMP_NUM_THREADS ?= 1
 export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 
-.PHONY: demo test test-slow lint bench bench-quick clean
+.PHONY: demo test test-slow verify lint bench bench-quick clean
 
 $(STAMP): pyproject.toml
 	@$(PYTHON) -m venv $(VENV) 2>/dev/null || { \
@@ -27,6 +27,9 @@ test: $(STAMP)
 
 test-slow: $(STAMP)
 	$(PY) -m pytest -m slow tests
+
+verify: $(STAMP)
+	$(VENV)/bin/pfeie verify --manual docs/verification
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check .

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import pfeie as pf
-from _cases import block_on_base
 from pfeie.interface import STICK, split
+from pfeie.verification._models import block_on_base
 
 STRONG = pf.Joint(c=1e9, phi=45.0, tensile=1e9, initial="intact")
 

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import pfeie as pf
-from _cases import block_on_base, block_on_base_3d, slip_x
-from _rigid import RigidBlock
 from pfeie.interface import OPEN, SLIDE
+from pfeie.verification._models import block_on_base, block_on_base_3d, slip_x
+from pfeie.verification._rigid import RigidBlock
 
 G = 9.81
 DATA = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_ns_chopra.csv"
@@ -357,3 +357,21 @@ def test_weak_layer_settles_by_its_stiffness() -> None:
     sigma = 2400.0 * G * 1.0
     w = res.pairs.w[:, -1]
     np.testing.assert_allclose(w, -sigma / kn, rtol=1e-3)
+
+
+def test_block_released_above_the_joint_falls_and_lands() -> None:
+    """Initial conditions: a block lifted by 1 mm (u0) starts with open pairs, falls freely
+    and lands at √(2h/g) = 14.28 ms (one Δt); an initial gap (Joint.gap) does the same."""
+    dt, h = 2e-4, 1e-3
+    t_land = np.sqrt(2 * h / G)
+    for how in ("u0", "gap"):
+        model = block_on_base(joint=pf.Joint(phi=30.0, gap=h if how == "gap" else 0.0))
+        an = pf.Dynamic(model, dt)
+        u0 = np.zeros((model.mesh.n_points, 2))
+        if how == "u0":
+            u0[model.block_nodes("block"), 1] = h
+        start = an.initial(u0=u0)
+        assert np.all(start.pairs.state == OPEN)
+        res = an.run(0.03, start=start)
+        closed = np.flatnonzero(~np.all(res.state == OPEN, axis=1))
+        assert abs(res.t[closed[0]] - t_land) <= dt

@@ -1,5 +1,5 @@
 """The command line: ``pfeie run``, ``check``, ``plot``, ``export``, ``report``,
-``pfeie --version``.
+``verify``, ``pfeie --version``.
 
 Exit codes:
 
@@ -61,6 +61,15 @@ def _parser() -> argparse.ArgumentParser:
                    "model and record summaries, the figures and a table of joint results.",
                    ("--out", "HTML file (default: report.html beside the results)")),
     }  # fmt: skip
+    ver = sub.add_parser("verify", help="run the verification suite and print its table",
+                         description="Run the verification cases (V1-V10 of the verification "
+                         "manual) and print: case, quantity, reference, pfeie, error, "
+                         "tolerance, pass. Exits 1 if any check fails.")  # fmt: skip
+    ver.add_argument("--fast", action="store_true", help="the fast subset (short runs)")
+    ver.add_argument("--case", action="append", metavar="NAME", help="run only this case "
+                     "(repeatable), e.g. --case V4")  # fmt: skip
+    ver.add_argument("--manual", metavar="DIR", help="also write the manual (pages, figures, "
+                     "summary) to DIR")  # fmt: skip
     for name, (short, long, (flag, flag_help)) in post.items():
         p = sub.add_parser(name, help=short, description=long)
         p.add_argument("results", help="results file (results.h5)")
@@ -82,6 +91,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INPUT
     if args.command in ("plot", "export", "report"):
         return _post(args)
+    if args.command == "verify":
+        return _verify(args)
     from ._job import format_summary, run_job
     from .io import load_job
 
@@ -119,6 +130,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"pfeie: analysis failed: {stopped}", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_OK
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from .verification import run
+    from .verification._manual import write_manual
+
+    try:
+        results = run(fast=args.fast, names=args.case)
+    except PfeieError as exc:
+        print(f"pfeie: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    head = (f"{'case':<5} {'quantity':<46} {'reference':>12} {'pfeie':>12} {'error':>10} "
+            f"{'tolerance':>10}  pass")  # fmt: skip
+    print(head)
+    print("-" * len(head))
+    for r in results:
+        for c in r.checks:
+            print(
+                f"{r.name:<5} {c.quantity[:46]:<46} {c.reference:>12.6g} {c.value:>12.6g} "
+                f"{c.error_text:>10} {c.tolerance_text:>10}  {'yes' if c.passed else 'NO'}"
+            )
+    n_fail = sum(not r.passed for r in results)
+    print(f"{len(results) - n_fail} of {len(results)} cases pass")
+    if args.manual:
+        for f in write_manual(results, args.manual, args.fast):
+            print(f)
+    return EXIT_FAILED if n_fail else EXIT_OK
 
 
 def _post(args: argparse.Namespace) -> int:

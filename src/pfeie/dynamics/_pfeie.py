@@ -74,6 +74,7 @@ from ..element._reference import FloatArray, IntArray
 from ..errors import InterfaceError, ModelError
 from ..interface import (
     INTACT,
+    OPEN,
     SLIDE,
     STICK,
     InterfaceSolver,
@@ -269,6 +270,8 @@ class Dynamic:
             self._scale = s
             GM = self.G.multiply(self.minv[None, :]).tocsr()
             self.H = (GM @ self.G.T).tocsc()
+            # components with no free mass on either side (e.g. a wall against rollers)
+            self._movable = self.H.diagonal() > 0
             self._junction = _junction_eps(model) > 0
         else:
             self.isolver, self.Z = None, None
@@ -304,19 +307,34 @@ class Dynamic:
         return self.Gp @ self.prescribed(t)[0]
 
     # -- start ------------------------------------------------------------------------------
-    def initial(self, static: object | None = None, t0: float = 0.0) -> StepState:
-        """The start of the run: at rest, from a static result (which the run keeps
-        exactly when there is no excitation), or from zero."""
+    def initial(
+        self,
+        static: object | None = None,
+        t0: float = 0.0,
+        *,
+        u0: FloatArray | None = None,
+        v0: FloatArray | None = None,
+    ) -> StepState:
+        """The start of the run: from a static result (which the run keeps exactly when
+        there is no excitation), or from given nodal displacements ``u0`` and velocities
+        ``v0`` ((n_points, d) arrays, default zero; e.g. a bar moving towards a wall). Pairs
+        of broken joints whose gap is positive start open."""
         d, m = self.d, self.m
         n = self.system.n
+        free = self.system.free
         props = self.model.pair_properties if m else None
         if static is not None:
             u_full = np.asarray(static.u).ravel()  # type: ignore[attr-defined]
-            u = u_full[self.system.free]
+            u = u_full[free]
             ps = static.pairs.copy() if m else None  # type: ignore[attr-defined]
         else:
-            u = np.zeros(n)
+            u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).ravel()[free]
             ps = PairState.initial(props, d) if props is not None else None
+            if ps is not None and props is not None and u0 is not None:
+                ps.w = (self.G @ u + self._w_pres(t0)).reshape(m, d)
+                ps.s = ps.w.copy()
+                ps.s[:, -1] += props.gap
+                ps.state[ps.broken & (ps.s[:, -1] > 0)] = OPEN
         if ps is None:
             ps = PairState(np.zeros(0, np.int8), np.zeros(0, bool), *(np.zeros((0, d)),) * 3,
                            np.zeros((0, d - 1)))  # fmt: skip
@@ -324,8 +342,10 @@ class Dynamic:
         GX = self.G.T @ ps.X.ravel() if m else 0.0
         # smooth acceleration (stabilised) or total (plain rule)
         f = f_ext if self.stabilize else f_ext + GX
+        v = np.zeros(n) if v0 is None else np.asarray(v0, dtype=float).ravel()[free]
+        if self.system.C is not None:
+            f = f - self.system.C @ v
         a = self.minv * (f - self.system.K @ u)
-        v = np.zeros(n)
         X_eff = ps.X.copy()
         kin = State(t0, u, v, a, f)
         return StepState(kin, ps, X_eff, 0)
@@ -344,7 +364,7 @@ class Dynamic:
         """Mass-weighted projection of x so that G_c x + offset_c = 0 on the closed
         components (offset: the prescribed side's part, absolute form); returns the
         projected field and the multipliers λ per component (M,)."""
-        closed = self._closed(ps)
+        closed = self._closed(ps) & self._movable
         lam = np.zeros(self.m * self.d)
         if not closed.any():
             return x, lam

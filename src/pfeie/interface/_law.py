@@ -5,8 +5,9 @@ Arrays are indexed by pair first; local vectors have the frame's component order
 
 - X (m, d): force on side b in the local frame (N), normal positive in compression;
 - w (m, d): relative displacement T (u_b − u_a) (m), normal positive when opening;
-- s (m, d): w + C X, the part of w not taken by the joint springs (C = 1/(k A), zero
-  for a rigid contact): its normal part is the gap, its tangential part the slip;
+- s (m, d): w + C X + g₀ n, the part of w not taken by the joint springs (C = 1/(k A),
+  zero for a rigid contact) plus the initial gap g₀: its normal part is the gap, its
+  tangential part the slip;
 - state: INTACT (bonded), STICK, SLIDE or OPEN; ``broken`` is irreversible.
 
 Strength of a pair: τ_max = c A + μ X_n with (c, μ) = (c, tan φ) while intact and
@@ -44,6 +45,7 @@ class PairProperties:
     tensile_r: FloatArray
     initially_broken: np.ndarray  # (m,) bool
     compliance: FloatArray  # (m, d) m/N: 1/(k A), 0 for rigid contact
+    gap: FloatArray  # (m,) m, initial normal gap
 
     @classmethod
     def from_joints(cls, pairs: PairGeometry, joints: Sequence[Joint]) -> PairProperties:
@@ -61,7 +63,8 @@ class PairProperties:
         comp[:, :-1] = (ks / A)[:, None]
         return cls(A, col(lambda jt: jt.c), col(lambda jt: jt.mu), col(lambda jt: jt.tensile),
                    col(lambda jt: jt.c_r), col(lambda jt: jt.mu_r), col(lambda jt: jt.tensile_r),
-                   col(lambda jt: jt.initial == "broken").astype(bool), comp)  # fmt: skip
+                   col(lambda jt: jt.initial == "broken").astype(bool), comp,
+                   col(lambda jt: jt.gap))  # fmt: skip
 
     @property
     def n(self) -> int:
@@ -91,8 +94,11 @@ class PairState:
         m = props.n
         broken = props.initially_broken.copy()
         state = np.where(broken, STICK, INTACT).astype(np.int8)
+        state[props.gap > 0] = OPEN
         z = np.zeros((m, dim))
-        return cls(state, broken, z, z.copy(), z.copy(), np.zeros((m, dim - 1)))
+        s = z.copy()
+        s[:, -1] = props.gap
+        return cls(state, broken, z, z.copy(), s, np.zeros((m, dim - 1)))
 
     def copy(self) -> PairState:
         return replace(self, state=self.state.copy(), broken=self.broken.copy(), X=self.X.copy(),

@@ -88,6 +88,9 @@ class InterfaceSolver:
         self._escale = float(diag.mean()) if diag.size else 1.0
         self.E = None if border is None else np.asarray(border, dtype=float) * self._escale
         self.tol, self.max_iter = tol, max_iter
+        self._gapv = np.zeros((self.m, self.d))
+        if self.m:
+            self._gapv[:, -1] = props.gap
         self._cache: dict[bytes, tuple[object, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
@@ -302,6 +305,7 @@ class InterfaceSolver:
 
         ``prev`` is the committed state at the start of the step; it is not modified.
         """
+        w_free = w_free + self._gapv  # the internal routines work with s_free
         st = prev.copy()
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
         st.state[reopen] = STICK
@@ -311,8 +315,8 @@ class InterfaceSolver:
         for it in range(1, self.max_iter + 1):
             X, q = self._linear(st, prev, w_free, e)
             st.X = X
-            st.w = self.relative(X, q, w_free)
-            st.s = st.w + self.props.compliance * X
+            st.s = self.relative(X, q, w_free) + self.props.compliance * X
+            st.w = st.s - self.props.compliance * X - self._gapv
             new = self._update(st, prev, self._scale(X, w_free))
             same = np.array_equal(new.state, st.state) and np.array_equal(new.broken, st.broken)
             if same and np.allclose(new.slip_dir, st.slip_dir, rtol=0, atol=1e-9):
@@ -410,7 +414,7 @@ class InterfaceSolver:
             broken = broken | fail
         out = st.copy()
         out.X, out.broken = X, broken
-        out.w = s_ - self.props.compliance * X
+        out.w = s_ - self.props.compliance * X - self._gapv
         out.s = s_
         g = s_[:, -1]
         state = np.full(m, INTACT, dtype=np.int8)
@@ -538,14 +542,14 @@ class InterfaceSolver:
                     X[k] = Xk
             if sweep % 5 == 0:
                 trial.X, trial.state, trial.broken, trial.slip_dir = X, state, broken, sdir
-                trial.w = self.relative(X, np.zeros(0), w_free)
-                trial.s = trial.w + self.props.compliance * X
+                trial.w = self.relative(X, np.zeros(0), w_free) - self._gapv
+                trial.s = trial.w + self.props.compliance * X + self._gapv
                 if self.residual(trial, prev, w_free).max(initial=0.0) <= self.tol:
                     break
         out = st.copy()
         out.X, out.state, out.broken, out.slip_dir = X, state, broken, sdir
-        out.w = self.relative(X, np.zeros(0), w_free)
-        out.s = out.w + self.props.compliance * X
+        out.w = self.relative(X, np.zeros(0), w_free) - self._gapv
+        out.s = out.w + self.props.compliance * X + self._gapv
         return out
 
     def _local(

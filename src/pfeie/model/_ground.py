@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from ..element._reference import FloatArray
 from ..errors import ModelError
@@ -43,10 +44,10 @@ class GroundMotion:
     @classmethod
     def from_samples(
         cls,
-        values: Sequence[float] | FloatArray,
+        values: npt.ArrayLike,
         *,
         dt: float | None = None,
-        time: Sequence[float] | FloatArray | None = None,
+        time: npt.ArrayLike | None = None,
         units: str = "m/s2",
         scale: float = 1.0,
         direction: Sequence[float] = (1.0, 0.0),

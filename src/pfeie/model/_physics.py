@@ -7,7 +7,7 @@ Pa for moduli and stresses, kg/m³ for density, N for forces, m/s² for accelera
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,7 +16,7 @@ from ..element._reference import FloatArray, IntArray
 from ..errors import ModelError
 
 Amplitude = Callable[[float], float]
-VectorField = FloatArray | Callable[[FloatArray], FloatArray]
+VectorField = FloatArray | Sequence[float] | Callable[[FloatArray], FloatArray]
 
 
 @dataclass(frozen=True)
@@ -140,7 +140,9 @@ class Joint:
       0); an existing joint (``initial="broken"``) has only these;
     - ``initial``: "intact" (bonded until its strength is exceeded) or "broken";
     - ``kn``, ``ks``: optional normal and shear stiffness (Pa/m) of a weak layer; None
-      means a rigid contact (no spring, no penetration).
+      means a rigid contact (no spring, no penetration);
+    - ``gap``: initial normal gap (m) of an existing (broken) joint: its pairs start open
+      and close when the gap is used up (e.g. a bar moving towards a wall).
 
     Stresses are X/A with X the force on side b, normal positive in compression. An
     intact pair breaks when σ < −σ_t (opens) or |τ| > c + σ tan φ (slides).
@@ -158,6 +160,7 @@ class Joint:
     initial: str = "broken"
     kn: float | None = None
     ks: float | None = None
+    gap: float = 0.0
 
     def __post_init__(self) -> None:
         for key in ("c", "tensile", "c_r", "tensile_r"):
@@ -173,6 +176,10 @@ class Joint:
             val = getattr(self, key)
             if val is not None and not val > 0:
                 raise ModelError(f"joint {key} must be > 0 Pa/m or None, got {val}")
+        if not self.gap >= 0:
+            raise ModelError(f"joint gap must be >= 0 m, got {self.gap}")
+        if self.gap > 0 and self.initial == "intact":
+            raise ModelError("an intact (bonded) joint cannot start with a gap")
 
     @property
     def mu(self) -> float:

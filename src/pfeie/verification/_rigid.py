@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+import numpy.typing as npt
 
 
 def _roots_in(c2: float, c1: float, c0: float, lo: float, hi: float) -> list[float]:
@@ -79,7 +80,7 @@ class RigidBlock:
                     elif self.two_way and p0 < -q * (1 + 1e-12):
                         sig = -1
                     else:
-                        for level in ([q, -q] if self.two_way else [q]):
+                        for level in [q, -q] if self.two_way else [q]:
                             cands += [r for r in _roots_in(0.0, slope, p0 - level, 1e-15, L - tau)
                                       if (slope > 0) == (level > 0)]  # fmt: skip
                         if not cands:
@@ -116,12 +117,13 @@ class RigidBlock:
         self.knots.append(tk)
         self.state.append((x, v, sig))
 
-    def displacement(self, times: np.ndarray) -> np.ndarray:
+    def displacement(self, times: npt.ArrayLike) -> np.ndarray:
         """x at the given times (exact, from the knots)."""
         tk = np.asarray(self.knots)
         t, p = self.p
-        out = np.empty(len(times))
-        for j, tt in enumerate(np.atleast_1d(times)):
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        out = np.empty(times.size)
+        for j, tt in enumerate(times):
             i = max(int(np.searchsorted(tk, tt, side="right")) - 1, 0)
             x, v, sig = self.state[i]
             h = tt - tk[i]
