@@ -18,6 +18,7 @@ from ._rigid import RigidBlock
 
 G = 9.81
 RECORD = Path(__file__).resolve().parent / "elcentro_1940_ns_chopra.csv"  # see examples/data
+_MODELS: dict[str, Model] = {}  # the last model of each case, for the manual's sketches
 
 
 def _phi(mu: float) -> float:
@@ -54,6 +55,7 @@ def v1a(fast: bool) -> CaseResult:
     T = 0.2 if fast else 0.4
     res = Dynamic(model, 0.002).run(T)
     d = _along(res, th)
+    _MODELS["V1a"] = model
     return CaseResult("V1a", "Block sliding down an incline", [
         Check(f"slip d({T} s)", 0.5 * acc * T**2, float(d[-1]), 5e-3, unit="m"),
     ], [Series("pfeie", res.t, d), Series("a t²/2", res.t, 0.5 * acc * res.t**2, "--")],
@@ -74,6 +76,7 @@ def v1b(fast: bool) -> CaseResult:
     W = G * 2400.0
     X = res.pairs.X
     excess = float(np.max(np.abs(X[:, 0]) - mu * X[:, 1])) / W  # > 0 would violate Coulomb
+    _MODELS["V1b"] = model
     return CaseResult("V1b", "Block resting on an incline", [
         Check("shear resultant / W", 0.5, abs(X[:, 0].sum()) / W, 5e-3),
         Check("normal resultant / W", float(np.cos(np.radians(30))), X[:, 1].sum() / W, 5e-3),
@@ -109,6 +112,7 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
     t1, t2 = _slide_interval(res)
     ref = RigidBlock(t, a, N * G, t_end=1.0).displacement(res.t)
     E = res.energy
+    _MODELS[f"V2{'a' if kind == 'rect' else 'b'}"] = model
     out = CaseResult(f"V2{'a' if kind == 'rect' else 'b'}", "", [
         Check("permanent slip", u_ref, -float(x[-1]), 1e-2, unit="m"),
         Check("slip start", t_start, t1, dt + 1e-9, False, "s"),
@@ -168,6 +172,7 @@ def v3(fast: bool) -> CaseResult:
     s = _along(res, beta)
     xr = ref.displacement(res.t)
     i1 = int(np.searchsorted(res.t, 0.45))
+    _MODELS["V3"] = model
     return CaseResult("V3", "Block on an incline under horizontal shaking", [
         Check("slip after one cycle", float(xr[i1]), float(s[i1]), 1e-2, unit="m"),
         Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 1e-2, unit="m"),
@@ -194,6 +199,7 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
         Check("energy balance / friction work", 0.0, abs(E["balance"][-1]) / E["interface"][-1],
               1e-2, False),
     ]  # fmt: skip
+    _MODELS["V4"] = model
     out = CaseResult("V4", "Two-way stick-slip on a horizontal joint", checks,
                      [Series("pfeie", res.t, x), Series("rigid block (exact)", res.t, xr, "--")],
                      ylabel="slip relative to the base (m)")  # fmt: skip
@@ -255,6 +261,7 @@ def v5(fast: bool) -> CaseResult:
         peak = float(np.abs(xr).max())
         checks.append(Check(f"two-way max error / peak, μ = {mu}", 0.0,
                             float(np.abs(x - xr).max()) / peak, 2e-2, False))  # fmt: skip
+    _MODELS["V5"] = model
     return CaseResult("V5", "Newmark block under El Centro 1940", checks, series,
                       ylabel="downslope slip (m)")  # fmt: skip
 
@@ -299,6 +306,7 @@ def _v6(n: int) -> tuple[CaseResult, dict[str, float]]:
         Check("impulse", 2 * p0, impulse, 1e-2, unit="N s"),
         Check("rebound momentum", p0, float((mass * vf).sum()), 1e-2, unit="N s"),
     ]
+    _MODELS["V6"] = model
     out = CaseResult("V6", "Elastic bar impact on a rigid wall", checks,
                      [Series("pfeie", res.t, F), Series("ρ c v₀ A", res.t,
                       np.where((res.t >= gap / v0) & (res.t <= gap / v0 + 2 * L / c),
@@ -361,6 +369,7 @@ def v8a(fast: bool) -> CaseResult:
     i_land = int(np.argmax((ts > t_off + 0.01) & (y < 0)))
     land = ts[i_land]
     v_land = -G * (land - t_off) + 1.5 * G / w * (np.cos(w * land) - np.cos(w * t_off))
+    _MODELS["V8a"] = model
     return CaseResult("V8a", "Lift-off under vertical shaking", [
         Check("lift-off", float(t_off), float(res.t[i_open]), dt + 1e-9, False, "s"),
         Check("re-contact", float(land), t_c, dt + 1e-9, False, "s"),
@@ -387,6 +396,7 @@ def v8b(fast: bool) -> CaseResult:
     t_break = float(res.t[np.argmax(res.broken.all(axis=1))])
     after = res.t > t_break
     sig = res.normal_stress.mean(axis=1)
+    _MODELS["V8b"] = model
     return CaseResult("V8b", "Tensile strength of a bonded joint", [
         Check("opening time", t_ref, t_break, dt + 1e-9, False, "s"),
         Check("largest tension after opening (Pa)", 0.0,
@@ -417,6 +427,7 @@ def v8c(fast: bool) -> CaseResult:
     xr = np.where(
         res.t > tb, -(k * (res.t - tb) ** 3 / 6 + (k * tb - mu * G) * (res.t - tb) ** 2 / 2), 0.0
     )
+    _MODELS["V8c"] = model
     return CaseResult("V8c", "Bond breaking in shear, then sliding", [
         Check("acceleration at breaking", float(a_break), k * t_b, 1e-2, unit="m/s²"),
         Check("slip at the end", float(xr[-1]), float(x[-1]), 2e-2, unit="m"),
@@ -456,6 +467,7 @@ def v9(fast: bool) -> CaseResult:
     r0 = Dynamic(mono, 0.002, ground=[gm]).run(0.4, start=s0, probes=[top])
     r1 = Dynamic(cut, 0.002, ground=[gm]).run(0.4, start=s1, probes=[top])
     err_d = float(np.abs(r1.probe_u - r0.probe_u).max() / np.abs(r0.probe_u).max())
+    _MODELS["V9"] = cut
     return CaseResult("V9", "Intact interfaces reproduce the monolithic model", [
         Check("static displacements, max relative difference", 0.0, err_s, 1e-9, False),
         Check("dynamic top displacement, max relative difference", 0.0, err_d, 1e-9, False),
@@ -483,6 +495,8 @@ def _wave(kappa: float | str | None) -> tuple[np.ndarray, np.ndarray, float]:
     model = Model(mesh, [_Block("left", mat), _Block("right", mat)], plane="stress",
                   interfaces=inter)  # fmt: skip
     model.fix(model.nodes_at(lambda x: x[:, 0] > -1), 1)
+    if kappa is not None:
+        _MODELS["V10"] = model
     cycles = 6
     T = cycles / f0
 

@@ -8,6 +8,9 @@ hand-written ``conventions.md``. Everything but ``conventions.md`` is generated.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from .. import __version__
 from ._core import CASES, CaseResult
@@ -53,17 +56,59 @@ def figure(r: CaseResult, path: Path) -> None:
     plt.close(fig)
 
 
+def sketch(model: Any, title: str, path: Path) -> None:
+    """The mesh (grey), the interfaces (red) and the supported nodes (black triangles)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from ..element import reference
+
+    mesh = model.mesh
+    pts = mesh.points[:, :2]
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    segs = []
+    for ctype, conn in mesh.cells.items():
+        ref = reference(ctype)
+        nc = reference(ref.linear).n_nodes
+        ring = conn[:, :nc]
+        for k in range(nc):
+            segs.append(np.stack([pts[ring[:, k]], pts[ring[:, (k + 1) % nc]]], axis=1))
+    ax.add_collection(LineCollection(list(np.concatenate(segs)), colors="0.6", linewidths=0.5))
+    if model.pairs is not None:
+        for name in model.pairs.names:
+            for conn in mesh.facet_groups.get(f"{name}:a", {}).values():
+                ax.add_collection(LineCollection(list(pts[conn[:, [0, 1]]]), colors="C3",
+                                                 linewidths=2.0))  # fmt: skip
+        ax.plot([], [], color="C3", lw=2, label="interface")
+    fixed = np.unique(np.concatenate([s.nodes for s in model.supports] or [np.zeros(0, int)]))
+    if fixed.size:
+        ax.plot(pts[fixed, 0], pts[fixed, 1], "k^", ms=3, label="supported nodes")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale()
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def write_manual(results: list[CaseResult], folder: str | Path, fast: bool) -> list[Path]:
     """Write the pages, figures and the summary; returns the files written."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
-    files = []
+    files: list[Path] = []
     for r in results:
         c = CASES[r.name]
         page = [f"# {r.name}: {c.title}", "",
                 "Conventions (units, signs, frames, ground-motion direction): "
                 "[conventions](conventions.md). Summary: [index](index.md).", "",
                 f"**Purpose.** {c.purpose}", "", f"**Model.** {c.sketch}", "",
+                *_sketch_lines(r.name, out, files),
                 f"**Reference.** {c.reference}", "",
                 f"**Inputs.** `src/pfeie/verification/_cases.py`, function `{r.name.lower()}`"
                 " (run it alone: `pfeie verify --case " + r.name + "`).", "",
@@ -109,6 +154,18 @@ def write_manual(results: list[CaseResult], folder: str | Path, fast: bool) -> l
     path.write_text("\n".join(index) + "\n")
     files.append(path)
     return files
+
+
+def _sketch_lines(name: str, out: Path, files: list[Path]) -> list[str]:
+    from ._cases import _MODELS
+
+    model = _MODELS.get(name)
+    if model is None or model.dim != 2:
+        return []
+    png = out / f"{name}_sketch.png"
+    sketch(model, f"{name}: model", png)
+    files.append(png)
+    return [f"![{name} model]({name}_sketch.png)", ""]
 
 
 def _rate_text(name: str) -> str:
