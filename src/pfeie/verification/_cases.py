@@ -340,6 +340,30 @@ def v6(fast: bool) -> CaseResult:
     return res
 
 
+# -- V7 (the uplift threshold; free rocking needs large rotations) -------------------------
+@case("V7a", "Rocking block: uplift threshold",
+      "A slender block (2b × 2h = 0.5 m × 2 m, μ = tan 60°) under a slowly rising horizontal "
+      "base acceleration tips onto its toe when the overturning moment of its inertia "
+      "exceeds the restoring moment of its weight. (The free rocking of V7, its period "
+      "and restitution, needs the large-rotation body frame and is not run.)",
+      "Housner (1963): uplift when a_g > g tan α = g b/h = 0.25 g (2.4525 m/s²).",
+      "A very stiff block (E = 3e13 Pa, 2 × 8 Q4) on a fixed base; base acceleration k t, "
+      "k = 2 m/s³; uplift = every pair open but the toe's.")  # fmt: skip
+def v7a(fast: bool) -> CaseResult:
+    b, h, k, dt = 0.25, 1.0, 2.0, 0.002
+    model = block_on_base(joint=Joint(phi=60.0), width=2 * b, height=2 * h, n=2, ny=8, E=3e13)
+    _, _, gm = _record(lambda t: k * t, 2.0, dt)
+    res = Dynamic(model, dt, ground=[gm]).run(2.0, start=solve_static(model))
+    n_open = (res.state == OPEN).sum(axis=1)
+    i = int(np.argmax(n_open >= res.state.shape[1] - 1))
+    _MODELS["V7a"] = model
+    return CaseResult("V7a", "Rocking block: uplift threshold", [
+        Check("base acceleration at uplift", G * b / h, k * float(res.t[i]), 1e-2,
+              unit="m/s²"),
+    ], [Series("open pairs (of 3)", k * res.t, n_open.astype(float))], xlabel="base "
+        "acceleration (m/s²)", ylabel="number of open pairs")  # fmt: skip
+
+
 # -- V8 ------------------------------------------------------------------------------------
 @case("V8a", "Lift-off under vertical shaking",
       "A block on a joint without tension under a_v = 1.5 g sin(4πt): it lifts off, flies "

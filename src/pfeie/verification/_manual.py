@@ -16,12 +16,13 @@ from .. import __version__
 from ._core import CASES, CaseResult
 
 UNSUPPORTED = {
-    "V7": ("Housner rocking block",
-           "Rocking needs the large-rotation kinematics of the block body frame (method.md "
-           "§2): with the small-displacement blocks of this version the restoring moment of "
-           "gravity does not decrease with the tilt, so the rocking period and the "
-           "restitution cannot be reproduced. The case is listed, not run, until the body "
-           "frame lands."),
+    "V7": ("Housner rocking block: free rocking",
+           "The uplift threshold is verified ([V7a](V7a.md)). Free rocking needs the "
+           "large-rotation kinematics of the block body frame (method.md §2): with the "
+           "small-displacement blocks of this version the restoring moment of gravity does "
+           "not decrease with the tilt, so the quarter period (0.493803 s from θ₀ = α/2) and "
+           "the restitution cannot be reproduced. The case is listed, not run, until the "
+           "body frame lands."),
 }  # fmt: skip
 
 
