@@ -98,7 +98,6 @@ class StepState:
 
     kin: State
     pairs: PairState
-    X_eff: FloatArray
     step: int = 0
     v_raw: FloatArray | None = None  # velocity before the contact projection
 
@@ -346,9 +345,8 @@ class Dynamic:
         if self.system.C is not None:
             f = f - self.system.C @ v
         a = self.minv * (f - self.system.K @ u)
-        X_eff = ps.X.copy()
         kin = State(t0, u, v, a, f)
-        return StepState(kin, ps, X_eff, 0)
+        return StepState(kin, ps, 0)
 
     # -- one step ---------------------------------------------------------------------------
     def _closed(self, ps: PairState) -> np.ndarray:
@@ -406,7 +404,7 @@ class Dynamic:
         m, d = self.m, self.d
         if not m:
             new = self.nm.advance(kin, u_free, f_ext)
-            return StepState(new, cur.pairs, cur.X_eff, cur.step + 1), 0.0
+            return StepState(new, cur.pairs, cur.step + 1), 0.0
         assert self.isolver is not None
         w_free = (self.G @ u_free + self._w_pres(t1)).reshape(m, d)
         try:
@@ -435,8 +433,7 @@ class Dynamic:
         else:
             new = self.nm.advance(kin, u, f_ext + GX)
             v_raw = None
-        X_eff = trial.X.copy()
-        return StepState(new, trial, X_eff, cur.step + 1, v_raw), lost
+        return StepState(new, trial, cur.step + 1, v_raw), lost
 
     # -- run --------------------------------------------------------------------------------
     def run(
@@ -499,7 +496,7 @@ class Dynamic:
             pv[i] = full_v.reshape(-1, d)[probes]
             A = full_a.reshape(-1, d)[probes]
             if self.stabilize and m:  # a holds the smooth part; add the pair forces
-                A = A + self.system.expand(self.minv * (self.G.T @ st.X_eff.ravel()),
+                A = A + self.system.expand(self.minv * (self.G.T @ st.pairs.X.ravel()),
                                            prescribed=False).reshape(-1, d)[probes]  # fmt: skip
             pa[i] = A
             if self.form == "relative":
@@ -519,7 +516,7 @@ class Dynamic:
                 full_a_out = full_a
                 if self.stabilize and m:
                     full_a_out = full_a + self.system.expand(
-                        self.minv * (self.G.T @ st.X_eff.ravel()), prescribed=False
+                        self.minv * (self.G.T @ st.pairs.X.ravel()), prescribed=False
                     )
                 e_row = {key: float(E[key][i]) for key in names}
                 e_row["balance"] = (
@@ -551,15 +548,15 @@ class Dynamic:
                 completed, reason = False, str(exc)
                 break
             du = nxt.kin.u - cur.kin.u
-            f0 = cur.kin.f - (self.G.T @ cur.X_eff.ravel() if m and not self.stabilize else 0.0)
-            f1 = nxt.kin.f - (self.G.T @ nxt.X_eff.ravel() if m and not self.stabilize else 0.0)
+            f0 = cur.kin.f - (self.G.T @ cur.pairs.X.ravel() if m and not self.stabilize else 0.0)
+            f1 = nxt.kin.f - (self.G.T @ nxt.pairs.X.ravel() if m and not self.stabilize else 0.0)
             acc["external_work"] += 0.5 * float(du @ (f0 + f1))
             if C is not None:
                 # Newmark's equilibrium holds with the velocities before the projection
                 acc["damping"] += 0.5 * float(du @ (C @ (_raw(cur) + _raw(nxt))))
             if m:
                 dw = (self.G @ du).reshape(m, d)
-                Xw = nxt.X_eff if self.stabilize else 0.5 * (cur.X_eff + nxt.X_eff)
+                Xw = nxt.pairs.X if self.stabilize else 0.5 * (cur.pairs.X + nxt.pairs.X)
                 if self.form == "absolute" and self.ground:
                     # the moving base works on the blocks through the joints
                     dwp = (self._w_pres(nxt.kin.t) - self._w_pres(cur.kin.t)).reshape(m, d)
