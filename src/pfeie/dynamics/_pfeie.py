@@ -257,21 +257,20 @@ class Dynamic:
         self.m = 0 if model.pairs is None else model.pairs.n
         self.d = d
         t0 = _time.perf_counter()
-        if self.m:
+        pairs = model.pairs
+        if pairs is not None and self.m:
             W, self.Z = delassus(self.nm.factor, self.G)
             # stabilised: X constant over the step (factor 1/(2β)); plain: Newmark load
             s = 0.5 / self.nm.beta if stabilize else 1.0 + alpha
-            from ..solvers._static import _junction_eps
-
             self.isolver: InterfaceSolver | None = InterfaceSolver(
-                s * W, model.pair_properties, tol=tol, regularize=_junction_eps(model)
+                s * W, model.pair_properties, tol=tol, regularize=pairs.regularization
             )
             self._scale = s
             GM = self.G.multiply(self.minv[None, :]).tocsr()
             self.H = (GM @ self.G.T).tocsc()
             # components with no free mass on either side (e.g. a wall against rollers)
             self._movable = self.H.diagonal() > 0
-            self._junction = _junction_eps(model) > 0
+            self._junction = pairs.redundant
         else:
             self.isolver, self.Z = None, None
         self.setup_time = _time.perf_counter() - t0
@@ -476,11 +475,6 @@ class Dynamic:
         acc = dict.fromkeys(names, 0.0)
         mass = self.mass
         Kf, C = self.system.K, self.system.C
-        Phi = model.rigid_modes()
-        mdiag = np.repeat(model.body_weights, d)
-        MPhi = Phi.multiply(mdiag[:, None]).tocsc()
-        PhiMPhi = (Phi.T @ MPhi).toarray()
-        PhiMPhi += 1e-300 * np.eye(PhiMPhi.shape[0])
 
         def record(i: int, st: StepState) -> None:
             k = st.kin
@@ -504,7 +498,7 @@ class Dynamic:
                 paa[i] = A + ag
             else:
                 paa[i] = A
-            rigid[i] = np.linalg.solve(PhiMPhi, MPhi.T @ full_u).reshape(-1, r)
+            rigid[i] = model.rigid_motion(full_u)
             if m:
                 HX[i], Hw[i], Hs[i] = st.pairs.X, st.pairs.w, st.pairs.s
                 Hst[i], Hbr[i] = st.pairs.state, st.pairs.broken

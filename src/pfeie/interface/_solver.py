@@ -168,7 +168,7 @@ class InterfaceSolver:
         X = np.zeros(m * d)
         X[kin] = y[: kin.size]
         if fr.size:
-            X[fr] = coef * X[ncol_to_flat(kin, ncol)] + x0
+            X[fr] = coef * X[kin[ncol]] + x0  # the normal component of each sliding pair
         q = y[kin.size :] * self._escale
         return X.reshape(m, d), q
 
@@ -589,11 +589,6 @@ class InterfaceSolver:
         if X[-1] < -tA:
             return np.zeros(d), b.copy(), OPEN, broken, sdir
         return X, s, SLIDE, broken, sh
-
-
-def ncol_to_flat(kin: np.ndarray, ncol: np.ndarray) -> np.ndarray:
-    """Flat component index of the reduced unknowns at positions ``ncol``."""
-    return kin[ncol]
 
 
 __all__ = ["InterfaceSolver", "SolveInfo"]

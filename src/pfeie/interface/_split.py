@@ -55,6 +55,18 @@ class PairGeometry:
     def dim(self) -> int:
         return int(self.x.shape[1])
 
+    @property
+    def redundant(self) -> bool:
+        """True when a node belongs to several pairs (T and X junctions): the intact
+        constraints there are redundant."""
+        nodes = np.concatenate([self.node_a, self.node_b])
+        return bool(np.unique(nodes).size < nodes.size)
+
+    @property
+    def regularization(self) -> float:
+        """Relative compliance that keeps redundant constraints solvable (1e-12), else 0."""
+        return 1e-12 if self.redundant else 0.0
+
     def of(self, name: str) -> IntArray:
         """Indices of the pairs of one interface."""
         return np.flatnonzero(self.interface == self.names.index(name))

@@ -556,16 +556,25 @@ class Model:
         return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                              shape=(self.n_dof, self.n_bodies * r)).tocsr()  # fmt: skip
 
+    @cached_property
+    def _rigid_fit(self) -> tuple[sp.csc_matrix, Any]:
+        """(MΦ, Cholesky factor of ΦᵀMΦ) of the mass-norm rigid fit, formed once."""
+        import scipy.linalg as sla
+
+        Phi = self.rigid_modes()
+        mdiag = np.repeat(self.body_weights, self.dim)
+        MPhi = Phi.multiply(mdiag[:, None]).tocsc()
+        return MPhi, sla.cho_factor((Phi.T @ MPhi).toarray())
+
     def rigid_motion(self, u: FloatArray) -> FloatArray:
         """Rigid motion (n_bodies, r) of each body about its mass centroid that best fits
         the nodal field u (full DOF vector or (n_points, d)) in the mass norm: the
         translation of the centroid and the rotation (rad)."""
-        Phi = self.rigid_modes()
-        mdiag = np.repeat(self.body_weights, self.dim)
+        import scipy.linalg as sla
+
+        MPhi, factor = self._rigid_fit
         U = np.asarray(u, dtype=float).reshape(self.n_dof, -1)
-        MPhi = Phi.multiply(mdiag[:, None]).tocsc()
-        G = (Phi.T @ MPhi).toarray()
-        q = np.linalg.solve(G + 1e-300 * np.eye(G.shape[0]), (MPhi.T @ U))
+        q = sla.cho_solve(factor, MPhi.T @ U)
         r = 3 if self.dim == 2 else 6
         return (
             q.reshape(self.n_bodies, r, -1).squeeze(-1)

@@ -117,7 +117,8 @@ def solve_static(
     props = model.pair_properties
     E = Gf @ Phi if k else None
     e = -(Phi.T @ f_free) if k else None
-    solver = InterfaceSolver(W, props, border=E, tol=tol, regularize=_junction_eps(model))
+    pairs = model.pairs
+    solver = InterfaceSolver(W, props, border=E, tol=tol, regularize=pairs.regularization)
     st, q = solver.solve(w_free, PairState.initial(props, d), e, label="static analysis")
     u_free = u_pin
     u_free[keep] += Z @ st.X.ravel()
@@ -129,13 +130,3 @@ def solve_static(
     reactions = np.zeros_like(r)
     reactions[pres] = r[pres]
     return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d), st)
-
-
-def _junction_eps(model: Model) -> float:
-    """A tiny compliance (relative 1e-12) where nodes belong to several pairs (T and X
-    junctions make the intact constraints redundant), else 0."""
-    P = model.pairs
-    if P is None:
-        return 0.0
-    nodes = np.concatenate([P.node_a, P.node_b])
-    return 1e-12 if np.unique(nodes).size < nodes.size else 0.0

@@ -5,8 +5,10 @@ forms or from the exact rigid-block integrator (:mod:`._rigid`), never pasted.""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from scipy.optimize import brentq
 
 from .. import Block as _Block
 from .. import Dynamic, Elastic, GroundMotion, Interface, Joint, Model, solve_static
@@ -387,11 +389,15 @@ def v8a(fast: bool) -> CaseResult:
     t_c = float(min(r.real for r in roots if r.real > tt[-1] - 1e-12 and abs(r.imag) < 1e-12))
     # the rigid flight, integrated exactly: y'' = −g − a_v from t_off with y = y' = 0
     w = 4 * np.pi
+
+    def flight(t: Any) -> Any:
+        return (-0.5 * G * (t - t_off) ** 2 + 1.5 * G / w**2 * (np.sin(w * t) - np.sin(w * t_off))
+                - 1.5 * G / w * np.cos(w * t_off) * (t - t_off))  # fmt: skip
+
     ts = np.linspace(t_off, 0.8, 20001)
-    y = (-0.5 * G * (ts - t_off) ** 2 + 1.5 * G / w**2 * (np.sin(w * ts) - np.sin(w * t_off))
-         - 1.5 * G / w * np.cos(w * t_off) * (ts - t_off))  # fmt: skip
+    y = flight(ts)
     i_land = int(np.argmax((ts > t_off + 0.01) & (y < 0)))
-    land = ts[i_land]
+    land = float(brentq(flight, ts[i_land - 1], ts[i_land]))  # the landing instant
     v_land = -G * (land - t_off) + 1.5 * G / w * (np.cos(w * land) - np.cos(w * t_off))
     _MODELS["V8a"] = model
     return CaseResult("V8a", "Lift-off under vertical shaking", [
