@@ -166,3 +166,36 @@ def test_interrupted_run_keeps_its_results(tmp_path: Path) -> None:
         assert not res.completed and "SIGINT" in res.meta["stop_reason"]
         assert 0 < res.time[-1] < 400.0
     assert "STOPPED" in out
+
+
+def test_large_rotation_key_runs_the_body_frames(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``analysis.large_rotation = true`` reaches the analysis (the run has body frames),
+    and for the small rotations of this model (μm) its block motion equals the
+    small-displacement run's to 1e-4 of the motion (the geometric terms are of the order
+    of the rotation, 1e-6 rad)."""
+    import pfeie._job as job_module
+
+    made: list[object] = []
+    real = job_module.Dynamic
+
+    def spy(*args, **kw):  # type: ignore[no-untyped-def]
+        an = real(*args, **kw)
+        made.append(an.frames)
+        return an
+
+    monkeypatch.setattr(job_module, "Dynamic", spy)
+    runs = []
+    for flag in ("false", "true"):
+        folder = tmp_path / flag
+        folder.mkdir()
+        text = SMALL.replace("duration = DURATION", f"duration = 0.3\nlarge_rotation = {flag}")
+        p = _write(folder, text)
+        assert main(["run", str(p), "--quiet"]) == 0
+        with Results(folder / "out" / "results.h5") as res:
+            runs.append(res.rigid(1))
+    assert made[0] is None and made[1] is not None
+    scale = np.abs(runs[0]).max()
+    assert scale > 1e-6
+    assert np.abs(runs[1] - runs[0]).max() < 1e-4 * scale

@@ -95,7 +95,7 @@ def run_job(
     if a["dynamic"]:
         dyn = Dynamic(model, a["dt"], beta=a["beta"], gamma=a["gamma"], alpha=a["alpha"],
                       ground=job.records, form=a["form"], stabilize=a["stabilize"],
-                      tol=a["tolerance"])  # fmt: skip
+                      tol=a["tolerance"], large_rotation=a["large_rotation"])  # fmt: skip
         T = job.duration if duration is None else duration
         n = round(T / a["dt"])
         flag: dict[str, str] = {}

@@ -46,6 +46,16 @@ Energy (J), accumulated over the run:
 ``interface`` = −Σ X_{n+1}·Δw (friction and contact work dissipated; the plain rule uses
 the step average of X), ``impact`` = kinetic energy removed by the projection.
 
+Large rotations (``large_rotation=True``, method.md §2): each floating body carries a
+body frame R_b (the mass-norm best rigid fit of its current configuration, see
+:mod:`pfeie.model._frames`); the elastic force is Q K₀ ũ with ũ = R_bᵀ x − X the small
+deformation in the frame, and each step is the incremental Newmark step in the
+frames predicted for t_{n+1} (where the elastic force is linear in x) with the effective
+matrix Q K̂₀ Qᵀ, inverted as Q K̂₀⁻¹ Qᵀ with the once-factorised K̂₀. Pair frames turn
+with side a; W = (G Q) F (G Q)ᵀ is gathered every step from the nodal flexibility F of
+the pair nodes. The frames are predicted, not iterated, so the energy balance then
+closes only to the prediction error (third order in Δt for a spinning block).
+
 Ground motion, two forms (method.md §6):
 
 - ``form="relative"`` (default): a fixed base; each record adds the inertia load
@@ -82,6 +92,7 @@ from ..interface import (
     delassus,
 )  # fmt: skip
 from ..model import GroundMotion, Model
+from ..model._frames import BodyFrames
 from ._newmark import Newmark, State
 
 log = logging.getLogger(__name__)
@@ -169,6 +180,8 @@ class Dynamic:
     form: "relative" (fixed base, inertia loads) or "absolute" (the supports move).
     stabilize: the contact stabilisation of the module docstring (default True).
     tol: complementarity residual tolerance of the interface solver.
+    large_rotation: carry finite rotations of the floating blocks in body frames (see
+        "Large rotations" in the module docstring); default False (small displacements).
 
     Example
     -------
@@ -204,6 +217,7 @@ class Dynamic:
         stabilize: bool = True,
         tol: float = 1e-8,
         backend: str = "auto",
+        large_rotation: bool = False,
     ) -> None:
         self.model = model
         self.system = model.system(lumped_mass=True)
@@ -258,10 +272,20 @@ class Dynamic:
         self.d = d
         t0 = _time.perf_counter()
         pairs = model.pairs
+        self.frames: BodyFrames | None = None
+        if large_rotation:
+            if alpha:
+                raise ModelError("large_rotation supports the Newmark rule only (alpha = 0)")
+            self.frames = BodyFrames(model, free)
         if pairs is not None and self.m:
-            W, self.Z = delassus(self.nm.factor, self.G)
+            if self.frames is not None:
+                W = self._setup_corotation()
+                self.Z = None
+            else:
+                W, self.Z = delassus(self.nm.factor, self.G)
             # stabilised: X constant over the step (factor 1/(2β)); plain: Newmark load
             s = 0.5 / self.nm.beta if stabilize else 1.0 + alpha
+            self.isolver_reg = pairs.regularization
             self.isolver: InterfaceSolver | None = InterfaceSolver(
                 s * W, model.pair_properties, tol=tol, regularize=pairs.regularization
             )
@@ -273,7 +297,99 @@ class Dynamic:
             self._junction = pairs.redundant
         else:
             self.isolver, self.Z = None, None
+        self._tol = tol
         self.setup_time = _time.perf_counter() - t0
+
+    # -- large rotations --------------------------------------------------------------------
+    def _setup_corotation(self) -> FloatArray:
+        """Nodal flexibility F = K̂₀⁻¹ restricted to the pair nodes' DOFs I (one
+        multi-right-hand-side solve); W in any configuration is gathered from it."""
+        assert self.frames is not None and self.model.pairs is not None
+        P, d, fr = self.model.pairs, self.d, self.frames
+        free = self.system.free
+        pos = np.full(self.model.n_dof, -1, dtype=np.int64)
+        pos[free] = np.arange(free.size)
+        nodes = np.unique(np.concatenate([P.node_a, P.node_b]))
+        dofs = pos[(nodes[:, None] * d + np.arange(d)).ravel()]
+        I = dofs[dofs >= 0]
+        sel = sp.csr_matrix((np.ones(I.size), (np.arange(I.size), I)), shape=(I.size, free.size))
+        self._F, self._Y = delassus(self.nm.factor, sel)
+        self._I = I
+        loc = np.full(free.size, -1, dtype=np.int64)
+        loc[I] = np.arange(I.size)
+        on_pairs = np.isin(fr.nodes, nodes)
+        self._I_rot = loc[fr.dofs[on_pairs]]  # (k, d) positions in I of rotating nodes
+        self._I_body = fr.body[on_pairs]
+        self._I_fix = np.setdiff1d(np.arange(I.size), self._I_rot.ravel())
+        body = np.full(self.model.mesh.n_points, -1, dtype=np.int64)
+        body[fr.nodes] = fr.body
+        self._a_body = body[P.node_a]  # frames turn with side a
+        Gi = self.G[:, I]
+        return np.asarray(Gi @ (Gi @ self._F).T)
+
+    def _turn(self, R: FloatArray) -> sp.csr_matrix:
+        """Q restricted to the pair DOFs I (sparse, block-diagonal by node)."""
+        d = self.d
+        k = self._I_rot.shape[0]
+        rows = np.concatenate([self._I_fix, np.repeat(self._I_rot, d, axis=1).ravel()])
+        cols = np.concatenate([self._I_fix, np.tile(self._I_rot, (1, d)).ravel()])
+        vals = np.concatenate([np.ones(self._I_fix.size),
+                               R[self._I_body].reshape(k, d * d).ravel()])  # fmt: skip
+        n = self._I.size
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def _corotate(self, u: FloatArray) -> tuple[FloatArray, sp.csr_matrix | None]:
+        """Body rotations R of the configuration u; when frames turn with a rotating side
+        a, the pair operators G (and H, w_pres) follow; then W = G Q K̂₀⁻¹ Qᵀ Gᵀ and a new
+        interface solver. Returns R and G̃ = (G Q) restricted to I (None without pairs)."""
+        assert self.frames is not None
+        R = self.frames.rotations(u)
+        if not self.m:
+            return R, None
+        turns = self._a_body >= 0
+        if turns.any():
+            assert self.model.pairs is not None
+            T = self.model.pairs.frame.copy()
+            T[turns] = np.einsum("kij,klj->kil", T[turns], R[self._a_body[turns]])
+            G = self.model.relative_operator(T)
+            free, pres = self.system.free, self.system.prescribed
+            self.G, self.Gp = G[:, free].tocsr(), G[:, pres].tocsr()
+            self.H = (self.G.multiply(self.minv[None, :]).tocsr() @ self.G.T).tocsc()
+            self._proj_cache.clear()
+            if pres.size:
+                self.w_pres = self.Gp @ self.system.prescribed_values
+        Gt = (self.G[:, self._I] @ self._turn(R)).tocsr()
+        W = np.asarray(Gt @ (Gt @ self._F).T)
+        assert self.isolver is not None
+        self.isolver = InterfaceSolver(self._scale * W, self.model.pair_properties,
+                                       tol=self._tol, regularize=self.isolver_reg)  # fmt: skip
+        return R, Gt
+
+    def elastic_force(self, u: FloatArray, R: FloatArray | None = None) -> FloatArray:
+        """Elastic nodal force on the free DOFs (N): K u, or Q K₀ ũ with large rotations,
+        ũ = Rᵀx − X measured in the frames R (default: those of u itself)."""
+        if self.frames is None:
+            return np.asarray(self.system.K @ u)
+        R = self.frames.rotations(u) if R is None else R
+        return self.frames.rotate(self.system.K @ self.frames.local_displacement(u, R), R)
+
+    def strain_energy(self, u: FloatArray) -> float:
+        """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
+        if self.frames is not None:
+            u = self.frames.local_displacement(u, self.frames.rotations(u))
+        return 0.5 * float(u @ (self.system.K @ u))
+
+    def damping_force(
+        self, v: FloatArray, u: FloatArray, R: FloatArray | None = None
+    ) -> FloatArray:
+        """C v, or Q C₀ Qᵀ v with the frames R (default: those of the configuration u) (N)."""
+        C = self.system.C
+        if C is None:
+            return np.zeros_like(v)
+        if self.frames is None:
+            return np.asarray(C @ v)
+        R = self.frames.rotations(u) if R is None else R
+        return self.frames.rotate(C @ self.frames.rotate(v, R, transpose=True), R)
 
     # -- loads ------------------------------------------------------------------------------
     def load(self, t: float) -> FloatArray:
@@ -322,11 +438,14 @@ class Dynamic:
         free = self.system.free
         props = self.model.pair_properties if m else None
         if static is not None:
-            u_full = np.asarray(static.u).ravel()  # type: ignore[attr-defined]
-            u = u_full[free]
-            ps = static.pairs.copy() if m else None  # type: ignore[attr-defined]
+            u = np.asarray(static.u).ravel()[free]  # type: ignore[attr-defined]
         else:
             u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).ravel()[free]
+        if self.frames is not None:
+            self._corotate(u)
+        if static is not None:
+            ps = static.pairs.copy() if m else None  # type: ignore[attr-defined]
+        else:
             ps = PairState.initial(props, d) if props is not None else None
             if ps is not None and props is not None and u0 is not None:
                 ps.w = (self.G @ u + self._w_pres(t0)).reshape(m, d)
@@ -342,8 +461,8 @@ class Dynamic:
         f = f_ext if self.stabilize else f_ext + GX
         v = np.zeros(n) if v0 is None else np.asarray(v0, dtype=float).ravel()[free]
         if self.system.C is not None:
-            f = f - self.system.C @ v
-        a = self.minv * (f - self.system.K @ u)
+            f = f - self.damping_force(v, u)
+        a = self.minv * (f - self.elastic_force(u))
         kin = State(t0, u, v, a, f)
         return StepState(kin, ps, 0)
 
@@ -399,20 +518,43 @@ class Dynamic:
         kin = cur.kin
         t1 = kin.t + self.dt
         f_ext = self.load(t1)
-        u_free = self.nm.predict(kin, f_ext)
         m, d = self.m, self.d
+        prev = cur.pairs
+        R: FloatArray | None = None
+        Gt: sp.csr_matrix | None = None
+        if self.frames is None:
+            u_free = self.nm.predict(kin, f_ext)
+        else:
+            # the frames of the step: those of the configuration Newmark's explicit part
+            # predicts for t_{n+1}, so that the elastic force at t_{n+1} is taken in frames
+            # within O(Δt³) of its own (frames held at t_n would make the step first order)
+            dt = self.dt
+            R, Gt = self._corotate(kin.u + dt * kin.v + (0.5 - self.nm.beta) * dt**2 * kin.a)
+            u_free = kin.u + self._rotated_solve(self._increment_load(kin, f_ext, R), R)
+            if m and (self._a_body >= 0).any():
+                # the committed relative motion, seen in the turned frames
+                prev = cur.pairs.copy()
+                prev.w = (self.G @ kin.u + self._w_pres(kin.t)).reshape(m, d)
+                props = self.model.pair_properties
+                prev.s = prev.w + props.compliance * prev.X
+                prev.s[:, -1] += props.gap
         if not m:
             new = self.nm.advance(kin, u_free, f_ext)
             return StepState(new, cur.pairs, cur.step + 1), 0.0
         assert self.isolver is not None
         w_free = (self.G @ u_free + self._w_pres(t1)).reshape(m, d)
-        try:
-            trial, _ = self.isolver.solve(w_free, cur.pairs, label=f"step {cur.step + 1} "
-                                          f"(t = {t1:.6g} s)")  # fmt: skip
-        except InterfaceError:
-            raise
+        trial, _ = self.isolver.solve(w_free, prev, label=f"step {cur.step + 1} "
+                                      f"(t = {t1:.6g} s)")  # fmt: skip
         X = trial.X.ravel() * self._scale
-        du = self.Z @ X if self.Z is not None else self.nm.factor.solve(self.G.T @ X)
+        if self.frames is not None and R is not None:
+            if self._Y is not None and Gt is not None:
+                du = self.frames.rotate(self._Y @ (Gt.T @ X), R)
+            else:
+                du = self._rotated_solve(self.G.T @ X, R)
+        elif self.Z is not None:
+            du = self.Z @ X
+        else:
+            du = self.nm.factor.solve(self.G.T @ X)
         u = u_free + du
         GX = self.G.T @ trial.X.ravel()
         lost = 0.0
@@ -433,6 +575,31 @@ class Dynamic:
             new = self.nm.advance(kin, u, f_ext + GX)
             v_raw = None
         return StepState(new, trial, cur.step + 1, v_raw), lost
+
+    def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
+        """Right-hand side of Q K̂₀ Qᵀ Δu = f − Q K₀ (Qᵀx_n − X) + M(a₂ v + a₃ a)
+        + Q C₀ Qᵀ (a₄ v + a₅ a): the incremental Newmark step with the elastic force taken
+        in the frames R of the step (large rotations), in which it is linear in x."""
+        _, _, a2, a3, a4, a5 = self.nm.c
+        r = f_ext - self.elastic_force(kin.u, R) + self.mass * (a2 * kin.v + a3 * kin.a)
+        if self.system.C is not None:
+            r = r + self.damping_force(a4 * kin.v + a5 * kin.a, kin.u, R)
+        return r
+
+    def _rotated_solve(self, r: FloatArray, R: FloatArray) -> FloatArray:
+        """(Q K̂₀ Qᵀ)⁻¹ r = Q K̂₀⁻¹ Qᵀ r: one back-substitution of the reference factor."""
+        assert self.frames is not None
+        fr = self.frames
+        return fr.rotate(self.nm.factor.solve(fr.rotate(r, R, transpose=True)), R)
+
+    def rigid(self, u_full: FloatArray, u: FloatArray) -> FloatArray:
+        """Rigid motion of every body (n_bodies, r): centroid translation (m) and
+        rotation (rad); with large rotations the rotation of the body frame."""
+        q = self.model.rigid_motion(u_full)
+        if self.frames is not None and self.frames.n:
+            ang = self.frames.angles(self.frames.rotations(u))
+            q[self.frames.bodies, self.d :] = ang.reshape(self.frames.n, -1)
+        return q
 
     # -- run --------------------------------------------------------------------------------
     def run(
@@ -474,7 +641,7 @@ class Dynamic:
         E = {k: np.zeros(n_out) for k in names}
         acc = dict.fromkeys(names, 0.0)
         mass = self.mass
-        Kf, C = self.system.K, self.system.C
+        C = self.system.C
 
         def record(i: int, st: StepState) -> None:
             k = st.kin
@@ -498,12 +665,12 @@ class Dynamic:
                 paa[i] = A + ag
             else:
                 paa[i] = A
-            rigid[i] = model.rigid_motion(full_u)
+            rigid[i] = self.rigid(full_u, k.u)
             if m:
                 HX[i], Hw[i], Hs[i] = st.pairs.X, st.pairs.w, st.pairs.s
                 Hst[i], Hbr[i] = st.pairs.state, st.pairs.broken
             E["kinetic"][i] = 0.5 * float(k.v @ (mass * k.v))
-            E["strain"][i] = 0.5 * float(k.u @ (Kf @ k.u))
+            E["strain"][i] = self.strain_energy(k.u)
             for key in names[2:]:
                 E[key][i] = acc[key]
             if on_record is not None:
@@ -547,7 +714,9 @@ class Dynamic:
             acc["external_work"] += 0.5 * float(du @ (f0 + f1))
             if C is not None:
                 # Newmark's equilibrium holds with the velocities before the projection
-                acc["damping"] += 0.5 * float(du @ (C @ (_raw(cur) + _raw(nxt))))
+                acc["damping"] += 0.5 * float(
+                    du @ self.damping_force(_raw(cur) + _raw(nxt), cur.kin.u)
+                )
             if m:
                 dw = (self.G @ du).reshape(m, d)
                 Xw = nxt.pairs.X if self.stabilize else 0.5 * (cur.pairs.X + nxt.pairs.X)

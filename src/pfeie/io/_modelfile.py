@@ -143,6 +143,8 @@ SPEC = Table({
         "form": Key(S, "ground motion: 'relative' (fixed base) or 'absolute' (moving "
                     "supports)", default="relative", check=one_of("relative", "absolute")),
         "stabilize": Key(B, "contact-stabilised Newmark (see docs/theory.md)", default=True),
+        "large_rotation": Key(B, "carry finite rotations of the floating blocks in body "
+                              "frames (rocking, toppling; see docs/theory.md)", default=False),
         "tolerance": Key(F, "interface complementarity tolerance", default=1e-8,
                          check=positive),
     }),

@@ -435,9 +435,10 @@ class Model:
             raise ModelError("the model has no interfaces")
         return PairProperties.from_joints(self.split.pairs, [i.joint for i in self.interfaces])
 
-    def relative_operator(self) -> sp.csr_matrix:
+    def relative_operator(self, frame: FloatArray | None = None) -> sp.csr_matrix:
         """G (m·d × n_dof): w = G u is the relative displacement T_k (u_b − u_a) of
-        every pair in its local frame, row k·d + i for component i of pair k."""
+        every pair in its local frame, row k·d + i for component i of pair k. ``frame``
+        (m, d, d) replaces the reference frames T_k (e.g. frames that turn with a block)."""
         P = self.pairs
         d = self.dim
         if P is None:
@@ -446,7 +447,8 @@ class Model:
         rows = np.repeat(np.arange(m * d), d)
         cols_b = (P.node_b[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
         cols_a = (P.node_a[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
-        vals = P.frame  # (m, i, j): component i of the local vector from global j
+        # (m, i, j): component i of the local vector from global j
+        vals = P.frame if frame is None else np.asarray(frame, dtype=float)
         G = sp.coo_matrix(
             (np.concatenate([vals.ravel(), -vals.ravel()]),
              (np.concatenate([rows, rows]), np.concatenate([cols_b.ravel(), cols_a.ravel()]))),
