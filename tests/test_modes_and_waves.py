@@ -114,3 +114,41 @@ def test_pulse_arrives_at_l_over_c(dim: int) -> None:
     arrival = hist.t[np.argmax(v)] - td / 2
     assert arrival == pytest.approx(n_receiver * h / c, abs=2 * h / c)
     assert v.max() == pytest.approx(sigma / (ROCK.rho * c), rel=0.03)
+
+
+def test_modes_of_a_rigid_block_on_joint_springs() -> None:
+    """A (nearly) rigid 1 m block (2400 kg) on a joint with k_n = k_s = 1e9 Pa/m, modal
+    analysis with bonded interfaces: vertical mode √(k_n A/m)/2π = 102.734 Hz; the
+    horizontal-rocking pair from the 2 × 2 rigid-body problem about the base centre
+    (mass [[m, m h], [m h, I_base]], stiffness diag(k_s A, Σ k_n A_i x_i²)), to 1e-5."""
+    import scipy.linalg as sla
+
+    from pfeie.verification._models import block_on_base
+
+    model = block_on_base(joint=pf.Joint(phi=30.0, kn=1e9, ks=1e9), E=1e14, n=4,
+                          gravity=False)  # fmt: skip
+    res = pf.modal(model, 3)
+    m, h = 2400.0, 0.5
+    P = model.pairs
+    assert P is not None
+    x = model.mesh.points[P.node_a, 0] - 0.5
+    Mr = np.array([[m, m * h], [m * h, m / 6 + m * h * h]])
+    Kr = np.diag([1e9 * P.area.sum(), float((1e9 * P.area * x**2).sum())])
+    f_hr = np.sqrt(sla.eigh(Kr, Mr, eigvals_only=True)) / (2 * np.pi)
+    ref = np.sort([*f_hr, np.sqrt(1e9 * P.area.sum() / m) / (2 * np.pi)])
+    assert np.allclose(res.frequencies, ref, rtol=1e-5)
+    assert res.effective_mass[1, 1] == pytest.approx(m, rel=1e-6)  # the vertical mode
+
+
+def test_modal_options_are_checked() -> None:
+    from pfeie.errors import SolverError
+    from pfeie.verification._models import block_on_base
+
+    model = block_on_base(joint=pf.Joint(phi=30.0, kn=1e9), gravity=False)
+    with pytest.raises(SolverError, match="both stiffnesses"):
+        pf.modal(model, 2)
+    with pytest.raises(SolverError, match="bonded"):
+        pf.modal(model, 2, interfaces="glued")
+    free = pf.modal(model, 3, interfaces="free").frequencies  # the block floats
+    assert free.max() < 1e-3 * pf.modal(block_on_base(joint=pf.Joint(phi=30.0),
+                                                      gravity=False), 1).frequencies[0]
