@@ -324,6 +324,7 @@ class Dynamic:
         body = np.full(self.model.mesh.n_points, -1, dtype=np.int64)
         body[fr.nodes] = fr.body
         self._a_body = body[P.node_a]  # frames turn with side a
+        self._last: tuple[bytes, sp.csr_matrix] | None = None  # operators of the last step
         Gi = self.G[:, I]
         return np.asarray(Gi @ (Gi @ self._F).T)
 
@@ -341,11 +342,16 @@ class Dynamic:
     def _corotate(self, u: FloatArray) -> tuple[FloatArray, sp.csr_matrix | None]:
         """Body rotations R of the configuration u; when frames turn with a rotating side
         a, the pair operators G (and H, w_pres) follow; then W = G Q K̂₀⁻¹ Qᵀ Gᵀ and a new
-        interface solver. Returns R and G̃ = (G Q) restricted to I (None without pairs)."""
+        interface solver. Returns R and G̃ = (G Q) restricted to I (None without pairs).
+        While the rotations of the bodies at the pairs do not change (none rotates, or the
+        structure is at rest) the operators of the previous step are kept."""
         assert self.frames is not None
         R = self.frames.rotations(u)
         if not self.m:
             return R, None
+        key = R[self._I_body].tobytes() + R[self._a_body[self._a_body >= 0]].tobytes()
+        if self._last is not None and self._last[0] == key:
+            return R, self._last[1]
         turns = self._a_body >= 0
         if turns.any():
             assert self.model.pairs is not None
@@ -363,6 +369,7 @@ class Dynamic:
         assert self.isolver is not None
         self.isolver = InterfaceSolver(self._scale * W, self.model.pair_properties,
                                        tol=self._tol, regularize=self.isolver_reg)  # fmt: skip
+        self._last = (key, Gt)
         return R, Gt
 
     def elastic_force(self, u: FloatArray, R: FloatArray | None = None) -> FloatArray:
