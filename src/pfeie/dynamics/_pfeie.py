@@ -380,10 +380,11 @@ class Dynamic:
         R = self.frames.rotations(u) if R is None else R
         return self.frames.rotate(self.system.K @ self.frames.local_displacement(u, R), R)
 
-    def strain_energy(self, u: FloatArray) -> float:
-        """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
+    def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
+        """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames R (default: those of u) (J)."""
         if self.frames is not None:
-            u = self.frames.local_displacement(u, self.frames.rotations(u))
+            R = self.frames.rotations(u) if R is None else R
+            u = self.frames.local_displacement(u, R)
         return 0.5 * float(u @ (self.system.K @ u))
 
     def damping_force(
@@ -599,12 +600,12 @@ class Dynamic:
         fr = self.frames
         return fr.rotate(self.nm.factor.solve(fr.rotate(r, R, transpose=True)), R)
 
-    def rigid(self, u_full: FloatArray, u: FloatArray) -> FloatArray:
+    def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
         """Rigid motion of every body (n_bodies, r): centroid translation (m) and
-        rotation (rad); with large rotations the rotation of the body frame."""
+        rotation (rad); with large rotations the rotation of the body frames R."""
         q = self.model.rigid_motion(u_full)
-        if self.frames is not None and self.frames.n:
-            ang = self.frames.angles(self.frames.rotations(u))
+        if self.frames is not None and self.frames.n and R is not None:
+            ang = self.frames.angles(R)
             q[self.frames.bodies, self.d :] = ang.reshape(self.frames.n, -1)
         return q
 
@@ -672,12 +673,13 @@ class Dynamic:
                 paa[i] = A + ag
             else:
                 paa[i] = A
-            rigid[i] = self.rigid(full_u, k.u)
+            R = self.frames.rotations(k.u) if self.frames is not None else None
+            rigid[i] = self.rigid(full_u, R)
             if m:
                 HX[i], Hw[i], Hs[i] = st.pairs.X, st.pairs.w, st.pairs.s
                 Hst[i], Hbr[i] = st.pairs.state, st.pairs.broken
             E["kinetic"][i] = 0.5 * float(k.v @ (mass * k.v))
-            E["strain"][i] = self.strain_energy(k.u)
+            E["strain"][i] = self.strain_energy(k.u, R)
             for key in names[2:]:
                 E[key][i] = acc[key]
             if on_record is not None:

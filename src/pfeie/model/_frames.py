@@ -101,9 +101,9 @@ class BodyFrames:
 
     def _sum(self, v: FloatArray) -> FloatArray:
         """Per-body sums of a nodal array (k, ...) → (n, ...)."""
-        out = np.zeros((self.n, *v.shape[1:]))
-        np.add.at(out, self.body, v)
-        return out
+        flat = v.reshape(v.shape[0], -1)
+        cols = [np.bincount(self.body, flat[:, j], self.n) for j in range(flat.shape[1])]
+        return np.stack(cols, axis=1).astype(float).reshape(self.n, *v.shape[1:])
 
     def positions(self, u: FloatArray) -> FloatArray:
         """Current positions x = X + u (k, d) of the rotating nodes."""
