@@ -2,8 +2,9 @@
 
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._pfeie import Dynamic, DynamicResult, StepState
+from ._settings import DynamicSettings
 
 __all__ = [
-    "Dynamic", "DynamicResult", "History", "MatrixSystem", "Newmark", "SecondOrderSystem",
+    "Dynamic", "DynamicResult", "DynamicSettings", "History", "MatrixSystem", "Newmark", "SecondOrderSystem",
     "State", "StepState",
 ]  # fmt: skip

@@ -9,10 +9,11 @@
 
 from ._delassus import delassus
 from ._law import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairProperties, PairState
+from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
 from ._split import PairGeometry, SplitMesh, split
 
 __all__ = [
     "INTACT", "OPEN", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver", "PairGeometry",
-    "PairProperties", "PairState", "SolveInfo", "SplitMesh", "delassus", "split",
+    "PairProperties", "PairState", "SolveInfo", "SolverSettings", "SplitMesh", "delassus", "split",
 ]  # fmt: skip

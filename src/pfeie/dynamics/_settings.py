@@ -1,0 +1,96 @@
+"""Settings of a dynamic analysis: the one source of every option and default.
+
+The model file's ``[analysis]`` table, the Python API (:class:`pfeie.Dynamic`) and the
+command line all validate through :class:`DynamicSettings`, so a default lives here and
+nowhere else.
+
+Time scheme. Newmark's β, γ and the HHT-α parameter α (Hilber, Hughes & Taylor 1977)
+are related: when ``alpha`` is not 0 and β, γ are not given, they follow from it,
+
+    β = (1 − α)²/4,   γ = (1 − 2α)/2,
+
+which makes HHT-α second order and unconditionally stable for α ∈ [−1/3, 0]; α = 0 is
+Newmark's average-acceleration rule (β = 1/4, γ = 1/2). Explicit β and γ override.
+
+>>> DynamicSettings(dt=0.01, alpha=-0.1).newmark()
+(0.3025, 0.6, -0.1)
+>>> DynamicSettings(dt=0.01).steps(1.0)
+100
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from ..interface import SolverSettings
+
+_SOLVER = SolverSettings()
+
+
+class DynamicSettings(BaseModel):
+    """Options of a dynamic analysis (see the module docstring)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False,
+                               description="time step (s)")] = 0.01  # fmt: skip
+    beta: Annotated[float | None, Field(
+        gt=0.0, le=1.0, allow_inf_nan=False,
+        description="Newmark β; default 1/4, or (1 − α)²/4 with HHT-α",
+    )] = None  # fmt: skip
+    gamma: Annotated[float | None, Field(
+        ge=0.5, le=1.5, allow_inf_nan=False,
+        description="Newmark γ; default 1/2, or (1 − 2α)/2 with HHT-α",
+    )] = None  # fmt: skip
+    alpha: Annotated[float, Field(
+        ge=-1.0 / 3.0, le=0.0, allow_inf_nan=False,
+        description="HHT-α parameter in [−1/3, 0] (0: Newmark); sets β and γ unless given",
+    )] = 0.0  # fmt: skip
+    stabilize: Annotated[bool, Field(
+        description="contact-stabilised Newmark: pair forces as step impulses and a "
+        "velocity projection at closed pairs (see docs/theory.md)",
+    )] = True  # fmt: skip
+    large_rotation: Annotated[bool, Field(
+        description="carry finite rotations of the floating blocks in body frames "
+        "(rocking, toppling; see docs/theory.md)",
+    )] = False  # fmt: skip
+    tolerance: Annotated[float, Field(
+        gt=0.0, le=1e-2, allow_inf_nan=False,
+        description=SolverSettings.model_fields["tolerance"].description,
+    )] = _SOLVER.tolerance  # fmt: skip
+    backend: Annotated[Literal["auto", "cholmod", "superlu"], Field(
+        description="sparse factorisation of the blocks: 'auto' (CHOLMOD when installed, "
+        "else SuperLU), 'cholmod' or 'superlu'",
+    )] = "auto"  # fmt: skip
+
+    @model_validator(mode="after")
+    def _large_rotation_needs_newmark(self) -> DynamicSettings:
+        if self.large_rotation and self.alpha != 0.0:
+            raise ValueError("large_rotation supports the Newmark rule only (alpha = 0)")
+        return self
+
+    def newmark(self) -> tuple[float, float, float]:
+        """(β, γ, α) of the scheme, with β and γ derived from α unless given."""
+        a = self.alpha
+        beta = 0.25 * (1.0 - a) ** 2 if self.beta is None else self.beta
+        gamma = (0.5 - a) if self.gamma is None else self.gamma
+        return float(beta), float(gamma), float(a)
+
+    def solver(self) -> SolverSettings:
+        """The interface solver's settings."""
+        return SolverSettings(tolerance=self.tolerance)
+
+    def steps(self, duration: float) -> int:
+        """Number of steps that cover ``duration`` (s): round(duration / dt)."""
+        if not (math.isfinite(duration) and duration >= 0.0):
+            raise ValueError(f"duration must be a finite number >= 0 s, got {duration}")
+        n = duration / self.dt
+        if n > 1e9:
+            raise ValueError(f"duration {duration} s is {n:.3g} steps of {self.dt} s: too many")
+        return round(n)
+
+
+__all__ = ["DynamicSettings"]

@@ -1,0 +1,30 @@
+"""Settings of the interface solver: the one source of its options and defaults."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class SolverSettings(BaseModel):
+    """Options of :class:`pfeie.interface.InterfaceSolver` (method.md §5.3).
+
+    >>> SolverSettings().tolerance
+    1e-08
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    tolerance: Annotated[float, Field(
+        gt=0.0, le=1e-2, allow_inf_nan=False,
+        description="interface complementarity tolerance: the largest scaled residual of "
+        "the joint law accepted at a pair (relative to the pair forces)",
+    )] = 1e-8  # fmt: skip
+    max_iter: Annotated[int, Field(
+        gt=0, le=10_000, description="state-iteration limit of the interface solver before "
+        "its fallbacks (semismooth Newton, projected Gauss-Seidel) take over",
+    )] = 60  # fmt: skip
+
+
+__all__ = ["SolverSettings"]
