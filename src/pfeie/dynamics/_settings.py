@@ -12,8 +12,8 @@ are related: when ``alpha`` is not 0 and β, γ are not given, they follow from 
 which makes HHT-α second order and unconditionally stable for α ∈ [−1/3, 0]; α = 0 is
 Newmark's average-acceleration rule (β = 1/4, γ = 1/2). Explicit β and γ override.
 
->>> DynamicSettings(dt=0.01, alpha=-0.1).newmark()
-(0.3025, 0.6, -0.1)
+>>> [round(x, 12) for x in DynamicSettings(dt=0.01, alpha=-0.1).newmark()]  # β, γ, α
+[0.3025, 0.6, -0.1]
 >>> DynamicSettings(dt=0.01).steps(1.0)
 100
 """
