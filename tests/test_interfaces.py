@@ -44,8 +44,14 @@ def test_split_junctions_and_crack_tip() -> None:
     mesh.add_facet_group("v", lambda x: np.abs(x[:, 0] - 1) < 1e-9, boundary_only=False)
     s = split(mesh, ["h", "v"])
     assert s.n_bodies == 4
-    assert np.sum(s.parent == mesh.nearest_node([1.0, 1.0]) if hasattr(mesh, "nearest_node")
-                  else s.parent == np.argmin(np.linalg.norm(mesh.points - 1.0, axis=1))) == 4
+    assert (
+        np.sum(
+            s.parent == mesh.nearest_node([1.0, 1.0])
+            if hasattr(mesh, "nearest_node")
+            else s.parent == np.argmin(np.linalg.norm(mesh.points - 1.0, axis=1))
+        )
+        == 4
+    )
     assert s.pairs.area.sum() == pytest.approx(4.0)
     mesh = _grid()
     mesh.add_facet_group("v", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 1),
@@ -117,13 +123,13 @@ def test_v9_intact_interface_is_monolithic(dim: int) -> None:
     assert np.abs(s1.u[cut.split.parent] - s0.u[cut.split.parent]).max() < 1e-9 * scale
     sig0 = mono.nodal_stress(s0.u)
     sig1 = cut.nodal_stress(s1.u)[: mono.mesh.n_points]
-    interior = np.setdiff1d(np.arange(mono.mesh.n_points), cut.split.parent[mono.mesh.n_points:])
+    interior = np.setdiff1d(np.arange(mono.mesh.n_points), cut.split.parent[mono.mesh.n_points :])
     assert np.abs(sig1[interior] - sig0[interior]).max() < 1e-8 * np.abs(sig0).max()
     gm = pf.GroundMotion.from_function(lambda t: 3 * np.sin(2 * np.pi * 5 * t), 0.2, 0.002,
                                        direction=[1.0] + [0.0] * (dim - 1))  # fmt: skip
     top = mono.nearest_node([4.0, 3.0] if dim == 2 else [2.0, 1.0, 2.0])
-    r0 = pf.Dynamic(mono, 0.002, ground=[gm]).run(0.2, start=s0, probes=[top])
-    r1 = pf.Dynamic(cut, 0.002, ground=[gm]).run(0.2, start=s1, probes=[top])
+    r0 = pf.Dynamic(mono, 0.002).run(0.2, start=s0, probes=[top], ground=[gm])
+    r1 = pf.Dynamic(cut, 0.002).run(0.2, start=s1, probes=[top], ground=[gm])
     assert np.abs(r0.probe_u[:, 0, 0]).max() > 1e-6
     assert np.abs(r1.probe_u - r0.probe_u).max() < 1e-9 * np.abs(r0.probe_u).max()
     e_scale = np.abs(r1.energy["kinetic"]).max() + np.abs(r1.energy["strain"]).max()

@@ -133,7 +133,9 @@ def test_rest_of_a_stack_with_turning_pair_frames() -> None:
     static = pf.solve_static(model)
     an = Dynamic(model, 0.005, large_rotation=True)
     assert an.frames is not None and an.frames.n == 2
-    assert (an._a_body >= 0).any()  # the upper joint's frames follow the lower block
+    assert (
+        an.corot is not None and (an.corot.a_body >= 0).any()
+    )  # the upper joint's frames follow the lower block
     res = an.run(0.2, start=static)
     drift = np.abs(res.rigid[:, 1:] - res.rigid[:1, 1:]).max()
     assert drift < 1e-9  # m and rad
@@ -147,7 +149,7 @@ def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
     pulse = pf.GroundMotion.from_samples([4.905, 4.905, 0.0, 0.0],
                                          time=[0.0, 0.2, 0.2 + 1e-9, 1.0])  # fmt: skip
     static = pf.solve_static(model)
-    out = [Dynamic(model, 0.004, ground=[pulse], large_rotation=lr).run(0.6, start=static)
+    out = [Dynamic(model, 0.004, large_rotation=lr).run(0.6, start=static, ground=[pulse])
            for lr in (False, True)]  # fmt: skip
     s0, s1 = (r.rigid[:, 1, 0] - r.rigid[0, 1, 0] for r in out)
     assert abs(s0[-1]) > 0.1

@@ -150,5 +150,7 @@ def test_modal_options_are_checked() -> None:
     with pytest.raises(SolverError, match="bonded"):
         pf.modal(model, 2, interfaces="glued")
     free = pf.modal(model, 3, interfaces="free").frequencies  # the block floats
-    assert free.max() < 1e-3 * pf.modal(block_on_base(joint=pf.Joint(phi=30.0),
-                                                      gravity=False), 1).frequencies[0]
+    assert (
+        free.max()
+        < 1e-3 * pf.modal(block_on_base(joint=pf.Joint(phi=30.0), gravity=False), 1).frequencies[0]
+    )

@@ -26,9 +26,9 @@ def small_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object, o
     path = tmp / "results.h5"
     w = ResultsWriter(path, job, field_every=3)
     w.write_static(static)
-    dyn = pf.Dynamic(job.model, 0.005, ground=job.records)
-    res = dyn.run(0.6, start=static, probes=list(job.probes.values()), every=2,
-                  on_record=w.append)  # fmt: skip
+    dyn = pf.Dynamic(job.model, 0.005)
+    res = dyn.run(0.6, ground=job.records, start=static, probes=list(job.probes.values()),
+                  every=2, on_record=w.append)  # fmt: skip
     w.close(res.completed, None, {"note": "test"})
     return path, res, job
 

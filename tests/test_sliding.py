@@ -88,7 +88,7 @@ def test_v2_newmark_block_under_pulse(kind: str, u_doc: float, t_doc: tuple) -> 
     ref = RigidBlock(t, a, N * G, t_end=1.0)
     assert -ref.displacement([1.0])[0] == pytest.approx(u_ref, rel=1e-3)  # sampled record
     model = block_on_base(joint=pf.Joint(phi=_phi(N)))
-    res = pf.Dynamic(model, dt, ground=[gm]).run(1.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(1.0, start=pf.solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     assert -x[-1] == pytest.approx(u_ref, rel=1e-2)
     t1, t2 = _slide_interval(res)
@@ -119,7 +119,7 @@ def test_v3_incline_under_horizontal_sine() -> None:
     # positive a drives the block's inertia downslope (+x here): ground acceleration −a
     gm = pf.GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
     model = block_on_base(joint=pf.Joint(phi=30.0), incline_deg=20.0)
-    res = pf.Dynamic(model, dt, ground=[gm]).run(3.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(3.0, start=pf.solve_static(model), ground=[gm])
     q = res.rigid[:, 1, :2] - res.rigid[0, 1, :2]
     s = q @ np.array([np.cos(beta), -np.sin(beta)])
     assert s[-1] == pytest.approx(u_end, rel=1e-2)
@@ -136,7 +136,7 @@ def test_v4_two_way_stick_slip() -> None:
     t, a, gm = _record(lambda t: np.where(t <= 5, 0.5 * G * np.sin(2 * np.pi * t), 0.0), 7.0, dt)
     ref = RigidBlock(t, a, mu * G, t_end=7.0)
     model = block_on_base(joint=pf.Joint(phi=_phi(mu)))
-    res = pf.Dynamic(model, dt, ground=[gm]).run(7.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(7.0, start=pf.solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     i1 = int(np.argmin(np.abs(res.t - ref.stops[0])))
@@ -176,7 +176,7 @@ def test_v5_one_way_newmark_block_el_centro(ky: float) -> None:
     assert u_ref > 0.01
     gm = pf.GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0], name="El Centro")
     model = block_on_base(joint=pf.Joint(phi=float(np.degrees(phi))), incline_deg=20.0)
-    res = pf.Dynamic(model, 0.005, ground=[gm]).run(13.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, 0.005).run(13.0, start=pf.solve_static(model), ground=[gm])
     q = res.rigid[:, 1, :2] - res.rigid[0, 1, :2]
     s = q @ np.array([np.cos(beta), -np.sin(beta)])
     assert s[-1] == pytest.approx(u_ref, rel=2e-2)
@@ -193,7 +193,7 @@ def test_v5_two_way_el_centro(mu: float) -> None:
     ref = RigidBlock(t, a, mu * G, t_end=13.0)
     model = block_on_base(joint=pf.Joint(phi=_phi(mu)))
     gm = pf.GroundMotion.from_samples(a, time=t, direction=[1.0, 0.0])
-    res = pf.Dynamic(model, 0.001, ground=[gm]).run(13.0, start=pf.solve_static(model), every=5)
+    res = pf.Dynamic(model, 0.001).run(13.0, start=pf.solve_static(model), every=5, ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     peak = np.abs(xr).max()
@@ -221,11 +221,12 @@ def test_v8a_lift_off_under_vertical_shaking() -> None:
     land = float(brentq(lambda t: float(flight(np.asarray(t))), ts[k0 - 1], ts[k0]))
     v_land = G * (land - t_off) - 1.5 * G / w * (np.cos(w * land) - np.cos(w * t_off))
     y_max = float(y.max())
-    assert (t_off, land, y_max, v_land) == pytest.approx((0.308070, 0.591860, 0.0501613, 1.43751),
-                                                         rel=2e-5)  # the case text
+    assert (t_off, land, y_max, v_land) == pytest.approx(
+        (0.308070, 0.591860, 0.0501613, 1.43751), rel=2e-5
+    )  # the case text
     model = block_on_base(joint=pf.Joint(phi=40.0))
     top = model.nearest_node([0.5, 1.0])
-    res = pf.Dynamic(model, dt, ground=[gm]).run(0.8, start=pf.solve_static(model), probes=[top])
+    res = pf.Dynamic(model, dt).run(0.8, start=pf.solve_static(model), probes=[top], ground=[gm])
     gap = res.opening.mean(axis=1)
     is_open = np.all(res.state == OPEN, axis=1)
     i_open = int(np.argmax(is_open))
@@ -256,7 +257,7 @@ def test_v8b_tensile_strength() -> None:
     m = 2400.0
     t_ref = st_ * 1.0 / (m * k)  # σ A = m a, a = k t
     _t, _a, gm = _record(lambda t: -k * t, 1.0, dt, direction=(0.0, 1.0))
-    res = pf.Dynamic(model, dt, ground=[gm]).run(1.0)
+    res = pf.Dynamic(model, dt).run(1.0, ground=[gm])
     sigma = res.normal_stress  # compression positive
     # pair forces are step averages (they act at t_{n+1/2}; see pfeie.dynamics)
     before = (res.t > 0.1) & (res.t < t_ref - dt)
@@ -281,7 +282,7 @@ def test_v8c_bond_breaks_in_shear() -> None:
     model = block_on_base(joint=pf.Joint(c=c, phi=phi, tensile=1e6, initial="intact"),
                           height=1e-3, n=4, ny=1, rho=2.4e6)  # fmt: skip
     _t, _a, gm = _record(lambda t: k * t, 1.2, dt)
-    res = pf.Dynamic(model, dt, ground=[gm]).run(1.2, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(1.2, start=pf.solve_static(model), ground=[gm])
     broken = res.broken.all(axis=1)
     t_b = res.t[np.argmax(broken)]
     assert k * t_b == pytest.approx(a_break, rel=1e-2)
@@ -317,7 +318,7 @@ def test_v4_3d_oblique_shaking() -> None:
                        direction=tuple(e))  # fmt: skip
     ref = RigidBlock(t, a, mu * G, t_end=2.5)
     model = block_on_base_3d(joint=pf.Joint(phi=_phi(mu)))
-    res = pf.Dynamic(model, dt, ground=[gm]).run(2.5, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(2.5, start=pf.solve_static(model), ground=[gm])
     q = res.rigid[:, 1, :3] - res.rigid[0, 1, :3]
     along = q @ e
     xr = ref.displacement(res.t)
@@ -335,7 +336,7 @@ def test_no_spurious_energy_at_the_contact() -> None:
     t, a, gm = _record(lambda t: np.where(t <= 3, G * np.sin(2 * np.pi * t), 0.0), 4.0, dt)
     ref = RigidBlock(t, a, mu * G, t_end=4.0)
     model = block_on_base(joint=pf.Joint(phi=_phi(mu)), n=4)
-    res = pf.Dynamic(model, dt, ground=[gm]).run(4.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(4.0, start=pf.solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     assert np.abs(x - xr).max() < 2e-2 * np.abs(xr).max()
@@ -355,7 +356,7 @@ def test_v2b_absolute_form_matches_relative() -> None:
     _t, _a, gm = _record(lambda t: np.where(t <= td, A * G * np.sin(np.pi * np.minimum(t, td) / td),
                                           0.0), 1.0, dt)  # fmt: skip
     model = block_on_base(joint=pf.Joint(phi=_phi(N)))
-    res = pf.Dynamic(model, dt, ground=[gm], form="absolute").run(1.0, start=pf.solve_static(model))
+    res = pf.Dynamic(model, dt).run(1.0, start=pf.solve_static(model), ground=[gm], form="absolute")
     base = np.array([gm.motion(tt)[0] for tt in res.t])
     assert base[-1] > 0.5  # the base has moved a long way (no baseline correction here)
     x = slip_x(res) - slip_x(res)[0] - base

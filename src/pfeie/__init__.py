@@ -7,9 +7,13 @@ The public API is flat; the subpackages mirror the method:
 - :mod:`pfeie.assembly` — vectorised element kernels and sparse assembly;
 - :mod:`pfeie.model` — physics objects (materials, blocks, joints, supports, loads, ground
   motion) and the model;
-- :mod:`pfeie.interface` — cutting blocks apart, point pairs, the joint law and its solver;
-- :mod:`pfeie.solvers` — sparse factorisations, statics, modal analysis;
-- :mod:`pfeie.dynamics` — Newmark / HHT-α time integration and the PFE/IE step.
+- :mod:`pfeie.linalg` — sparse direct factorisations;
+- :mod:`pfeie.interface` — cutting blocks apart, point pairs, joint laws, pair states and
+  the interface solver;
+- :mod:`pfeie.coupling` — the operators that couple blocks and pairs: G, the Delassus
+  operator W, the static and the one-step interface problems;
+- :mod:`pfeie.solvers` — statics, modal analysis;
+- :mod:`pfeie.dynamics` — Newmark / HHT-α time integration and the PFE/IE analysis.
 
 A whole analysis:
 
@@ -26,7 +30,7 @@ True
 import logging
 
 from ._version import __version__
-from .dynamics import Dynamic, DynamicResult, History, Newmark, State
+from .dynamics import Dynamic, DynamicResult, DynamicSettings, History, Newmark, RunStopped, State
 from .errors import (
     InterfaceError,
     MechanismError,
@@ -35,16 +39,17 @@ from .errors import (
     PfeieError,
     SolverError,
 )  # fmt: skip
+from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings
 from .mesh import Mesh, box, graded, rectangle
-from .model import Block, Elastic, GroundMotion, Interface, Joint, Model, Rayleigh
+from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
 from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
-    "Block", "Dynamic", "DynamicResult", "Elastic", "GroundMotion", "History", "Interface",
-    "InterfaceError", "Joint", "MechanismError", "Mesh", "MeshError", "ModalResult",
-    "Model", "ModelError", "Newmark", "PfeieError", "Rayleigh", "SolverError", "State",
-    "StaticResult", "__version__", "box", "factorize", "graded", "modal", "rectangle",
-    "solve_static",
+    "Block", "Dynamic", "DynamicResult", "DynamicSettings", "Elastic", "GroundMotion", "History",
+    "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
+    "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
+    "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State", "StaticResult",
+    "__version__", "box", "factorize", "graded", "modal", "rectangle", "solve_static",
 ]  # fmt: skip

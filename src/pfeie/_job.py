@@ -27,13 +27,10 @@ from typing import Any, TextIO
 import numpy as np
 
 from ._version import __version__
-from .dynamics import Dynamic, DynamicResult, StepState
-from .dynamics._pfeie import RunStopped
+from .dynamics import Dynamic, DynamicResult, RunStopped, StepState
 from .errors import PfeieError
-from .interface import OPEN, SLIDE
-from .io._modelfile import Job
-from .io._paraview import write_paraview
-from .io._results import ResultsWriter
+from .interface import OPEN, SLIDE, SolverSettings
+from .io import Job, ResultsWriter, write_paraview
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
@@ -84,7 +81,7 @@ def run_job(
     writer = ResultsWriter(out / "results.h5", job, field_every=job.spec["output"]["field_every"])
     try:
         if a["static"]:
-            static = solve_static(model, tol=a["tolerance"])
+            static = solve_static(model, settings=SolverSettings(tolerance=a["tolerance"]))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
     except PfeieError as exc:
@@ -94,8 +91,8 @@ def run_job(
     stopped: str | None = None
     if a["dynamic"]:
         dyn = Dynamic(model, a["dt"], beta=a["beta"], gamma=a["gamma"], alpha=a["alpha"],
-                      ground=job.records, form=a["form"], stabilize=a["stabilize"],
-                      tol=a["tolerance"], large_rotation=a["large_rotation"])  # fmt: skip
+                      stabilize=a["stabilize"], tolerance=a["tolerance"],
+                      large_rotation=a["large_rotation"])  # fmt: skip
         T = job.duration if duration is None else duration
         n = round(T / a["dt"])
         flag: dict[str, str] = {}
@@ -113,7 +110,8 @@ def run_job(
                 raise RunStopped(flag["why"])
 
         try:
-            result = dyn.run(n_steps=n, start=static, probes=list(job.probes.values()),
+            result = dyn.run(n_steps=n, ground=job.records, form=a["form"], start=static,
+                             probes=list(job.probes.values()),
                              every=job.spec["output"]["every"], callback=callback,
                              on_record=writer.append)  # fmt: skip
         finally:

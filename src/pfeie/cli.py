@@ -169,7 +169,7 @@ def _post(args: argparse.Namespace) -> int:
             out = Path(args.out) if args.out else Path(args.results).with_name("figures")
             files = plot_all(args.results, out)
         elif args.command == "export":
-            from .io._export import export_csv
+            from .io import export_csv
 
             files = export_csv(args.results, args.csv)
         else:

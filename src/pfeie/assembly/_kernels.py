@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..element import quadrature, reference
-from ..element._reference import FloatArray, IntArray
 from ..errors import MeshError
+from ..typing import FloatArray, IntArray
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..element._reference import FloatArray, IntArray
+from ..typing import FloatArray, IntArray
 
 
 def element_dofs(conn: IntArray, dim: int) -> IntArray:

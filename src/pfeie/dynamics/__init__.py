@@ -1,10 +1,26 @@
-"""Time integration: Newmark / HHT-α, and the PFE/IE step that couples it to interfaces."""
+"""Time integration: Newmark / HHT-α on the blocks, and the PFE/IE analysis that couples
+it to the interfaces through :mod:`pfeie.coupling`.
 
+- :class:`Newmark` (with :class:`SecondOrderSystem`, :class:`State`, :class:`History`):
+  the integrator, predictor and corrector, knowing nothing of pairs;
+- :class:`Dynamic`: the analysis of a model, factorised once, run for any number of
+  records (:meth:`Dynamic.run`), with its :class:`DynamicSettings`;
+- its parts: :class:`Excitation` (relative or absolute ground motion),
+  :class:`Corotation` (body frames for large rotations), :class:`VelocityProjection`
+  (contact stabilisation), :class:`Recorder` and :class:`EnergyAccount` (histories and
+  the energy balance), giving a :class:`DynamicResult`.
+"""
+
+from ._contact import VelocityProjection
+from ._corotation import Corotation
+from ._driver import Dynamic, RunStopped, StepState
+from ._excitation import Excitation
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
-from ._pfeie import Dynamic, DynamicResult, StepState
+from ._recorder import DynamicResult, EnergyAccount, Recorder
 from ._settings import DynamicSettings
 
 __all__ = [
-    "Dynamic", "DynamicResult", "DynamicSettings", "History", "MatrixSystem", "Newmark", "SecondOrderSystem",
-    "State", "StepState",
+    "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
+    "History", "MatrixSystem", "Newmark", "Recorder", "RunStopped", "SecondOrderSystem",
+    "State", "StepState", "VelocityProjection",
 ]  # fmt: skip

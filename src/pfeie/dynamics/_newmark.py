@@ -52,9 +52,9 @@ from typing import Protocol
 import numpy as np
 import scipy.sparse as sp
 
-from ..element._reference import FloatArray, IntArray
 from ..errors import ModelError
-from ..solvers import factorize
+from ..linalg import factorize
+from ..typing import FloatArray, IntArray
 
 log = logging.getLogger(__name__)
 

@@ -20,7 +20,8 @@ from itertools import product
 import numpy as np
 from scipy.special import roots_jacobi, roots_legendre
 
-from ._reference import FloatArray, reference
+from ..typing import FloatArray
+from ._reference import reference
 
 
 @cache

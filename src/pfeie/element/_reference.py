@@ -32,12 +32,9 @@ from dataclasses import dataclass, field
 from functools import cache
 
 import numpy as np
-from numpy.typing import NDArray
 
 from ..errors import MeshError
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
+from ..typing import FloatArray, IntArray
 
 
 @dataclass(frozen=True)

@@ -1,19 +1,26 @@
-"""Interfaces: cutting the mesh into blocks, point pairs, the joint law and its solver.
+"""Interfaces: cutting the mesh into blocks, point pairs, joint laws and the pair solver.
 
-- :func:`split` duplicates the nodes of named facet groups and pairs the copies;
-- :class:`PairProperties`, :class:`PairState`: the joint law's data, with trial/commit
-  (the solver returns a trial state; the analysis commits it when the step is accepted);
-- :func:`delassus`: the interface flexibility W = G K̂⁻¹ Gᵀ;
-- :class:`InterfaceSolver`: the per-step state iteration of method.md §5.3.
+- :func:`split` duplicates the nodes of named facet groups and pairs the copies
+  (:class:`PairGeometry`: nodes, frames, tributary areas);
+- joint laws behind the :class:`JointLaw` protocol (:class:`MohrCoulomb`, alias
+  :class:`Joint`; :class:`SlipWeakening`), gathered per pair by :class:`PairLaws`;
+- :class:`PairState`: the pair states with explicit trial and commit (the solver returns
+  a trial state; the analysis commits it when the step is accepted);
+- :class:`InterfaceSolver`: the interface problem of one step for a given Delassus
+  operator W (method.md §5.3), with its :class:`SolverSettings`.
+
+The operators that couple blocks and pairs (G, W, the static and one-step interface
+problems) live in :mod:`pfeie.coupling`.
 """
 
-from ._delassus import delassus
-from ._law import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairProperties, PairState
+from ._laws import Joint, JointLaw, MohrCoulomb, PairLaws, SlipWeakening, Strength
 from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
 from ._split import PairGeometry, SplitMesh, split
+from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "INTACT", "OPEN", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver", "PairGeometry",
-    "PairProperties", "PairState", "SolveInfo", "SolverSettings", "SplitMesh", "delassus", "split",
+    "INTACT", "OPEN", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver", "Joint", "JointLaw",
+    "MohrCoulomb", "PairGeometry", "PairLaws", "PairState", "SlipWeakening", "SolveInfo",
+    "SolverSettings", "SplitMesh", "Strength", "split",
 ]  # fmt: skip

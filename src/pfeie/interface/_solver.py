@@ -5,8 +5,10 @@ and the free relative displacement w_free (m, d), the pairs obey
 
     w = w_free + W X (+ E q),      s = w + C X,
 
-with the pair law of :mod:`pfeie.interface._law`. Optional border (statics, §5.2): the
-rigid-mode amplitudes q of floating blocks with equilibrium Eᵀ X = e.
+with the pair law of method.md §4: the strength of each pair comes from its joint law
+through :class:`PairLaws`; states, breaking and the friction cone are handled here.
+Optional border (statics, §5.2): the rigid-mode amplitudes q of floating blocks with
+equilibrium Eᵀ X = e.
 
 Algorithm (the paper's state iteration, §5.3): assume states; solve the reduced linear
 system (intact and stick pairs: s = s_prev in all components, closed normal s_n = 0;
@@ -32,9 +34,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..element._reference import FloatArray
 from ..errors import InterfaceError, MechanismError
-from ._law import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairProperties, PairState
+from ..typing import FloatArray
+from ._laws import PairLaws
+from ._settings import SolverSettings
+from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 log = logging.getLogger(__name__)
 
@@ -54,23 +58,24 @@ class InterfaceSolver:
     Parameters
     ----------
     W: Delassus operator (M, M), N → m.
-    props: pair properties.
-    border: optional (E (M, r), label) for statics with floating blocks.
-    tol: complementarity residual tolerance (relative), default 1e-8.
-    max_iter: state-iteration limit, default 60.
+    laws: the joint laws of the pairs.
+    border: optional E (M, r) for statics with floating blocks.
+    settings: tolerance and iteration limit (:class:`SolverSettings`).
+    regularize: relative compliance added to W for redundant constraints.
     """
 
     def __init__(
         self,
         W: FloatArray,
-        props: PairProperties,
+        laws: PairLaws,
         *,
         border: FloatArray | None = None,
-        tol: float = 1e-8,
-        max_iter: int = 60,
+        settings: SolverSettings | None = None,
         regularize: float = 0.0,
     ) -> None:
-        self.props = props
+        settings = SolverSettings() if settings is None else settings
+        props = laws
+        self.props = laws
         self.m = props.n
         self.d = props.compliance.shape[1] if props.n else 1
         self.W = np.asarray(W, dtype=float)
@@ -87,7 +92,7 @@ class InterfaceSolver:
         # the border is scaled to the size of W so that the LU pivots are comparable
         self._escale = float(diag.mean()) if diag.size else 1.0
         self.E = None if border is None else np.asarray(border, dtype=float) * self._escale
-        self.tol, self.max_iter = tol, max_iter
+        self.tol, self.max_iter = settings.tolerance, settings.max_iter
         self._gapv = np.zeros((self.m, self.d))
         if self.m:
             self._gapv[:, -1] = props.gap
@@ -109,7 +114,7 @@ class InterfaceSolver:
     ) -> tuple[FloatArray, FloatArray]:
         m, d = self.m, self.d
         state = st.state
-        c, mu, _ = self.props.strength(st.broken)
+        c, mu, _ = self.props.strength(st.broken, prev.path)
         comp = np.zeros((m, d), dtype=np.int8)  # 0 kin, 1 zero, 2 friction
         comp[state == OPEN] = 1
         sl = state == SLIDE
@@ -228,7 +233,7 @@ class InterfaceSolver:
         nt = np.linalg.norm(Xt, axis=1)
         tolF = 1e-10 * fscale
         tolD = tolF / self.rho
-        c, mu, t = self.props.strength(st.broken)
+        c, mu, t = self.props.strength(st.broken, prev.path)
         tau = c + mu * Xn
         ds = s[:, :-1] - prev.s[:, :-1]
         state = st.state
@@ -242,7 +247,7 @@ class InterfaceSolver:
         with np.errstate(invalid="ignore", divide="ignore"):
             dir_from_force = -Xt / nt[:, None]
         new.slip_dir[she] = dir_from_force[she]
-        cr, mur, tr = self.props.strength(np.ones(self.m, dtype=bool))
+        cr, mur, tr = self.props.strength(np.ones(self.m, dtype=bool), prev.path)
         tau_r = np.where(st.broken, tau, cr + mur * Xn)
         t_r = np.where(st.broken, t, tr)
         # stick
@@ -273,7 +278,7 @@ class InterfaceSolver:
         X, s = st.X, st.s
         fscale = self._scale(X, w_free)
         rho = self.rho
-        c, mu, t = self.props.strength(st.broken)
+        c, mu, t = self.props.strength(st.broken, prev.path)
         Xn, Xt = X[:, -1], X[:, :-1]
         tau = np.maximum(c + mu * Xn, 0.0)
         ds = s - prev.s
@@ -407,7 +412,7 @@ class InterfaceSolver:
             # intact pairs that exceed their strength break; repeat
             Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
             tolF = 1e-10 * fscale
-            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool))
+            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
             fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
             if not fail.any():
                 break
@@ -418,7 +423,7 @@ class InterfaceSolver:
         out.s = s_
         g = s_[:, -1]
         state = np.full(m, INTACT, dtype=np.int8)
-        c, mu, t = self.props.strength(broken)
+        c, mu, t = self.props.strength(broken, prev.path)
         opened = broken & (X[:, -1] + t - self.rho * g <= 0)
         nt = np.linalg.norm(X[:, :-1], axis=1)
         tau = c + mu * X[:, -1]
@@ -466,7 +471,7 @@ class InterfaceSolver:
         N = Wc.shape[1]
         I = np.eye(M, N)
         Xv = zv[:M]
-        c, mu, t = self.props.strength(broken)
+        c, mu, t = self.props.strength(broken, prev.path)
         Xm = Xv.reshape(m, d)
         sv = w_free.ravel() + Wc @ zv
         s_ = sv.reshape(m, d)
@@ -529,13 +534,16 @@ class InterfaceSolver:
         state = st.state.copy()
         sdir = st.slip_dir.copy()
         b_all = w_free + np.einsum("kilj,lj->ki", Wc, X)
+        intact = self.props.strength(np.zeros(m, dtype=bool), prev.path)
+        residual = self.props.strength(np.ones(m, dtype=bool), prev.path)
         trial = st.copy()
         for sweep in range(1, sweeps + 1):
             for k in range(m):
                 Wkk = Wc[k, :, k, :]
                 b = b_all[k] - Wkk @ X[k]
+                strength = tuple(float(a[k]) for a in (*intact, *residual))
                 Xk, _, state[k], broken[k], sdir[k] = self._local(
-                    k, Wkk, b, prev, broken[k], sdir[k])  # fmt: skip
+                    k, Wkk, b, prev, broken[k], sdir[k], strength)  # fmt: skip
                 dX = Xk - X[k]
                 if np.any(dX):
                     b_all += np.einsum("lik,k->li", Wc[:, :, k, :], dX)
@@ -554,20 +562,19 @@ class InterfaceSolver:
 
     def _local(
         self, k: int, Wkk: FloatArray, b: FloatArray, prev: PairState, broken: bool,
-        sdir: FloatArray,
+        sdir: FloatArray, strength: tuple[float, ...],
     ) -> tuple[FloatArray, FloatArray, int, bool, FloatArray]:  # fmt: skip
-        """Exact solution of pair k's law for s = b + Wkk X (others frozen)."""
+        """Exact solution of pair k's law for s = b + Wkk X (others frozen); ``strength``
+        is (c A, μ, σ_t A) intact, then broken, of the pair."""
         d = self.d
-        p = self.props
-        A = p.area[k]
+        cI, muI, tI, cA, mu, tA = strength
         target = prev.s[k].copy()
         if not broken:
             X = np.linalg.solve(Wkk, target - b)
-            tau = p.c[k] * A + p.mu[k] * X[-1]
-            if X[-1] >= -p.tensile[k] * A and np.linalg.norm(X[:-1]) <= tau:
+            tau = cI + muI * X[-1]
+            if X[-1] >= -tI and np.linalg.norm(X[:-1]) <= tau:
                 return X, b + Wkk @ X, INTACT, False, sdir
             broken = True
-        cA, mu, tA = p.c_r[k] * A, p.mu_r[k], p.tensile_r[k] * A
         if b[-1] >= 0:
             return np.zeros(d), b.copy(), OPEN, broken, sdir
         target[-1] = 0.0

@@ -29,10 +29,9 @@ from scipy.sparse.csgraph import connected_components
 
 from ..assembly import facet_values, lump_hrz
 from ..element import reference
-from ..element._reference import FloatArray, IntArray
 from ..errors import MeshError
-from ..mesh import Mesh
-from ..mesh._mesh import _corner_keys, _lookup
+from ..mesh import Mesh, facet_keys, match_rows
+from ..typing import FloatArray, IntArray
 
 
 @dataclass(frozen=True)
@@ -140,7 +139,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     iface = np.full(K.shape[0], -1, dtype=np.int64)
     for j, name in enumerate(names):
         for ftype, conn in mesh.facet_group(name).items():
-            at, found = _lookup(K, _corner_keys(conn, ftype))
+            at, found = match_rows(K, facet_keys(conn, ftype))
             if not found.all():
                 raise MeshError(f"interface {name!r}: {int((~found).sum())} facet(s) are not faces "
                                 "of the mesh (is the mesh conforming across it?)")  # fmt: skip
@@ -265,7 +264,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     fgroups: dict[str, dict[str, IntArray]] = {}
     for gname, grp in mesh.facet_groups.items():
         for gtype, conn in grp.items():
-            at, found = _lookup(K, _corner_keys(conn, gtype))
+            at, found = match_rows(K, facet_keys(conn, gtype))
             if not found.any():
                 continue
             conn, at = conn[found], at[found]  # facets of cells in no block are dropped

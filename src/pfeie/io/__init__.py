@@ -1,10 +1,13 @@
 """Input and output: gmsh meshes, ground-motion records, model files."""
 
+from ._export import export_csv
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import SPEC, Job, load_job, reference_rows
 from ._paraview import write_paraview
 from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
 
-__all__ = ["SPEC", "Job", "Results", "ResultsWriter", "from_gmsh", "load_job", "read_mesh",
-           "read_record", "reference_rows", "write_at2", "write_paraview"]  # fmt: skip
+__all__ = [
+    "SPEC", "Job", "Results", "ResultsWriter", "export_csv", "from_gmsh", "load_job",
+    "read_mesh", "read_record", "reference_rows", "write_at2", "write_paraview",
+]  # fmt: skip

@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
-from ..model import Block, Elastic, GroundMotion, Interface, Joint, Model, Rayleigh
+from ..interface import Joint
+from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
 from ._gmsh import read_mesh
 from ._records import read_record
 from ._schema import (

@@ -33,9 +33,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..element._reference import FloatArray
 from ..errors import RecordError
 from ..model import GroundMotion
+from ..typing import FloatArray
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
 _SEP = re.compile(r"[,;\s]+")

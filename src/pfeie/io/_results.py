@@ -32,8 +32,8 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from ..element._reference import FloatArray
 from ..errors import PfeieError
+from ..typing import FloatArray
 
 UNITS = {
     "time": "s", "u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2", "X": "N", "w": "m",

@@ -24,8 +24,8 @@ from itertools import permutations
 import numpy as np
 
 from ..element import reference
-from ..element._reference import FloatArray, IntArray
 from ..errors import MeshError
+from ..typing import FloatArray, IntArray
 from ._mesh import Mesh
 
 _LINEAR_2D = {"quad": "quad", "quad8": "quad", "quad9": "quad",

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from ..element import reference
-from ..element._reference import FloatArray, IntArray
 from ..errors import MeshError
+from ..typing import FloatArray, IntArray
 
 
 @dataclass
@@ -145,11 +145,11 @@ class Mesh:
 
     def facet_cells(self, ftype: str, facets: IntArray) -> tuple[str, IntArray]:
         """The cell type and the index of one cell adjacent to each facet."""
-        keys = _corner_keys(facets, ftype)
+        keys = facet_keys(facets, ftype)
         for table in self._facet_table():
             if table[0] != ftype:
                 continue
-            at, found = _lookup(table[3], keys)
+            at, found = match_rows(table[3], keys)
             if found.all():
                 return table[4], table[2][at]
         raise MeshError(f"some facets of type {ftype!r} are not faces of any cell of the mesh")
@@ -162,7 +162,7 @@ class Mesh:
             ref = reference(ctype)
             fconn = conn[:, np.asarray(ref.facets)].reshape(-1, len(ref.facets[0]))
             owner = np.repeat(np.arange(conn.shape[0]), len(ref.facets))
-            parts.append((ref.facet_type, fconn, owner, _corner_keys(fconn, ref.facet_type), ctype))
+            parts.append((ref.facet_type, fconn, owner, facet_keys(fconn, ref.facet_type), ctype))
         out = []
         for width in {p[3].shape[1] for p in parts}:
             same = [p for p in parts if p[3].shape[1] == width]
@@ -290,13 +290,13 @@ _FLIP_2D: dict[str, list[int]] = {
 }
 
 
-def _corner_keys(conn: IntArray, ftype: str) -> IntArray:
+def facet_keys(conn: IntArray, ftype: str) -> IntArray:
     """Sorted corner node ids of facets: a key equal for the two sides of a facet."""
     ncorner = reference(reference(ftype).linear).n_nodes
     return np.sort(conn[:, :ncorner], axis=1)
 
 
-def _lookup(table: IntArray, keys: IntArray) -> tuple[IntArray, np.ndarray]:
+def match_rows(table: IntArray, keys: IntArray) -> tuple[IntArray, np.ndarray]:
     """Row index in ``table`` of each row of ``keys`` (first match) and a found-mask."""
     both = np.concatenate([table, keys])
     _, inv = np.unique(both, axis=0, return_inverse=True)

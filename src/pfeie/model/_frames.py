@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..element._reference import FloatArray, IntArray
+from ..typing import FloatArray, IntArray
 from ._model import Model
 
 

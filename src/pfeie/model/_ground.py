@@ -21,8 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ..element._reference import FloatArray
 from ..errors import ModelError
+from ..typing import FloatArray
 
 G_STANDARD = 9.80665
 G_UNITS = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}

@@ -23,11 +23,10 @@ import scipy.sparse as sp
 
 from .. import assembly as asm
 from ..element import quadrature, reference
-from ..element._reference import FloatArray, IntArray
 from ..errors import MeshError, ModelError
-from ..interface._law import PairProperties
-from ..interface._split import PairGeometry, SplitMesh, split
+from ..interface import PairGeometry, PairLaws, SplitMesh, split
 from ..mesh import Mesh
+from ..typing import FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
 
 log = logging.getLogger(__name__)
@@ -430,31 +429,13 @@ class Model:
         return None if self.split is None else self.split.pairs
 
     @cached_property
-    def pair_properties(self) -> PairProperties:
+    def pair_laws(self) -> PairLaws:
+        """The joint laws of the interfaces, gathered per pair."""
         if self.split is None:
             raise ModelError("the model has no interfaces")
-        return PairProperties.from_joints(self.split.pairs, [i.joint for i in self.interfaces])
-
-    def relative_operator(self, frame: FloatArray | None = None) -> sp.csr_matrix:
-        """G (m·d × n_dof): w = G u is the relative displacement T_k (u_b − u_a) of
-        every pair in its local frame, row k·d + i for component i of pair k. ``frame``
-        (m, d, d) replaces the reference frames T_k (e.g. frames that turn with a block)."""
-        P = self.pairs
-        d = self.dim
-        if P is None:
-            return sp.csr_matrix((0, self.n_dof))
-        m = P.n
-        rows = np.repeat(np.arange(m * d), d)
-        cols_b = (P.node_b[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
-        cols_a = (P.node_a[:, None, None] * d + np.arange(d)[None, None, :]).repeat(d, axis=1)
-        # (m, i, j): component i of the local vector from global j
-        vals = P.frame if frame is None else np.asarray(frame, dtype=float)
-        G = sp.coo_matrix(
-            (np.concatenate([vals.ravel(), -vals.ravel()]),
-             (np.concatenate([rows, rows]), np.concatenate([cols_b.ravel(), cols_a.ravel()]))),
-            shape=(m * d, self.n_dof),
-        )  # fmt: skip
-        return G.tocsr()
+        P = self.split.pairs
+        return PairLaws.from_interfaces(P.area, P.interface, [i.joint for i in self.interfaces],
+                                        P.dim)  # fmt: skip
 
     @cached_property
     def body_of_node(self) -> IntArray:

@@ -1,4 +1,4 @@
-"""Physics objects: materials, blocks, supports, loads, damping.
+"""Physics objects: materials, blocks, supports, loads, damping, interfaces.
 
 These hold data only; turning them into matrices and vectors is the job of
 :class:`pfeie.Model` with the kernels of :mod:`pfeie.assembly`. Units are SI:
@@ -12,8 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..element._reference import FloatArray, IntArray
 from ..errors import ModelError
+from ..interface import JointLaw
+from ..typing import FloatArray, IntArray
 
 Amplitude = Callable[[float], float]
 VectorField = FloatArray | Sequence[float] | Callable[[FloatArray], FloatArray]
@@ -129,70 +130,10 @@ class Load:
 
 
 @dataclass(frozen=True)
-class Joint:
-    """Strength and initial state of an interface (Mohr-Coulomb with a tension cut-off).
-
-    Parameters (SI; angles in degrees):
-
-    - ``c`` cohesion (Pa), ``phi`` friction angle, ``tensile`` tensile strength σ_t (Pa):
-      the strength of an intact (bonded) pair;
-    - ``c_r``, ``phi_r``, ``tensile_r``: residual values once broken (defaults 0, ``phi``,
-      0); an existing joint (``initial="broken"``) has only these;
-    - ``initial``: "intact" (bonded until its strength is exceeded) or "broken";
-    - ``kn``, ``ks``: optional normal and shear stiffness (Pa/m) of a weak layer; None
-      means a rigid contact (no spring, no penetration);
-    - ``gap``: initial normal gap (m) of an existing (broken) joint: its pairs start open
-      and close when the gap is used up (e.g. a bar moving towards a wall).
-
-    Stresses are X/A with X the force on side b, normal positive in compression. An
-    intact pair breaks when σ < −σ_t (opens) or |τ| > c + σ tan φ (slides).
-
-    >>> Joint(phi=30.0).mu_r
-    0.5773502691896257
-    """
-
-    c: float = 0.0
-    phi: float = 30.0
-    tensile: float = 0.0
-    c_r: float = 0.0
-    phi_r: float | None = None
-    tensile_r: float = 0.0
-    initial: str = "broken"
-    kn: float | None = None
-    ks: float | None = None
-    gap: float = 0.0
-
-    def __post_init__(self) -> None:
-        for key in ("c", "tensile", "c_r", "tensile_r"):
-            if not getattr(self, key) >= 0:
-                raise ModelError(f"joint {key} must be >= 0 Pa, got {getattr(self, key)}")
-        for key in ("phi", "phi_r"):
-            val = getattr(self, key)
-            if val is not None and not 0 <= val < 90:
-                raise ModelError(f"joint {key} must lie in [0, 90) degrees, got {val}")
-        if self.initial not in ("intact", "broken"):
-            raise ModelError(f"joint initial must be 'intact' or 'broken', got {self.initial!r}")
-        for key in ("kn", "ks"):
-            val = getattr(self, key)
-            if val is not None and not val > 0:
-                raise ModelError(f"joint {key} must be > 0 Pa/m or None, got {val}")
-        if not self.gap >= 0:
-            raise ModelError(f"joint gap must be >= 0 m, got {self.gap}")
-        if self.gap > 0 and self.initial == "intact":
-            raise ModelError("an intact (bonded) joint cannot start with a gap")
-
-    @property
-    def mu(self) -> float:
-        return float(np.tan(np.radians(self.phi)))
-
-    @property
-    def mu_r(self) -> float:
-        return float(np.tan(np.radians(self.phi if self.phi_r is None else self.phi_r)))
-
-
-@dataclass(frozen=True)
 class Interface:
-    """A named facet group of the mesh that cuts blocks apart, with its joint law."""
+    """A named facet group of the mesh that cuts blocks apart, with its joint law
+    (:class:`pfeie.MohrCoulomb`, :class:`pfeie.SlipWeakening` or any
+    :class:`pfeie.interface.JointLaw`)."""
 
     group: str
-    joint: Joint
+    joint: JointLaw

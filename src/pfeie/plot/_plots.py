@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import PfeieError
-from ..io._results import Results
+from ..io import Results
 
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
 STATE_LABELS = ["intact", "stick", "slide", "open"]

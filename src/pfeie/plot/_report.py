@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..io._results import Results
+from ..io import Results
 from ._plots import plot_all
 
 

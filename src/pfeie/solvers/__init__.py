@@ -1,6 +1,6 @@
 """Solvers: sparse factorisations, linear statics and modal analysis."""
 
-from ._linear import Factorization, available_backends, factorize
+from ..linalg import Factorization, available_backends, factorize
 from ._modal import ModalResult, modal
 from ._static import StaticResult, solve_static
 

@@ -18,10 +18,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..element._reference import FloatArray
+from ..coupling import relative_operator
 from ..errors import SolverError
+from ..linalg import factorize
 from ..model import Model
-from ._linear import factorize
+from ..typing import FloatArray
 
 
 @dataclass(frozen=True)
@@ -104,7 +105,7 @@ def _bond(model: Model, free: np.ndarray, K: sp.spmatrix) -> tuple[sp.csr_matrix
     nodes of rigid pairs; pairs of joints with stiffness add their springs to K."""
     from scipy.sparse.csgraph import connected_components
 
-    pairs, props = model.pairs, model.pair_properties
+    pairs, props = model.pairs, model.pair_laws
     assert pairs is not None
     d, n_dof = model.dim, model.n_dof
     comp = props.compliance
@@ -114,7 +115,7 @@ def _bond(model: Model, free: np.ndarray, K: sp.spmatrix) -> tuple[sp.csr_matrix
         raise SolverError("modal analysis with bonded interfaces needs joints either rigid or "
                           "with both stiffnesses k_n and k_s; give both, or none")  # fmt: skip
     if spring.any():
-        G = model.relative_operator()[:, free]
+        G = relative_operator(pairs, n_dof)[:, free]
         k = np.where(np.repeat(spring, d), 1.0 / np.where(comp > 0, comp, 1.0).ravel(), 0.0)
         K = K + (G.T @ sp.diags(k) @ G)
     a = (pairs.node_a[rigid, None] * d + np.arange(d)).ravel()

@@ -109,7 +109,7 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
 
     t, a, gm = _record(fn, 1.0, dt)
     model = block_on_base(joint=Joint(phi=_phi(N)))
-    res = Dynamic(model, dt, ground=[gm]).run(1.0, start=solve_static(model))
+    res = Dynamic(model, dt).run(1.0, start=solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     t1, t2 = _slide_interval(res)
     ref = RigidBlock(t, a, N * G, t_end=1.0).displacement(res.t)
@@ -170,7 +170,7 @@ def v3(fast: bool) -> CaseResult:
     ref = RigidBlock(t, -kappa * a, kappa * ky * G, two_way=False, t_end=3.0)
     gm = GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
     model = block_on_base(joint=Joint(phi=30.0), incline_deg=20.0)
-    res = Dynamic(model, dt, ground=[gm]).run(3.0, start=solve_static(model))
+    res = Dynamic(model, dt).run(3.0, start=solve_static(model), ground=[gm])
     s = _along(res, beta)
     xr = ref.displacement(res.t)
     i1 = int(np.searchsorted(res.t, 0.45))
@@ -187,7 +187,7 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
     t, a, gm = _record(lambda t: np.where(t <= 5, 0.5 * G * np.sin(2 * np.pi * t), 0.0), T, dt)
     ref = RigidBlock(t, a, mu * G, t_end=T)
     model = block_on_base(joint=Joint(phi=_phi(mu)))
-    res = Dynamic(model, dt, ground=[gm]).run(T, start=solve_static(model))
+    res = Dynamic(model, dt).run(T, start=solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     i1 = int(np.argmin(np.abs(res.t - ref.stops[0])))
@@ -247,7 +247,7 @@ def v5(fast: bool) -> CaseResult:
         ref = RigidBlock(t, -kappa * a, kappa * ky * G, two_way=False, t_end=13.0)
         gm = GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
         model = block_on_base(joint=Joint(phi=float(np.degrees(phi))), incline_deg=20.0)
-        res = Dynamic(model, 0.005, ground=[gm]).run(13.0, start=solve_static(model))
+        res = Dynamic(model, 0.005).run(13.0, start=solve_static(model), ground=[gm])
         s = _along(res, beta)
         checks.append(Check(f"one-way slip, k_y = {ky}", float(ref.displacement([13.0])[0]),
                             float(s[-1]), 2e-2, unit="m"))  # fmt: skip
@@ -257,7 +257,7 @@ def v5(fast: bool) -> CaseResult:
         ref = RigidBlock(t, a, mu * G, t_end=13.0)
         model = block_on_base(joint=Joint(phi=_phi(mu)))
         gm = GroundMotion.from_samples(a, time=t, direction=[1.0, 0.0])
-        res = Dynamic(model, 0.001, ground=[gm]).run(13.0, start=solve_static(model), every=5)
+        res = Dynamic(model, 0.001).run(13.0, start=solve_static(model), every=5, ground=[gm])
         x = slip_x(res) - slip_x(res)[0]
         xr = ref.displacement(res.t)
         peak = float(np.abs(xr).max())
@@ -354,7 +354,7 @@ def v7a(fast: bool) -> CaseResult:
     b, h, k, dt = 0.25, 1.0, 2.0, 0.002
     model = block_on_base(joint=Joint(phi=60.0), width=2 * b, height=2 * h, n=2, ny=8, E=3e13)
     _, _, gm = _record(lambda t: k * t, 2.0, dt)
-    res = Dynamic(model, dt, ground=[gm]).run(2.0, start=solve_static(model))
+    res = Dynamic(model, dt).run(2.0, start=solve_static(model), ground=[gm])
     n_open = (res.state == OPEN).sum(axis=1)
     i = int(np.argmax(n_open >= res.state.shape[1] - 1))
     _MODELS["V7a"] = model
@@ -478,7 +478,7 @@ def v8a(fast: bool) -> CaseResult:
     t_off = (np.pi + np.arcsin(2.0 / 3.0)) / (4 * np.pi)
     model = block_on_base(joint=Joint(phi=40.0))
     top = model.nearest_node([0.5, 1.0])
-    res = Dynamic(model, dt, ground=[gm]).run(0.8, start=solve_static(model), probes=[top])
+    res = Dynamic(model, dt).run(0.8, start=solve_static(model), probes=[top], ground=[gm])
     gap = res.opening.mean(axis=1)
     is_open = np.all(res.state == OPEN, axis=1)
     i_open = int(np.argmax(is_open))
@@ -521,7 +521,7 @@ def v8b(fast: bool) -> CaseResult:
                           nu=0.0, gravity=False)  # fmt: skip
     t_ref = st_ / (2400.0 * k)
     _, _, gm = _record(lambda t: -k * t, 1.0, dt, (0.0, 1.0))
-    res = Dynamic(model, dt, ground=[gm]).run(1.0)
+    res = Dynamic(model, dt).run(1.0, ground=[gm])
     t_break = float(res.t[np.argmax(res.broken.all(axis=1))])
     after = res.t > t_break
     sig = res.normal_stress.mean(axis=1)
@@ -548,7 +548,7 @@ def v8c(fast: bool) -> CaseResult:
     model = block_on_base(joint=Joint(c=c, phi=phi, tensile=1e6, initial="intact"),
                           height=1e-3, n=4, ny=1, rho=2.4e6)  # fmt: skip
     _, _, gm = _record(lambda t: k * t, 1.2, dt)
-    res = Dynamic(model, dt, ground=[gm]).run(1.2, start=solve_static(model))
+    res = Dynamic(model, dt).run(1.2, start=solve_static(model), ground=[gm])
     t_b = float(res.t[np.argmax(res.broken.all(axis=1))])
     x = slip_x(res) - slip_x(res)[0]
     mu = np.tan(np.radians(phi))
@@ -594,8 +594,8 @@ def v9(fast: bool) -> CaseResult:
     err_s = float(np.abs(s1.u[par] - s0.u[par]).max() / np.abs(s0.u).max())
     gm = GroundMotion.from_function(lambda t: 3 * np.sin(2 * np.pi * 5 * t), 0.4, 0.002)
     top = mono.nearest_node([4.0, 3.0])
-    r0 = Dynamic(mono, 0.002, ground=[gm]).run(0.4, start=s0, probes=[top])
-    r1 = Dynamic(cut, 0.002, ground=[gm]).run(0.4, start=s1, probes=[top])
+    r0 = Dynamic(mono, 0.002).run(0.4, start=s0, probes=[top], ground=[gm])
+    r1 = Dynamic(cut, 0.002).run(0.4, start=s1, probes=[top], ground=[gm])
     err_d = float(np.abs(r1.probe_u - r0.probe_u).max() / np.abs(r0.probe_u).max())
     f0, f1 = modal(mono, 8).frequencies, modal(cut, 8).frequencies
     err_f = float(np.abs(f1 / f0 - 1.0).max())

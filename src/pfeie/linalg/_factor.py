@@ -28,10 +28,13 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..element._reference import FloatArray, IntArray
 from ..errors import MechanismError, SolverError
+from ..typing import FloatArray, IntArray
 
 log = logging.getLogger(__name__)
+
+# a pivot below this fraction of the largest diagonal entry marks a singular matrix
+_SINGULAR = 1e-13
 
 
 class Factorization(Protocol):
@@ -60,7 +63,7 @@ class _SuperLU:
                 "restrained (check supports)"
             ) from None
         diag_u = np.abs(self._lu.U.diagonal())
-        if diag_u.size and diag_u.min() <= 1e-13 * diag_u.max():
+        if diag_u.size and diag_u.min() <= _SINGULAR * diag_u.max():
             raise MechanismError(
                 "the matrix is numerically singular: some part of the model is not "
                 "restrained (check supports)"
@@ -138,6 +141,15 @@ class _Cholmod:
                 "the matrix is not positive definite: some part of the model is not "
                 "restrained (check supports), or a material is invalid"
             ) from None
+        # a singular matrix can factorise with round-off pivots of either sign: a pivot
+        # d_j = L_jj² that is tiny against the diagonal of A is a zero-energy mode
+        piv = np.asarray(cholmod.diag(self._F), dtype=float).ravel() ** 2
+        scale = float(np.abs(A.diagonal()).max(initial=0.0))
+        if piv.size and piv.min() <= _SINGULAR * scale:
+            raise MechanismError(
+                "the matrix is numerically singular: some part of the model is not "
+                "restrained (check supports)"
+            )
 
     def solve(self, b: FloatArray) -> FloatArray:
         arr = np.asarray(b, dtype=float)

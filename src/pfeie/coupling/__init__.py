@@ -1,0 +1,32 @@
+"""Coupling of blocks and pairs: one home for the operators of the PFE/IE method.
+
+- :class:`PairOperator` (and :func:`relative_operator`): G, block displacements → pair
+  relative displacements, on the free and prescribed DOFs, and its body-frame variant;
+- :func:`delassus`: the Delassus operator W = G K̂⁻¹ Gᵀ (dense, matrix-free, or
+  gathered from a :class:`NodalFlexibility`), built once from one multi-RHS solve;
+- :class:`StaticInterfaceProblem`: the static problem with the rigid unknowns of
+  floating blocks (method.md §5.2);
+- :class:`InterfaceStep`: the one-step problem, predictor → interface solve → corrector,
+  that a time integrator calls (method.md §5.1).
+
+Dependencies point one way: mesh, element, assembly → interface → model → coupling →
+solvers, dynamics → io, plot → the command line.
+"""
+
+from ._delassus import (
+    Delassus,
+    DenseDelassus,
+    GatheredDelassus,
+    MatrixFreeDelassus,
+    NodalFlexibility,
+    delassus,
+)  # fmt: skip
+from ._operators import PairOperator, relative_operator
+from ._static import StaticInterfaceProblem, floating_modes, pins
+from ._step import InterfaceStep, StepSolution
+
+__all__ = [
+    "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep", "MatrixFreeDelassus",
+    "NodalFlexibility", "PairOperator", "StaticInterfaceProblem", "StepSolution", "delassus",
+    "floating_modes", "pins", "relative_operator",
+]  # fmt: skip

@@ -1,0 +1,90 @@
+"""The one-step interface problem: predictor → interface solve → corrector (method.md §5.1).
+
+Any time integrator whose step, for fixed pair forces X, is linear in the blocks,
+
+    K̂ u_{n+1} = P̂ + s Gᵀ X,
+
+(K̂ the integrator's effective matrix, P̂ its right-hand side, s the weight of the pair
+forces in the step) calls this problem once per step:
+
+1. predictor: the integrator gives u_free = K̂⁻¹ P̂ (one back-substitution);
+2. interface: w_free = G u_free + w_p (w_p: the prescribed side's motion), and the pair
+   forces X and states from w = w_free + s W X and the joint law, W = G K̂⁻¹ Gᵀ;
+3. corrector: u_{n+1} = u_free + s K̂⁻¹ Gᵀ X (:meth:`Delassus.correct`).
+
+The problem knows nothing of time: the integrator owns K̂, P̂ and s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
+from ..typing import FloatArray
+from ._delassus import Delassus
+from ._operators import PairOperator
+
+
+@dataclass
+class StepSolution:
+    """The trial pair state of the step and the block correction Δu = s K̂⁻¹ Gᵀ X."""
+
+    pairs: PairState
+    du: FloatArray
+
+
+class InterfaceStep:
+    """The interface problem of one step for the operators ``op`` (G), ``W`` (its
+    Delassus operator through the integrator's K̂) and the force weight ``scale`` (s).
+
+    Parameters
+    ----------
+    op: the pair operator G on the free and prescribed DOFs.
+    W: the Delassus operator of G through K̂.
+    laws: the joint laws of the pairs.
+    scale: s, the weight of the pair forces in the step's equation.
+    settings: the interface solver's settings.
+    regularize: relative compliance for redundant constraints (T and X junctions).
+    """
+
+    def __init__(
+        self,
+        op: PairOperator,
+        W: Delassus,
+        laws: PairLaws,
+        scale: float,
+        *,
+        settings: SolverSettings | None = None,
+        regularize: float = 0.0,
+    ) -> None:
+        self.laws, self.scale = laws, float(scale)
+        self.settings = SolverSettings() if settings is None else settings
+        self.regularize = regularize
+        self.update(op, W)
+
+    def update(self, op: PairOperator, W: Delassus) -> None:
+        """New operators (e.g. pair frames that turned); the solver is rebuilt for them."""
+        self.op, self.W = op, W
+        self.solver = InterfaceSolver(self.scale * W.matrix(), self.laws, settings=self.settings,
+                                      regularize=self.regularize)  # fmt: skip
+
+    def solve(
+        self, u_free: FloatArray, w_pres: FloatArray, prev: PairState, label: str = ""
+    ) -> StepSolution:
+        """The trial pair state and the block correction for the predictor ``u_free``
+        (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state."""
+        m, d = self.op.m, self.op.d
+        w_free = (self.op.G @ u_free + w_pres).reshape(m, d)
+        trial, _ = self.solver.solve(w_free, prev, label=label)
+        du = self.W.correct(trial.X.ravel() * self.scale)
+        return StepSolution(trial, np.asarray(du))
+
+    @property
+    def iterations(self) -> int:
+        """Iterations of the last solve."""
+        return self.solver.last.iterations
+
+
+__all__ = ["InterfaceStep", "StepSolution"]

@@ -1,0 +1,447 @@
+"""The PFE/IE dynamic analysis: a time integrator on the blocks, the interface problem on
+the pairs (method.md §5.1).
+
+:class:`Dynamic` is built once per model and time step: it factorises the blocks' effective
+matrix K̂ and builds the Delassus operator W, and then runs any number of records (a
+record is an argument of :meth:`Dynamic.run`, not of the constructor). Its parts, each with
+one job:
+
+- the time integrator (:class:`~pfeie.dynamics.Newmark`: Newmark, HHT-α; predictor and
+  corrector, knows nothing of pairs);
+- the one-step interface problem (:class:`pfeie.coupling.InterfaceStep`: predictor →
+  interface solve → corrector);
+- the excitation of a run (:class:`~pfeie.dynamics.Excitation`: relative or absolute
+  form);
+- corotation, optional (:class:`~pfeie.dynamics.Corotation`: body frames for large
+  rotations);
+- the contact stabilisation (:class:`~pfeie.dynamics.VelocityProjection`);
+- the recorder and the energy account (:class:`~pfeie.dynamics.Recorder`).
+
+One step from t_n to t_{n+1}:
+
+1. predictor: u_free = K̂⁻¹ P̂ (one back-substitution of the once-factorised blocks);
+2. interface: the pair forces X and states from w = w_free + s W X and the joint law;
+3. corrector: u_{n+1} = u_free + s K̂⁻¹ Gᵀ X, then v, a by Newmark;
+4. contact stabilisation: the relative velocity of the pairs closed at t_{n+1} is
+   projected to zero, mass-weighted (momentum is kept).
+
+Contact forces in time (the contact-stabilised scheme, default). The smooth forces
+(loads, elastic, damping) follow Newmark's rule, but the pair forces are taken constant
+over the step, equal to X_{n+1} (an impulse X_{n+1} Δt per step, as in the nonsmooth
+θ-method of Moreau and Jean with θ = 1). Newmark's acceleration a then holds only the
+smooth part, M a = f − K u − C v, and
+
+    u_{n+1} = ũ + β Δt² a_{n+1} + ½ Δt² M⁻¹ Gᵀ X,   v_{n+1} = ṽ + γ Δt a_{n+1} + Δt M⁻¹ Gᵀ X,
+
+so s = 1/(2β) (2 for the average-acceleration rule); for γ = 2β (β = 1/4, γ = 1/2) the
+velocity needs no extra term and the discrete energy balance is exact:
+
+    ΔT + ΔU + Δu·C v̄ = Δu·f̄ + X_{n+1}·Δw.
+
+The pair term is −(dissipation) ≤ 0: friction opposes the slip increment, a closing
+pair is pushed with X_n ≥ 0, an open pair carries nothing, an intact or sticking one does
+not move. So the contact cannot pump energy into impacts or rocking, which the plain rule
+(forces averaged between t_n and t_{n+1}) does. With ``stabilize=False`` the plain rule
+is used (the pair forces averaged like any load, s = 1 + α, no projection), for
+comparison and for joints with springs (V10).
+
+Commit: the step's pair state is a trial until the step is accepted; then it becomes the
+committed state of the next step (:meth:`PairState.committed`).
+"""
+
+from __future__ import annotations
+
+import logging
+import time as _time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from pydantic import ValidationError
+
+from ..coupling import InterfaceStep, PairOperator, delassus
+from ..errors import InterfaceError, ModelError
+from ..interface import OPEN, PairState
+from ..model import GroundMotion, Model
+from ..typing import FloatArray, IntArray
+from ._contact import VelocityProjection
+from ._corotation import Corotation
+from ._excitation import Excitation
+from ._newmark import Newmark, State
+from ._recorder import DynamicResult, Recorder
+from ._settings import DynamicSettings, settings_message
+
+log = logging.getLogger(__name__)
+
+
+class RunStopped(Exception):
+    """Raised by a run callback to stop the run cleanly (e.g. on Ctrl-C); the run
+    returns what it has computed, with ``completed = False``."""
+
+
+@dataclass
+class StepState:
+    """Everything the next step needs: the kinematic state and the committed pairs."""
+
+    kin: State
+    pairs: PairState
+    step: int = 0
+    v_raw: FloatArray | None = None  # velocity before the contact projection
+
+
+class Dynamic:
+    """A PFE/IE dynamic analysis of a model with (or without) interfaces.
+
+    Parameters
+    ----------
+    model: the model (blocks, interfaces, supports, loads).
+    dt: time step (s); K̂ is factorised once for it.
+    settings: a :class:`DynamicSettings`; or its fields as keywords (``beta``, ``gamma``,
+        ``alpha`` for Newmark / HHT-α, ``stabilize``, ``large_rotation``, ``tolerance``,
+        ``backend``): every option and its default is documented there.
+
+    Example
+    -------
+    A block on a horizontal joint (μ = 0.2) under a base acceleration of 0.5 g for 0.2 s
+    slides back by V²/(2gμ)(1 − μ/A) = 0.147 m (V2a of the verification cases):
+
+    >>> import numpy as np, pfeie as pf
+    >>> mesh = pf.rectangle(1.0, 1.5, 2, 3)
+    >>> _ = mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
+    >>> _ = mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
+    >>> _ = mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, False)
+    >>> mat = pf.Elastic(30e9, 0.2, 2400)
+    >>> model = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+    ...     interfaces=[pf.Interface("joint", pf.Joint(phi=np.degrees(np.arctan(0.2))))])
+    >>> model.fix("base"); model.add_gravity()
+    >>> pulse = pf.GroundMotion.from_samples([4.905, 4.905, 0.0, 0.0],
+    ...                                      time=[0.0, 0.2, 0.2 + 1e-9, 1.0])  # m/s²
+    >>> an = Dynamic(model, 0.004)                 # factorised once
+    >>> res = an.run(0.8, ground=[pulse], start=pf.solve_static(model))
+    >>> round(float(res.rigid[0, 1, 0] - res.rigid[-1, 1, 0]), 2)   # m
+    0.15
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        dt: float | None = None,
+        *,
+        settings: DynamicSettings | None = None,
+        **options: Any,
+    ) -> None:
+        base = {} if settings is None else settings.model_dump()
+        if settings is None or dt is not None or options:
+            given = {**base, **options, **({} if dt is None else {"dt": dt})}
+            try:
+                settings = DynamicSettings.model_validate(given)
+            except ValidationError as exc:
+                raise ModelError(f"Dynamic: {settings_message(exc)}") from None
+        assert settings is not None
+        self.settings = settings
+        self.model = model
+        self.system = model.system(lumped_mass=True)
+        beta, gamma, alpha = settings.newmark()
+        self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
+                          backend=settings.backend)  # fmt: skip
+        self.dt = settings.dt
+        self.stabilize = settings.stabilize
+        self.d = model.dim
+        # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
+        # their nodes take no part in the velocity projection (M⁻¹ = 0 there)
+        self.mass = np.asarray(self.system.M.diagonal(), dtype=float)
+        self.minv = np.divide(1.0, self.mass, out=np.zeros_like(self.mass),
+                              where=self.mass > 0)  # fmt: skip
+        free, pres = self.system.free, self.system.prescribed
+        self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
+        self.m = self.op.m
+        self._w_pres0 = (self.op.Gp @ self.system.prescribed_values) if pres.size else np.zeros(
+            self.op.G.shape[0])  # fmt: skip
+        t0 = _time.perf_counter()
+        self.project: VelocityProjection | None = None
+        self.istep: InterfaceStep | None = None
+        self.corot: Corotation | None = None
+        if settings.large_rotation:
+            self.corot = Corotation(model, self.system, self.nm.factor,
+                                    self.op if self.m else None)  # fmt: skip
+        if self.m:
+            assert model.pairs is not None
+            if self.stabilize:
+                self.project = VelocityProjection(self.op, self.minv, self.mass,
+                                                  model.pairs.redundant)  # fmt: skip
+            W = (self.corot.reference_delassus() if self.corot is not None
+                 else delassus(self.nm.factor, self.op.G))  # fmt: skip
+            # stabilised: X constant over the step (weight 1/(2β)); plain: Newmark load
+            scale = 0.5 / self.nm.beta if self.stabilize else 1.0 + alpha
+            self.istep = InterfaceStep(self.op, W, model.pair_laws, scale,
+                                       settings=settings.solver(),
+                                       regularize=model.pairs.regularization)  # fmt: skip
+        self.setup_time = _time.perf_counter() - t0
+
+    @property
+    def frames(self) -> Any:
+        """The body frames (large rotations), or None."""
+        return None if self.corot is None else self.corot.frames
+
+    # -- operators of the current configuration ------------------------------------------------
+    def excitation(self, ground: Sequence[GroundMotion] = (), form: str = "relative") -> Excitation:
+        """The excitation of a run by the records ``ground`` in the given form."""
+        return Excitation(self.model, self.system, ground, form)
+
+    def w_pres(self, t: float, ex: Excitation) -> FloatArray:
+        """G_p u_p(t) (M,): the relative motion the prescribed DOFs give the pairs."""
+        if not ex.moves_supports:
+            return self._w_pres0
+        return np.asarray(self.op.Gp @ ex.prescribed(t)[0])
+
+    def _use(self, op: PairOperator) -> None:
+        """Make ``op`` the current pair operator (pair frames turned)."""
+        if op is self.op:
+            return
+        self.op = op
+        if self.project is not None:
+            self.project.update(op)
+        pres = self.system.prescribed
+        if pres.size:
+            self._w_pres0 = op.Gp @ self.system.prescribed_values
+
+    def _corotate(self, u: FloatArray) -> FloatArray:
+        """Body rotations R of the configuration u; the pair operators follow them."""
+        assert self.corot is not None
+        R = self.corot.rotations(u)
+        ops = self.corot.operators(R)
+        if ops is not None:
+            op, W, changed = ops
+            if changed:
+                self._use(op)
+                assert self.istep is not None
+                self.istep.update(op, W)
+        return R
+
+    def elastic_force(self, u: FloatArray, R: FloatArray | None = None) -> FloatArray:
+        """Elastic nodal force on the free DOFs (N): K u, or Q K₀ ũ with large rotations."""
+        if self.corot is None:
+            return np.asarray(self.system.K @ u)
+        return self.corot.elastic_force(u, R)
+
+    def damping_force(
+        self, v: FloatArray, u: FloatArray, R: FloatArray | None = None
+    ) -> FloatArray:
+        """C v, or Q C₀ Qᵀ v with large rotations (N)."""
+        C = self.system.C
+        if C is None:
+            return np.zeros_like(v)
+        if self.corot is None:
+            return np.asarray(C @ v)
+        return self.corot.damping_force(v, u, R)
+
+    def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
+        """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
+        if self.corot is not None:
+            return self.corot.strain_energy(u, R)
+        return 0.5 * float(u @ (self.system.K @ u))
+
+    def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
+        """Rigid motion of every body (n_bodies, r): centroid translation (m) and
+        rotation (rad); with large rotations the rotation of the body frames R."""
+        q = self.model.rigid_motion(u_full)
+        if self.corot is not None and self.corot.frames.n and R is not None:
+            fr = self.corot.frames
+            q[fr.bodies, self.d :] = fr.angles(R).reshape(fr.n, -1)
+        return q
+
+    # -- start ---------------------------------------------------------------------------------
+    def initial(
+        self,
+        static: object | None = None,
+        t0: float = 0.0,
+        *,
+        u0: FloatArray | None = None,
+        v0: FloatArray | None = None,
+        ground: Sequence[GroundMotion] = (),
+        form: str = "relative",
+    ) -> StepState:
+        """The start of a run: from a static result (which the run keeps exactly when
+        there is no excitation), or from given nodal displacements ``u0`` and velocities
+        ``v0`` ((n_points, d) arrays, default zero; e.g. a bar moving towards a wall). Pairs
+        of broken joints whose gap is positive start open. ``ground`` and ``form`` give
+        the excitation at t0 (the initial acceleration)."""
+        return self._initial(self.excitation(ground, form), static, t0, u0=u0, v0=v0)
+
+    def _initial(
+        self, ex: Excitation, static: object | None, t0: float = 0.0, *,
+        u0: FloatArray | None = None, v0: FloatArray | None = None,
+    ) -> StepState:  # fmt: skip
+        d, m = self.d, self.m
+        n = self.system.n
+        free = self.system.free
+        laws = self.model.pair_laws if m else None
+        if static is not None:
+            u = np.asarray(static.u).ravel()[free]  # type: ignore[attr-defined]
+        else:
+            u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).ravel()[free]
+        if self.corot is not None:
+            self._corotate(u)
+        ps: PairState | None
+        if static is not None:
+            ps = static.pairs.copy() if m else None  # type: ignore[attr-defined]
+        else:
+            ps = laws.initial_state(d) if laws is not None else None
+            if ps is not None and laws is not None and u0 is not None:
+                ps.w = (self.op.G @ u + self.w_pres(t0, ex)).reshape(m, d)
+                ps.s = ps.w.copy()
+                ps.s[:, -1] += laws.gap
+                ps.state[ps.broken & (ps.s[:, -1] > 0)] = OPEN
+        if ps is None:
+            ps = PairState.empty(d)
+        f_ext = ex.load(t0)
+        GX = self.op.G.T @ ps.X.ravel() if m else 0.0
+        # smooth acceleration (stabilised) or total (plain rule)
+        f = f_ext if self.stabilize else f_ext + GX
+        v = np.zeros(n) if v0 is None else np.asarray(v0, dtype=float).ravel()[free]
+        if self.system.C is not None:
+            f = f - self.damping_force(v, u)
+        a = self.minv * (f - self.elastic_force(u))
+        return StepState(State(t0, u, v, a, f), ps, 0)
+
+    # -- one step ------------------------------------------------------------------------------
+    def step(self, cur: StepState, ex: Excitation | None = None) -> tuple[StepState, float]:
+        """One step; returns the next state (the committed pair state of the next step)
+        and the kinetic energy removed by the stabilisation (J)."""
+        ex = self.excitation() if ex is None else ex
+        kin = cur.kin
+        t1 = kin.t + self.dt
+        f_ext = ex.load(t1)
+        m, d = self.m, self.d
+        prev = cur.pairs
+        if self.corot is None:
+            u_free = self.nm.predict(kin, f_ext)
+        else:
+            # the frames of the step: those of the configuration Newmark's explicit part
+            # predicts for t_{n+1}, so that the elastic force at t_{n+1} is taken in frames
+            # close to its own (frames held at t_n would make the step first order)
+            dt = self.dt
+            R = self._corotate(kin.u + dt * kin.v + (0.5 - self.nm.beta) * dt**2 * kin.a)
+            u_free = kin.u + self.corot.rotated_solve(self._increment_load(kin, f_ext, R), R)
+            if m and (self.corot.a_body >= 0).any():
+                # the committed relative motion, seen in the turned frames
+                laws = self.model.pair_laws
+                prev = cur.pairs.copy()
+                prev.w = (self.op.G @ kin.u + self.w_pres(kin.t, ex)).reshape(m, d)
+                prev.s = prev.w + laws.compliance * prev.X
+                prev.s[:, -1] += laws.gap
+        if not m:
+            new = self.nm.advance(kin, u_free, f_ext)
+            return StepState(new, cur.pairs, cur.step + 1), 0.0
+        assert self.istep is not None
+        sol = self.istep.solve(u_free, self.w_pres(t1, ex), prev,
+                               label=f"step {cur.step + 1} (t = {t1:.6g} s)")  # fmt: skip
+        trial = sol.pairs.committed(prev)
+        u = u_free + sol.du
+        GX = self.op.G.T @ trial.X.ravel()
+        lost = 0.0
+        if self.stabilize:
+            assert self.project is not None
+            new = self.nm.advance(kin, u, f_ext)
+            scale = self.istep.scale
+            impulse = self.minv * GX
+            new.a = new.a - scale * impulse
+            extra = 1.0 - self.nm.gamma * scale
+            if extra:
+                new.v = new.v + self.dt * extra * impulse
+            mass = self.mass
+            v_raw = new.v.copy()
+            ke0 = 0.5 * float(new.v @ (mass * new.v))
+            vp = self.op.Gp @ ex.prescribed(t1)[1] if ex.moves_supports else None
+            new.v, _ = self.project(new.v, trial, vp)
+            lost = ke0 - 0.5 * float(new.v @ (mass * new.v))
+        else:
+            new = self.nm.advance(kin, u, f_ext + GX)
+            v_raw = None
+        return StepState(new, trial, cur.step + 1, v_raw), lost
+
+    def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
+        """Right-hand side of the corotational step (see :mod:`._corotation`)."""
+        _, _, a2, a3, a4, a5 = self.nm.c
+        r = f_ext - self.elastic_force(kin.u, R) + self.mass * (a2 * kin.v + a3 * kin.a)
+        if self.system.C is not None:
+            r = r + self.damping_force(a4 * kin.v + a5 * kin.a, kin.u, R)
+        return r
+
+    # -- run -----------------------------------------------------------------------------------
+    def run(
+        self,
+        duration: float | None = None,
+        *,
+        n_steps: int | None = None,
+        ground: Sequence[GroundMotion] = (),
+        form: str = "relative",
+        start: StepState | object | None = None,
+        probes: Sequence[int] | IntArray = (),
+        every: int = 1,
+        callback: Callable[[StepState], None] | None = None,
+        on_record: Callable[[dict[str, Any]], None] | None = None,
+    ) -> DynamicResult:
+        """Integrate over ``duration`` (s) or ``n_steps`` steps under the records
+        ``ground`` (relative or absolute ``form``), recording every ``every`` steps.
+        ``start`` is a :class:`StepState`, a static result or None. ``on_record``
+        receives every recorded row (probe, rigid, pair and energy values, and the full
+        nodal u, v, a), e.g. to stream them to a results file.
+
+        If a step fails (the interface problem does not converge), the histories up to
+        the last completed step are returned with ``completed = False`` and the error is
+        logged; nothing computed is lost.
+        """
+        if (duration is None) == (n_steps is None):
+            raise ModelError("give either duration or n_steps")
+        try:
+            n = int(n_steps) if n_steps is not None else self.settings.steps(float(duration or 0))
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+        if n < 0:
+            raise ModelError(f"n_steps must be >= 0, got {n}")
+        if not every >= 1:
+            raise ModelError(f"every must be >= 1, got {every}")
+        ex = self.excitation(ground, form)
+        cur = start if isinstance(start, StepState) else self._initial(ex, start)
+        m, d = self.m, self.d
+        probes = np.asarray(probes, dtype=np.int64)
+        rec = Recorder(self, ex, probes, n // every + 2, on_record)  # a spare row for a stop
+        iters = np.zeros(n + 1, dtype=np.int32)
+        if m and start is not None and not isinstance(start, StepState):
+            cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
+        rec.record(0, cur)
+        t_wall = _time.perf_counter()
+        completed = True
+        reason: str | None = None
+        j = 0
+        for i in range(1, n + 1):
+            try:
+                nxt, lost = self.step(cur, ex)
+            except InterfaceError as exc:
+                log.error("run stopped: %s", exc)
+                completed, reason = False, str(exc)
+                break
+            rec.account.add_step(cur, nxt, lost)
+            if m and self.istep is not None:
+                iters[i] = self.istep.iterations
+            cur = nxt
+            if i % every == 0:
+                j = i // every
+                rec.record(j, cur)
+            if callback is not None:
+                try:
+                    callback(cur)
+                except RunStopped as exc:
+                    log.warning("run stopped at step %d (t = %.4g s): %s", i, cur.kin.t, exc)
+                    completed, reason = False, f"stopped: {exc}"
+                    if i % every:
+                        j += 1
+                        rec.record(j, cur)
+                    break
+        wall = _time.perf_counter() - t_wall
+        return rec.result(j + 1, cur, iters, wall, completed, reason)
+
+
+__all__ = ["Dynamic", "RunStopped", "StepState"]

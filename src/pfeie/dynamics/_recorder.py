@@ -1,0 +1,214 @@
+"""Recording a run: time histories, the energy account, and the result.
+
+Energy (J), accumulated over the run (method.md §8):
+
+    kinetic + strain + damping + interface + impact = external_work (+ initial energy),
+
+- ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
+  includes the work of the moving base through the joints);
+- ``damping``: Σ Δu·C v̄ (with the velocities before the contact projection, for which
+  Newmark's equilibrium holds);
+- ``interface``: −Σ X·Δw, the work dissipated at the pairs (friction, contact); the
+  contact-stabilised step uses X_{n+1} (pair forces constant over the step), the plain
+  rule the step average of X;
+- ``impact``: the kinetic energy removed by the velocity projection;
+- ``balance``: the residual of the equation above (zero to round-off with the average
+  acceleration rule).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..typing import FloatArray, IntArray
+from ._excitation import Excitation
+
+if TYPE_CHECKING:
+    from ._driver import Dynamic, StepState
+
+ENERGY_TERMS = ("kinetic", "strain", "external_work", "damping", "interface", "impact")
+
+
+@dataclass
+class DynamicResult:
+    """Time histories of a PFE/IE run.
+
+    Arrays have time first. ``probe_u``, ``probe_v``, ``probe_a`` (n_t, k, d): motion of
+    the probe nodes relative to the ground (m, m/s, m/s²); ``probe_a_abs`` absolute
+    accelerations. ``rigid`` (n_t, n_bodies, r): centroid translation (m) and rotation
+    (rad) of every body. Pair histories (n_t, m, d) in the local frames (t…, n):
+    ``X`` forces on side b (N, normal + in compression), ``w`` relative displacements
+    (m, normal + opening), ``s`` slip and gap; ``state`` (n_t, m) codes 0 intact,
+    1 stick, 2 slide, 3 open; ``broken`` (n_t, m). ``energy``: kinetic, strain,
+    external_work, damping, interface, impact (J) and ``balance`` (their residual).
+    """
+
+    t: FloatArray
+    probes: IntArray
+    probe_u: FloatArray
+    probe_v: FloatArray
+    probe_a: FloatArray
+    probe_a_abs: FloatArray
+    rigid: FloatArray
+    X: FloatArray
+    w: FloatArray
+    s: FloatArray
+    state: np.ndarray
+    broken: np.ndarray
+    energy: dict[str, FloatArray] = field(default_factory=dict)
+    final: StepState | None = None
+    iterations: np.ndarray | None = None
+    wall_time: float = 0.0
+    completed: bool = True
+    pair_area: FloatArray = field(default_factory=lambda: np.zeros(0))
+    stop_reason: str | None = None
+
+    @property
+    def normal_stress(self) -> FloatArray:
+        """Joint normal stress σ = X_n/A (n_t, m), Pa, compression positive."""
+        return self.X[:, :, -1] / self.pair_area
+
+    @property
+    def shear_stress(self) -> FloatArray:
+        """Joint shear stress τ = X_t/A (n_t, m, d − 1), Pa, local tangent axes."""
+        return self.X[:, :, :-1] / self.pair_area[None, :, None]
+
+    @property
+    def opening(self) -> FloatArray:
+        """Joint opening max(s_n, 0) (n_t, m), m."""
+        return np.maximum(self.s[:, :, -1], 0.0)
+
+    @property
+    def slip(self) -> FloatArray:
+        """Joint slip since the start of the run, s_t − s_t(0) (n_t, m, d − 1), m."""
+        return self.s[:, :, :-1] - self.s[:1, :, :-1]
+
+
+class EnergyAccount:
+    """The running sums of the energy terms (see the module docstring)."""
+
+    def __init__(self, an: Dynamic, excitation: Excitation) -> None:
+        self.an, self.ex = an, excitation
+        self.acc = dict.fromkeys(ENERGY_TERMS[2:], 0.0)
+
+    def add_step(self, cur: StepState, nxt: StepState, lost: float) -> None:
+        """Add the work of the step cur → nxt; ``lost`` is the projection's kinetic loss."""
+        an, acc = self.an, self.acc
+        plain = bool(an.m) and not an.stabilize
+        G = an.op.G
+        du = nxt.kin.u - cur.kin.u
+        f0 = cur.kin.f - (G.T @ cur.pairs.X.ravel() if plain else 0.0)
+        f1 = nxt.kin.f - (G.T @ nxt.pairs.X.ravel() if plain else 0.0)
+        acc["external_work"] += 0.5 * float(du @ (f0 + f1))
+        if an.system.C is not None:
+            # Newmark's equilibrium holds with the velocities before the projection
+            acc["damping"] += 0.5 * float(du @ an.damping_force(_raw(cur) + _raw(nxt), cur.kin.u))
+        if an.m:
+            m, d = an.m, an.d
+            dw = (G @ du).reshape(m, d)
+            Xw = nxt.pairs.X if an.stabilize else 0.5 * (cur.pairs.X + nxt.pairs.X)
+            if self.ex.form == "absolute" and self.ex.ground:
+                # the moving base works on the blocks through the joints
+                dwp = (an.w_pres(nxt.kin.t, self.ex) - an.w_pres(cur.kin.t, self.ex)).reshape(m, d)
+                acc["external_work"] -= float(np.sum(Xw * dwp))
+                dw = dw + dwp
+            acc["interface"] -= float(np.sum(Xw * dw))
+            acc["impact"] += lost
+
+
+def _raw(st: StepState) -> FloatArray:
+    return st.kin.v if st.v_raw is None else st.v_raw
+
+
+class Recorder:
+    """Histories of a run at ``n_out`` instants: probes, rigid motions, pairs, energy."""
+
+    def __init__(
+        self, an: Dynamic, excitation: Excitation, probes: IntArray, n_out: int,
+        on_record: Callable[[dict[str, Any]], None] | None = None,
+    ) -> None:  # fmt: skip
+        self.an, self.ex, self.probes, self.on_record = an, excitation, probes, on_record
+        model, d, m = an.model, an.d, an.m
+        r = 3 if d == 2 else 6
+        self.t = np.zeros(n_out)
+        self.pu, self.pv, self.pa, self.paa = (np.zeros((n_out, probes.size, d)) for _ in range(4))
+        self.rigid = np.zeros((n_out, model.n_bodies, r))
+        self.X, self.w, self.s = (np.zeros((n_out, m, d)) for _ in range(3))
+        self.state = np.zeros((n_out, m), dtype=np.int8)
+        self.broken = np.zeros((n_out, m), dtype=bool)
+        self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
+        self.account = EnergyAccount(an, excitation)
+
+    def record(self, i: int, st: StepState) -> None:
+        """Row i of the histories from the state ``st``."""
+        an, ex, probes, d, m = self.an, self.ex, self.probes, self.an.d, self.an.m
+        system = an.system
+        k = st.kin
+        self.t[i] = k.t
+        full_u = system.expand(k.u)
+        full_v = system.expand(k.v, prescribed=False)
+        full_a = system.expand(k.a, prescribed=False)
+        if ex.form == "absolute":
+            pres = system.prescribed
+            full_u[pres], full_v[pres], full_a[pres] = ex.prescribed(k.t)
+        U = full_u.reshape(-1, d)
+        self.pu[i] = U[probes]
+        self.pv[i] = full_v.reshape(-1, d)[probes]
+        pair_a = None
+        if an.stabilize and m:  # a holds the smooth part; add the pair forces
+            pair_a = system.expand(an.minv * (an.op.G.T @ st.pairs.X.ravel()), prescribed=False)
+        A = full_a.reshape(-1, d)[probes]
+        if pair_a is not None:
+            A = A + pair_a.reshape(-1, d)[probes]
+        self.pa[i] = A
+        self.paa[i] = A + ex.ground_acceleration(k.t) if ex.form == "relative" else A
+        R = an.corot.rotations(k.u) if an.corot is not None else None
+        self.rigid[i] = an.rigid(full_u, R)
+        if m:
+            self.X[i], self.w[i], self.s[i] = st.pairs.X, st.pairs.w, st.pairs.s
+            self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
+        E = self.E
+        E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
+        E["strain"][i] = an.strain_energy(k.u, R)
+        for key in ENERGY_TERMS[2:]:
+            E[key][i] = self.account.acc[key]
+        if self.on_record is not None:
+            full_a_out = full_a if pair_a is None else full_a + pair_a
+            e_row = {key: float(E[key][i]) for key in ENERGY_TERMS}
+            e_row["balance"] = (
+                sum(e_row[key] for key in ENERGY_TERMS if key != "external_work")
+                - E["kinetic"][0]
+                - E["strain"][0]
+                - e_row["external_work"]
+            )
+            self.on_record({
+                "t": k.t, "probe_u": self.pu[i], "probe_v": self.pv[i], "probe_a": self.pa[i],
+                "probe_a_abs": self.paa[i], "rigid": self.rigid[i], "X": st.pairs.X,
+                "w": st.pairs.w, "s": st.pairs.s, "state": st.pairs.state,
+                "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
+                "a": full_a_out.reshape(-1, d),
+            })  # fmt: skip
+
+    def result(
+        self, rows: int, final: StepState, iterations: np.ndarray, wall: float,
+        completed: bool, reason: str | None,
+    ) -> DynamicResult:  # fmt: skip
+        """The histories of the first ``rows`` rows."""
+        keep = slice(0, rows)
+        E = self.E
+        tot = E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
+        E["balance"] = tot - (E["kinetic"][0] + E["strain"][0]) - E["external_work"]
+        P = self.an.model.pairs
+        return DynamicResult(
+            self.t[keep], self.probes, self.pu[keep], self.pv[keep], self.pa[keep],
+            self.paa[keep], self.rigid[keep], self.X[keep], self.w[keep], self.s[keep],
+            self.state[keep], self.broken[keep], {k: v[keep] for k, v in E.items()}, final,
+            iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
+        )  # fmt: skip
+
+
+__all__ = ["DynamicResult", "EnergyAccount", "Recorder"]

@@ -1,0 +1,258 @@
+"""Joint laws: the strength of the pairs of an interface (method.md §4).
+
+A joint law is a class behind the :class:`JointLaw` protocol. The interface solver never
+sees a law class: it asks the :class:`PairLaws` of the model, which gathers the laws of
+all interfaces into per-pair arrays, for the *strength* of every pair in its current
+state (intact or broken, and the slip path so far):
+
+    τ_max = c A + μ X_n        (shear, X_n the normal force, compression positive)
+    X_n ≥ −σ_t A               (tension cut-off)
+
+with (c, μ, σ_t) the intact values until the pair breaks and the residual values after.
+States, breaking and the friction cone are the solver's; *how strong* a pair is belongs to
+its law. A new law is a new class with a ``strength`` method (and the contact data that
+every law has: initial state, joint stiffness, initial gap); neither the solver nor the
+time stepping changes.
+
+Laws shipped:
+
+- :class:`MohrCoulomb` (alias :class:`Joint`): cohesion, friction and tensile strength,
+  residual values after breaking;
+- :class:`SlipWeakening`: as Mohr-Coulomb, with the friction coefficient of a broken
+  pair falling linearly from its peak tan φ to its residual tan φ_r over a slip distance
+  D_c (Ida 1972; Andrews 1976),
+
+      μ(δ) = μ_r + (μ_p − μ_r) max(0, 1 − δ/D_c),
+
+  δ the slip path (m). The strength of a step is evaluated at the committed path of its
+  start (explicit in δ; first order in Δt).
+
+Units: SI (Pa, m, N), angles in degrees.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..errors import ModelError
+from ..typing import BoolArray, FloatArray, IntArray
+from ._state import PairState
+
+
+@dataclass(frozen=True)
+class Strength:
+    """Strength of each pair (m,): cohesion force c A (N), friction coefficient μ and
+    tensile force σ_t A (N)."""
+
+    cohesion: FloatArray
+    friction: FloatArray
+    tension: FloatArray
+
+
+@runtime_checkable
+class JointLaw(Protocol):
+    """What the analysis needs from a joint law (see the module docstring)."""
+
+    @property
+    def initial(self) -> str:
+        """'intact' (bonded until its strength is exceeded) or 'broken'."""
+        ...
+
+    @property
+    def kn(self) -> float | None:
+        """Normal stiffness of a weak layer (Pa/m), None for a rigid contact."""
+        ...
+
+    @property
+    def ks(self) -> float | None:
+        """Shear stiffness of a weak layer (Pa/m), None for a rigid contact."""
+        ...
+
+    @property
+    def gap(self) -> float:
+        """Initial normal gap (m)."""
+        ...
+
+    def strength(self, area: FloatArray, broken: BoolArray, path: FloatArray) -> Strength:
+        """Strength of pairs of tributary area ``area`` (m²), broken flags ``broken`` and
+        slip paths ``path`` (m), all (k,)."""
+        ...
+
+
+@dataclass(frozen=True)
+class MohrCoulomb:
+    """Mohr-Coulomb joint with a tension cut-off and residual strength.
+
+    Parameters (SI; angles in degrees):
+
+    - ``c`` cohesion (Pa), ``phi`` friction angle, ``tensile`` tensile strength σ_t (Pa):
+      the strength of an intact (bonded) pair;
+    - ``c_r``, ``phi_r``, ``tensile_r``: residual values once broken (defaults 0, ``phi``,
+      0); an existing joint (``initial="broken"``) has only these;
+    - ``initial``: "intact" (bonded until its strength is exceeded) or "broken";
+    - ``kn``, ``ks``: optional normal and shear stiffness (Pa/m) of a weak layer; None
+      means a rigid contact (no spring, no penetration);
+    - ``gap``: initial normal gap (m) of an existing (broken) joint: its pairs start open
+      and close when the gap is used up (e.g. a bar moving towards a wall).
+
+    Stresses are X/A with X the force on side b, normal positive in compression. An
+    intact pair breaks when σ < −σ_t (opens) or |τ| > c + σ tan φ (slides).
+
+    >>> law = MohrCoulomb(c=1e5, phi=45.0, initial="intact")
+    >>> st = law.strength(np.array([2.0]), np.array([False]), np.zeros(1))
+    >>> float(st.cohesion[0]), round(float(st.friction[0]), 12)   # N, -
+    (200000.0, 1.0)
+    >>> Joint(phi=30.0).mu_r
+    0.5773502691896257
+    """
+
+    c: float = 0.0
+    phi: float = 30.0
+    tensile: float = 0.0
+    c_r: float = 0.0
+    phi_r: float | None = None
+    tensile_r: float = 0.0
+    initial: str = "broken"
+    kn: float | None = None
+    ks: float | None = None
+    gap: float = 0.0
+
+    def __post_init__(self) -> None:
+        for key in ("c", "tensile", "c_r", "tensile_r"):
+            if not getattr(self, key) >= 0:
+                raise ModelError(f"joint {key} must be >= 0 Pa, got {getattr(self, key)}")
+        for key in ("phi", "phi_r"):
+            val = getattr(self, key)
+            if val is not None and not 0 <= val < 90:
+                raise ModelError(f"joint {key} must lie in [0, 90) degrees, got {val}")
+        if self.initial not in ("intact", "broken"):
+            raise ModelError(f"joint initial must be 'intact' or 'broken', got {self.initial!r}")
+        for key in ("kn", "ks"):
+            val = getattr(self, key)
+            if val is not None and not val > 0:
+                raise ModelError(f"joint {key} must be > 0 Pa/m or None, got {val}")
+        if not self.gap >= 0:
+            raise ModelError(f"joint gap must be >= 0 m, got {self.gap}")
+        if self.gap > 0 and self.initial == "intact":
+            raise ModelError("an intact (bonded) joint cannot start with a gap")
+
+    @property
+    def mu(self) -> float:
+        """Friction coefficient of the intact joint, tan φ."""
+        return float(np.tan(np.radians(self.phi)))
+
+    @property
+    def mu_r(self) -> float:
+        """Residual friction coefficient, tan φ_r."""
+        return float(np.tan(np.radians(self.phi if self.phi_r is None else self.phi_r)))
+
+    def residual_friction(self, path: FloatArray) -> FloatArray:
+        """Friction coefficient of broken pairs with slip path ``path`` (m): μ_r."""
+        return np.full(path.shape, self.mu_r)
+
+    def strength(self, area: FloatArray, broken: BoolArray, path: FloatArray) -> Strength:
+        """(c A, μ, σ_t A) of each pair for its broken flag (N, -, N)."""
+        c = np.where(broken, self.c_r, self.c) * area
+        mu = np.where(broken, self.residual_friction(path), self.mu)
+        t = np.where(broken, self.tensile_r, self.tensile) * area
+        return Strength(c, mu, t)
+
+
+Joint = MohrCoulomb
+"""The default joint law: Mohr-Coulomb with a tension cut-off (:class:`MohrCoulomb`)."""
+
+
+@dataclass(frozen=True)
+class SlipWeakening(MohrCoulomb):
+    """Linear slip-weakening friction (Ida 1972; Andrews 1976).
+
+    As :class:`MohrCoulomb`, except that the friction coefficient of a broken pair falls
+    from its peak μ_p = tan ``phi`` to its residual μ_r = tan ``phi_r`` over the slip
+    distance ``dc`` (m):
+
+        μ(δ) = μ_r + (μ_p − μ_r) max(0, 1 − δ/D_c),
+
+    δ the slip path of the pair (m). An intact pair breaks on the peak strength, as a
+    Mohr-Coulomb pair, then weakens as it slips.
+
+    >>> law = SlipWeakening(phi=40.0, phi_r=30.0, dc=0.01)
+    >>> mu = law.residual_friction(np.array([0.0, 0.005, 0.02]))
+    >>> [round(float(x), 4) for x in mu]     # tan 40°, halfway, tan 30°
+    [0.8391, 0.7082, 0.5774]
+    """
+
+    dc: float = 0.01
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not (np.isfinite(self.dc) and self.dc > 0):
+            raise ModelError(f"slip-weakening distance dc must be > 0 m, got {self.dc}")
+        if self.phi_r is None:
+            raise ModelError("slip weakening needs a residual friction angle phi_r")
+
+    def residual_friction(self, path: FloatArray) -> FloatArray:
+        mu_p, mu_r = self.mu, self.mu_r
+        return np.asarray(mu_r + (mu_p - mu_r) * np.maximum(0.0, 1.0 - path / self.dc))
+
+
+@dataclass(frozen=True)
+class PairLaws:
+    """The laws of all pairs of a model as per-pair arrays (what the solver sees).
+
+    ``area`` (m,) tributary area (m², × thickness in 2D); ``compliance`` (m, d) joint
+    compliance 1/(k A) in m/N (0 for rigid contact); ``gap`` (m,) initial gap (m);
+    ``initially_broken`` (m,); ``laws`` with the pair indices ``index`` of each.
+    """
+
+    area: FloatArray
+    compliance: FloatArray
+    gap: FloatArray
+    initially_broken: BoolArray
+    laws: tuple[JointLaw, ...]
+    index: tuple[IntArray, ...]
+
+    @classmethod
+    def from_interfaces(
+        cls, area: FloatArray, interface: IntArray, laws: Sequence[JointLaw], dim: int
+    ) -> PairLaws:
+        """Per-pair arrays from the law of each interface (``interface`` (m,) indexes
+        ``laws``)."""
+        for law in laws:
+            if not isinstance(law, JointLaw):
+                raise ModelError(f"{law!r} is not a joint law (see pfeie.interface.JointLaw)")
+        index = tuple(np.flatnonzero(interface == i) for i in range(len(laws)))
+
+        def col(values: list[float]) -> FloatArray:
+            return np.asarray(values, dtype=float)[interface]
+
+        m = area.size
+        comp = np.zeros((m, dim))
+        kn = col([0.0 if jt.kn is None else 1.0 / jt.kn for jt in laws])
+        ks = col([0.0 if jt.ks is None else 1.0 / jt.ks for jt in laws])
+        comp[:, -1] = kn / area
+        comp[:, :-1] = (ks / area)[:, None]
+        broken = col([float(jt.initial == "broken") for jt in laws]).astype(bool)
+        return cls(area, comp, col([jt.gap for jt in laws]), broken, tuple(laws), index)
+
+    @property
+    def n(self) -> int:
+        return int(self.area.size)
+
+    def strength(self, broken: BoolArray, path: FloatArray) -> tuple[FloatArray, ...]:
+        """(c A, μ, σ_t A) of every pair for the broken flags and slip paths given."""
+        c, mu, t = np.zeros(self.n), np.zeros(self.n), np.zeros(self.n)
+        for law, idx in zip(self.laws, self.index, strict=True):
+            st = law.strength(self.area[idx], broken[idx], path[idx])
+            c[idx], mu[idx], t[idx] = st.cohesion, st.friction, st.tension
+        return c, mu, t
+
+    def initial_state(self, dim: int) -> PairState:
+        """Pairs before any load (see :meth:`PairState.initial`)."""
+        return PairState.initial(self.initially_broken, self.gap, dim)
+
+
+__all__ = ["Joint", "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening", "Strength"]
