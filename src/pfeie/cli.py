@@ -133,8 +133,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from .verification import run
-    from .verification._manual import write_manual
+    from .verification import run, write_manual
 
     try:
         results = run(fast=args.fast, names=args.case)

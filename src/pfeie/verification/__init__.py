@@ -10,5 +10,6 @@ manual run the same code.
 """
 
 from ._core import CASES, CaseResult, Check, Series, run
+from ._manual import write_manual
 
-__all__ = ["CASES", "CaseResult", "Check", "Series", "run"]
+__all__ = ["CASES", "CaseResult", "Check", "Series", "run", "write_manual"]
