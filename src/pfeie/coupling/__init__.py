@@ -2,8 +2,9 @@
 
 - :class:`PairOperator` (and :func:`relative_operator`): G, block displacements → pair
   relative displacements, on the free and prescribed DOFs, and its body-frame variant;
-- :func:`delassus`: the Delassus operator W = G K̂⁻¹ Gᵀ (dense, matrix-free, or
-  gathered from a :class:`NodalFlexibility`), built once from one multi-RHS solve;
+- :func:`delassus`: the Delassus operator W = G K̂⁻¹ Gᵀ (dense, matrix-free, per joint
+  with compressed couplings, or gathered from a :class:`NodalFlexibility`), built once
+  from one multi-RHS solve;
 - :class:`StaticInterfaceProblem`: the static problem with the rigid unknowns of
   floating blocks (method.md §5.2);
 - :class:`InterfaceStep`: the one-step problem, predictor → interface solve → corrector,
@@ -14,6 +15,7 @@ solvers, dynamics → io, plot → the command line.
 """
 
 from ._delassus import (
+    BlockDelassus,
     Delassus,
     DenseDelassus,
     GatheredDelassus,
@@ -26,7 +28,7 @@ from ._static import StaticInterfaceProblem, floating_modes, pins
 from ._step import InterfaceStep, StepSolution
 
 __all__ = [
-    "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep", "MatrixFreeDelassus",
+    "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep", "MatrixFreeDelassus",
     "NodalFlexibility", "PairOperator", "StaticInterfaceProblem", "StepSolution", "delassus",
     "floating_modes", "pins", "relative_operator",
 ]  # fmt: skip

@@ -16,6 +16,10 @@ Storage strategies, behind the :class:`Delassus` protocol:
   about n·M or nnz(L) numbers);
 - :class:`MatrixFreeDelassus`: Z kept, W never stored: W X = G (Z X); the dense W is
   formed only on request;
+- :class:`BlockDelassus`: W stored per joint: the diagonal block of each joint dense, the
+  coupling of two joints as a truncated SVD (kept singular values above ``rank_tol`` of
+  the largest), exact to that tolerance; the interaction of distant joints through an
+  elastic body is smooth, so it compresses;
 - :class:`GatheredDelassus`: W gathered from a stored nodal flexibility (the pair nodes'
   block of K̂⁻¹) for pair frames that change, with no new solve (large rotations).
 
@@ -127,6 +131,52 @@ class MatrixFreeDelassus:
 
 
 @dataclass
+class BlockDelassus:
+    """W per joint (see the module docstring): ``parts`` (M,) labels each component with
+    its joint; ``blocks[(i, i)]`` dense, ``blocks[(i, j)]`` (i < j) the pair (U S, V) of the
+    truncated SVD W_ij ≈ (U S) Vᵀ; the corrector by a back-substitution."""
+
+    index: list[np.ndarray]
+    diag: list[FloatArray]
+    coupling: dict[tuple[int, int], tuple[FloatArray, FloatArray]]
+    factor: Factorization
+    G: sp.csr_matrix
+
+    @property
+    def size(self) -> int:
+        return int(self.G.shape[0])
+
+    @property
+    def stored(self) -> int:
+        """Number of stored floats (against M² for the dense W)."""
+        return sum(b.size for b in self.diag) + sum(a.size + b.size for a, b in
+                                                    self.coupling.values())  # fmt: skip
+
+    def matrix(self) -> FloatArray:
+        W = np.zeros((self.size, self.size))
+        for idx, B in zip(self.index, self.diag, strict=True):
+            W[np.ix_(idx, idx)] = B
+        for (i, j), (US, V) in self.coupling.items():
+            Wij = US @ V.T
+            W[np.ix_(self.index[i], self.index[j])] = Wij
+            W[np.ix_(self.index[j], self.index[i])] = Wij.T
+        return W
+
+    def apply(self, X: FloatArray) -> FloatArray:
+        out = np.zeros((self.size, *X.shape[1:]))
+        for idx, B in zip(self.index, self.diag, strict=True):
+            out[idx] += B @ X[idx]
+        for (i, j), (US, V) in self.coupling.items():
+            a, b = self.index[i], self.index[j]
+            out[a] += US @ (V.T @ X[b])
+            out[b] += V @ (US.T @ X[a])
+        return out
+
+    def correct(self, X: FloatArray) -> FloatArray:
+        return self.factor.solve(self.G.T @ X)
+
+
+@dataclass
 class GatheredDelassus:
     """W = G̃ F G̃ᵀ gathered from the nodal flexibility F of the pair nodes, with the
     corrector given by the caller (e.g. through rotated frames)."""
@@ -181,7 +231,7 @@ class NodalFlexibility:
         return self.factor.solve(b)
 
 
-Strategy = Literal["auto", "dense", "matrix-free"]
+Strategy = Literal["auto", "dense", "matrix-free", "blocks"]
 
 
 def delassus(
@@ -191,11 +241,14 @@ def delassus(
     strategy: Strategy = "auto",
     chunk: int = 256,
     keep: float = 1e6,
-) -> DenseDelassus | MatrixFreeDelassus:
+    parts: np.ndarray | None = None,
+    rank_tol: float = 1e-12,
+) -> DenseDelassus | MatrixFreeDelassus | BlockDelassus:
     """The Delassus operator of the pairs G (M × n) through the factor of K̂ (n × n).
 
     ``strategy``: "dense" (W stored; Z too when n·M ≤ ``keep``), "matrix-free" (Z stored,
-    W applied as G Z X), "auto" (= "dense").
+    W applied as G Z X), "blocks" (per joint, ``parts`` (M,) the joint of each component;
+    couplings compressed to ``rank_tol``), "auto" (= "dense").
 
     >>> import numpy as np, scipy.sparse as sp
     >>> from pfeie.linalg import factorize
@@ -209,6 +262,10 @@ def delassus(
     True
     """
     M, n = G.shape
+    if strategy == "blocks":
+        if parts is None:
+            raise ValueError("the 'blocks' strategy needs the joint of each component (parts)")
+        return _blocks(factor, G, np.asarray(parts), chunk, rank_tol)
     if strategy == "matrix-free":
         _, Z = _solve_columns(factor, G, chunk, True, want_w=False)
         assert Z is not None
@@ -217,7 +274,31 @@ def delassus(
     return DenseDelassus(W, Z, factor, G)
 
 
+def _blocks(
+    factor: Factorization, G: sp.csr_matrix, parts: np.ndarray, chunk: int, rank_tol: float
+) -> BlockDelassus:
+    labels = np.unique(parts)
+    index = [np.flatnonzero(parts == p) for p in labels]
+    Gt = G.T.tocsc()
+    diag: list[FloatArray] = []
+    coupling: dict[tuple[int, int], tuple[FloatArray, FloatArray]] = {}
+    scale = 0.0
+    for j, cols in enumerate(index):
+        Zj = np.hstack([factor.solve(Gt[:, cols[k : k + chunk]].toarray())
+                        for k in range(0, cols.size, chunk)])  # fmt: skip
+        Wj = np.asarray(G @ Zj)  # column block j: rows of every joint
+        B = Wj[index[j]]
+        diag.append(0.5 * (B + B.T))
+        scale = max(scale, float(np.abs(np.diag(B)).max(initial=0.0)))
+        for i in range(j):
+            U, S, Vt = np.linalg.svd(Wj[index[i]], full_matrices=False)
+            r = int((rank_tol * max(scale, S.max(initial=0.0)) < S).sum())
+            coupling[(i, j)] = (U[:, :r] * S[:r], Vt[:r].T)
+    return BlockDelassus(index, diag, coupling, factor, G)
+
+
 __all__ = [
+    "BlockDelassus",
     "Delassus", "DenseDelassus", "GatheredDelassus", "MatrixFreeDelassus", "NodalFlexibility",
     "delassus",
 ]  # fmt: skip
