@@ -17,7 +17,7 @@ import pytest
 
 from pfeie.cli import main
 from pfeie.errors import InputError, RecordError
-from pfeie.io import SPEC, Results, load_job, reference_rows
+from pfeie.io import ModelFile, Results, load_job, reference_rows
 from pfeie.io._modelfile import reference_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -101,9 +101,14 @@ def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> No
 def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--version"]) == 0
     assert "pfeie 0.1.0" in capsys.readouterr().out
-    for cmd in (["--help"], ["run", "--help"], ["check", "--help"]):
+    for cmd in (["--help"], ["run", "--help"], ["check", "--help"], ["schema", "--help"]):
         assert main(cmd) == 0
-        assert "usage: pfeie" in capsys.readouterr().out
+        out = capsys.readouterr().out
+        assert "usage: pfeie" in out
+        assert "results.npz" not in out
+    assert main(["run", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "results.h5" in out and "--set KEY=VALUE" in out and "--dt" in out
     assert main(["frobnicate"]) == 2
 
 
@@ -145,18 +150,22 @@ def test_model_file_errors(tmp_path: Path, edit, error: type, match: str) -> Non
 
 
 def test_every_key_is_documented() -> None:
-    """docs/model-file.md lists every key of the schema (it is generated from it)."""
+    """docs/model-file.md lists every key of the model file (it is generated from the
+    typed settings), each with what it expects, its default and its meaning."""
     text = (ROOT / "docs" / "model-file.md").read_text()
     rows = reference_rows()
     assert len(rows) > 40
-    missing = [k for k, _, _ in rows if f"`{k}`" not in text]
+    missing = [r.key for r in rows if f"`{r.key}`" not in text]
     assert not missing
+    assert all(r.expected and r.default and r.meaning for r in rows)
     assert reference_markdown() in text  # regenerate with docs/make_model_file_doc.py
-    assert "analysis" in SPEC.keys
+    keys = {r.key for r in rows}
+    assert {"analysis.alpha", "analysis.backend", "interfaces.<name>.law"} <= keys
+    assert set(ModelFile.model_fields) == {r.key.split(".")[0].split("[")[0] for r in rows}
 
 
 def test_interrupted_run_keeps_its_results(tmp_path: Path) -> None:
-    """SIGINT during a run: exit code 130, and results.npz holds the steps computed so
+    """SIGINT during a run: exit code 130, and results.h5 holds the steps computed so
     far, marked as not completed."""
     proc = start_run(_write(tmp_path, SMALL, duration=400.0), wait=0.0)
     proc.send_signal(signal.SIGINT)

@@ -27,8 +27,8 @@ from typing import Any, TextIO
 import numpy as np
 
 from ._version import __version__
-from .dynamics import Dynamic, DynamicResult, RunStopped, StepState
-from .errors import PfeieError
+from .dynamics import Dynamic, DynamicResult, DynamicSettings, RunStopped, StepState
+from .errors import InputError, PfeieError
 from .interface import OPEN, SLIDE, SolverSettings
 from .io import Job, ResultsWriter, write_paraview
 from .solvers import StaticResult, solve_static
@@ -74,14 +74,14 @@ def run_job(
     """Run a validated model file; returns the results summary (also written to disk)."""
     out = job.folder
     out.mkdir(parents=True, exist_ok=True)
-    a = job.spec["analysis"]
+    a = job.analysis
     model = job.model
     static: StaticResult | None = None
     t0 = time.perf_counter()
-    writer = ResultsWriter(out / "results.h5", job, field_every=job.spec["output"]["field_every"])
+    writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     try:
-        if a["static"]:
-            static = solve_static(model, settings=SolverSettings(tolerance=a["tolerance"]))
+        if a.static:
+            static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
     except PfeieError as exc:
@@ -89,19 +89,20 @@ def run_job(
         raise
     result: DynamicResult | None = None
     stopped: str | None = None
-    if a["dynamic"]:
-        dyn = Dynamic(model, a["dt"], beta=a["beta"], gamma=a["gamma"], alpha=a["alpha"],
-                      stabilize=a["stabilize"], tolerance=a["tolerance"],
-                      large_rotation=a["large_rotation"])  # fmt: skip
-        T = job.duration if duration is None else duration
-        n = round(T / a["dt"])
+    if a.dynamic:
+        dyn = dynamic_analysis(job)
+        try:
+            n = a.steps(job.duration if duration is None else duration)
+        except ValueError as exc:
+            writer.close(False, f"invalid duration: {exc}")
+            raise InputError(f"{job.path}: duration: {exc}") from None
         flag: dict[str, str] = {}
 
         def on_signal(signum: int, _frame: Any) -> None:
             flag["why"] = signal.Signals(signum).name
 
         old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-        bar = Progress(n, a["dt"], stream) if progress else None
+        bar = Progress(n, a.dt, stream) if progress else None
 
         def callback(st: StepState) -> None:
             if bar is not None:
@@ -110,9 +111,9 @@ def run_job(
                 raise RunStopped(flag["why"])
 
         try:
-            result = dyn.run(n_steps=n, ground=job.records, form=a["form"], start=static,
-                             probes=list(job.probes.values()),
-                             every=job.spec["output"]["every"], callback=callback,
+            result = dyn.run(n_steps=n, ground=job.records, form=a.form, start=static,
+                             probes=list(job.probes.values()), every=job.output.every,
+                             callback=callback,
                              on_record=writer.append)  # fmt: skip
         finally:
             for s, h in old.items():
@@ -123,11 +124,23 @@ def run_job(
     summary["stopped"] = stopped
     summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
     writer.close(stopped is None, stopped, summary)
-    if job.spec["output"]["paraview"] and result is not None:
+    if job.output.paraview and result is not None:
         write_paraview(out / "results.h5", model, out)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str) + "\n")
     (out / "summary.txt").write_text(format_summary(summary) + "\n")
     return summary
+
+
+def dynamic_analysis(job: Job) -> Dynamic:
+    """The dynamic analysis of a job, built from the :class:`DynamicSettings` part of its
+    ``[analysis]`` table (so ``alpha`` alone runs HHT-α: β and γ are derived from it by
+    :meth:`~pfeie.dynamics.DynamicSettings.newmark` unless given). The records are the
+    run's (:func:`run_job`)."""
+    a = job.analysis
+    settings = DynamicSettings.model_validate(
+        a.model_dump(include=set(DynamicSettings.model_fields))
+    )
+    return Dynamic(job.model, settings=settings)
 
 
 def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) -> dict[str, Any]:
@@ -144,7 +157,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     probes = {}
     for k, (name, _node) in enumerate(job.probes.items()):
         u = res.probe_u[:, k]
-        if job.spec["analysis"]["form"] == "absolute":
+        if job.analysis.form == "absolute":
             base = np.array([sum((g.direction * g.motion(t)[0] for g in job.records),
                                  np.zeros(model.dim)) for t in res.t])  # fmt: skip
             u = u - base

@@ -1,5 +1,9 @@
 """The command line: ``pfeie run``, ``check``, ``plot``, ``export``, ``report``,
-``verify``, ``pfeie --version``.
+``verify``, ``schema``, ``pfeie --version``.
+
+``run`` and ``check`` take settings that override the model file's (``--duration``,
+``--dt``, ``--set KEY=VALUE``, the value parsed as TOML); they are validated by the
+same typed settings as the file, and an invalid one is an input error naming the option.
 
 Exit codes:
 
@@ -17,9 +21,13 @@ import json
 import logging
 import sys
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from ._version import __version__
 from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError
+
+if TYPE_CHECKING:
+    from .io import Override
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
@@ -38,11 +46,10 @@ def _parser() -> argparse.ArgumentParser:
         "run",
         help="run a model file (static state, then the earthquake)",
         description="Run a model file: the static state, then the dynamic "
-        "analysis; writes results.npz, summary.json and summary.txt to the "
-        "output folder. Ctrl-C stops cleanly and keeps what was computed.",
+        "analysis; writes results.h5, summary.json and summary.txt (and the ParaView "
+        "series) to the output folder. Ctrl-C stops cleanly and keeps what was computed.",
     )
     run.add_argument("model", help="model file (TOML)")
-    run.add_argument("--duration", type=float, help="override the duration (s)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     chk = sub.add_parser("check", help="validate a model file and print its summary",
                          description="Validate a model file (mesh, groups, records) and print "
@@ -50,6 +57,18 @@ def _parser() -> argparse.ArgumentParser:
                          "estimated memory.")  # fmt: skip
     chk.add_argument("model", help="model file (TOML)")
     chk.add_argument("--json", action="store_true", help="print the summary as JSON")
+    for p in (run, chk):
+        p.add_argument("--duration", metavar="T", help="duration (s), instead of "
+                       "analysis.duration (> 0)")  # fmt: skip
+        p.add_argument("--dt", metavar="DT", help="time step (s), instead of analysis.dt (> 0)")
+        p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                       dest="settings", help="override a key of the model file, the value "
+                       "in TOML (repeatable), e.g. --set analysis.alpha=-0.1")  # fmt: skip
+    sch = sub.add_parser("schema", help="write the JSON Schema of model files",
+                         description="Write the JSON Schema of model files, for editors "
+                         "(taplo, Even Better TOML: put '#:schema ./pfeie-model.schema.json' "
+                         "at the top of a model file). See docs/model-file.md.")  # fmt: skip
+    sch.add_argument("-o", "--output", metavar="FILE", help="output file (default: stdout)")
     post = {
         "plot": ("figures of a results file (PNG)", "Write the figures of a results file: "
                  "probe histories, joint slip and opening, pair-state maps, rigid motions, "
@@ -93,13 +112,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _post(args)
     if args.command == "verify":
         return _verify(args)
+    if args.command == "schema":
+        return _schema(args)
     from ._job import format_summary, run_job
     from .io import load_job
 
     try:
-        job = load_job(args.model)
+        job = load_job(args.model, _overrides(args))
     except (InputError, MeshError, RecordError) as exc:
-        print(f"pfeie: error: {exc}", file=sys.stderr)
+        for line in str(exc).splitlines():
+            print(f"pfeie: error: {line}", file=sys.stderr)
         return EXIT_INPUT
     except PfeieError as exc:
         print(f"pfeie: error: {args.model}: {exc}", file=sys.stderr)
@@ -114,7 +136,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for r in job.records:
         print(f"record: {r.summary()}", file=sys.stderr)
     try:
-        summary = run_job(job, progress=not args.quiet, duration=args.duration)
+        summary = run_job(job, progress=not args.quiet)
     except MechanismError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
         return EXIT_FAILED
@@ -129,6 +151,36 @@ def main(argv: Sequence[str] | None = None) -> int:
     if stopped:
         print(f"pfeie: analysis failed: {stopped}", file=sys.stderr)
         return EXIT_FAILED
+    return EXIT_OK
+
+
+def _overrides(args: argparse.Namespace) -> list[Override]:
+    """The settings of the command line, in the order they apply (--set last)."""
+    from .io._modelfile import Override, parse_override, parse_value
+
+    out = []
+    for opt, key in (("duration", "analysis.duration"), ("dt", "analysis.dt")):
+        text = getattr(args, opt)
+        if text is not None:
+            out.append(Override(key, parse_value(text), f"--{opt} {text}"))
+    out += [parse_override(text) for text in args.settings]
+    return out
+
+
+def _schema(args: argparse.Namespace) -> int:
+    from .io import json_schema
+
+    text = json.dumps(json_schema(), indent=2, ensure_ascii=False) + "\n"
+    if args.output is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    try:
+        with open(args.output, "w", encoding="utf-8") as fh:
+            fh.write(text)
+    except OSError as exc:
+        print(f"pfeie: error: {args.output}: {exc.strerror}", file=sys.stderr)
+        return EXIT_INPUT
+    print(args.output)
     return EXIT_OK
 
 

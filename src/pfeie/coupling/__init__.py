@@ -28,7 +28,7 @@ from ._static import StaticInterfaceProblem, floating_modes, pins
 from ._step import InterfaceStep, StepSolution
 
 __all__ = [
-    "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep", "MatrixFreeDelassus",
-    "NodalFlexibility", "PairOperator", "StaticInterfaceProblem", "StepSolution", "delassus",
-    "floating_modes", "pins", "relative_operator",
+    "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep",
+    "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "StaticInterfaceProblem",
+    "StepSolution", "delassus", "floating_modes", "pins", "relative_operator",
 ]  # fmt: skip

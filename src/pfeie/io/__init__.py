@@ -2,12 +2,21 @@
 
 from ._export import export_csv
 from ._gmsh import from_gmsh, read_mesh
-from ._modelfile import SPEC, Job, load_job, reference_rows
+from ._modelfile import (
+    Job,
+    ModelFile,
+    Override,
+    json_schema,
+    load_job,
+    read_model_file,
+    reference_rows,
+)
 from ._paraview import write_paraview
 from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
 
 __all__ = [
-    "SPEC", "Job", "Results", "ResultsWriter", "export_csv", "from_gmsh", "load_job",
-    "read_mesh", "read_record", "reference_rows", "write_at2", "write_paraview",
+    "Job", "ModelFile", "Override", "Results", "ResultsWriter", "export_csv", "from_gmsh",
+    "json_schema", "load_job", "read_mesh", "read_model_file", "read_record", "reference_rows",
+    "write_at2", "write_paraview",
 ]  # fmt: skip

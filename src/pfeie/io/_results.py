@@ -67,11 +67,14 @@ class ResultsWriter:
         model = job.model
         d = model.dim
         f = self.f
+        an = job.analysis  # the settings as run: β, γ resolved from α (HHT-α) when not given
+        settings = an.model_dump()
+        settings["beta"], settings["gamma"], settings["alpha"] = an.newmark()
         f.attrs.update(
             pfeie_version=__version__, model_file=str(job.path), model_sha256=job.digest,
-            form=job.spec["analysis"]["form"], completed=False, stop_reason="",
+            form=an.form, completed=False, stop_reason="",
             model_summary=json.dumps(job.summary(), default=str),
-            analysis=json.dumps(job.spec["analysis"]), units=json.dumps(UNITS),
+            analysis=json.dumps(settings), units=json.dumps(UNITS),
         )  # fmt: skip
         g = f.create_group("mesh")
         self._ds(g, "points", model.mesh.points, "m")
@@ -134,7 +137,10 @@ class ResultsWriter:
         chunk_rows: int = 64,
     ) -> None:  # fmt: skip
         chunk = (chunk_rows, *[max(s, 1) for s in shape])
-        g.create_dataset(name, shape=(0, *shape), maxshape=(None, *shape), dtype=dtype,
+        # an empty axis (a model without probes or pairs) is left resizable: a chunk may
+        # not exceed a fixed axis
+        maxshape = (None, *[s if s else None for s in shape])
+        g.create_dataset(name, shape=(0, *shape), maxshape=maxshape, dtype=dtype,
                          chunks=chunk)  # fmt: skip
         g[name].attrs["units"] = units
 

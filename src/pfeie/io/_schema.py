@@ -1,175 +1,608 @@
-"""A small declarative validator for TOML model files, with precise messages.
+"""The model file as typed settings: pydantic models, their messages, their reference.
 
-A :class:`Table` lists its keys as :class:`Key` (type, required, default, check, doc); a
-:class:`Named` table holds user-named sub-tables of one spec (``[materials.concrete]``);
-a :class:`Many` is an array of tables (``[[supports]]``). Validation returns plain dicts
-with defaults filled in and raises :class:`InputError` naming the file, the key path, what
-was expected and what was found. Unknown keys are errors.
+:class:`ModelFile` is the whole TOML file; each table is a frozen model that refuses
+unknown keys and non-finite numbers (``inf``, ``nan``, ``1e400``). The ``[analysis]``
+table is :class:`Analysis`, a :class:`pfeie.dynamics.DynamicSettings` (so its defaults
+are the Python API's) with the keys only a model file has (static, dynamic, duration,
+form). Three views derive from the models and from nothing else:
+
+- :func:`messages`: a pydantic ``ValidationError`` as lines that name the key path, what
+  was expected and what was found (``materials.concrete.E: expected a number, found a
+  string 'stiff'``);
+- :func:`reference_rows`: key path, expected, default and meaning of every key (the
+  table of docs/model-file.md);
+- :func:`json_schema`: the JSON Schema of a model file (for editors: taplo, Even Better
+  TOML).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
-from typing import Any
+import types
+import typing
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Annotated, Any, Literal, NamedTuple, Union
 
-from ..errors import InputError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic.fields import FieldInfo
+from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
+from pydantic_core import PydanticCustomError, core_schema
 
-Check = Callable[[Any], str | None]  # returns an error text, or None when fine
-
-
-@dataclass(frozen=True)
-class Key:
-    """One key: expected type(s), whether required, default, extra check, doc line."""
-
-    types: tuple[type, ...]
-    doc: str
-    required: bool = False
-    default: Any = None
-    check: Check | None = None
-    expect: str = ""
+from ..dynamics import DynamicSettings
 
 
 @dataclass(frozen=True)
-class Table:
-    keys: Mapping[str, Key | Table | Named | Many]
-    doc: str = ""
-    required: bool = False
+class Expect:
+    """What a value must be, in words, when the type and bounds do not say it well."""
+
+    text: str
 
 
-@dataclass(frozen=True)
-class Named:
-    """User-named sub-tables (or values) that all follow ``item``."""
+_CONFIG = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
-    item: Key | Table
-    doc: str = ""
-    required: bool = False
+Vector = Annotated[list[float], Field(min_length=2, max_length=3),
+                   Expect("an array of 2 to 3 numbers")]  # fmt: skip
+Angle = Annotated[float, Field(ge=0.0, lt=90.0), Expect("an angle in [0, 90) degrees")]
+Positive = Annotated[float, Field(gt=0.0)]
+NonNegative = Annotated[float, Field(ge=0.0)]
 
 
-@dataclass(frozen=True)
-class Many:
-    """An array of tables that all follow ``item``."""
+def _check(key: str, text: str) -> PydanticCustomError:
+    """A cross-key error of a table, reported at ``<table>.<key>``."""
+    return PydanticCustomError("pfeie_check", "{key}: {text}", {"key": key, "text": text})
 
-    item: Table
-    doc: str = ""
-    required: bool = False
-    default: list[Any] = field(default_factory=list)
+
+class _Table(BaseModel):
+    model_config = _CONFIG
+
+
+class MeshFile(_Table):
+    """``[mesh]``: the gmsh mesh."""
+
+    file: Annotated[
+        str,
+        Field(
+            description="gmsh mesh (.msh 2.2 or 4.1) whose physical groups name the blocks "
+            "(surfaces in 2D, volumes in 3D) and the interfaces and faces (curves in 2D, "
+            "surfaces in 3D)"
+        ),
+    ]
+
+
+class Material(_Table):
+    """``[materials.<name>]``: an isotropic elastic material."""
+
+    E: Annotated[Positive, Field(description="Young's modulus (Pa)")]
+    nu: Annotated[float, Field(gt=-1.0, lt=0.5, description="Poisson's ratio")]
+    rho: Annotated[NonNegative, Field(description="density (kg/m³)")]
+
+
+class Damping(_Table):
+    """``[damping]``: Rayleigh damping, by its coefficients or by a ratio at two
+    frequencies."""
+
+    alpha: Annotated[NonNegative, Field(description="Rayleigh mass coefficient α (1/s)")] = 0.0
+    beta: Annotated[NonNegative, Field(description="Rayleigh stiffness coefficient β (s)")] = 0.0
+    ratio: Annotated[
+        NonNegative | None,
+        Field(description="damping ratio ζ at the two frequencies (instead of alpha, beta)"),
+    ] = None
+    frequencies: Annotated[
+        list[float] | None, Field(min_length=2, max_length=2),
+        Expect("an array of 2 numbers"), Field(description="the two frequencies (Hz) for 'ratio'"),
+    ] = None  # fmt: skip
+
+    @model_validator(mode="after")
+    def _ratio_or_coefficients(self) -> Damping:
+        if self.ratio is not None:
+            if self.frequencies is None:
+                raise _check("frequencies", "missing (required with ratio)")
+            if self.alpha or self.beta:
+                raise _check("", "give either ratio and frequencies or alpha and beta, not both")
+        return self
+
+
+class Joint(_Table):
+    """``[interfaces.<name>]``: the joint of a physical group (Mohr-Coulomb with a
+    tension cut-off, or slip weakening)."""
+
+    friction_angle: Annotated[Angle, Field(description="friction angle φ (degrees)")]
+    cohesion: Annotated[NonNegative, Field(description="cohesion c of the intact joint (Pa)")] = 0.0
+    tensile_strength: Annotated[
+        NonNegative, Field(description="tensile strength σ_t of the intact joint (Pa)")
+    ] = 0.0
+    residual_cohesion: Annotated[NonNegative, Field(description="cohesion once broken (Pa)")] = 0.0
+    residual_friction_angle: Annotated[
+        Angle | None,
+        Field(
+            description="friction angle once broken (degrees); default: friction_angle; with "
+            "law = 'slip-weakening', the angle reached after weakening_distance of slip"
+        ),
+    ] = None
+    residual_tensile_strength: Annotated[
+        NonNegative, Field(description="tensile strength once broken (Pa)")
+    ] = 0.0
+    initial: Annotated[
+        Literal["intact", "broken"],
+        Field(description="initial state: 'intact' (bonded) or 'broken' (an existing joint)"),
+    ] = "broken"
+    normal_stiffness: Annotated[
+        Positive | None,
+        Field(description="normal stiffness k_n of a weak layer (Pa/m); none: rigid contact"),
+    ] = None
+    shear_stiffness: Annotated[
+        Positive | None, Field(description="shear stiffness k_s of a weak layer (Pa/m)")
+    ] = None
+    law: Annotated[
+        Literal["mohr-coulomb", "slip-weakening"],
+        Field(
+            description="friction law: 'mohr-coulomb' (constant residual friction angle) or "
+            "'slip-weakening' (the friction angle falls linearly from friction_angle to "
+            "residual_friction_angle over weakening_distance of slip)"
+        ),
+    ] = "mohr-coulomb"
+    weakening_distance: Annotated[
+        Positive | None,
+        Field(
+            description="slip over which the friction angle weakens (m); required with "
+            "law = 'slip-weakening', refused otherwise"
+        ),
+    ] = None
+
+    @model_validator(mode="after")
+    def _weakening(self) -> Joint:
+        if self.law == "slip-weakening" and self.weakening_distance is None:
+            raise _check("weakening_distance", "missing (required with law = 'slip-weakening')")
+        if self.law != "slip-weakening" and self.weakening_distance is not None:
+            raise _check("weakening_distance", f"only with law = 'slip-weakening' (law is "
+                         f"{self.law!r})")  # fmt: skip
+        return self
+
+
+class Support(_Table):
+    """``[[supports]]``: fixed or prescribed displacements of a physical group."""
+
+    group: Annotated[str, Field(description="physical group whose nodes are supported")]
+    components: Annotated[
+        list[Literal["x", "y", "z"]] | None, Field(min_length=1),
+        Expect("an array of 'x', 'y', 'z'"),
+        Field(description="supported components, e.g. ['x', 'y']; default: all"),
+    ] = None  # fmt: skip
+    value: Annotated[float, Field(description="prescribed displacement (m)")] = 0.0
+
+
+class Pressure(_Table):
+    """``[[loads.pressure]]``: a uniform pressure on faces."""
+
+    group: Annotated[str, Field(description="physical group of faces")]
+    value: Annotated[float, Field(description="pressure (Pa), positive pushing into the body")]
+
+
+class Hydrostatic(_Table):
+    """``[[loads.hydrostatic]]``: water pressure on faces."""
+
+    groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      Field(description="physical groups of wetted faces")]  # fmt: skip
+    water_level: Annotated[float, Field(description="water level (m, on the vertical axis)")]
+    density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
+
+
+class Loads(_Table):
+    """``[loads]``: gravity, pressures, water."""
+
+    gravity: Annotated[
+        NonNegative, Field(description="gravitational acceleration (m/s²); 0 for none")
+    ] = 9.81
+    gravity_direction: Annotated[
+        Vector | None, Field(description="unit vector of gravity; default −y (2D), −z (3D)")
+    ] = None
+    pressure: Annotated[list[Pressure], Field(description="uniform pressures")] = []
+    hydrostatic: Annotated[
+        list[Hydrostatic], Field(description="hydrostatic pressure ρ_w g (level − z)⁺ on faces")
+    ] = []
+
+
+class GroundMotionRecord(_Table):
+    """``[[ground_motion]]``: an acceleration record and its direction."""
+
+    file: Annotated[str, Field(description="record file")]
+    format: Annotated[
+        Literal["auto", "at2", "two-column", "one-column"],
+        Field(description="'auto', 'at2', 'two-column' or 'one-column'"),
+    ] = "auto"
+    units: Annotated[
+        Literal["g", "m/s2", "cm/s2"] | None,
+        Field(description="units of the record: 'g', 'm/s2' or 'cm/s2' (AT2: g)"),
+    ] = None
+    dt: Annotated[Positive | None, Field(description="time step of a one-column record (s)")] = None
+    scale: Annotated[float, Field(description="scale factor")] = 1.0
+    component: Annotated[
+        Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")
+    ] = "x"
+    direction: Annotated[
+        Vector | None, Field(description="direction vector (instead of component)")
+    ] = None
+    baseline: Annotated[
+        bool, Field(description="remove the drift of the final velocity (absolute form)")
+    ] = False
+
+
+class Analysis(DynamicSettings):
+    """``[analysis]``: the settings of the dynamic analysis (pfeie.dynamics.DynamicSettings:
+    same keys, same defaults) and the keys that only a model file has."""
+
+    model_config = ConfigDict(strict=True, allow_inf_nan=False)
+
+    static: Annotated[bool, Field(description="solve the static state (gravity, water) first")] = (
+        True
+    )
+    dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
+    duration: Annotated[
+        Positive | None, Field(description="duration (s); default: the longest record")
+    ] = None
+    form: Annotated[Literal["relative", "absolute"], Field(
+        description="ground motion: 'relative' (fixed base) or 'absolute' (moving supports)",
+    )] = "relative"  # fmt: skip
+
+    @model_validator(mode="after")
+    def _not_too_many_steps(self) -> Analysis:
+        if self.duration is not None:
+            try:
+                self.steps(self.duration)
+            except ValueError as exc:
+                raise _check("duration", str(exc)) from None
+        return self
+
+    def dynamic_settings(self) -> DynamicSettings:
+        """The settings of :class:`pfeie.Dynamic` alone (without the model-file keys)."""
+        return DynamicSettings(**{k: getattr(self, k) for k in DynamicSettings.model_fields})
+
+
+class Output(_Table):
+    """``[output]``: where and what to write."""
+
+    folder: Annotated[str, Field(description="output folder")] = "results"
+    every: Annotated[int, Field(gt=0, description="record the histories every n-th step")] = 1
+    field_every: Annotated[
+        int, Field(gt=0, description="store the nodal fields (u, v, a) every n-th recorded step")
+    ] = 10
+    paraview: Annotated[
+        bool, Field(description="write the ParaView series (blocks.xdmf, interfaces.xdmf)")
+    ] = True
+    probes: Annotated[
+        dict[str, Vector],
+        Field(description="probe point coordinates (m); the nearest node is used"),
+    ] = {}
+
+
+class ModelFile(_Table):
+    """A whole model file (see docs/model-file.md)."""
+
+    title: Annotated[str, Field(description="title of the analysis, for summaries and reports")] = (
+        ""
+    )
+    mesh: MeshFile
+    plane: Annotated[
+        Literal["strain", "stress"], Field(description="2D hypothesis: 'strain' or 'stress'")
+    ] = "strain"
+    thickness: Annotated[Positive, Field(description="out-of-plane thickness in 2D (m)")] = 1.0
+    materials: Annotated[
+        dict[str, Material], Field(description="isotropic elastic materials by name")
+    ]
+    blocks: Annotated[
+        dict[str, str],
+        Field(description="material of the block (the block is the physical group of this name)"),
+    ]
+    damping: Damping = Damping()
+    interfaces: Annotated[
+        dict[str, Joint], Field(description="interfaces: physical group = joint properties")
+    ] = {}
+    supports: Annotated[
+        list[Support], Field(description="supports (fixed or prescribed displacements)")
+    ] = []
+    loads: Loads = Loads()
+    ground_motion: Annotated[
+        list[GroundMotionRecord],
+        Field(description="ground-motion records (several components act together)"),
+    ] = []
+    analysis: Analysis = Analysis()
+    output: Output = Output()
+
+
+# -- the annotations, walked ---------------------------------------------------------------
+class _Node(NamedTuple):
+    """A type met while walking a key path: its base type and its constraints."""
+
+    tp: Any
+    meta: tuple[Any, ...]
+    optional: bool = False
+
+
+def _node(tp: Any, meta: Sequence[Any] = ()) -> _Node:
+    """Unwrap Annotated and Optional, collecting the metadata (bounds, Expect)."""
+    out: list[Any] = []
+    for m in meta:
+        out.extend(m.metadata if isinstance(m, FieldInfo) else [m])
+    optional = False
+    while True:
+        origin = typing.get_origin(tp)
+        if origin is Annotated:
+            args = typing.get_args(tp)
+            tp = args[0]
+            for m in args[1:]:
+                out.extend(m.metadata if isinstance(m, FieldInfo) else [m])
+        elif origin in (Union, types.UnionType):
+            members = [a for a in typing.get_args(tp) if a is not type(None)]
+            optional = optional or len(members) < len(typing.get_args(tp))
+            if len(members) != 1:
+                break
+            tp = members[0]
+        else:
+            break
+    return _Node(tp, tuple(out), optional)
+
+
+def _field(model: type[BaseModel], name: str) -> _Node:
+    f = model.model_fields[name]
+    return _node(f.annotation, [f])
+
+
+def _is_model(tp: Any) -> bool:
+    return isinstance(tp, type) and issubclass(tp, BaseModel)
+
+
+def _walk(loc: Sequence[int | str]) -> tuple[int, _Node | None, type[BaseModel] | None]:
+    """Follow ``loc`` from :class:`ModelFile`: how many parts name a key (the rest are
+    items of an array of values), the type there, and the table that holds it."""
+    node: _Node = _Node(ModelFile, ())
+    parent: type[BaseModel] | None = None
+    for i, part in enumerate(loc):
+        origin = typing.get_origin(node.tp)
+        if _is_model(node.tp):
+            if part not in node.tp.model_fields:
+                return i + 1, None, node.tp
+            parent, node = node.tp, _field(node.tp, str(part))
+        elif origin is dict:
+            node = _node(typing.get_args(node.tp)[1])
+        elif origin is list and _is_model(_node(typing.get_args(node.tp)[0]).tp):
+            node = _node(typing.get_args(node.tp)[0])
+        else:  # an item of an array of values: report on the array
+            return i, node, parent
+    return len(loc), node, parent
+
+
+# -- words -----------------------------------------------------------------------------------
+def _num(x: float) -> str:
+    fr = Fraction(x).limit_denominator(12)
+    if float(x).is_integer():
+        return str(int(x))
+    if abs(float(fr) - x) < 1e-12 and fr.denominator in (3, 6, 7, 9, 11, 12):
+        return f"{fr.numerator}/{fr.denominator}"
+    return f"{x:.6g}"
+
+
+_NAMES = {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
+          list: "an array", dict: "a table"}  # fmt: skip
 
 
 def _tname(x: Any) -> str:
-    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
-            list: "an array", dict: "a table"}.get(type(x), type(x).__name__)  # fmt: skip
+    return _NAMES.get(type(x), type(x).__name__)
 
 
-def _expected(k: Key) -> str:
-    if k.expect:
-        return k.expect
-    names = {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
-             list: "an array", dict: "a table"}  # fmt: skip
-    return " or ".join(names.get(t, t.__name__) for t in k.types)
+def _bound(meta: Sequence[Any], name: str) -> Any:
+    return next((getattr(m, name) for m in meta if getattr(m, name, None) is not None), None)
 
 
-def validate(spec: Table, data: Any, where: str, path: str = "") -> dict[str, Any]:
-    """Validate ``data`` against a table spec; ``where`` is the file name for messages."""
-    if not isinstance(data, dict):
-        raise InputError(f"{where}: [{path or 'top level'}] must be a table, found {_tname(data)}")
-    out: dict[str, Any] = {}
-    unknown = sorted(set(data) - set(spec.keys))
-    if unknown:
-        raise InputError(
-            f"{where}: {_join(path, unknown[0])}: unknown key; expected one of: "
-            f"{', '.join(sorted(spec.keys))}"
-        )
-    for name, sub in spec.keys.items():
-        p = _join(path, name)
-        if name not in data:
-            if getattr(sub, "required", False):
-                raise InputError(f"{where}: {p}: missing (required)")
-            if isinstance(sub, Key):
-                out[name] = sub.default
-            elif isinstance(sub, Many):
-                out[name] = list(sub.default)
-            elif isinstance(sub, Named):
-                out[name] = {}
-            else:
-                out[name] = validate(sub, {}, where, p)
-            continue
-        out[name] = _value(sub, data[name], where, p)
+def _type_words(node: _Node) -> str:
+    """The kind of value alone: 'a number', 'one of ...', 'an array of 2 to 3 numbers'."""
+    expect = next((m.text for m in node.meta if isinstance(m, Expect)), None)
+    if expect is not None and typing.get_origin(node.tp) is list:
+        return expect
+    tp = node.tp
+    if typing.get_origin(tp) is Literal:
+        return "one of " + ", ".join(repr(a) for a in typing.get_args(tp))
+    if _is_model(tp) or typing.get_origin(tp) is dict:
+        return "a table"
+    if typing.get_origin(tp) is list:
+        item = _node(typing.get_args(tp)[0])
+        if _is_model(item.tp):
+            return "an array of tables"
+        return "an array of " + {float: "numbers", str: "strings"}.get(item.tp, "values")
+    return _NAMES.get(tp, str(tp))
+
+
+def expected(node: _Node) -> str:
+    """What a value must be, with its bounds: 'a number in (-1, 0.5)'."""
+    expect = next((m.text for m in node.meta if isinstance(m, Expect)), None)
+    if expect is not None:
+        return expect
+    words = _type_words(node)
+    lo = [(f"({_num(v)}", f"> {_num(v)}") for v in [_bound(node.meta, "gt")] if v is not None]
+    lo += [(f"[{_num(v)}", f">= {_num(v)}") for v in [_bound(node.meta, "ge")] if v is not None]
+    hi = [(f"{_num(v)})", f"< {_num(v)}") for v in [_bound(node.meta, "lt")] if v is not None]
+    hi += [(f"{_num(v)}]", f"<= {_num(v)}") for v in [_bound(node.meta, "le")] if v is not None]
+    if lo and hi:
+        return f"{words} in {lo[0][0]}, {hi[0][0]}"
+    if lo or hi:
+        return f"{words} {(lo or hi)[0][1]}"
+    return words
+
+
+_BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="),
+           "less_than": ("lt", "<"), "less_than_equal": ("le", "<=")}  # fmt: skip
+
+
+def _path(loc: Sequence[int | str]) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
     return out
 
 
-def _value(sub: Key | Table | Named | Many, value: Any, where: str, p: str) -> Any:
-    if isinstance(sub, Key):
-        ok = isinstance(value, sub.types) and not (
-            isinstance(value, bool) and bool not in sub.types
-        )
-        if not ok and float in sub.types and isinstance(value, int) and not isinstance(value, bool):
-            value, ok = float(value), True
-        if not ok:
-            raise InputError(f"{where}: {p}: expected {_expected(sub)}, found {_tname(value)} "
-                             f"{value!r}")  # fmt: skip
-        if sub.check is not None:
-            err = sub.check(value)
-            if err:
-                raise InputError(f"{where}: {p}: expected {err}, found {value!r}")
-        return value
-    if isinstance(sub, Table):
-        return validate(sub, value, where, p)
-    if isinstance(sub, Named):
-        if not isinstance(value, dict):
-            raise InputError(f"{where}: {p}: expected a table, found {_tname(value)}")
-        return {k: _value(sub.item, v, where, _join(p, k)) for k, v in value.items()}
-    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
-        raise InputError(f"{where}: {p}: expected an array of tables ([[{p}]]), found "
-                         f"{_tname(value)}")  # fmt: skip
-    return [validate(sub.item, v, where, f"{p}[{i}]") for i, v in enumerate(value)]
+def _at(data: Any, loc: Sequence[int | str]) -> Any:
+    for part in loc:
+        try:
+            data = data[part]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return data
 
 
-def _join(path: str, name: str) -> str:
-    return f"{path}.{name}" if path else name
+def _found(x: Any) -> str:
+    if isinstance(x, dict):
+        return "a table"
+    return f"{_tname(x)} {x!r}"
 
 
-# -- checks ------------------------------------------------------------------------------------
-def positive(x: Any) -> str | None:
-    return None if x > 0 else "a number > 0"
+@dataclass(frozen=True)
+class Problem:
+    """One validation error: the key path (its parts) and the message after it."""
+
+    loc: tuple[int | str, ...]
+    text: str
+
+    @property
+    def key(self) -> str:
+        return _path(self.loc) or "top level"
 
 
-def non_negative(x: Any) -> str | None:
-    return None if x >= 0 else "a number >= 0"
+def problems(exc: ValidationError, data: Any) -> list[Problem]:
+    """The errors of a validation of ``data`` (the raw TOML) as key paths and words."""
+    out: list[Problem] = []
+    for err in exc.errors():
+        typ, loc, ctx = err["type"], tuple(err["loc"]), err.get("ctx") or {}
+        n, node, parent = _walk(loc)
+        loc = loc[:n]
+        found = _at(data, loc) if n < len(err["loc"]) else err["input"]
+        if typ == "missing":
+            text = "missing (required)"
+        elif typ == "extra_forbidden":
+            keys = sorted(parent.model_fields) if parent is not None else []
+            text = "unknown key; expected one of: " + ", ".join(keys)
+        elif typ == "pfeie_check":
+            if ctx["key"]:
+                loc = (*loc, ctx["key"])
+            text = str(ctx["text"])
+        elif typ in ("value_error", "assertion_error"):
+            text = str(err["msg"]).removeprefix("Value error, ").removeprefix("Assertion failed, ")
+        elif node is None:
+            text = str(err["msg"])
+        elif typ in _BOUNDS:
+            name, op = _BOUNDS[typ]
+            text = f"expected {_type_words(node)} {op} {_num(ctx[name])}, found {found!r}"
+        elif typ == "finite_number" and n < len(err["loc"]):  # in an array of numbers
+            text = f"expected {expected(node)}, each finite, found {found!r}"
+        elif typ == "finite_number":
+            text = f"expected a finite number, found {found!r}"
+        elif typ in ("literal_error", "too_short", "too_long"):
+            text = f"expected {expected(node)}, found {found!r}"
+        elif (
+            typ == "list_type"
+            and typing.get_origin(node.tp) is list
+            and _is_model(_node(typing.get_args(node.tp)[0]).tp)
+        ):
+            text = f"expected an array of tables ([[{_path(loc)}]]), found {_found(found)}"
+        else:  # the type of the value
+            text = f"expected {_type_words(node)}, found {_found(found)}"
+        out.append(Problem(loc, text))
+    return out
 
 
-def one_of(*choices: str) -> Check:
-    def check(x: Any) -> str | None:
-        return None if x in choices else "one of " + ", ".join(repr(c) for c in choices)
+# -- the reference -------------------------------------------------------------------------
+class Row(NamedTuple):
+    """One key of the reference: key path, expected value, default and meaning."""
 
-    return check
-
-
-def vector(n_min: int = 2, n_max: int = 3) -> Check:
-    def check(x: Any) -> str | None:
-        good = n_min <= len(x) <= n_max and all(
-            isinstance(v, int | float) and not isinstance(v, bool) for v in x
-        )
-        return None if good else f"an array of {n_min} to {n_max} numbers"
-
-    return check
+    key: str
+    expected: str
+    default: str
+    meaning: str
 
 
-def angle(x: Any) -> str | None:
-    return None if 0 <= x < 90 else "an angle in [0, 90) degrees"
+def _toml(x: Any) -> str:
+    if isinstance(x, bool):
+        return "true" if x else "false"
+    if isinstance(x, str):
+        return f'"{x}"'
+    if isinstance(x, float):
+        return _num(x) if x.is_integer() or abs(x) >= 1e-3 else f"{x:g}"
+    return repr(x)
 
 
-def describe(spec: Table | Named | Many | Key, path: str = "") -> list[tuple[str, str, str]]:
-    """(key path, expected, doc) for every key of a spec: the model-file reference."""
-    rows: list[tuple[str, str, str]] = []
-    if isinstance(spec, Key):
-        req = "required" if spec.required else f"default {spec.default!r}"
-        rows.append((path, f"{_expected(spec)}; {req}", spec.doc))
-    elif isinstance(spec, Table):
-        for k, sub in spec.keys.items():
-            rows += describe(sub, _join(path, k))
-    elif isinstance(spec, Named):
-        rows += describe(spec.item, _join(path, "<name>"))
-    else:
-        rows += describe(spec.item, f"{path}[]")
-    return rows
+def _rows(model: type[BaseModel], path: str) -> Iterator[Row]:
+    for name, f in model.model_fields.items():
+        key = f"{path}.{name}" if path else name
+        node = _node(f.annotation, [f])
+        origin = typing.get_origin(node.tp)
+        if _is_model(node.tp):
+            yield from _rows(node.tp, key)
+            continue
+        if origin is dict:
+            item = _node(typing.get_args(node.tp)[1])
+            if _is_model(item.tp):
+                yield from _rows(item.tp, f"{key}.<name>")
+                continue
+            key, node = f"{key}.<name>", item
+        elif origin is list and _is_model(_node(typing.get_args(node.tp)[0]).tp):
+            yield from _rows(_node(typing.get_args(node.tp)[0]).tp, f"{key}[]")
+            continue
+        if f.is_required():
+            default = "required"
+        elif f.default is None or key.endswith("<name>"):
+            default = "—"
+        else:
+            default = f"`{_toml(f.default)}`"
+        yield Row(key, expected(node), default, f.description or "")
+
+
+def reference_rows() -> list[Row]:
+    """Every key of a model file: (key path, expected, default, meaning)."""
+    return list(_rows(ModelFile, ""))
+
+
+def reference_markdown() -> str:
+    """The key reference of docs/model-file.md, as a Markdown table."""
+    lines = ["| key | expected | default | meaning |", "|---|---|---|---|"]
+    for r in reference_rows():
+        lines.append(f"| `{r.key}` | {r.expected} | {r.default} | {r.meaning} |")
+    return "\n".join(lines)
+
+
+# -- JSON Schema ---------------------------------------------------------------------------
+class _TomlSchema(GenerateJsonSchema):
+    """JSON Schema for TOML: TOML has no null, so an optional key is just optional."""
+
+    def nullable_schema(self, schema: core_schema.NullableSchema) -> JsonSchemaValue:
+        return self.generate_inner(schema["schema"])
+
+
+def _drop_null_defaults(x: Any) -> Any:
+    """No ``default`` of null (TOML has none) nor of a whole table (its keys have theirs)."""
+    if isinstance(x, dict):
+        return {k: _drop_null_defaults(v) for k, v in x.items()
+                if not (k == "default" and (v is None or isinstance(v, dict)))}  # fmt: skip
+    if isinstance(x, list):
+        return [_drop_null_defaults(v) for v in x]
+    return x
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON Schema of a model file. Declared draft 7: the keywords used (``$ref`` to
+    ``#/$defs/...``, ``anyOf``, ``enum``, numeric ``exclusiveMinimum``) mean the same
+    there, and editors' validators (taplo) support draft 7 but not 2020-12."""
+    body = _drop_null_defaults(ModelFile.model_json_schema(schema_generator=_TomlSchema))
+    head = {"$schema": "http://json-schema.org/draft-07/schema#",
+            "title": "pfeie model file",
+            "description": "A pfeie model file (TOML); see docs/model-file.md."}  # fmt: skip
+    body.pop("title", None)
+    body.pop("description", None)
+    return {**head, **body}
+
+
+def validate(data: Mapping[str, Any]) -> ModelFile:
+    """Validate raw TOML data (raises pydantic's ValidationError)."""
+    return ModelFile.model_validate(data)
+
+
+__all__ = ["Analysis", "ModelFile", "Problem", "Row", "json_schema", "problems",
+           "reference_markdown", "reference_rows", "validate"]  # fmt: skip
