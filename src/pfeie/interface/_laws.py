@@ -33,7 +33,7 @@ Units: SI (Pa, m, N), angles in degrees.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -214,6 +214,9 @@ class PairLaws:
     initially_broken: BoolArray
     laws: tuple[JointLaw, ...]
     index: tuple[IntArray, ...]
+    _cache: dict[bytes, tuple[FloatArray, ...]] = field(
+        default_factory=dict, repr=False, compare=False
+    )
 
     @classmethod
     def from_interfaces(
@@ -243,11 +246,20 @@ class PairLaws:
         return int(self.area.size)
 
     def strength(self, broken: BoolArray, path: FloatArray) -> tuple[FloatArray, ...]:
-        """(c A, μ, σ_t A) of every pair for the broken flags and slip paths given."""
+        """(c A, μ, σ_t A) of every pair for the broken flags and slip paths given (the
+        arrays are shared: do not modify them). The last few answers are cached: within a
+        step the solver asks again and again for the same states."""
+        key = broken.tobytes() + path.tobytes()
+        hit = self._cache.get(key)
+        if hit is not None:
+            return hit
         c, mu, t = np.zeros(self.n), np.zeros(self.n), np.zeros(self.n)
         for law, idx in zip(self.laws, self.index, strict=True):
             st = law.strength(self.area[idx], broken[idx], path[idx])
             c[idx], mu[idx], t[idx] = st.cohesion, st.friction, st.tension
+        if len(self._cache) >= 8:
+            self._cache.pop(next(iter(self._cache)))
+        self._cache[key] = (c, mu, t)
         return c, mu, t
 
     def initial_state(self, dim: int) -> PairState:
