@@ -20,9 +20,11 @@ def _two_joint_model() -> pf.Model:
     mesh.add_facet_group("base", lambda x: np.abs(x[:, 1] - 4) < 1e-6, boundary_only=False)
     mesh.add_facet_group("lift", lambda x: np.abs(x[:, 1] - 8) < 1e-6, boundary_only=False)
     mat = pf.Elastic(25e9, 0.2, 2400.0)
-    model = pf.Model(mesh, [pf.Block("rock", mat), pf.Block("dam", mat)], interfaces=[
+    joints = [
         pf.Interface("base", pf.Joint(c=5e4, phi=45.0, tensile=2e4, initial="intact")),
-        pf.Interface("lift", pf.Joint(c=3e4, phi=40.0, tensile=1e4, initial="intact"))])  # fmt: skip
+        pf.Interface("lift", pf.Joint(c=3e4, phi=40.0, tensile=1e4, initial="intact")),
+    ]
+    model = pf.Model(mesh, [pf.Block("rock", mat), pf.Block("dam", mat)], interfaces=joints)
     model.fix("ymin")
     model.add_gravity()
     return model
