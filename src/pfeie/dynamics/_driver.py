@@ -144,7 +144,7 @@ class Dynamic:
         self.system = model.system(lumped_mass=True)
         beta, gamma, alpha = settings.newmark()
         self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
-                          backend=settings.backend)  # fmt: skip
+                          rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
         self.dt = settings.dt
         self.stabilize = settings.stabilize
         self.d = model.dim
@@ -167,13 +167,18 @@ class Dynamic:
                                     self.op if self.m else None)  # fmt: skip
         if self.m:
             assert model.pairs is not None
+            if self.stabilize and self.nm.alpha_m:
+                raise ModelError(
+                    "generalised-α (rho_inf) with interfaces needs stabilize = false: the "
+                    "contact-stabilised step is written for Newmark and HHT-α"
+                )
             if self.stabilize:
                 self.project = VelocityProjection(self.op, self.minv, self.mass,
                                                   model.pairs.redundant)  # fmt: skip
             W = (self.corot.reference_delassus() if self.corot is not None
                  else delassus(self.nm.factor, self.op.G))  # fmt: skip
             # stabilised: X constant over the step (weight 1/(2β)); plain: Newmark load
-            scale = 0.5 / self.nm.beta if self.stabilize else 1.0 + alpha
+            scale = 0.5 / self.nm.beta if self.stabilize else 1.0 - self.nm.alpha_f
             self.istep = InterfaceStep(self.op, W, model.pair_laws, scale,
                                        settings=settings.solver(),
                                        regularize=model.pairs.regularization)  # fmt: skip

@@ -1,4 +1,4 @@
-"""Newmark and HHT-α time integration of M ü + C u̇ + K u = f(t).
+"""Newmark, HHT-α and generalised-α time integration of M ü + C u̇ + K u = f(t).
 
 The integrator sees only matrices and a load function (a :class:`SecondOrderSystem`);
 space discretisation lives elsewhere. Displacement form, one factorisation of the
@@ -13,15 +13,23 @@ Newmark's relations (Newmark 1959) with Δu = u_{n+1} − u_n:
     a₀ = 1/(βΔt²), a₁ = γ/(βΔt), a₂ = 1/(βΔt), a₃ = 1/(2β) − 1,
     a₄ = γ/β − 1,  a₅ = Δt (γ/(2β) − 1).
 
-HHT-α (Hilber, Hughes & Taylor 1977), α ∈ [−1/3, 0], enforces
+The generalised-α method (Chung & Hulbert 1993) enforces the balance at intermediate
+instants, x_{n+1−α} = (1 − α) x_{n+1} + α x_n:
 
-    M a_{n+1} + (1 + α)(C v_{n+1} + K u_{n+1}) − α (C v_n + K u_n) = (1 + α) f_{n+1} − α f_n,
+    M a_{n+1−α_m} + C v_{n+1−α_f} + K u_{n+1−α_f} = f_{n+1−α_f}.
 
-with β = (1 − α)²/4, γ = (1 − 2α)/2; α = 0 is Newmark. Substituting gives
+Substituting Newmark's relations gives K̂ u_{n+1} = P̂ with
 
-    K̂ u_{n+1} = P̂,   K̂ = a₀ M + (1 + α)(a₁ C + K),
-    P̂ = f_{n+1+α} + M(a₀u_n + a₂v_n + a₃a_n) + C[(1 + α)(a₁u_n + a₄v_n + a₅a_n) + αv_n]
-        + α K u_n.
+    K̂ = (1 − α_m) a₀ M + (1 − α_f)(K + a₁ C),
+    P̂ = (1 − α_f) f_{n+1} + α_f f_n + M[(1 − α_m)(a₀u_n + a₂v_n + a₃a_n) − α_m a_n]
+        + C[(1 − α_f)(a₁u_n + a₄v_n + a₅a_n) − α_f v_n] − α_f K u_n.
+
+Members of the family: Newmark (α_m = α_f = 0; β = 1/4, γ = 1/2 by default); HHT-α
+(Hilber, Hughes & Taylor 1977) with α ∈ [−1/3, 0]: α_m = 0, α_f = −α, β = (1 − α)²/4,
+γ = (1 − 2α)/2; generalised-α from the spectral radius at infinity ρ∞ ∈ [0, 1]:
+α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1), γ = 1/2 − α_m + α_f,
+β = (1 − α_m + α_f)²/4 (second order, unconditionally stable, with the least low-frequency
+dissipation for a given high-frequency one).
 
 The step is split as :meth:`Newmark.predict` (P̂ and one solve: the free response that
 the interface solver of PFE/IE corrects) and :meth:`Newmark.advance` (velocities and
@@ -29,7 +37,7 @@ accelerations from the accepted u_{n+1}).
 
 Energy: with β = 1/4, γ = 1/2 (average acceleration, the default) the discrete balance
 ΔT + ΔU + Δu·C v̄ = Δu·f̄ holds exactly (bars: step averages), so the scheme conserves
-T + U in free vibration; γ > 1/2 dissipates high frequencies.
+T + U in free vibration; γ > 1/2, α ≠ 0 or ρ∞ < 1 dissipate high frequencies.
 
 Example
 -------
@@ -112,7 +120,8 @@ class History:
 
 
 class Newmark:
-    """Newmark-β / HHT-α integrator with a once-factorised effective matrix.
+    """Newmark-β / HHT-α / generalised-α integrator with a once-factorised effective
+    matrix (see the module docstring).
 
     Parameters
     ----------
@@ -121,7 +130,9 @@ class Newmark:
     beta, gamma: Newmark parameters (default average acceleration 1/4, 1/2).
     alpha: HHT-α parameter in [−1/3, 0]; when not 0, ``beta`` and ``gamma`` default to
         (1 − α)²/4 and (1 − 2α)/2.
-    backend: sparse solver backend (see :func:`pfeie.solvers.factorize`).
+    rho_inf: generalised-α spectral radius at infinity in [0, 1] (instead of ``alpha``);
+        sets α_m, α_f and the default β, γ.
+    backend: sparse solver backend (see :func:`pfeie.linalg.factorize`).
     """
 
     def __init__(
@@ -132,14 +143,28 @@ class Newmark:
         beta: float | None = None,
         gamma: float | None = None,
         alpha: float = 0.0,
+        rho_inf: float | None = None,
         backend: str = "auto",
     ) -> None:
         if not dt > 0:
             raise ModelError(f"time step dt must be > 0 s, got {dt}")
         if not -1.0 / 3.0 - 1e-12 <= alpha <= 0.0:
             raise ModelError(f"HHT alpha must lie in [-1/3, 0], got {alpha}")
-        gamma = (0.5 - alpha) if gamma is None else gamma
-        beta = 0.25 * (1.0 - alpha) ** 2 if beta is None else beta
+        if rho_inf is None:
+            am, af = 0.0, -alpha
+        else:
+            if alpha:
+                raise ModelError("give either the HHT alpha or rho_inf, not both")
+            if not 0.0 <= rho_inf <= 1.0:
+                raise ModelError(f"rho_inf must lie in [0, 1], got {rho_inf}")
+            am, af = (2 * rho_inf - 1) / (rho_inf + 1), rho_inf / (rho_inf + 1)
+        if rho_inf is None:
+            gamma = (0.5 - alpha) if gamma is None else gamma
+            beta = 0.25 * (1.0 - alpha) ** 2 if beta is None else beta
+        else:
+            gamma = 0.5 - am + af if gamma is None else gamma
+            beta = 0.25 * (1.0 - am + af) ** 2 if beta is None else beta
+        self.alpha_m, self.alpha_f = float(am), float(af)
         if not (beta > 0 and gamma >= 0.5 and 2 * beta >= gamma - 1e-15):
             log.warning("Newmark beta=%g, gamma=%g is not unconditionally stable", beta, gamma)
         self.system, self.dt = system, float(dt)
@@ -150,8 +175,8 @@ class Newmark:
             dt * (g / (2 * b) - 1),
         )  # fmt: skip
         a0, a1 = self.c[0], self.c[1]
-        s = 1.0 + alpha
-        Khat = a0 * system.M + s * system.K
+        s = 1.0 - af
+        Khat = (a0 if am == 0.0 else (1.0 - am) * a0) * system.M + s * system.K
         if system.C is not None:
             Khat = Khat + s * a1 * system.C
         self.Khat = sp.csc_matrix(Khat)
@@ -179,14 +204,17 @@ class Newmark:
     def effective_load(self, state: State, f_next: FloatArray) -> FloatArray:
         """P̂ of the step from ``state`` when the load at t_{n+1} is ``f_next``."""
         a0, a1, a2, a3, a4, a5 = self.c
-        al = self.alpha
+        am, af = self.alpha_m, self.alpha_f
         u, v, a = state.u, state.v, state.a
-        rhs = (1 + al) * f_next - al * state.f if al else f_next.copy()
-        rhs += self.system.M @ (a0 * u + a2 * v + a3 * a)
+        rhs = (1 - af) * f_next + af * state.f if af else f_next.copy()
+        if am:
+            rhs += self.system.M @ ((1 - am) * (a0 * u + a2 * v + a3 * a) - am * a)
+        else:
+            rhs += self.system.M @ (a0 * u + a2 * v + a3 * a)
         if self.system.C is not None:
-            rhs += self.system.C @ ((1 + al) * (a1 * u + a4 * v + a5 * a) + al * v)
-        if al:
-            rhs += al * (self.system.K @ u)
+            rhs += self.system.C @ ((1 - af) * (a1 * u + a4 * v + a5 * a) - af * v)
+        if af:
+            rhs -= af * (self.system.K @ u)
         return rhs
 
     def predict(self, state: State, f_next: FloatArray) -> FloatArray:

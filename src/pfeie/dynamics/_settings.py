@@ -49,6 +49,12 @@ class DynamicSettings(BaseModel):
         ge=-1.0 / 3.0, le=0.0, allow_inf_nan=False,
         description="HHT-α parameter in [−1/3, 0] (0: Newmark); sets β and γ unless given",
     )] = 0.0  # fmt: skip
+    rho_inf: Annotated[float | None, Field(
+        ge=0.0, le=1.0, allow_inf_nan=False,
+        description="generalised-α spectral radius at infinity in [0, 1] (Chung & Hulbert "
+        "1993), instead of alpha; sets α_m, α_f, β and γ (models without interfaces, or "
+        "with stabilize = false)",
+    )] = None  # fmt: skip
     stabilize: Annotated[bool, Field(
         description="contact-stabilised Newmark: pair forces as step impulses and a "
         "velocity projection at closed pairs (see docs/theory.md)",
@@ -67,17 +73,32 @@ class DynamicSettings(BaseModel):
     )] = "auto"  # fmt: skip
 
     @model_validator(mode="after")
-    def _large_rotation_needs_newmark(self) -> DynamicSettings:
-        if self.large_rotation and self.alpha != 0.0:
+    def _one_scheme(self) -> DynamicSettings:
+        if self.alpha != 0.0 and self.rho_inf is not None:
+            raise ValueError("give either alpha (HHT-α) or rho_inf (generalised-α), not both")
+        if self.large_rotation and (self.alpha != 0.0 or self.rho_inf is not None):
             raise ValueError("large_rotation supports the Newmark rule only (alpha = 0)")
         return self
 
     def newmark(self) -> tuple[float, float, float]:
-        """(β, γ, α) of the scheme, with β and γ derived from α unless given."""
+        """(β, γ, α) of the scheme, with β and γ derived from α (or ρ∞) unless given."""
         a = self.alpha
+        if self.rho_inf is not None:
+            am, af = self.generalized_alpha()
+            beta = 0.25 * (1.0 - am + af) ** 2 if self.beta is None else self.beta
+            gamma = 0.5 - am + af if self.gamma is None else self.gamma
+            return float(beta), float(gamma), float(a)
         beta = 0.25 * (1.0 - a) ** 2 if self.beta is None else self.beta
         gamma = (0.5 - a) if self.gamma is None else self.gamma
         return float(beta), float(gamma), float(a)
+
+    def generalized_alpha(self) -> tuple[float, float]:
+        """(α_m, α_f) of the balance instants: (0, −α) for HHT-α, Chung & Hulbert's
+        ((2ρ∞ − 1)/(ρ∞ + 1), ρ∞/(ρ∞ + 1)) for generalised-α."""
+        r = self.rho_inf
+        if r is None:
+            return 0.0, -self.alpha
+        return (2 * r - 1) / (r + 1), r / (r + 1)
 
     def solver(self) -> SolverSettings:
         """The interface solver's settings."""
