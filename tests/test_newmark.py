@@ -34,8 +34,9 @@ def amplification(omega: float, dt: float, beta: float, gamma: float, alpha: flo
 
 @pytest.mark.parametrize("alpha", [0.0, -0.1])
 def test_second_order_in_time(alpha: float) -> None:
-    """Undamped oscillator against u = cos ωt: the observed order log2(e(2Δt)/e(Δt)) on
-    the two finest steps is 2 ± 2e-3 (measured 1.99993 and 2.0004)."""
+    """Undamped oscillator against u = cos ωt: the observed orders log2(e(2Δt)/e(Δt)) for
+    n = 40 to 320 steps per period are 2 ± 5e-3 (measured 1.9989 to 2.0004), on the two
+    finest steps 2 ± 2e-3 (measured 1.99993 and 2.0004)."""
     errs = []
     steps = np.array([40, 80, 160, 320])
     for n in steps:
@@ -44,6 +45,7 @@ def test_second_order_in_time(alpha: float) -> None:
         h = nm.run(int(13 * n // 10), nm.initial_state(u0=np.array([1.0])), record=[0])
         errs.append(abs(h.u[-1, 0] - np.cos(OMEGA * h.t[-1])))
     rates = np.log(np.array(errs[:-1]) / errs[1:]) / np.log(2.0)
+    np.testing.assert_allclose(rates, 2.0, rtol=0, atol=5e-3)
     assert rates[-1] == pytest.approx(2.0, abs=2e-3), rates
 
 
