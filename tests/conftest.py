@@ -42,3 +42,16 @@ def distort(mesh: pf.Mesh, amount: float, seed: int = 0) -> pf.Mesh:
 @pytest.fixture(params=CELLS_2D + CELLS_3D)
 def cell(request: pytest.FixtureRequest) -> str:
     return str(request.param)
+
+
+_CASE_RESULTS: dict[str, object] = {}
+
+
+def case_result(name: str):  # type: ignore[no-untyped-def]
+    """The fast run of a verification case (pfeie.verification), run once per session and
+    shared by the tests of the case and of the manual."""
+    from pfeie.verification import run
+
+    if name not in _CASE_RESULTS:
+        _CASE_RESULTS[name] = run(fast=True, names=[name])[0]
+    return _CASE_RESULTS[name]

@@ -4,7 +4,8 @@ u_i(x) = Π_d sin(k_id π x_d) on the unit square/cube vanishes on the boundary;
 force b = −div σ = −[μ Δu + (λ + μ) ∇(∇·u)] is derived from its exact Hessian. For
 smooth solutions the L2 error of degree-p Lagrange elements decays as h^(p+1) and the
 energy-norm error as h^p (Ciarlet, The Finite Element Method for Elliptic Problems,
-Thm 3.2.2 and §3.2); the observed rates on the two finest meshes must lie within ±0.1.
+Thm 3.2.2 and §3.2); the observed rates on the two finest meshes must lie within a
+tolerance per element set within 10× of the measured deviation (written beside it).
 """
 
 from __future__ import annotations
@@ -67,25 +68,31 @@ def errors(cell: str, n: int) -> tuple[float, float]:
     return float(l2), float(h1)
 
 
+# cell, mesh sizes, tolerances of the L2 and energy-norm rates (measured deviations from
+# p + 1 and p on the two finest meshes in the comments)
 CASES = [
-    ("triangle", [8, 16, 32]), ("quad", [8, 16, 32]), ("triangle6", [4, 8, 16]),
-    ("quad8", [4, 8, 16]), ("quad9", [4, 8, 16]), ("hexahedron", [4, 8, 12]),
-    ("tetra10", [4, 6, 8]),
-]  # fmt: skip
+    ("triangle", [8, 16, 32], 0.1, 0.01),  # 0.031, 0.0025
+    ("quad", [8, 16, 32], 0.005, 0.005),  # 7.3e-4, 8.7e-4
+    ("triangle6", [4, 8, 16], 0.05, 0.05),  # 0.0082, 0.018
+    ("quad8", [4, 8, 16], 0.05, 0.01),  # 0.015, 0.0020
+    ("quad9", [4, 8, 16], 0.05, 0.02),  # 0.015, 0.0060
+    ("hexahedron", [4, 8, 12], 0.05, 0.01),  # 0.019, 0.0022
+    ("tetra10", [4, 6, 8], 0.1, 0.1),  # 0.025, 0.081 (coarse meshes: pre-asymptotic)
+]
 
 
-@pytest.mark.parametrize(("cell", "sizes"), CASES)
-def test_convergence_rates(cell: str, sizes: list[int]) -> None:
+@pytest.mark.parametrize(("cell", "sizes", "tol_l2", "tol_h1"), CASES)
+def test_convergence_rates(cell: str, sizes: list[int], tol_l2: float, tol_h1: float) -> None:
     p = reference(cell).degree
     e = np.array([errors(cell, n) for n in sizes])
     h = 1.0 / np.asarray(sizes, dtype=float)
     rate_l2 = np.log(e[-2, 0] / e[-1, 0]) / np.log(h[-2] / h[-1])
     rate_h1 = np.log(e[-2, 1] / e[-1, 1]) / np.log(h[-2] / h[-1])
-    assert rate_l2 == pytest.approx(p + 1, abs=0.1), (cell, e[:, 0])
-    assert rate_h1 == pytest.approx(p, abs=0.1), (cell, e[:, 1])
+    assert rate_l2 == pytest.approx(p + 1, abs=tol_l2), (cell, e[:, 0])
+    assert rate_h1 == pytest.approx(p, abs=tol_h1), (cell, e[:, 1])
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize(("cell", "sizes"), [("tetra", [8, 16, 24])])
 def test_convergence_rates_tet4(cell: str, sizes: list[int]) -> None:
-    test_convergence_rates(cell, sizes)
+    test_convergence_rates(cell, sizes, 0.1, 0.02)  # measured 0.055, 0.0048

@@ -14,6 +14,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_readme_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    """The README's cantilever against Timoshenko-corrected beam theory (below): f₁ and the
+    tip deflection under self-weight to 0.3 % (measured 0.10 % and 0.14 %: the beam
+    theory's own approximations at L/h = 10)."""
     text = (ROOT / "README.md").read_text()
     code = re.search(r"```python\n(.*?)```", text, re.S)
     assert code is not None
@@ -37,7 +40,7 @@ def test_readme_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_readme_sliding_block(capsys: pytest.CaptureFixture[str]) -> None:
     """The second README snippet reproduces V2b: the exact rigid-block integration
-    (0.179804 m, verification-cases.md), to 1 %."""
+    (0.179804 m, verification-cases.md), to 2e-4 (measured 5.5e-5)."""
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
     scope: dict[str, object] = {}
     exec(compile(blocks[1], "README.md", "exec"), scope)
@@ -46,20 +49,22 @@ def test_readme_sliding_block(capsys: pytest.CaptureFixture[str]) -> None:
     t = np.linspace(0.0, 0.4, 4001)
     exact = RigidBlock(t, 0.5 * 9.81 * np.sin(np.pi * t / 0.4), 0.2 * 9.81, t_end=1.0)
     u_ref = -float(exact.displacement([1.0])[0])  # 0.179804 m
-    assert -float(scope["slip"]) == pytest.approx(u_ref, rel=1e-2)  # type: ignore[arg-type]
+    assert -float(scope["slip"]) == pytest.approx(u_ref, rel=2e-4)  # type: ignore[arg-type]
     assert "slip" in capsys.readouterr().out
 
 
 def test_dam_demo_short() -> None:
+    """The dam demo's base reactions equal the water thrust ρ_w g h²/2 (measured 1.4e-13)
+    and the weight (9.6e-15); T + U + D = W to 1e-11 (measured 1.7e-12)."""
     sys.path.insert(0, str(ROOT / "examples"))
     try:
         import dam_monolith
     finally:
         sys.path.pop(0)
     r = dam_monolith.main(duration=3.0)
-    assert r["reaction_error_horizontal"] < 1e-8  # base shear = ρ_w g h²/2
-    assert r["reaction_error_vertical"] < 1e-8  # base normal force = weight
-    assert r["energy_balance_error"] < 1e-8  # T + U + D = W (average acceleration)
+    assert r["reaction_error_horizontal"] < 1e-12  # base shear = ρ_w g h²/2
+    assert r["reaction_error_vertical"] < 5e-14  # base normal force = weight
+    assert r["energy_balance_error"] < 1e-11  # T + U + D = W (average acceleration)
     assert 2.0 < r["f1_hz"] < 3.5  # gravity dams of ~100 m: 2.5–3.5 Hz on rigid rock
     assert r["peak_crest_acc_g"] > r["pga_g"]  # the crest amplifies the ground motion
 
@@ -67,8 +72,9 @@ def test_dam_demo_short() -> None:
 def test_koyna_demo_statics_and_short_run(tmp_path: Path) -> None:
     """The jointed Koyna demo: the static reactions balance the weights of the dam and the
     (light) rock and the water, ρ_w g h²/2 horizontally and ρ_w g h × 70 m on the reservoir
-    floor (1e-5, 1e-8); the joints stay closed statically (but at the singular corners);
-    a 2 s run completes with a closed energy balance."""
+    floor (1e-5, 3e-14; measured 3.7e-6, 4.1e-15); the joints stay closed statically (but
+    at the singular corners: 0.8 % of the joint area open); a 2 s run completes with its
+    energy balance closed to 5e-12 of the dissipated energy (measured 9.6e-13)."""
     from pfeie._job import run_job
     from pfeie.io import load_job
 
@@ -86,7 +92,7 @@ def test_koyna_demo_statics_and_short_run(tmp_path: Path) -> None:
     r = st.reactions.sum(axis=0)
     # 1e-5: the water level cuts an element, whose pressure kink Gauss points integrate
     assert -r[0] == pytest.approx(thrust, rel=1e-5)
-    assert r[1] == pytest.approx(weight + floor, rel=1e-8)
+    assert r[1] == pytest.approx(weight + floor, rel=3e-14)
     assert st.pairs is not None  # statically, the joints stay closed but at a corner or two
     open_area = model.pairs.area[st.pairs.state == 3].sum() / model.pairs.area.sum()
     assert open_area < 0.05
@@ -94,5 +100,5 @@ def test_koyna_demo_statics_and_short_run(tmp_path: Path) -> None:
     s = run_job(job, progress=False, duration=2.0)
     assert s["completed"] and s["time_reached_s"] == pytest.approx(2.0)
     e = s["energy_J"]
-    assert abs(e["balance"]) < 1e-6 * (e["damping"] + e["interface"] + 1.0)
+    assert abs(e["balance"]) < 5e-12 * (e["damping"] + e["interface"] + 1.0)
     assert (tmp_path / "results.h5").is_file() and (tmp_path / "blocks.xdmf").is_file()

@@ -1,5 +1,6 @@
-"""Interfaces: splitting, pair geometry, intact = monolithic (V9), statics with floating
-blocks (V1b), no drift from the static state, and the errors."""
+"""Interfaces: splitting, pair geometry, intact = monolithic (V9, also in 3D), no drift
+from the static state, and the errors. Statics with a floating block (V1b) is the
+verification case V1b (tests/test_verification.py)."""
 
 from __future__ import annotations
 
@@ -22,15 +23,17 @@ def _grid(cell: str = "quad") -> pf.Mesh:
 @pytest.mark.parametrize("cell", ["quad", "quad8", "triangle", "triangle6"])
 def test_split_one_interface(cell: str) -> None:
     """A straight cut: every node on it doubles, pairs face each other, areas sum to the
-    length (× thickness 1), normals point from side a (below) to side b (above)."""
+    length (× thickness 1) to round-off, normals point from side a (below) to side b
+    (above); exact geometry (measured: no difference at all)."""
     mesh = _grid(cell)
     s = split(mesh, ["h"])
     on = mesh.group_nodes("h").size
     assert s.mesh.n_points - mesh.n_points == on
     assert s.pairs.n == on and s.n_bodies == 2
-    assert s.pairs.area.sum() == pytest.approx(2.0, rel=1e-12)
+    assert s.pairs.area.sum() == pytest.approx(2.0, rel=1e-15)
     assert np.all(s.pairs.area > 0)
-    np.testing.assert_allclose(s.pairs.frame[:, -1], np.tile([0.0, 1.0], (on, 1)), atol=1e-12)
+    np.testing.assert_allclose(s.pairs.frame[:, -1], np.tile([0.0, 1.0], (on, 1)), rtol=0,
+                               atol=1e-15)  # fmt: skip
     assert np.all(s.body[s.pairs.node_a] != s.body[s.pairs.node_b])
     ya = s.mesh.points[s.mesh.cells[cell][np.isin(s.mesh.cells[cell], s.pairs.node_a).any(1)]]
     assert ya[..., 1].mean() < 1.0  # side a is below the cut
@@ -44,15 +47,10 @@ def test_split_junctions_and_crack_tip() -> None:
     mesh.add_facet_group("v", lambda x: np.abs(x[:, 0] - 1) < 1e-9, boundary_only=False)
     s = split(mesh, ["h", "v"])
     assert s.n_bodies == 4
-    assert (
-        np.sum(
-            s.parent == mesh.nearest_node([1.0, 1.0])
-            if hasattr(mesh, "nearest_node")
-            else s.parent == np.argmin(np.linalg.norm(mesh.points - 1.0, axis=1))
-        )
-        == 4
-    )
-    assert s.pairs.area.sum() == pytest.approx(4.0)
+    centre = int(np.argmin(np.linalg.norm(mesh.points - 1.0, axis=1)))
+    assert np.array_equal(mesh.points[centre], [1.0, 1.0])  # the crossing node
+    assert np.sum(s.parent == centre) == 4
+    assert s.pairs.area.sum() == pytest.approx(4.0, rel=1e-15)
     mesh = _grid()
     mesh.add_facet_group("v", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 1),
                          boundary_only=False)  # fmt: skip
@@ -68,15 +66,15 @@ def test_split_junctions_and_crack_tip() -> None:
 
 def test_split_3d_frames() -> None:
     """3D, Tet10: right-handed orthonormal frames, positive tributary areas summing to the
-    joint area."""
+    joint area, to round-off (1e-15; measured: exact)."""
     mesh = pf.box(1.0, 1.0, 2.0, 2, 2, 4, cell="tetra10")
     mesh.add_facet_group("j", lambda x: np.abs(x[:, 2] - 1) < 1e-9, boundary_only=False)
     s = split(mesh, ["j"])
     F = s.pairs.frame
     eye = np.tile(np.eye(3), (s.pairs.n, 1, 1))
-    np.testing.assert_allclose(np.einsum("mij,mkj->mik", F, F), eye, atol=1e-12)
-    np.testing.assert_allclose(np.linalg.det(F), 1.0)
-    assert s.pairs.area.sum() == pytest.approx(1.0) and s.pairs.area.min() > 0
+    np.testing.assert_allclose(np.einsum("mij,mkj->mik", F, F), eye, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(np.linalg.det(F), 1.0, rtol=1e-15)
+    assert s.pairs.area.sum() == pytest.approx(1.0, rel=1e-15) and s.pairs.area.min() > 0
 
 
 def test_interface_on_boundary_is_an_error() -> None:
@@ -114,17 +112,21 @@ def _dam_models(dim: int) -> tuple[pf.Model, pf.Model]:
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_v9_intact_interface_is_monolithic(dim: int) -> None:
-    """V9 (verification-cases.md): a mesh cut by intact interfaces gives the monolithic
-    displacements statically and dynamically (relative 1e-9; a T junction in 2D)."""
+    """V9 (verification-cases.md; the 2D static, dynamic and modal comparison is the case
+    V9): a mesh cut by intact interfaces gives the monolithic model's (an independent
+    computation: the same mesh uncut) displacements, 5e-12 relative statically (measured
+    7.8e-13 in 2D with a T junction, 3.8e-15 in 3D), stresses 2e-12 (3.8e-13), dynamic
+    displacements 1e-9 (1.3e-10), and closes its energy balance to 2e-13 of the energy
+    (3.0e-14)."""
     mono, cut = _dam_models(dim)
     s0, s1 = pf.solve_static(mono), pf.solve_static(cut)
     assert s1.pairs is not None and s1.pairs.counts()["intact"] == cut.pairs.n
     scale = np.abs(s0.u).max()
-    assert np.abs(s1.u[cut.split.parent] - s0.u[cut.split.parent]).max() < 1e-9 * scale
+    assert np.abs(s1.u[cut.split.parent] - s0.u[cut.split.parent]).max() < 5e-12 * scale
     sig0 = mono.nodal_stress(s0.u)
     sig1 = cut.nodal_stress(s1.u)[: mono.mesh.n_points]
     interior = np.setdiff1d(np.arange(mono.mesh.n_points), cut.split.parent[mono.mesh.n_points :])
-    assert np.abs(sig1[interior] - sig0[interior]).max() < 1e-8 * np.abs(sig0).max()
+    assert np.abs(sig1[interior] - sig0[interior]).max() < 2e-12 * np.abs(sig0).max()
     gm = pf.GroundMotion.from_function(lambda t: 3 * np.sin(2 * np.pi * 5 * t), 0.2, 0.002,
                                        direction=[1.0] + [0.0] * (dim - 1))  # fmt: skip
     top = mono.nearest_node([4.0, 3.0] if dim == 2 else [2.0, 1.0, 2.0])
@@ -133,33 +135,18 @@ def test_v9_intact_interface_is_monolithic(dim: int) -> None:
     assert np.abs(r0.probe_u[:, 0, 0]).max() > 1e-6
     assert np.abs(r1.probe_u - r0.probe_u).max() < 1e-9 * np.abs(r0.probe_u).max()
     e_scale = np.abs(r1.energy["kinetic"]).max() + np.abs(r1.energy["strain"]).max()
-    assert np.abs(r1.energy["balance"]).max() < 1e-9 * e_scale
-
-
-def test_v1b_block_on_incline_sticks() -> None:
-    """V1b: θ = 30°, μ = 0.6 > tan 30°: the joint carries shear 0.5 W and normal
-    0.866025 W (0.5 %), |τ| ≤ μ σ at every pair, and the block does not slip."""
-    mu = 0.6
-    model = block_on_base(joint=pf.Joint(phi=np.degrees(np.arctan(mu))), incline_deg=30, n=4)
-    res = pf.solve_static(model)
-    W = 9.81 * 2400.0 * 1.0
-    X = res.pairs.X
-    assert abs(X[:, 0].sum()) == pytest.approx(0.5 * W, rel=5e-3)
-    assert X[:, 1].sum() == pytest.approx(np.cos(np.radians(30)) * W, rel=5e-3)
-    assert np.all(np.abs(X[:, 0]) <= mu * X[:, 1] * (1 + 1e-9))
-    assert np.abs(res.pairs.s[:, 0]).max() < 1e-6  # slip
-    # equilibrium: the reactions balance the weight
-    applied = model.load_vector().reshape(-1, 2).sum(axis=0)
-    np.testing.assert_allclose(res.reactions.sum(axis=0), -applied, atol=1e-9 * W)
+    assert np.abs(r1.energy["balance"]).max() < 2e-13 * e_scale
 
 
 def test_static_state_is_kept_without_excitation() -> None:
-    """A dynamic run from the static state with no excitation stays there (no settling)."""
+    """A dynamic run from the static state with no excitation stays there (no settling; the
+    reference is the static solution): displacements within 1e-14 m (measured 1.4e-15 m),
+    pair forces within 1e-10 of the largest (measured 1.4e-11)."""
     model = block_on_base(joint=pf.Joint(phi=35.0), incline_deg=20, n=3)
     st = pf.solve_static(model)
     res = pf.Dynamic(model, 0.01).run(1.0, start=st, probes=[model.nearest_node([0.5, 1.0])])
-    assert np.abs(res.probe_u - res.probe_u[0]).max() < 1e-12
-    assert np.abs(res.X - res.X[0]).max() < 1e-9 * np.abs(res.X[0]).max()
+    assert np.abs(res.probe_u - res.probe_u[0]).max() < 1e-14
+    assert np.abs(res.X - res.X[0]).max() < 1e-10 * np.abs(res.X[0]).max()
     assert np.all(res.state == res.state[0]) and np.any(res.state[0] == STICK)
 
 
@@ -182,11 +169,13 @@ def test_joint_validation() -> None:
 def test_pair_on_a_roller_boundary() -> None:
     """A block whose side is on rollers (u_x = 0) next to a fixed base: the corner pair's
     tangential component is prescribed on both sides, carries no force, and the statics
-    still balances the weight."""
+    still balances the weight: the reactions equal the applied loads to 1e-15 of the weight
+    (measured 1.6e-17; 60×: the round-off of a sum of nodal forces)."""
     model = block_on_base(joint=pf.Joint(phi=30.0))
     model.fix(model.nodes_at(lambda x: np.abs(x[:, 0]) < 1e-9), 0)
     res = pf.solve_static(model)
     corner = int(np.argmin(np.linalg.norm(model.pairs.x, axis=1)))
     assert res.pairs.X[corner, 0] == 0.0
     applied = model.load_vector().reshape(-1, 2).sum(axis=0)
-    np.testing.assert_allclose(res.reactions.sum(axis=0), -applied, atol=1e-9 * abs(applied[1]))
+    np.testing.assert_allclose(res.reactions.sum(axis=0), -applied, rtol=0,
+                               atol=1e-15 * abs(applied[1]))  # fmt: skip

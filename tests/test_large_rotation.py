@@ -35,7 +35,9 @@ def _spin_2d(large: bool, dt: float) -> tuple[pf.Model, pf.DynamicResult, np.nda
 def test_spinning_block_2d_quarter_turn() -> None:
     """A free block spun at ω = 1 rad/s turns by ωT = π/2 as a rigid body: positions are
     the rotated reference (torque-free rigid motion), energy is conserved, no strain.
-    Tolerances: the trapezoidal rule's phase error (ωΔt)²/12 ≈ 1e-5 at Δt = 0.01 s."""
+    Tolerances: the trapezoidal rule's phase error (ωΔt)²/12 ≈ 1e-5 at Δt = 0.01 s; measured
+    2.6e-5 m (positions), 3.4e-5 (angle), 2.7e-5 (kinetic energy), strain energy 5.6e-7 of
+    the kinetic (the centrifugal stretching of the elastic block)."""
     model, res, x = _spin_2d(True, 0.01)
     T = float(res.t[-1])
     X = model.mesh.points
@@ -46,27 +48,42 @@ def test_spinning_block_2d_quarter_turn() -> None:
     e = res.energy
     ke0 = e["kinetic"][0]
     assert abs(e["kinetic"][-1] / ke0 - 1) < 1e-4
-    assert e["strain"].max() < 1e-5 * ke0
+    assert e["strain"].max() < 2e-6 * ke0
     # the small-displacement analysis moves the nodes along tangents: the block swells
     _, _, x_small = _spin_2d(False, 0.01)
     assert np.abs(x_small - exact).max() > 0.3
 
 
-def test_spinning_block_2d_second_order_in_dt() -> None:
-    """The body frames of the step are those predicted for t_{n+1}: the energy error
-    falls at least as Δt² (it would be first order with frames held at t_n)."""
-    errs = []
-    for dt in (0.02, 0.01):
-        _, res, _ = _spin_2d(True, dt)
+def test_spinning_block_2d_order_in_dt() -> None:
+    """The body frames of the step are those predicted for t_{n+1}. Over a quarter turn
+    (reference: the rigid rotation, as above) at Δt = 0.02, 0.01, 0.005 s the position
+    error is second order (observed orders log2 of the error ratios 2.00, 1.96: asserted
+    2 ± 0.1), the trapezoidal rule's phase error. The relative kinetic-energy error
+    (2.3e-4, 2.7e-5, 1.0e-5) falls with the observed order 3.09 from 0.02 to 0.01 s
+    (asserted 3 ± 0.15) but only 1.37 from 0.01 to 0.005 s (asserted ≥ 1.2), where a part
+    of lower order takes over (with frames held at t_n it would be first order
+    throughout)."""
+    pos, ke = [], []
+    for dt in (0.02, 0.01, 0.005):
+        model, res, x = _spin_2d(True, dt)
+        X = model.mesh.points
+        xc = X.mean(axis=0)
+        pos.append(np.abs(x - ((X - xc) @ _rot2(float(res.t[-1])).T + xc)).max())
         e = res.energy
-        errs.append(abs(e["kinetic"][-1] / e["kinetic"][0] - 1))
-    assert errs[1] < errs[0] / 3.5
+        ke.append(abs(e["kinetic"][-1] / e["kinetic"][0] - 1))
+    order_pos = np.log2(np.array(pos[:-1]) / pos[1:])
+    order_ke = np.log2(np.array(ke[:-1]) / ke[1:])
+    assert order_pos == pytest.approx([2.0, 2.0], abs=0.1), order_pos
+    assert order_ke[0] == pytest.approx(3.0, abs=0.15), order_ke
+    assert order_ke[1] >= 1.2, order_ke
 
 
 def test_spinning_block_3d_about_a_principal_axis() -> None:
     """A box (principal axes = its edges) turned by a rotation A, spun about its axis of
-    least inertia A e_x: after 1 s the rotation vector is ω t A e_x (Kabsch fit) and the
-    angular momentum about the centroid is conserved."""
+    least inertia A e_x (torque-free rigid motion): after 1 s the rotation vector is
+    ω t A e_x (Kabsch fit) within 1e-4 rad (measured 6.8e-5, the phase error at
+    ωΔt = 0.015), the angular momentum about the centroid is conserved to 1e-4 (measured
+    2.1e-5) and the kinetic energy to 1e-4 (measured 6.9e-5)."""
     mesh = pf.box(1.0, 0.6, 0.4, 3, 2, 2, cell="hexahedron")
     from scipy.spatial.transform import Rotation
 
@@ -79,7 +96,7 @@ def test_spinning_block_3d_about_a_principal_axis() -> None:
     an = Dynamic(model, 0.01, large_rotation=True)
     res = an.run(1.0, start=an.initial(v0=1.5 * np.cross(axis, X - xc)))
     assert res.final is not None
-    assert np.allclose(res.rigid[-1, 0, 3:], 1.5 * res.t[-1] * axis, atol=1e-4)
+    assert np.abs(res.rigid[-1, 0, 3:] - 1.5 * res.t[-1] * axis).max() < 1e-4
     m = an.system.expand(an.mass, prescribed=False).reshape(-1, 3)[:, 0]
 
     def L(st: object) -> np.ndarray:
@@ -97,7 +114,8 @@ def test_spinning_block_3d_about_a_principal_axis() -> None:
 
 def test_frames_of_a_rigid_3d_placement() -> None:
     """Kabsch fit: a rigid placement (rotation by 2 rad about a skew axis plus a
-    translation) is recovered exactly and leaves no local deformation."""
+    translation) is recovered to round-off (rotation and angles 1e-15, measured 1.7e-16;
+    local displacement a translation to 5e-15 m, measured 8.9e-16 m)."""
     from scipy.spatial.transform import Rotation
 
     mesh = pf.box(1.0, 1.0, 1.0, 2, 2, 2, cell="hexahedron")
@@ -107,16 +125,18 @@ def test_frames_of_a_rigid_3d_placement() -> None:
     Rm = Rotation.from_rotvec(rv).as_matrix()
     u = (mesh.points @ Rm.T + [3.0, -1.0, 0.5] - mesh.points).ravel()
     R = fr.rotations(u)
-    assert np.allclose(R[0], Rm, atol=1e-12)
-    assert np.allclose(fr.angles(R)[0], rv, atol=1e-12)
+    assert np.abs(R[0] - Rm).max() < 1e-15
+    assert np.abs(fr.angles(R)[0] - rv).max() < 1e-15
     ut = fr.local_displacement(u, R).reshape(-1, 3)
-    assert np.allclose(ut - ut.mean(axis=0), 0.0, atol=1e-12)  # a translation only
+    assert np.abs(ut - ut.mean(axis=0)).max() < 5e-15  # a translation only
 
 
 def test_rest_of_a_stack_with_turning_pair_frames() -> None:
     """Two blocks stacked on a fixed base (the upper joint's side a floats, so its pair
     frames turn with the lower block): from the static state and without excitation the
-    large-rotation run stays at rest (method.md §5.2)."""
+    large-rotation run stays at rest (method.md §5.2; the reference is the static state):
+    rigid motion within 2e-15 m and rad (measured 2.4e-16), pair forces within 3e-10 of the
+    largest (measured 5.0e-11)."""
     mesh = pf.rectangle(1.0, 2.5, 2, 5)
     mesh.points[:, 1] -= 0.5
     mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
@@ -138,13 +158,14 @@ def test_rest_of_a_stack_with_turning_pair_frames() -> None:
     )  # the upper joint's frames follow the lower block
     res = an.run(0.2, start=static)
     drift = np.abs(res.rigid[:, 1:] - res.rigid[:1, 1:]).max()
-    assert drift < 1e-9  # m and rad
-    assert np.abs(res.X - res.X[:1]).max() < 1e-6 * np.abs(res.X).max()
+    assert drift < 2e-15  # m and rad
+    assert np.abs(res.X - res.X[:1]).max() < 3e-10 * np.abs(res.X).max()
 
 
 def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
     """V2a's sliding block (rotations of order 1e-6 rad): the slip with body frames
-    equals the small-displacement result to 1e-6 of its value."""
+    equals the small-displacement result (an independent computation) to 5e-9 of its value
+    (measured 7.8e-10)."""
     model = block_on_base(joint=pf.Joint(phi=float(np.degrees(np.arctan(0.2)))))
     pulse = pf.GroundMotion.from_samples([4.905, 4.905, 0.0, 0.0],
                                          time=[0.0, 0.2, 0.2 + 1e-9, 1.0])  # fmt: skip
@@ -153,7 +174,7 @@ def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
            for lr in (False, True)]  # fmt: skip
     s0, s1 = (r.rigid[:, 1, 0] - r.rigid[0, 1, 0] for r in out)
     assert abs(s0[-1]) > 0.1
-    assert np.abs(s1 - s0).max() < 1e-6 * abs(s0[-1])
+    assert np.abs(s1 - s0).max() < 5e-9 * abs(s0[-1])
 
 
 def test_large_rotation_refuses_hht() -> None:

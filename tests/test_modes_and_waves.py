@@ -5,12 +5,16 @@
   Engineering, §7.2). Linear elements with consistent mass reproduce exactly the
   dispersion relation of the discrete chain, ω_h² = (6c²/h²)(1 − cos kh)/(2 + cos kh),
   at k = (2n − 1)π/(2H) (mirror symmetry of the free end), an overestimate of
-  ω by (kh)²/24 + O(h⁴): checked to 1e-8, and the continuum within (kh)²/12.
+  ω by (kh)²/24 + O(h⁴): checked to 1e-12 (measured 1.1e-13), and the continuum's error
+  equals (kh)²/24 to 5e-3 (measured 8.4e-4, the O(h⁴) term).
 - Cantilever: Euler-Bernoulli f_n = (β_n L)²/(2πL²) √(EI/(ρA)), cos βL cosh βL = −1.
   Slenderness L/h = 20 with ν = 0: Timoshenko's shear and rotary inertia lower f₁ by
-  about ½(β₁r/L)²(1 + E/(κG)) ≈ 0.1 % and f₂ by ≈ 0.8 %: tolerances 0.5 % and 1.5 %.
-- A pulse crossing a column arrives at L/c within two element transit times, with the
-  particle velocity of a plane wave v = σ/(ρc).
+  about ½(β₁r/L)²(1 + E/(κG)) ≈ 0.1 % and f₂ by ≈ 0.8 %: tolerances 0.5 % and 1.5 %
+  (measured 0.16 % and 1.1 %); the two bending directions of the square 3D section to
+  5e-4 (measured 5.7e-5).
+- A pulse crossing a column arrives at L/c within two element transit times (measured
+  1.25, the peak of a 20-element pulse on a mesh of one element per step of 4), with the
+  particle velocity of a plane wave v = σ/(ρc) to 1 % (measured 0.24 %).
 """
 
 from __future__ import annotations
@@ -44,9 +48,9 @@ def test_shear_column_frequencies(dim: int) -> None:
     k = (2 * n - 1) * np.pi / (2 * H)
     f_cont = (2 * n - 1) * cs / (4 * H)
     f_chain = np.sqrt(6 * cs**2 / h**2 * (1 - np.cos(k * h)) / (2 + np.cos(k * h))) / (2 * np.pi)
-    np.testing.assert_allclose(res.frequencies, f_chain, rtol=1e-8)
+    np.testing.assert_allclose(res.frequencies, f_chain, rtol=1e-12)
     err = res.frequencies / f_cont - 1
-    assert np.all(err > 0) and np.all(err < (k * h) ** 2 / 12)
+    np.testing.assert_allclose(err, (k * h) ** 2 / 24, rtol=5e-3)
     # the modal masses of shear-column modes sum towards the free mass
     assert res.effective_mass[:, 0].sum() < model.total_mass()
 
@@ -80,7 +84,7 @@ def test_cantilever_frequencies(dim: int) -> None:
     assert f[pick[0]] == pytest.approx(f_eb[0], rel=5e-3)
     assert f[pick[1]] == pytest.approx(f_eb[1], rel=1.5e-2)
     if dim == 3:
-        assert f[1] == pytest.approx(f[0], rel=1e-3)
+        assert f[1] == pytest.approx(f[0], rel=5e-4)
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -113,14 +117,16 @@ def test_pulse_arrives_at_l_over_c(dim: int) -> None:
     v = -hist.v[:, 0]
     arrival = hist.t[np.argmax(v)] - td / 2
     assert arrival == pytest.approx(n_receiver * h / c, abs=2 * h / c)
-    assert v.max() == pytest.approx(sigma / (ROCK.rho * c), rel=0.03)
+    assert v.max() == pytest.approx(sigma / (ROCK.rho * c), rel=1e-2)
 
 
 def test_modes_of_a_rigid_block_on_joint_springs() -> None:
     """A (nearly) rigid 1 m block (2400 kg) on a joint with k_n = k_s = 1e9 Pa/m, modal
     analysis with bonded interfaces: vertical mode √(k_n A/m)/2π = 102.734 Hz; the
     horizontal-rocking pair from the 2 × 2 rigid-body problem about the base centre
-    (mass [[m, m h], [m h, I_base]], stiffness diag(k_s A, Σ k_n A_i x_i²)), to 1e-5."""
+    (mass [[m, m h], [m h, I_base]], stiffness diag(k_s A, Σ k_n A_i x_i²)), to 1e-5
+    (measured 2.6e-6: the block, E = 1e14 Pa, is not quite rigid); the vertical mode's
+    effective mass is m to 2e-11 (measured 2.2e-12)."""
     import scipy.linalg as sla
 
     from pfeie.verification._models import block_on_base
@@ -137,10 +143,12 @@ def test_modes_of_a_rigid_block_on_joint_springs() -> None:
     f_hr = np.sqrt(sla.eigh(Kr, Mr, eigvals_only=True)) / (2 * np.pi)
     ref = np.sort([*f_hr, np.sqrt(1e9 * P.area.sum() / m) / (2 * np.pi)])
     assert np.allclose(res.frequencies, ref, rtol=1e-5)
-    assert res.effective_mass[1, 1] == pytest.approx(m, rel=1e-6)  # the vertical mode
+    assert res.effective_mass[1, 1] == pytest.approx(m, rel=2e-11)  # the vertical mode
 
 
 def test_modal_options_are_checked() -> None:
+    """Errors for unsupported options; with free interfaces the block floats: its rigid
+    modes are below 5e-5 of the lowest bonded frequency (measured 6.0e-6)."""
     from pfeie.errors import SolverError
     from pfeie.verification._models import block_on_base
 
@@ -152,5 +160,5 @@ def test_modal_options_are_checked() -> None:
     free = pf.modal(model, 3, interfaces="free").frequencies  # the block floats
     assert (
         free.max()
-        < 1e-3 * pf.modal(block_on_base(joint=pf.Joint(phi=30.0), gravity=False), 1).frequencies[0]
+        < 5e-5 * pf.modal(block_on_base(joint=pf.Joint(phi=30.0), gravity=False), 1).frequencies[0]
     )

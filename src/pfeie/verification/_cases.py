@@ -43,6 +43,33 @@ def _slide_interval(res) -> tuple[float, float]:  # type: ignore[no-untyped-def]
     return float(res.t[sliding[0]]), float(res.t[sliding[-1]])
 
 
+def _text(quantity: str, text: str, value: float, unit: str = "", tol: float = 0.0) -> Check:
+    """The reference derived here against the number printed in the case text: equal to
+    half a unit of its last printed digit (or to ``tol``, absolute, where stated)."""
+    digits = len(text.split(".")[1]) if "." in text else 0
+    return Check(f"{quantity} (case text)", float(text), float(value),
+                 tol or 0.5 * 10.0**-digits, False, unit)  # fmt: skip
+
+
+def _balance(res) -> float:  # type: ignore[no-untyped-def]
+    """Energy balance at the end over the friction work (interface dissipation)."""
+    E = res.energy
+    return float(abs(E["balance"][-1]) / E["interface"][-1])
+
+
+def _convergence(res: CaseResult, quantity: str, key: str, xs: list[float], errs: list[float],
+                 order: int, bound: float) -> None:  # fmt: skip
+    """Record a convergence study (errors against Δt or h) and check its observed rate, the
+    least-squares slope of log error against log ``key``, against the lower ``bound``
+    (the case's expected ``order``, less what its events cost)."""
+    rate = float(np.polyfit(np.log(xs), np.log(errs), 1)[0])
+    res.extra["convergence"] = {"quantity": quantity, key: xs, "error": errs, "rate": rate,
+                                "order": order, "bound": bound}  # fmt: skip
+    var = "Δt" if key == "dt" else "h"
+    res.checks.append(Check(f"observed rate of the {quantity} error in {var}", bound, rate, 0.0,
+                            False, at_least=True))  # fmt: skip
+
+
 # -- V1 ------------------------------------------------------------------------------------
 @case("V1a", "Block sliding down an incline under gravity",
       "A released block on a 30° joint with μ = 0.3 slides with constant acceleration; "
@@ -57,11 +84,18 @@ def v1a(fast: bool) -> CaseResult:
     T = 0.2 if fast else 0.4
     res = Dynamic(model, 0.002).run(T)
     d = _along(res, th)
+    q = res.rigid[-1, 1, :2] - res.rigid[0, 1, :2]
+    drift = float(q @ np.array([np.sin(th), np.cos(th)]))  # normal to the joint
     _MODELS["V1a"] = model
     return CaseResult("V1a", "Block sliding down an incline", [
-        Check(f"slip d({T} s)", 0.5 * acc * T**2, float(d[-1]), 5e-3, unit="m"),
+        # measured 1.1e-6 (0.2 s), 6.1e-7 (0.4 s); the drift 1.7e-7 m (elastic settling)
+        Check(f"slip d({T} s)", 0.5 * acc * T**2, float(d[-1]), 1e-5, unit="m"),
+        Check("normal drift into the base (no settling)", 0.0, abs(drift), 1e-6, False, "m"),
+        Check("pairs not sliding at the end (fraction)", 0.0,
+              float(np.mean(res.state[-1] != SLIDE)), 0.0, False),
     ], [Series("pfeie", res.t, d), Series("a t²/2", res.t, 0.5 * acc * res.t**2, "--")],
-        ylabel="slip along the joint (m)")  # fmt: skip
+        ylabel="slip along the joint (m)",
+        extra={"case_text": [_text("a", "2.35629", acc, "m/s²")]})  # fmt: skip
 
 
 @case("V1b", "Block resting on an incline (static)",
@@ -78,12 +112,17 @@ def v1b(fast: bool) -> CaseResult:
     W = G * 2400.0
     X = res.pairs.X
     excess = float(np.max(np.abs(X[:, 0]) - mu * X[:, 1])) / W  # > 0 would violate Coulomb
+    applied = model.load_vector().reshape(-1, 2).sum(axis=0)
+    unbalanced = float(np.abs(res.reactions.sum(axis=0) + applied).max()) / W
     _MODELS["V1b"] = model
     return CaseResult("V1b", "Block resting on an incline", [
-        Check("shear resultant / W", 0.5, abs(X[:, 0].sum()) / W, 5e-3),
-        Check("normal resultant / W", float(np.cos(np.radians(30))), X[:, 1].sum() / W, 5e-3),
-        Check("max (abs τ − μσ)A / W, ≤ 0", 0.0, max(excess, 0.0), 1e-9, False),
+        # equilibrium to round-off (measured 0 and 0); slip 4.0e-7 m (elastic)
+        Check("shear resultant / W", 0.5, abs(X[:, 0].sum()) / W, 1e-14),
+        Check("normal resultant / W", float(np.cos(np.radians(30))), X[:, 1].sum() / W, 1e-14),
+        Check("max (abs τ − μσ)A / W, ≤ 0", 0.0, max(excess, 0.0), 1e-14, False),
         Check("slip (m)", 0.0, float(np.abs(res.pairs.s[:, 0]).max()), 1e-6, False, "m"),
+        # measured 5.1e-17 (20×: the round-off of a sum of nodal forces)
+        Check("reactions + applied loads / W", 0.0, unbalanced, 1e-15, False),
     ])  # fmt: skip
 
 
@@ -94,6 +133,8 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
         t0 = 0.2
         u_ref = (A * G * t0) ** 2 / (2 * G * N) * (1 - N / A)
         t_start, t_stop = 0.0, A * t0 / N
+        text = [_text("permanent slip", "0.147150", u_ref, "m"),
+                _text("slip stops", "0.5", t_stop, "s")]  # fmt: skip
 
         def fn(t: np.ndarray) -> np.ndarray:  # the jump sampled at its mid value
             return np.where(t < t0 - 1e-12, A * G, np.where(t < t0 + 1e-12, 0.5 * A * G, 0.0))
@@ -103,6 +144,9 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
         ref_t = np.linspace(0.0, td, 4001)
         rb = RigidBlock(ref_t, A * G * np.sin(np.pi * ref_t / td), N * G, t_end=1.0)
         u_ref, t_stop = -float(rb.displacement([1.0])[0]), rb.stops[0]
+        text = [_text("permanent slip", "0.179804", u_ref, "m"),
+                _text("slip starts", "0.052396", t_start, "s"),
+                _text("slip stops", "0.662442", t_stop, "s")]  # fmt: skip
 
         def fn(t: np.ndarray) -> np.ndarray:
             return np.where(t <= td, A * G * np.sin(np.pi * np.minimum(t, td) / td), 0.0)
@@ -112,17 +156,26 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
     res = Dynamic(model, dt).run(1.0, start=solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     t1, t2 = _slide_interval(res)
-    ref = RigidBlock(t, a, N * G, t_end=1.0).displacement(res.t)
-    E = res.energy
+    rigid = RigidBlock(t, a, N * G, t_end=1.0)
+    ref = rigid.displacement(res.t)
+    # the record as sampled at Δt (the solver's input) against the closed form
+    # (measured 2.2e-5 for V2a, 6.2e-5 for V2b at Δt = 2 ms)
+    text.append(Check("permanent slip of the sampled record (exact)", u_ref, -float(ref[-1]),
+                      2e-4, unit="m"))  # fmt: skip
+    # slip starts: V2a at t = 0, seen at the first step (exactly one Δt: the state at t = 0
+    # is the static one); V2b 0.80 Δt after the start. Slip stops: V2a at 0.5 s, a step
+    # (round-off); V2b 0.22 Δt before the last sliding step's end
+    tols = (dt + 1e-9, 1e-9) if kind == "rect" else (0.9 * dt, 0.25 * dt)
     _MODELS[f"V2{'a' if kind == 'rect' else 'b'}"] = model
     out = CaseResult(f"V2{'a' if kind == 'rect' else 'b'}", "", [
-        Check("permanent slip", u_ref, -float(x[-1]), 1e-2, unit="m"),
-        Check("slip start", t_start, t1, dt + 1e-9, False, "s"),
-        Check("slip stop", t_stop, t2, dt + 1e-9, False, "s"),
-        Check("energy balance / friction work", 0.0, abs(E["balance"][-1]) / E["interface"][-1],
-              1e-2, False),
+        # measured at Δt = 2 ms: slip 3.5e-5 (V2a), 5.5e-5 (V2b); balance 3.1e-10, 3.8e-10
+        Check("permanent slip", u_ref, -float(x[-1]), 2e-4, unit="m"),
+        Check("slip start", t_start, t1, tols[0], False, "s"),
+        Check("slip stop", t_stop, t2, tols[1], False, "s"),
+        Check("energy balance / friction work", 0.0, _balance(res), 1e-9, False),
     ], [Series("pfeie", res.t, -x), Series("rigid block (exact)", res.t, -ref, "--")],
-        ylabel="slip of the block relative to the base (m)")  # fmt: skip
+        ylabel="slip of the block relative to the base (m)",
+        extra={"case_text": text})  # fmt: skip
     return out, abs(-float(x[-1]) - u_ref) / u_ref
 
 
@@ -131,9 +184,12 @@ def _v2_case(kind: str, fast: bool) -> CaseResult:
     if not fast:
         dts = [0.004, 0.002, 0.001, 0.0005]
         errs = [_v2(kind, dt)[1] for dt in dts]
-        rate = float(np.polyfit(np.log(dts), np.log(errs), 1)[0])
-        res.extra["convergence"] = {"quantity": "permanent slip", "dt": dts, "error": errs,
-                                    "rate": rate}  # fmt: skip
+        # V2a: start (t = 0) and stop (0.5 s) fall on steps: Newmark's second order (measured
+        # 1.84, the jump sampled at its mid value); V2b: both events fall inside steps and
+        # cost O(Δt) each: first order (measured 1.46, the errors scattering with where the
+        # events fall in the step)
+        order, bound = (2, 1.8) if kind == "rect" else (1, 0.9)
+        _convergence(res, "permanent slip", "dt", dts, errs, order, bound)
     return res
 
 
@@ -175,11 +231,19 @@ def v3(fast: bool) -> CaseResult:
     xr = ref.displacement(res.t)
     i1 = int(np.searchsorted(res.t, 0.45))
     _MODELS["V3"] = model
+    # the case text's numbers are those of the continuous sine; the reference here integrates
+    # the record sampled at Δt, which the solver sees (measured 2.2e-4, 2.2e-4 relative and
+    # 4.8e-6 s)
+    text = [_text("κ = cos β + μ sin β", "1.137158", kappa),
+            _text("slip after one cycle", "0.0455160", xr[i1], "m", 5e-4 * 0.0455160),
+            _text("slip after 5 cycles", "0.227580", xr[-1], "m", 5e-4 * 0.227580),
+            _text("first slip", "0.0363278", ref.starts[0], "s", 2e-5)]  # fmt: skip
     return CaseResult("V3", "Block on an incline under horizontal shaking", [
-        Check("slip after one cycle", float(xr[i1]), float(s[i1]), 1e-2, unit="m"),
-        Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 1e-2, unit="m"),
+        # measured 6.4e-5 and 2.8e-3
+        Check("slip after one cycle", float(xr[i1]), float(s[i1]), 5e-4, unit="m"),
+        Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 5e-3, unit="m"),
     ], [Series("pfeie", res.t, s), Series("rigid block (exact)", res.t, xr, "--")],
-        ylabel="downslope slip (m)")  # fmt: skip
+        ylabel="downslope slip (m)", extra={"case_text": text})  # fmt: skip
 
 
 def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
@@ -192,19 +256,31 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
     xr = ref.displacement(res.t)
     i1 = int(np.argmin(np.abs(res.t - ref.stops[0])))
     t1, _ = _slide_interval(res)
-    E = res.energy
     checks = [
-        Check("first slip", float(ref.starts[0]), t1, dt + 1e-9, False, "s"),
-        Check("first-episode slip", float(xr[i1]), float(x[i1]), 1e-2, unit="m"),
-        Check("extreme slip", float(xr.min()), float(x.min()), 1e-2, unit="m"),
-        Check("residual slip", float(xr[-1]), float(x[-1]), 2e-3, False, "m"),
-        Check("energy balance / friction work", 0.0, abs(E["balance"][-1]) / E["interface"][-1],
-              1e-2, False),
+        # measured at Δt = 1 ms: 0.505 Δt; 2.3e-6; 1.3e-3; 1.7e-4 m; balance 3.9e-13
+        Check("first slip", float(ref.starts[0]), t1, 0.6 * dt, False, "s"),
+        Check("first-episode slip", float(xr[i1]), float(x[i1]), 2e-5, unit="m"),
+        Check("extreme slip", float(xr.min()), float(x.min()), 5e-3, unit="m"),
+        Check("residual slip", float(xr[-1]), float(x[-1]), 1e-3, False, "m"),
+        # the slip is never positive (measured: 0); heel openings 3.3e-7 m
+        Check("largest positive slip (the block creeps one way)", 0.0, max(float(x.max()), 0.0),
+              0.0, False, "m"),
+        Check("largest heel opening (contact stabilisation)", 0.0, float(res.s[:, :, -1].max()),
+              2e-6, False, "m"),
+        Check("energy balance / friction work", 0.0, _balance(res), 2e-12, False),
     ]  # fmt: skip
+    # the case text integrates the continuous sine, the reference here the record sampled at
+    # Δt (measured at 1 ms: 3.8e-7 s, 5.7e-7 s; 1.9e-6, 2.9e-6, 3.3e-6 m)
+    text = [_text("first slip", "0.0654949", ref.starts[0], "s", 2e-6),
+            _text("first stop", "0.654612", ref.stops[0], "s", 2e-6),
+            _text("first-episode slip", "-0.233326", xr[i1], "m", 1e-5),
+            _text("extreme slip", "-0.251548", xr.min(), "m", 1e-5),
+            _text("residual slip", "-0.02268", xr[-1], "m", 1e-5)]  # fmt: skip
     _MODELS["V4"] = model
     out = CaseResult("V4", "Two-way stick-slip on a horizontal joint", checks,
                      [Series("pfeie", res.t, x), Series("rigid block (exact)", res.t, xr, "--")],
-                     ylabel="slip relative to the base (m)")  # fmt: skip
+                     ylabel="slip relative to the base (m)",
+                     extra={"case_text": text})  # fmt: skip
     return out, abs(float(x.min()) - float(xr.min())) / abs(float(xr.min()))
 
 
@@ -218,9 +294,9 @@ def v4(fast: bool) -> CaseResult:
     if not fast:
         dts = [0.005, 0.0025, 0.001, 0.0005]
         errs = [_v4(dt)[1] for dt in dts]
-        rate = float(np.polyfit(np.log(dts), np.log(errs), 1)[0])
-        res.extra["convergence"] = {"quantity": "extreme slip", "dt": dts, "error": errs,
-                                    "rate": rate}  # fmt: skip
+        # first order: each slip reversal costs up to Δt·μg of velocity (measured 1.42, the
+        # errors irregular)
+        _convergence(res, "extreme slip", "dt", dts, errs, 1, 0.9)
     return res
 
 
@@ -249,6 +325,7 @@ def v5(fast: bool) -> CaseResult:
         model = block_on_base(joint=Joint(phi=float(np.degrees(phi))), incline_deg=20.0)
         res = Dynamic(model, 0.005).run(13.0, start=solve_static(model), ground=[gm])
         s = _along(res, beta)
+        # measured 2.6e-3, 1.0e-2, 1.2e-2 (k_y = 0.05, 0.10, 0.15)
         checks.append(Check(f"one-way slip, k_y = {ky}", float(ref.displacement([13.0])[0]),
                             float(s[-1]), 2e-2, unit="m"))  # fmt: skip
         series += [Series(f"pfeie one-way k_y={ky}", res.t, s),
@@ -261,6 +338,7 @@ def v5(fast: bool) -> CaseResult:
         x = slip_x(res) - slip_x(res)[0]
         xr = ref.displacement(res.t)
         peak = float(np.abs(xr).max())
+        # measured 2.5e-3, 6.1e-3, 1.2e-2 (μ = 0.05, 0.10, 0.15)
         checks.append(Check(f"two-way max error / peak, μ = {mu}", 0.0,
                             float(np.abs(x - xr).max()) / peak, 2e-2, False))  # fmt: skip
     _MODELS["V5"] = model
@@ -302,9 +380,10 @@ def _v6(n: int) -> tuple[CaseResult, dict[str, float]]:
     ke0 = 0.5 * rho * A * L * v0**2
     after = res.energy["kinetic"][-1] + res.energy["strain"][-1] - res.energy["strain"][0]
     checks = [
-        Check("contact start", gap / v0, t_on, 2 * dt, False, "s"),
-        Check("plateau force", rho * c * v0 * A, plateau, 2e-2, unit="N"),
-        Check("contact duration", 2 * L / c, dur, 2e-2, unit="s"),
+        # measured (400 cells): 0.25 Δt; 3.0e-7; 3.8e-3; 4.1e-3; 7.6e-3
+        Check("contact start", gap / v0, t_on, 0.3 * dt, False, "s"),
+        Check("plateau force", rho * c * v0 * A, plateau, 1e-6, unit="N"),
+        Check("contact duration", 2 * L / c, dur, 1e-2, unit="s"),
         Check("impulse", 2 * p0, impulse, 1e-2, unit="N s"),
         Check("rebound momentum", p0, float((mass * vf).sum()), 1e-2, unit="N s"),
     ]
@@ -336,9 +415,10 @@ def v6(fast: bool) -> CaseResult:
         ns = [50, 100, 200, 400]
         errs = [_v6(n)[1]["momentum"] for n in ns]
         hs = [1.0 / n for n in ns]
-        rate = float(np.polyfit(np.log(hs), np.log(errs), 1)[0])
-        res.extra["convergence"] = {"quantity": "rebound momentum", "h": hs, "error": errs,
-                                    "rate": rate}  # fmt: skip
+        # the inelastic landing of the contact node loses momentum with the nodal mass, but
+        # the measured rate is a steady 0.68 (ratios 1.61, 1.61, 1.58 per halving), below the
+        # first order: the bound asserts what is measured
+        _convergence(res, "rebound momentum", "h", hs, errs, 1, 0.6)
     return res
 
 
@@ -359,7 +439,8 @@ def v7a(fast: bool) -> CaseResult:
     i = int(np.argmax(n_open >= res.state.shape[1] - 1))
     _MODELS["V7a"] = model
     return CaseResult("V7a", "Rocking block: uplift threshold", [
-        Check("base acceleration at uplift", G * b / h, k * float(res.t[i]), 1e-2,
+        # one step of the ramp, k Δt = 0.004 m/s² (measured 0.0035 m/s²)
+        Check("base acceleration at uplift", G * b / h, k * float(res.t[i]), k * dt, False,
               unit="m/s²"),
     ], [Series("open pairs (of 3)", k * res.t, n_open.astype(float))], xlabel="base "
         "acceleration (m/s²)", ylabel="number of open pairs")  # fmt: skip
@@ -433,15 +514,16 @@ def v7b(fast: bool) -> CaseResult:
              "effective "
              "restitution comes from the distributed, perfectly inelastic contact of the "
              "whole base (velocity projection) and from the elastic vibration the impact "
-             "excites; it matches Housner's point impact to a few per cent: within 2.5 % for "
-             "4 × 16 cells and finer at Δt from 0.5 to 2 ms, 5 % low on the coarsest mesh "
-             "(`make verify` tabulates it), as the case text anticipates. The body "
+             f"excites; on 4 × 16 cells at Δt = 1 ms it differs from Housner's point impact "
+             f"by {100 * (out['eta'] / eta_h - 1):+.2g} % (the full suite tabulates its "
+             "dependence on the mesh and Δt). The body "
              "frames of each step are predicted, not iterated, so the energy balance is not "
              f"exact: its residual before the impact is {out['balance']:.2e} of the work of "
              "gravity.")  # fmt: skip
     res = CaseResult("V7b", "Rocking block: free rocking", [
+        # measured 1.8e-3 and 2.1e-3 (4 × 16 cells, Δt = 1 ms)
         Check("quarter period", ref_q, out["t_q"], 1e-2, unit="s"),
-        Check("effective restitution η", eta_h, out["eta"], 3e-2),
+        Check("effective restitution η", eta_h, out["eta"], 1e-2),
     ], [Series("pfeie", out["res"].t, out["th"]), Series("Housner (rigid, η)", ts, ref, "--")],
         ylabel="tilt θ (rad)", notes=notes)  # fmt: skip
     if not fast:
@@ -449,9 +531,8 @@ def v7b(fast: bool) -> CaseResult:
         runs = [_v7b(n, 1e-3, 1.1) for n in ns]
         errs = [abs(r["t_q"] / ref_q - 1) for r in runs]
         hs = [2 * h / (4 * n) for n in ns]
-        rate = float(np.polyfit(np.log(hs), np.log(errs), 1)[0])
-        res.extra["convergence"] = {"quantity": "quarter period", "h": hs, "error": errs,
-                                    "rate": rate}  # fmt: skip
+        # second order: the lumped mass's moment of inertia is off by O(h²) (measured 1.97)
+        _convergence(res, "quarter period", "h", hs, errs, 2, 1.8)
         dts = [2e-3, 1e-3, 5e-4]
         by_dt = [_v7b(4, dt, 1.1) if dt != 1e-3 else runs[1] for dt in dts]
         res.extra["table"] = (
@@ -462,6 +543,10 @@ def v7b(fast: bool) -> CaseResult:
                 f"{r['eta'] / eta_h:.4f}"] for dt, r in zip(dts, by_dt, strict=True)
                if dt != 1e-3],
         )  # fmt: skip
+        dev = [abs(r["eta"] / eta_h - 1) for r in runs[1:] + by_dt]
+        res.notes += (f" On 4 × 16 cells and finer, at Δt from 0.5 to 2 ms, η_eff differs from "
+                      f"Housner's by at most {100 * max(dev):.2g} %; on the coarsest mesh "
+                      f"(2 × 8) by {100 * (runs[0]['eta'] / eta_h - 1):+.2g} %.")  # fmt: skip
     return res
 
 
@@ -498,15 +583,26 @@ def v8a(fast: bool) -> CaseResult:
     i_land = int(np.argmax((ts > t_off + 0.01) & (y < 0)))
     land = float(brentq(flight, ts[i_land - 1], ts[i_land]))  # the landing instant
     v_land = -G * (land - t_off) + 1.5 * G / w * (np.cos(w * land) - np.cos(w * t_off))
+    E = res.energy
     _MODELS["V8a"] = model
+    text = [_text("lift-off", "0.308070", t_off, "s"), _text("re-contact", "0.591860", land, "s"),
+            _text("maximum opening", "0.0501613", y.max(), "m"),
+            _text("closing velocity", "1.43751", -v_land, "m/s")]  # fmt: skip
     return CaseResult("V8a", "Lift-off under vertical shaking", [
-        Check("lift-off", float(t_off), float(res.t[i_open]), dt + 1e-9, False, "s"),
-        Check("re-contact", float(land), t_c, dt + 1e-9, False, "s"),
-        Check("maximum opening", float(y.max()), float(gap.max()), 1e-2, unit="m"),
+        # measured: 0.77 Δt, 0.26 Δt, 0.013 Δt; 6.6e-4; 4.9e-4; balance 5.9e-15
+        Check("lift-off", float(t_off), float(res.t[i_open]), 0.8 * dt, False, "s"),
+        Check("re-contact (first closed step)", float(land), float(res.t[k + 1]), 0.3 * dt,
+              False, "s"),
+        Check("re-contact (extrapolated flight)", float(land), t_c, 0.05 * dt, False, "s"),
+        Check("maximum opening", float(y.max()), float(gap.max()), 2e-3, unit="m"),
         Check("closing velocity", float(-v_land), -float(np.polyval(np.polyfit(tt, vv, 2), t_c)),
-              1e-2, unit="m/s"),
+              2e-3, unit="m/s"),
+        Check("energy dissipated by the landing (J), > 0", 1.0, float(E["impact"][-1] > 0), 0.0,
+              False),
+        Check("energy balance / largest external work", 0.0,
+              float(abs(E["balance"][-1]) / np.abs(E["external_work"]).max()), 5e-14, False),
     ], [Series("pfeie", res.t, gap), Series("rigid flight", ts, np.maximum(y, 0.0), "--")],
-        ylabel="opening (m)")  # fmt: skip
+        ylabel="opening (m)", extra={"case_text": text})  # fmt: skip
 
 
 @case("V8b", "Tensile strength of a bonded joint",
@@ -525,11 +621,23 @@ def v8b(fast: bool) -> CaseResult:
     t_break = float(res.t[np.argmax(res.broken.all(axis=1))])
     after = res.t > t_break
     sig = res.normal_stress.mean(axis=1)
+    # before the break: σ = −m k t/A, the pair forces being step averages (they act at
+    # t_{n+1/2}; see pfeie.dynamics)
+    before = (res.t > 0.1) & (res.t < t_ref - dt)
+    expected = -2400.0 * k * (res.t[before] - dt / 2)
+    hist = float(np.abs(res.normal_stress[before] - expected[:, None]).max() / st_)
     _MODELS["V8b"] = model
     return CaseResult("V8b", "Tensile strength of a bonded joint", [
-        Check("opening time", t_ref, t_break, dt + 1e-9, False, "s"),
+        # measured: 0.58 Δt; 4.7e-5; an open pair carries exactly nothing
+        Check("opening time", t_ref, t_break, 0.6 * dt, False, "s"),
+        Check("stress history before opening, max abs(σ + m k t/A) / σ_t", 0.0, hist, 2e-4,
+              False),
         Check("largest tension after opening (Pa)", 0.0,
-              float(np.abs(res.normal_stress[after]).max()), 1e-9, False, "Pa"),
+              float(np.abs(res.normal_stress[after]).max()), 0.0, False, "Pa"),
+        Check("largest pair force after opening (N)", 0.0, float(np.abs(res.X[after]).max()),
+              0.0, False, "N"),
+        Check("pairs not open after opening (fraction)", 0.0,
+              float(np.mean(res.state[after] != OPEN)), 0.0, False),
     ], [Series("pfeie σ (mean)", res.t, sig),
         Series("−m k t / A until σ_t", res.t, np.where(res.t < t_ref, -2400.0 * k * res.t, 0.0),
                "--")], ylabel="joint normal stress (Pa, compression +)")  # fmt: skip
@@ -556,12 +664,26 @@ def v8c(fast: bool) -> CaseResult:
     xr = np.where(
         res.t > tb, -(k * (res.t - tb) ** 3 / 6 + (k * tb - mu * G) * (res.t - tb) ** 2 / 2), 0.0
     )
+    # after breaking: sliding with μ = tan φ, relative acceleration −(a_g − μ g)
+    late = res.t > t_b + 0.05
+    tl = res.t[late]
+    acc = np.gradient(np.gradient(x[late], tl), tl)[5:-5]
+    acc_ref = -(k * tl[5:-5] - mu * G)
+    first = int(np.argmax(res.broken.any(axis=1)))
     _MODELS["V8c"] = model
     return CaseResult("V8c", "Bond breaking in shear, then sliding", [
-        Check("acceleration at breaking", float(a_break), k * t_b, 1e-2, unit="m/s²"),
-        Check("slip at the end", float(xr[-1]), float(x[-1]), 2e-2, unit="m"),
+        # one step of the ramp, k Δt = 0.01 m/s² (measured 0.0024 m/s²); then 8.3e-7, 2.1e-3
+        Check("acceleration at breaking", float(a_break), k * t_b, k * dt, False, "m/s²"),
+        Check("pairs broken at the first break (fraction)", 1.0,
+              float(res.broken[first].mean()), 0.0, False),
+        Check("sliding acceleration, max relative error", 0.0,
+              float(np.abs(acc / acc_ref - 1).max()), 5e-6, False),
+        Check("slip at the end", float(xr[-1]), float(x[-1]), 5e-3, unit="m"),
     ], [Series("pfeie", res.t, x), Series("rigid block", res.t, xr, "--")],
-        ylabel="slip relative to the base (m)")  # fmt: skip
+        ylabel="slip relative to the base (m)",
+        # the case text rounds 7.70237 to 7.703: one unit of its last digit
+        extra={"case_text": [_text("acceleration at breaking", "7.703", a_break, "m/s²", 1e-3)]},
+    )  # fmt: skip
 
 
 # -- V9, V10 ---------------------------------------------------------------------------------
@@ -601,9 +723,10 @@ def v9(fast: bool) -> CaseResult:
     err_f = float(np.abs(f1 / f0 - 1.0).max())
     _MODELS["V9"] = cut
     return CaseResult("V9", "Intact interfaces reproduce the monolithic model", [
-        Check("static displacements, max relative difference", 0.0, err_s, 1e-9, False),
+        # measured 7.8e-13, 2.7e-10, 1.6e-15 (the case text's criterion: 1e-9)
+        Check("static displacements, max relative difference", 0.0, err_s, 5e-12, False),
         Check("dynamic top displacement, max relative difference", 0.0, err_d, 1e-9, False),
-        Check("8 lowest frequencies, max relative difference", 0.0, err_f, 1e-9, False),
+        Check("8 lowest frequencies, max relative difference", 0.0, err_f, 1e-14, False),
     ], [Series("cut, intact interfaces", r1.t, r1.probe_u[:, 0, 0]),
         Series("monolithic", r0.t, r0.probe_u[:, 0, 0], "--")],
         ylabel="top displacement u_x (m)")  # fmt: skip
@@ -667,7 +790,8 @@ def v10(fast: bool) -> CaseResult:
     T_num = abs(np.sum(u_joint * ph)) / abs(np.sum(u_free * ph))
     T_closed = abs(np.sum(u_rigid * ph)) / abs(np.sum(u_free * ph))
     return CaseResult("V10", "P wave through a joint with normal stiffness", [
-        Check("transmission abs T at 100 Hz, κ = 1e10 Pa/m", float(T_ref), float(T_num), 2e-2),
-        Check("transmission abs T, closed rigid joint", 1.0, float(T_closed), 2e-2),
+        # measured 3.8e-4 and 1.5e-14
+        Check("transmission abs T at 100 Hz, κ = 1e10 Pa/m", float(T_ref), float(T_num), 2e-3),
+        Check("transmission abs T, closed rigid joint", 1.0, float(T_closed), 1e-13),
     ], [Series("no joint", t, u_free), Series("joint κ = 1e10 Pa/m", t, u_joint, "--")],
         ylabel="displacement at x = 400 m (m)")  # fmt: skip

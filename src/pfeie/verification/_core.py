@@ -16,7 +16,8 @@ log = logging.getLogger(__name__)
 @dataclass(frozen=True)
 class Check:
     """One verified quantity: |value − reference| ≤ tol (absolute) or ≤ tol·|reference|
-    (``relative``)."""
+    (``relative``); with ``at_least``, a lower bound: value ≥ reference − tol (the error
+    is the shortfall, e.g. an observed convergence rate against the bound it must reach)."""
 
     quantity: str
     reference: float
@@ -24,9 +25,12 @@ class Check:
     tol: float
     relative: bool = True
     unit: str = ""
+    at_least: bool = False
 
     @property
     def error(self) -> float:
+        if self.at_least:
+            return max(self.reference - self.value, 0.0)
         d = abs(self.value - self.reference)
         return d / abs(self.reference) if self.relative and self.reference else d
 
@@ -36,10 +40,14 @@ class Check:
 
     @property
     def tolerance_text(self) -> str:
+        if self.at_least:
+            return f"≥ {self.reference - self.tol:.3g}"
         return f"{100 * self.tol:.3g} %" if self.relative else f"{self.tol:.3g} {self.unit}"
 
     @property
     def error_text(self) -> str:
+        if self.at_least:
+            return f"{self.error:.3g}"
         return f"{100 * self.error:.3g} %" if self.relative else f"{self.error:.3g} {self.unit}"
 
 
