@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from pfeie.io._modelfile import reference_markdown
+from pfeie.io import reference_markdown
 
 here = Path(__file__).resolve().parent
 text = (here / "model-file.md.in").read_text().replace("@TABLE@", reference_markdown())

@@ -156,7 +156,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _overrides(args: argparse.Namespace) -> list[Override]:
     """The settings of the command line, in the order they apply (--set last)."""
-    from .io._modelfile import Override, parse_override, parse_value
+    from .io import Override, parse_override, parse_value
 
     out = []
     for opt, key in (("duration", "analysis.duration"), ("dt", "analysis.dt")):

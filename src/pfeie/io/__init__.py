@@ -8,7 +8,10 @@ from ._modelfile import (
     Override,
     json_schema,
     load_job,
+    parse_override,
+    parse_value,
     read_model_file,
+    reference_markdown,
     reference_rows,
 )
 from ._paraview import write_paraview
@@ -17,6 +20,7 @@ from ._results import Results, ResultsWriter
 
 __all__ = [
     "Job", "ModelFile", "Override", "Results", "ResultsWriter", "export_csv", "from_gmsh",
-    "json_schema", "load_job", "read_mesh", "read_model_file", "read_record", "reference_rows",
+    "json_schema", "load_job", "parse_override", "parse_value", "read_mesh", "read_model_file",
+    "read_record", "reference_markdown", "reference_rows",
     "write_at2", "write_paraview",
 ]  # fmt: skip
