@@ -80,14 +80,10 @@ def _solve_columns(
     return 0.5 * (W + W.T), Z
 
 
-@dataclass
-class DenseDelassus:
-    """W stored dense; the corrector through Z or a back-substitution."""
+class _StoredW:
+    """W held as a dense array: size, the matrix and its product."""
 
     W: FloatArray
-    Z: FloatArray | None
-    factor: Factorization
-    G: sp.csr_matrix
 
     @property
     def size(self) -> int:
@@ -98,6 +94,16 @@ class DenseDelassus:
 
     def apply(self, X: FloatArray) -> FloatArray:
         return np.asarray(self.W @ X)
+
+
+@dataclass
+class DenseDelassus(_StoredW):
+    """W stored dense; the corrector through Z or a back-substitution."""
+
+    W: FloatArray
+    Z: FloatArray | None
+    factor: Factorization
+    G: sp.csr_matrix
 
     def correct(self, X: FloatArray) -> FloatArray:
         if self.Z is not None:
@@ -177,22 +183,12 @@ class BlockDelassus:
 
 
 @dataclass
-class GatheredDelassus:
+class GatheredDelassus(_StoredW):
     """W = G̃ F G̃ᵀ gathered from the nodal flexibility F of the pair nodes, with the
     corrector given by the caller (e.g. through rotated frames)."""
 
     W: FloatArray
     corrector: Callable[[FloatArray], FloatArray]
-
-    @property
-    def size(self) -> int:
-        return int(self.W.shape[0])
-
-    def matrix(self) -> FloatArray:
-        return self.W
-
-    def apply(self, X: FloatArray) -> FloatArray:
-        return np.asarray(self.W @ X)
 
     def correct(self, X: FloatArray) -> FloatArray:
         return self.corrector(X)

@@ -234,12 +234,10 @@ class Dynamic:
         self, v: FloatArray, u: FloatArray, R: FloatArray | None = None
     ) -> FloatArray:
         """C v, or Q C₀ Qᵀ v with large rotations (N)."""
+        if self.corot is not None:
+            return self.corot.damping_force(v, u, R)
         C = self.system.C
-        if C is None:
-            return np.zeros_like(v)
-        if self.corot is None:
-            return np.asarray(C @ v)
-        return self.corot.damping_force(v, u, R)
+        return np.zeros_like(v) if C is None else np.asarray(C @ v)
 
     def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
         """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
