@@ -70,12 +70,13 @@ class PairState:
         """This trial state as the committed state of the step from ``prev``: the slip
         path of the pairs in contact at the end of the step (stick or slide) grows by
         their slip increment |s_t − s_t,prev|."""
-        out = self.copy()
-        if out.n:
-            touch = (self.state == STICK) | (self.state == SLIDE)
-            inc = np.linalg.norm(self.s[:, :-1] - prev.s[:, :-1], axis=1)
-            out.path = prev.path + np.where(touch, inc, 0.0)
-        return out
+        if not self.n:
+            return replace(self)
+        touch = (self.state == STICK) | (self.state == SLIDE)
+        inc = np.sqrt(np.einsum("kj,kj->k", self.s[:, :-1] - prev.s[:, :-1],
+                                self.s[:, :-1] - prev.s[:, :-1]))  # fmt: skip
+        # a trial is not used after its commit: the committed state shares its arrays
+        return replace(self, path=prev.path + np.where(touch, inc, 0.0))
 
     def counts(self) -> dict[str, int]:
         """Number of pairs in each state, and broken."""
