@@ -28,7 +28,7 @@ import numpy as np
 
 from ._version import __version__
 from .dynamics import Dynamic, DynamicResult, DynamicSettings, RunStopped, StepState
-from .errors import InputError, PfeieError
+from .errors import InputError, ModelError, PfeieError
 from .interface import OPEN, SLIDE, SolverSettings
 from .io import Job, ResultsWriter, write_paraview
 from .solvers import StaticResult, solve_static
@@ -78,6 +78,8 @@ def run_job(
     model = job.model
     static: StaticResult | None = None
     t0 = time.perf_counter()
+    # the dynamic analysis first: a setting it refuses is an input error, found before work
+    dyn = dynamic_analysis(job) if a.dynamic else None
     writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     try:
         if a.static:
@@ -89,8 +91,7 @@ def run_job(
         raise
     result: DynamicResult | None = None
     stopped: str | None = None
-    if a.dynamic:
-        dyn = dynamic_analysis(job)
+    if dyn is not None:
         try:
             n = a.steps(job.duration if duration is None else duration)
         except ValueError as exc:
@@ -140,7 +141,10 @@ def dynamic_analysis(job: Job) -> Dynamic:
     settings = DynamicSettings.model_validate(
         a.model_dump(include=set(DynamicSettings.model_fields))
     )
-    return Dynamic(job.model, settings=settings)
+    try:
+        return Dynamic(job.model, settings=settings)
+    except ModelError as exc:
+        raise InputError(f"{job.path}: analysis: {exc}") from None
 
 
 def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) -> dict[str, Any]:

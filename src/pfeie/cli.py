@@ -137,6 +137,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"record: {r.summary()}", file=sys.stderr)
     try:
         summary = run_job(job, progress=not args.quiet)
+    except (InputError, RecordError) as exc:
+        print(f"pfeie: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     except MechanismError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
         return EXIT_FAILED

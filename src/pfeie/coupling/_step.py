@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
-from ..typing import FloatArray
+from ..typing import BoolArray, FloatArray
 from ._delassus import Delassus
 from ._operators import PairOperator
 
@@ -71,12 +71,21 @@ class InterfaceStep:
                                       regularize=self.regularize)  # fmt: skip
 
     def solve(
-        self, u_free: FloatArray, w_pres: FloatArray, prev: PairState, label: str = ""
+        self,
+        u_free: FloatArray,
+        w_pres: FloatArray,
+        prev: PairState,
+        label: str = "",
+        inactive: BoolArray | None = None,
     ) -> StepSolution:
         """The trial pair state and the block correction for the predictor ``u_free``
-        (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state."""
+        (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state.
+        Pairs marked ``inactive`` (m,) take no part: they are held open (their free
+        normal motion is made separating, so they carry nothing)."""
         m, d = self.op.m, self.op.d
         w_free = (self.op.G @ u_free + w_pres).reshape(m, d)
+        if inactive is not None and inactive.any():
+            w_free[inactive, -1] = np.abs(w_free[inactive, -1]) + 1e-300
         trial, _ = self.solver.solve(w_free, prev, label=label)
         du = self.W.correct(trial.X.ravel() * self.scale)
         return StepSolution(trial, np.asarray(du))

@@ -15,12 +15,13 @@ from ._contact import VelocityProjection
 from ._corotation import Corotation
 from ._driver import Dynamic, RunStopped, StepState
 from ._excitation import Excitation
+from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._recorder import DynamicResult, EnergyAccount, Recorder
 from ._settings import DynamicSettings
 
 __all__ = [
     "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
-    "History", "MatrixSystem", "Newmark", "Recorder", "RunStopped", "SecondOrderSystem",
-    "State", "StepState", "VelocityProjection",
+    "History", "MatrixSystem", "MoreauJean", "Newmark", "Recorder", "RunStopped",
+    "SecondOrderSystem", "State", "StepState", "VelocityProjection",
 ]  # fmt: skip

@@ -63,16 +63,21 @@ from pydantic import ValidationError
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
 from ..interface import OPEN, PairState
+from ..linalg import Factorization
 from ..model import GroundMotion, Model
 from ..typing import FloatArray, IntArray
 from ._contact import VelocityProjection
 from ._corotation import Corotation
 from ._excitation import Excitation
+from ._moreau import MoreauJean, impulse_laws
 from ._newmark import Newmark, State
 from ._recorder import DynamicResult, Recorder
 from ._settings import DynamicSettings, settings_message
 
 log = logging.getLogger(__name__)
+
+# a pair whose gap is predicted below this (m) takes part in a Moreau-Jean step
+_GAP_TOL = 1e-9
 
 
 class RunStopped(Exception):
@@ -143,10 +148,16 @@ class Dynamic:
         self.model = model
         self.system = model.system(lumped_mass=True)
         beta, gamma, alpha = settings.newmark()
-        self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
-                          rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
         self.dt = settings.dt
-        self.stabilize = settings.stabilize
+        self.mj: MoreauJean | None = None
+        if settings.scheme == "moreau-jean":
+            self.mj = MoreauJean(self.system, settings.dt, theta=settings.theta,
+                                 backend=settings.backend)  # fmt: skip
+        else:
+            self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
+                              rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
+        # the contact-stabilised step belongs to the Newmark family
+        self.stabilize = settings.stabilize and self.mj is None
         self.d = model.dim
         # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
         # their nodes take no part in the velocity projection (M⁻¹ = 0 there)
@@ -165,7 +176,17 @@ class Dynamic:
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.nm.factor,
                                     self.op if self.m else None)  # fmt: skip
-        if self.m:
+        if self.m and self.mj is not None:
+            assert model.pairs is not None
+            if self.mj.theta == 0.5:
+                raise ModelError("the Moreau-Jean scheme with theta = 1/2 does not dissipate "
+                                 "impacts and lets blocks hop: use theta >= 0.55 with "
+                                 "interfaces")  # fmt: skip
+            laws = impulse_laws(model.pair_laws, model.pairs.interface, self.dt, self.d)
+            self.istep = InterfaceStep(self.op, delassus(self.mj.factor, self.op.G), laws, 1.0,
+                                       settings=settings.solver(),
+                                       regularize=model.pairs.regularization)  # fmt: skip
+        elif self.m:
             assert model.pairs is not None
             if self.stabilize and self.nm.alpha_m:
                 raise ModelError(
@@ -183,6 +204,11 @@ class Dynamic:
                                        settings=settings.solver(),
                                        regularize=model.pairs.regularization)  # fmt: skip
         self.setup_time = _time.perf_counter() - t0
+
+    @property
+    def factor(self) -> Factorization:
+        """The factorised matrix of the blocks' step (K̂, or Ŵ of Moreau-Jean)."""
+        return self.mj.factor if self.mj is not None else self.nm.factor
 
     @property
     def frames(self) -> Any:
@@ -313,6 +339,8 @@ class Dynamic:
         """One step; returns the next state (the committed pair state of the next step)
         and the kinetic energy removed by the stabilisation (J)."""
         ex = self.excitation() if ex is None else ex
+        if self.mj is not None:
+            return self._step_moreau_jean(cur, ex, self.mj), 0.0
         kin = cur.kin
         t1 = kin.t + self.dt
         f_ext = ex.load(t1)
@@ -364,6 +392,35 @@ class Dynamic:
             v_raw = None
         return StepState(new, trial, cur.step + 1, v_raw), lost
 
+    def _step_moreau_jean(self, cur: StepState, ex: Excitation, mj: MoreauJean) -> StepState:
+        """One Moreau-Jean step (see :mod:`._moreau`): the free velocity, the pair impulses
+        of the pairs predicted closed (and the intact ones) at the velocity level, then
+        the positions. The committed pair state holds X = P/h, the step-average force."""
+        kin, h, th = cur.kin, self.dt, mj.theta
+        t1 = kin.t + h
+        f1 = ex.load(t1)
+        v_free = mj.free_velocity(kin, (1 - th) * kin.f + th * f1)
+        m, d = self.m, self.d
+        if not m:
+            return StepState(mj.advance(kin, v_free, f1), cur.pairs, cur.step + 1)
+        assert self.istep is not None
+        prev = cur.pairs
+        U0 = self.op.relative(kin.v)
+        active = (prev.s[:, -1] + 0.5 * h * U0[:, -1] <= _GAP_TOL) | ~prev.broken
+        start = PairState(np.where(active, prev.state, OPEN).astype(np.int8), prev.broken,
+                          prev.X * h, np.zeros_like(prev.w), np.zeros_like(prev.s),
+                          prev.slip_dir, prev.path)  # fmt: skip
+        sol = self.istep.solve(v_free, np.zeros(m * d), start, inactive=~active,
+                               label=f"step {cur.step + 1} (t = {t1:.6g} s)")  # fmt: skip
+        new = mj.advance(kin, v_free + sol.du, f1)
+        laws = self.model.pair_laws
+        P = sol.pairs
+        w = (self.op.G @ new.u + self.w_pres(t1, ex)).reshape(m, d)
+        s = w.copy()
+        s[:, -1] += laws.gap
+        trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
+        return StepState(new, trial.committed(prev), cur.step + 1)
+
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
         """Right-hand side of the corotational step (see :mod:`._corotation`)."""
         _, _, a2, a3, a4, a5 = self.nm.c
@@ -407,6 +464,8 @@ class Dynamic:
         if not every >= 1:
             raise ModelError(f"every must be >= 1, got {every}")
         ex = self.excitation(ground, form)
+        if self.mj is not None and ex.moves_supports and self.m:
+            raise ModelError("the Moreau-Jean scheme runs the relative form of ground motion")
         cur = start if isinstance(start, StepState) else self._initial(ex, start)
         m, d = self.m, self.d
         probes = np.asarray(probes, dtype=np.int64)

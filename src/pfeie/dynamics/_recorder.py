@@ -12,6 +12,8 @@ Energy (J), accumulated over the run (method.md §8):
   contact-stabilised step uses X_{n+1} (pair forces constant over the step), the plain
   rule the step average of X;
 - ``impact``: the kinetic energy removed by the velocity projection;
+- ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
+  per step for Moreau-Jean (zero for the Newmark family, whose balance holds exactly);
 - ``balance``: the residual of the equation above (zero to round-off with the average
   acceleration rule).
 """
@@ -30,7 +32,8 @@ from ._excitation import Excitation
 if TYPE_CHECKING:
     from ._driver import Dynamic, StepState
 
-ENERGY_TERMS = ("kinetic", "strain", "external_work", "damping", "interface", "impact")
+ENERGY_TERMS = ("kinetic", "strain", "external_work", "damping", "interface", "impact",
+                "algorithmic")  # fmt: skip
 
 
 @dataclass
@@ -98,6 +101,9 @@ class EnergyAccount:
     def add_step(self, cur: StepState, nxt: StepState, lost: float) -> None:
         """Add the work of the step cur → nxt; ``lost`` is the projection's kinetic loss."""
         an, acc = self.an, self.acc
+        if an.mj is not None:
+            self._add_moreau_jean(cur, nxt)
+            return
         plain = bool(an.m) and not an.stabilize
         G = an.op.G
         du = nxt.kin.u - cur.kin.u
@@ -118,6 +124,21 @@ class EnergyAccount:
                 dw = dw + dwp
             acc["interface"] -= float(np.sum(Xw * dw))
             acc["impact"] += lost
+
+    def _add_moreau_jean(self, cur: StepState, nxt: StepState) -> None:
+        """The terms of the θ-method's exact balance (see :mod:`._moreau`)."""
+        an, acc = self.an, self.acc
+        assert an.mj is not None
+        th = an.mj.theta
+        du = nxt.kin.u - cur.kin.u
+        v_th = (1 - th) * cur.kin.v + th * nxt.kin.v
+        acc["external_work"] += float(du @ ((1 - th) * cur.kin.f + th * nxt.kin.f))
+        if an.system.C is not None:
+            acc["damping"] += float(du @ (an.system.C @ v_th))
+        if an.m:
+            P = nxt.pairs.X * an.dt
+            acc["interface"] -= float(np.sum(P * an.op.relative(v_th)))
+        acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
 
 
 def _raw(st: StepState) -> FloatArray:
@@ -200,7 +221,8 @@ class Recorder:
         """The histories of the first ``rows`` rows."""
         keep = slice(0, rows)
         E = self.E
-        tot = E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
+        tot = (E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
+               + E["algorithmic"])  # fmt: skip
         E["balance"] = tot - (E["kinetic"][0] + E["strain"][0]) - E["external_work"]
         P = self.an.model.pairs
         return DynamicResult(

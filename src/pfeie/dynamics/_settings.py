@@ -37,6 +37,16 @@ class DynamicSettings(BaseModel):
 
     dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False,
                                description="time step (s)")] = 0.01  # fmt: skip
+    scheme: Annotated[Literal["newmark", "moreau-jean"], Field(
+        description="time stepping: 'newmark' (the Newmark / HHT-α / generalised-α family, "
+        "with the contact-stabilised pair step) or 'moreau-jean' (the θ-method with "
+        "velocity-level contact impulses, robust for impacts, dissipative: see theta)",
+    )] = "newmark"  # fmt: skip
+    theta: Annotated[float, Field(
+        ge=0.5, le=1.0, allow_inf_nan=False,
+        description="θ of the Moreau-Jean scheme in [0.5, 1] (θ = 1/2 is refused with "
+        "interfaces); algorithmic damping ratio ≈ (θ − 1/2) ω Δt",
+    )] = 1.0  # fmt: skip
     beta: Annotated[float | None, Field(
         gt=0.0, le=1.0, allow_inf_nan=False,
         description="Newmark β; default 1/4, or (1 − α)²/4 with HHT-α",
@@ -78,6 +88,11 @@ class DynamicSettings(BaseModel):
             raise ValueError("give either alpha (HHT-α) or rho_inf (generalised-α), not both")
         if self.large_rotation and (self.alpha != 0.0 or self.rho_inf is not None):
             raise ValueError("large_rotation supports the Newmark rule only (alpha = 0)")
+        if self.scheme == "moreau-jean" and (
+            self.alpha != 0.0 or self.rho_inf is not None or self.large_rotation
+        ):
+            raise ValueError("the Moreau-Jean scheme takes theta, not alpha, rho_inf or "
+                             "large_rotation")  # fmt: skip
         return self
 
     def newmark(self) -> tuple[float, float, float]:
