@@ -178,10 +178,11 @@ class Dynamic:
                                     self.op if self.m else None)  # fmt: skip
         if self.m and self.mj is not None:
             assert model.pairs is not None
-            if self.mj.theta == 0.5:
-                raise ModelError("the Moreau-Jean scheme with theta = 1/2 does not dissipate "
-                                 "impacts and lets blocks hop: use theta >= 0.55 with "
-                                 "interfaces")  # fmt: skip
+            if self.mj.theta < 0.55:
+                raise ModelError(
+                    f"the Moreau-Jean scheme with interfaces needs theta in [0.55, 1], got "
+                    f"{self.mj.theta}: theta = 1/2 does not dissipate impacts and lets blocks hop"
+                )
             laws = impulse_laws(model.pair_laws, model.pairs.interface, self.dt, self.d)
             self.istep = InterfaceStep(self.op, delassus(self.mj.factor, self.op.G), laws, 1.0,
                                        settings=settings.solver(),

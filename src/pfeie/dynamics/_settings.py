@@ -44,8 +44,8 @@ class DynamicSettings(BaseModel):
     )] = "newmark"  # fmt: skip
     theta: Annotated[float, Field(
         ge=0.5, le=1.0, allow_inf_nan=False,
-        description="θ of the Moreau-Jean scheme in [0.5, 1] (θ = 1/2 is refused with "
-        "interfaces); algorithmic damping ratio ≈ (θ − 1/2) ω Δt",
+        description="θ of the Moreau-Jean scheme in [0.5, 1] (with interfaces in [0.55, 1]: "
+        "θ = 1/2 lets blocks hop); algorithmic damping ratio ≈ (θ − 1/2) ω Δt",
     )] = 1.0  # fmt: skip
     beta: Annotated[float | None, Field(
         gt=0.0, le=1.0, allow_inf_nan=False,
