@@ -45,12 +45,23 @@ def floating_modes(model: Model, prescribed: IntArray) -> FloatArray:
     return np.hstack(cols) if cols else np.zeros((model.n_dof, 0))
 
 
-def pins(F: FloatArray) -> IntArray:
-    """Rows of F (n, k) whose k × k block is best conditioned (pivoted QR of Fᵀ)."""
+def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
+    """Rows of F (n, k) whose k × k block is best conditioned (pivoted QR of Fᵀ), chosen
+    among the rows not flagged in ``avoid`` (n,) when these still span the k modes.
+
+    Pins must avoid the DOFs of pair nodes: a pinned DOF has no flexibility, so its pair
+    component would look prescribed to the interface solver, which then cannot hold the
+    joint closed there through the rigid unknowns."""
     if F.shape[1] == 0:
         return np.zeros(0, dtype=np.int64)
+    k = F.shape[1]
+    if avoid is not None and avoid.any():
+        rows = np.flatnonzero(~avoid)
+        if rows.size >= k and np.linalg.matrix_rank(F[rows]) == k:
+            _, _, piv = sla.qr(F[rows].T, mode="economic", pivoting=True)
+            return np.sort(rows[piv[:k]])
     _, _, piv = sla.qr(F.T, mode="economic", pivoting=True)
-    return np.sort(piv[: F.shape[1]])
+    return np.sort(piv[:k])
 
 
 class StaticInterfaceProblem:
@@ -87,13 +98,14 @@ class StaticInterfaceProblem:
         free, pres = system.free, system.prescribed
         self.Phi = floating_modes(model, pres)[free]
         k = self.Phi.shape[1]
-        self.keep = np.setdiff1d(np.arange(free.size), pins(self.Phi) if k else [])
+        self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
+        on_pairs = np.asarray(abs(self.op.G).sum(axis=0)).ravel() > 0
+        self.keep = np.setdiff1d(np.arange(free.size), pins(self.Phi, on_pairs) if k else [])
         Kp = system.K[self.keep][:, self.keep]
         try:
             self.factor = factorize(Kp, spd=True, backend=backend)
         except MechanismError as exc:
             raise MechanismError(f"static analysis: {exc}") from None
-        self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
         self.w_pres = (self.op.Gp @ system.prescribed_values if pres.size
                        else np.zeros(self.op.G.shape[0]))  # fmt: skip
         self.W = delassus(self.factor, self.op.G[:, self.keep].tocsr())
