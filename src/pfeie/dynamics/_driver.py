@@ -406,12 +406,14 @@ class Dynamic:
             return StepState(mj.advance(kin, v_free, f1), cur.pairs, cur.step + 1)
         assert self.istep is not None
         prev = cur.pairs
-        U0 = self.op.relative(kin.v)
+        moving = ex.moves_supports
+        U0 = self.op.relative(kin.v, ex.prescribed(kin.t)[1] if moving else None)
         active = (prev.s[:, -1] + 0.5 * h * U0[:, -1] <= _GAP_TOL) | ~prev.broken
         start = PairState(np.where(active, prev.state, OPEN).astype(np.int8), prev.broken,
                           prev.X * h, np.zeros_like(prev.w), np.zeros_like(prev.s),
                           prev.slip_dir, prev.path)  # fmt: skip
-        sol = self.istep.solve(v_free, np.zeros(m * d), start, inactive=~active,
+        U_pres = self.op.Gp @ ex.prescribed(t1)[1] if moving else np.zeros(m * d)
+        sol = self.istep.solve(v_free, U_pres, start, inactive=~active,
                                label=f"step {cur.step + 1} (t = {t1:.6g} s)")  # fmt: skip
         new = mj.advance(kin, v_free + sol.du, f1)
         laws = self.model.pair_laws
@@ -465,8 +467,6 @@ class Dynamic:
         if not every >= 1:
             raise ModelError(f"every must be >= 1, got {every}")
         ex = self.excitation(ground, form)
-        if self.mj is not None and ex.moves_supports and self.m:
-            raise ModelError("the Moreau-Jean scheme runs the relative form of ground motion")
         cur = start if isinstance(start, StepState) else self._initial(ex, start)
         m, d = self.m, self.d
         probes = np.asarray(probes, dtype=np.int64)

@@ -29,7 +29,10 @@ impact-dominated runs
 (rockfall, toppling), not the default for dam engineering. θ = ½ with contacts is refused:
 it does not dissipate the impacts and lets blocks hop.
 
-The accelerations recorded are the step averages (v_{n+1} − v_n)/h, impulses included.
+The accelerations recorded are the step averages (v_{n+1} − v_n)/h, impulses included. In
+the absolute form of ground motion the first-order position update acts on the large
+absolute motion (0.7 % on V2b at Δt = 2 ms against 5e-6 in the relative form): prefer the
+relative form with this scheme.
 """
 
 from __future__ import annotations

@@ -137,7 +137,15 @@ class EnergyAccount:
             acc["damping"] += float(du @ (an.system.C @ v_th))
         if an.m:
             P = nxt.pairs.X * an.dt
-            acc["interface"] -= float(np.sum(P * an.op.relative(v_th)))
+            U_th = an.op.relative(v_th)
+            if self.ex.moves_supports:
+                # the moving base works on the blocks through the joints
+                vp = (1 - th) * self.ex.prescribed(cur.kin.t)[1] + th * self.ex.prescribed(
+                    nxt.kin.t)[1]  # fmt: skip
+                wp = (an.op.Gp @ vp).reshape(U_th.shape)
+                acc["external_work"] -= float(np.sum(P * wp))
+                U_th = U_th + wp
+            acc["interface"] -= float(np.sum(P * U_th))
         acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
 
 
