@@ -29,6 +29,7 @@ exact local solutions takes over from the last iterate; if that also fails,
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -151,7 +152,9 @@ class InterfaceSolver:
             if A.size == 0:
                 lu = None
             else:
-                lu = sla.lu_factor(A, check_finite=False)
+                with warnings.catch_warnings():  # a singular system is reported below
+                    warnings.simplefilter("ignore", sla.LinAlgWarning)
+                    lu = sla.lu_factor(A, check_finite=False)
                 piv = np.abs(np.diag(lu[0]))
                 if piv.min() <= 1e-15 * piv.max():
                     raise MechanismError(
