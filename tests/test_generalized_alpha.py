@@ -76,7 +76,7 @@ def test_generalized_alpha_settings_and_contacts() -> None:
     """ρ∞ sets β and γ through the settings; it excludes HHT's α; with interfaces it needs
     the plain pair rule (stabilize = false), and then it runs: a block resting on a joint
     keeps its static state over 10 steps to 2e-18 m (measured 3.3e-19 m; the block
-    centroid moves by round-off only)"""
+    centroid moves by round-off only)."""
     s = pf.DynamicSettings(rho_inf=0.0)
     am, af = s.generalized_alpha()
     assert (am, af) == (-1.0, 0.0)
