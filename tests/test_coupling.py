@@ -102,3 +102,28 @@ def test_static_pins_avoid_the_pairs() -> None:
     assert static.pairs is not None and np.abs(static.pairs.w).max() < 1e-18
     res = pf.Dynamic(model, 0.01).run(0.1, start=static)
     assert np.abs(res.rigid[:, 1, :2] - res.rigid[0, 1, :2]).max() < 1e-15
+
+
+def test_inactive_pairs_take_no_part() -> None:
+    """Two pairs whose normals are coupled (W_nn' = −0.9): the second is marked inactive
+    (its gap predicted open), so it stays open and carries nothing, although the first
+    pair's force pulls it closed through the coupling; the first closes with
+    X_n = 1 (w_n = −1 + 1·X_n = 0), exactly. Without the sub-problem the inactive pair
+    closed and carried 4.47."""
+    import scipy.sparse as sp
+
+    from pfeie.coupling import GatheredDelassus, InterfaceStep, PairOperator
+    from pfeie.interface import OPEN, PairLaws
+
+    laws = PairLaws.from_interfaces(np.ones(2), np.array([0, 0]), [pf.Joint(phi=30.0)], 2)
+    W = np.array([[1.0, 0, 0, 0], [0, 1, 0, -0.9], [0, 0, 1, 0], [0, -0.9, 0, 1.0]])
+    op = PairOperator(sp.identity(4, format="csr"), sp.csr_matrix((4, 0)), 2, 2, None, 4,
+                      np.arange(4), np.zeros(0, dtype=np.int64))  # fmt: skip
+    step = InterfaceStep(op, GatheredDelassus(W, lambda X: np.asarray(W @ X)), laws, 1.0)
+    prev = laws.initial_state(2)
+    prev.state[1] = OPEN
+    sol = step.solve(np.array([0.0, -1.0, 0.0, -0.05]), np.zeros(4), prev,
+                     inactive=np.array([False, True]))  # fmt: skip
+    assert sol.pairs.state[1] == OPEN and not sol.pairs.X[1].any()
+    assert sol.pairs.X[0, 1] == pytest.approx(1.0, abs=1e-12)
+    assert sol.pairs.w[1, 1] == pytest.approx(-0.05 - 0.9, abs=1e-12)  # free + coupling

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
+from ..interface import OPEN, InterfaceSolver, PairLaws, PairState, SolverSettings
 from ..typing import BoolArray, FloatArray
 from ._delassus import Delassus
 from ._operators import PairOperator
@@ -69,6 +69,24 @@ class InterfaceStep:
         self.op, self.W = op, W
         self.solver = InterfaceSolver(self.scale * W.matrix(), self.laws, settings=self.settings,
                                       regularize=self.regularize)  # fmt: skip
+        self._last = self.solver
+        self._subsolvers: dict[bytes, InterfaceSolver] = {}
+
+    def _subsolver(self, active: np.ndarray) -> InterfaceSolver:
+        """The solver of the sub-problem of the ``active`` pairs (cached per pattern)."""
+        key = active.tobytes()
+        hit = self._subsolvers.get(key)
+        if hit is None:
+            d = self.op.d
+            idx = np.flatnonzero(active)
+            comps = (idx[:, None] * d + np.arange(d)).ravel()
+            Wa = self.scale * self.W.matrix()[np.ix_(comps, comps)]
+            hit = InterfaceSolver(Wa, self.laws.subset(idx), settings=self.settings,
+                                  regularize=self.regularize)  # fmt: skip
+            if len(self._subsolvers) >= 16:
+                self._subsolvers.clear()
+            self._subsolvers[key] = hit
+        return hit
 
     def solve(
         self,
@@ -80,20 +98,37 @@ class InterfaceStep:
     ) -> StepSolution:
         """The trial pair state and the block correction for the predictor ``u_free``
         (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state.
-        Pairs marked ``inactive`` (m,) take no part: they are held open (their free
-        normal motion is made separating, so they carry nothing)."""
+        Pairs marked ``inactive`` (m,) take no part: the problem is solved on the other
+        pairs (the sub-block of W), and the inactive ones stay open and carry nothing."""
         m, d = self.op.m, self.op.d
         w_free = (self.op.G @ u_free + w_pres).reshape(m, d)
-        if inactive is not None and inactive.any():
-            w_free[inactive, -1] = np.abs(w_free[inactive, -1]) + 1e-300
-        trial, _ = self.solver.solve(w_free, prev, label=label)
+        if inactive is None or not inactive.any():
+            trial, _ = self.solver.solve(w_free, prev, label=label)
+            self._last = self.solver
+        else:
+            active = ~inactive
+            trial = prev.copy()
+            trial.X[:] = 0.0
+            trial.state[inactive] = OPEN
+            if active.any():
+                sub = self._subsolver(active)
+                part, _ = sub.solve(w_free[active], prev.select(active), label=label)
+                self._last = sub
+                for name in ("state", "broken", "X", "slip_dir"):
+                    getattr(trial, name)[active] = getattr(part, name)
+            X = trial.X.ravel()
+            w = w_free.ravel() + self.scale * self.W.apply(X)
+            trial.s = w.reshape(m, d) + self.laws.compliance * trial.X
+            trial.s[:, -1] += self.laws.gap
+            trial.w = trial.s - self.laws.compliance * trial.X
+            trial.w[:, -1] -= self.laws.gap
         du = self.W.correct(trial.X.ravel() * self.scale)
         return StepSolution(trial, np.asarray(du))
 
     @property
     def iterations(self) -> int:
         """Iterations of the last solve."""
-        return self.solver.last.iterations
+        return self._last.last.iterations
 
 
 __all__ = ["InterfaceStep", "StepSolution"]

@@ -45,13 +45,13 @@ class VelocityProjection:
         self.m, self.d = op.m, op.d
         self._cache: dict[bytes, tuple[Any, ...]] = {}
         self.update(op)
-        # components with no free mass on either side (e.g. a wall against rollers)
-        self.movable: BoolArray = self.H.diagonal() > 0
 
     def update(self, op: PairOperator) -> None:
         """New pair frames (large rotations): H is rebuilt and the cache emptied."""
         self.op = op
         self.H = op.mass_delassus(self.minv)
+        # components with no free mass on either side (e.g. a wall against rollers)
+        self.movable: BoolArray = self.H.diagonal() > 0
         self._cache.clear()
 
     def closed(self, ps: PairState) -> BoolArray:

@@ -333,6 +333,10 @@ class Dynamic:
         if self.system.C is not None:
             f = f - self.damping_force(v, u)
         a = self.minv * (f - self.elastic_force(u))
+        if self.mj is not None:
+            # Moreau-Jean's load is the external load only: pair impulses and damping are
+            # the step's own (the acceleration above is the total one, for the output)
+            f = f_ext
         return StepState(State(t0, u, v, a, f), ps, 0)
 
     # -- one step ------------------------------------------------------------------------------
@@ -485,6 +489,9 @@ class Dynamic:
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
+                if (i - 1) % every:  # keep the last completed step
+                    j += 1
+                    rec.record(j, cur)
                 break
             rec.account.add_step(cur, nxt, lost)
             if m and self.istep is not None:

@@ -47,7 +47,8 @@ class DynamicResult:
     ``X`` forces on side b (N, normal + in compression), ``w`` relative displacements
     (m, normal + opening), ``s`` slip and gap; ``state`` (n_t, m) codes 0 intact,
     1 stick, 2 slide, 3 open; ``broken`` (n_t, m). ``energy``: kinetic, strain,
-    external_work, damping, interface, impact (J) and ``balance`` (their residual).
+    external_work, damping, interface, impact, algorithmic (J) and ``balance`` (their
+    residual).
     """
 
     t: FloatArray

@@ -215,7 +215,7 @@ class PairLaws:
     laws: tuple[JointLaw, ...]
     index: tuple[IntArray, ...]
     _cache: dict[bytes, tuple[FloatArray, ...]] = field(
-        default_factory=dict, repr=False, compare=False
+        default_factory=dict, init=False, repr=False, compare=False
     )
 
     @classmethod
@@ -257,10 +257,20 @@ class PairLaws:
         for law, idx in zip(self.laws, self.index, strict=True):
             st = law.strength(self.area[idx], broken[idx], path[idx])
             c[idx], mu[idx], t[idx] = st.cohesion, st.friction, st.tension
+        for arr in (c, mu, t):
+            arr.setflags(write=False)
         if len(self._cache) >= 8:
             self._cache.pop(next(iter(self._cache)))
         self._cache[key] = (c, mu, t)
         return c, mu, t
+
+    def subset(self, idx: IntArray) -> PairLaws:
+        """The laws of the pairs ``idx`` only (a sub-problem of these pairs)."""
+        pos = np.full(self.n, -1, dtype=np.int64)
+        pos[idx] = np.arange(idx.size)
+        index = tuple(pos[i][pos[i] >= 0] for i in self.index)
+        return PairLaws(self.area[idx], self.compliance[idx], self.gap[idx],
+                        self.initially_broken[idx], self.laws, index)  # fmt: skip
 
     def initial_state(self, dim: int) -> PairState:
         """Pairs before any load (see :meth:`PairState.initial`)."""

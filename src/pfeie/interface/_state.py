@@ -66,6 +66,11 @@ class PairState:
                        w=self.w.copy(), s=self.s.copy(), slip_dir=self.slip_dir.copy(),
                        path=self.path.copy())  # fmt: skip
 
+    def select(self, idx: np.ndarray) -> PairState:
+        """The state of the pairs ``idx`` only (copies)."""
+        return PairState(self.state[idx], self.broken[idx], self.X[idx], self.w[idx],
+                         self.s[idx], self.slip_dir[idx], self.path[idx])  # fmt: skip
+
     def committed(self, prev: PairState) -> PairState:
         """This trial state as the committed state of the step from ``prev``: the slip
         path of the pairs in contact at the end of the step (stick or slide) grows by
