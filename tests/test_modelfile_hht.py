@@ -102,8 +102,7 @@ def model_file(tmp: Path, dt: float, T: float, *, nu: float = NU, rollers: bool 
 
 def run_model_file(p: Path) -> tuple[np.ndarray, np.ndarray, pf.Model, int]:
     """The model-file path: load_job, then the job's dynamic analysis exactly as run_job
-    builds it (:func:`pfeie._job.dynamic_analysis`), over job.n_steps. (run_job itself
-    cannot store this interface-free model yet: its results writer needs pairs.)"""
+    builds it (:func:`pfeie._job.dynamic_analysis`), over job.n_steps."""
     job = load_job(p)
     an = dynamic_analysis(job)
     assert (an.nm.beta, an.nm.gamma, an.nm.alpha) == pytest.approx((0.3025, 0.6, ALPHA))

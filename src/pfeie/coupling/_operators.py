@@ -109,6 +109,12 @@ class PairOperator:
             w = w + self.Gp @ u_pres
         return np.asarray(w).reshape(self.m, self.d)
 
+    def w_prescribed(self, u_pres: FloatArray) -> FloatArray:
+        """G_p u_p (M,): the relative motion the prescribed DOFs give the pairs."""
+        if not self.prescribed.size:
+            return np.zeros(self.G.shape[0])
+        return np.asarray(self.Gp @ u_pres)
+
     def mass_delassus(self, minv: FloatArray) -> sp.csc_matrix:
         """H = G M⁻¹ Gᵀ for a lumped mass (M⁻¹ = ``minv``, zero on massless DOFs)."""
         GM = self.G.multiply(minv[None, :]).tocsr()

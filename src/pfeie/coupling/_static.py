@@ -106,8 +106,7 @@ class StaticInterfaceProblem:
             self.factor = factorize(Kp, spd=True, backend=backend)
         except MechanismError as exc:
             raise MechanismError(f"static analysis: {exc}") from None
-        self.w_pres = (self.op.Gp @ system.prescribed_values if pres.size
-                       else np.zeros(self.op.G.shape[0]))  # fmt: skip
+        self.w_pres = self.op.w_prescribed(system.prescribed_values)
         self.W = delassus(self.factor, self.op.G[:, self.keep].tocsr())
         E = self.op.G @ self.Phi if k else None
         self.solver = InterfaceSolver(self.W.matrix(), model.pair_laws, border=E,

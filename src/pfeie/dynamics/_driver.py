@@ -167,8 +167,7 @@ class Dynamic:
         free, pres = self.system.free, self.system.prescribed
         self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
         self.m = self.op.m
-        self._w_pres0 = (self.op.Gp @ self.system.prescribed_values) if pres.size else np.zeros(
-            self.op.G.shape[0])  # fmt: skip
+        self._w_pres0 = self.op.w_prescribed(self.system.prescribed_values)
         t0 = _time.perf_counter()
         self.project: VelocityProjection | None = None
         self.istep: InterfaceStep | None = None
@@ -225,7 +224,7 @@ class Dynamic:
         """G_p u_p(t) (M,): the relative motion the prescribed DOFs give the pairs."""
         if not ex.moves_supports:
             return self._w_pres0
-        return np.asarray(self.op.Gp @ ex.prescribed(t)[0])
+        return self.op.w_prescribed(ex.prescribed(t)[0])
 
     def _use(self, op: PairOperator) -> None:
         """Make ``op`` the current pair operator (pair frames turned)."""
@@ -234,9 +233,7 @@ class Dynamic:
         self.op = op
         if self.project is not None:
             self.project.update(op)
-        pres = self.system.prescribed
-        if pres.size:
-            self._w_pres0 = op.Gp @ self.system.prescribed_values
+        self._w_pres0 = op.w_prescribed(self.system.prescribed_values)
 
     def _corotate(self, u: FloatArray) -> FloatArray:
         """Body rotations R of the configuration u; the pair operators follow them."""

@@ -119,6 +119,29 @@ class History:
     final: State | None = None
 
 
+def scheme_parameters(
+    alpha: float = 0.0,
+    rho_inf: float | None = None,
+    beta: float | None = None,
+    gamma: float | None = None,
+) -> tuple[float, float, float, float]:
+    """(β, γ, α_m, α_f) of the family (see the module docstring): HHT-α from ``alpha``
+    (α_m = 0, α_f = −α), or generalised-α from ``rho_inf``; β and γ follow unless given.
+
+    >>> [round(x, 12) for x in scheme_parameters(rho_inf=0.5)]
+    [0.444444444444, 0.833333333333, 0.0, 0.333333333333]
+    """
+    if rho_inf is None:
+        am, af = 0.0, -alpha
+        gamma = (0.5 - alpha) if gamma is None else gamma
+        beta = 0.25 * (1.0 - alpha) ** 2 if beta is None else beta
+    else:
+        am, af = (2 * rho_inf - 1) / (rho_inf + 1), rho_inf / (rho_inf + 1)
+        gamma = 0.5 - am + af if gamma is None else gamma
+        beta = 0.25 * (1.0 - am + af) ** 2 if beta is None else beta
+    return float(beta), float(gamma), float(am), float(af)
+
+
 class Newmark:
     """Newmark-β / HHT-α / generalised-α integrator with a once-factorised effective
     matrix (see the module docstring).
@@ -150,20 +173,11 @@ class Newmark:
             raise ModelError(f"time step dt must be > 0 s, got {dt}")
         if not -1.0 / 3.0 - 1e-12 <= alpha <= 0.0:
             raise ModelError(f"HHT alpha must lie in [-1/3, 0], got {alpha}")
-        if rho_inf is None:
-            am, af = 0.0, -alpha
-        else:
-            if alpha:
-                raise ModelError("give either the HHT alpha or rho_inf, not both")
-            if not 0.0 <= rho_inf <= 1.0:
-                raise ModelError(f"rho_inf must lie in [0, 1], got {rho_inf}")
-            am, af = (2 * rho_inf - 1) / (rho_inf + 1), rho_inf / (rho_inf + 1)
-        if rho_inf is None:
-            gamma = (0.5 - alpha) if gamma is None else gamma
-            beta = 0.25 * (1.0 - alpha) ** 2 if beta is None else beta
-        else:
-            gamma = 0.5 - am + af if gamma is None else gamma
-            beta = 0.25 * (1.0 - am + af) ** 2 if beta is None else beta
+        if rho_inf is not None and alpha:
+            raise ModelError("give either the HHT alpha or rho_inf, not both")
+        if rho_inf is not None and not 0.0 <= rho_inf <= 1.0:
+            raise ModelError(f"rho_inf must lie in [0, 1], got {rho_inf}")
+        beta, gamma, am, af = scheme_parameters(alpha, rho_inf, beta, gamma)
         self.alpha_m, self.alpha_f = float(am), float(af)
         if not (beta > 0 and gamma >= 0.5 and 2 * beta >= gamma - 1e-15):
             log.warning("Newmark beta=%g, gamma=%g is not unconditionally stable", beta, gamma)

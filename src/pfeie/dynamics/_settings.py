@@ -26,6 +26,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..interface import SolverSettings
+from ._newmark import scheme_parameters
 
 _SOLVER = SolverSettings()
 
@@ -97,23 +98,14 @@ class DynamicSettings(BaseModel):
 
     def newmark(self) -> tuple[float, float, float]:
         """(β, γ, α) of the scheme, with β and γ derived from α (or ρ∞) unless given."""
-        a = self.alpha
-        if self.rho_inf is not None:
-            am, af = self.generalized_alpha()
-            beta = 0.25 * (1.0 - am + af) ** 2 if self.beta is None else self.beta
-            gamma = 0.5 - am + af if self.gamma is None else self.gamma
-            return float(beta), float(gamma), float(a)
-        beta = 0.25 * (1.0 - a) ** 2 if self.beta is None else self.beta
-        gamma = (0.5 - a) if self.gamma is None else self.gamma
-        return float(beta), float(gamma), float(a)
+        beta, gamma, _, _ = scheme_parameters(self.alpha, self.rho_inf, self.beta, self.gamma)
+        return beta, gamma, float(self.alpha)
 
     def generalized_alpha(self) -> tuple[float, float]:
         """(α_m, α_f) of the balance instants: (0, −α) for HHT-α, Chung & Hulbert's
         ((2ρ∞ − 1)/(ρ∞ + 1), ρ∞/(ρ∞ + 1)) for generalised-α."""
-        r = self.rho_inf
-        if r is None:
-            return 0.0, -self.alpha
-        return (2 * r - 1) / (r + 1), r / (r + 1)
+        _, _, am, af = scheme_parameters(self.alpha, self.rho_inf)
+        return am, af
 
     def solver(self) -> SolverSettings:
         """The interface solver's settings."""
