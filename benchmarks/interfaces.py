@@ -6,11 +6,14 @@ El Centro scaled ×2 in the relative form (Δt = 0.01 s). For each size it print
 pairs, the static analysis time, the set-up time (factorisation of K̂ and the Delassus
 operator from one multi-right-hand-side solve), the time of one back-substitution, the
 mean step time and its ratio to the back-substitution (method.md §5.1: the floor is about
-two), the share of the step spent in the interface solver, and the pair counts at the end.
+two), the share of the step spent in the interface solver, and the pair counts at the end,
+for the default nonsmooth generalised-α scheme (two pair problems per step) and the
+contact-stabilised Newmark step (one).
 
     python benchmarks/interfaces.py           # nx = 100, 200 (12k, 49k DOF)
     python benchmarks/interfaces.py --quick   # nx = 50
     python benchmarks/interfaces.py --large-rotation   # with body frames (method.md §2)
+    python benchmarks/interfaces.py --scheme newmark   # one scheme only
 """
 
 from __future__ import annotations
@@ -50,7 +53,8 @@ def build(nx: int) -> pf.Model:
     return model
 
 
-def case(nx: int, steps: int, large_rotation: bool = False) -> dict[str, float]:
+def case(nx: int, steps: int, large_rotation: bool = False,
+         scheme: str = "nonsmooth-alpha") -> dict[str, float]:  # fmt: skip
     model = build(nx)
     t0 = time.perf_counter()
     static = pf.solve_static(model)
@@ -58,7 +62,7 @@ def case(nx: int, steps: int, large_rotation: bool = False) -> dict[str, float]:
     data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
     gm = pf.GroundMotion.from_samples(2.0 * data[:, 1], time=data[:, 0], units="g")
     t0 = time.perf_counter()
-    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation)
+    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation, scheme=scheme)
     t_setup = time.perf_counter() - t0
     b = np.random.default_rng(0).standard_normal(an.system.n)
     an.factor.solve(b)
@@ -97,20 +101,24 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="small size only")
     ap.add_argument("--steps", type=int, default=300, help="time steps per case")
     ap.add_argument("--large-rotation", action="store_true", help="body frames (method.md §2)")
+    ap.add_argument("--scheme", choices=["nonsmooth-alpha", "newmark"], default=None,
+                    help="one time scheme (default: both)")  # fmt: skip
     args = ap.parse_args()
     sizes = [50] if args.quick else [100, 200]
-    hdr = (f"{'DOF':>7} {'pairs':>6} {'static s':>9} {'setup s':>8} {'solve ms':>9} "
-           f"{'step ms':>8} {'step/solve':>10} {'iface %':>8}  end state")  # fmt: skip
+    schemes = ([args.scheme] if args.scheme else
+               ["newmark"] if args.large_rotation else ["nonsmooth-alpha", "newmark"])  # fmt: skip
+    hdr = (f"{'scheme':>16} {'DOF':>7} {'pairs':>6} {'static s':>9} {'setup s':>8} "
+           f"{'solve ms':>9} {'step ms':>8} {'step/solve':>10} {'iface %':>8}  "
+           "end state")  # fmt: skip
     print(hdr)
     print("-" * len(hdr))
-    for nx in sizes:
-        r = case(nx, args.steps, args.large_rotation)
+    for nx, scheme in ((nx, sc) for nx in sizes for sc in schemes):
+        r = case(nx, args.steps, args.large_rotation, scheme)
         end = ", ".join(f"{k} {int(r[k])}" for k in ("intact", "stick", "slide", "open", "broken"))
-        print(f"{int(r['dof']):>7} {int(r['pairs']):>6} {r['t_static']:>9.2f} {r['t_setup']:>8.2f} "
-              f"{1e3 * r['t_solve']:>9.1f} {1e3 * r['t_step']:>8.1f} "
+        print(f"{scheme:>16} {int(r['dof']):>7} {int(r['pairs']):>6} {r['t_static']:>9.2f} "
+              f"{r['t_setup']:>8.2f} {1e3 * r['t_solve']:>9.1f} {1e3 * r['t_step']:>8.1f} "
               f"{r['t_step'] / r['t_solve']:>10.2f} {100 * r['iface']:>8.0f}  {end}",
               flush=True)  # fmt: skip
-
 
 if __name__ == "__main__":
     main()

@@ -38,7 +38,7 @@ def test_delassus_strategies_agree_with_the_definition() -> None:
     model = _two_joint_model()
     an = pf.Dynamic(model, 0.01)
     op: PairOperator = an.op
-    Khat = an.nm.Khat.toarray()
+    Khat = an.ga.S.toarray()  # type: ignore[union-attr]
     G = op.G.toarray()
     W_def = G @ np.linalg.solve(Khat, G.T)
     parts = np.repeat(model.pairs.interface, model.dim)  # type: ignore[union-attr]
@@ -46,12 +46,12 @@ def test_delassus_strategies_agree_with_the_definition() -> None:
     du_def = np.linalg.solve(Khat, G.T @ X)
     scale = np.abs(W_def).max()
     for strategy in ("dense", "matrix-free", "blocks"):
-        D = delassus(an.nm.factor, op.G, strategy=strategy, parts=parts)  # type: ignore[arg-type]
+        D = delassus(an.factor, op.G, strategy=strategy, parts=parts)  # type: ignore[arg-type]
         assert np.abs(D.matrix() - W_def).max() < 1e-12 * scale, strategy
         assert np.abs(D.apply(X) - W_def @ X).max() < 1e-12 * np.abs(W_def @ X).max()
         assert np.abs(D.correct(X) - du_def).max() < 1e-12 * np.abs(du_def).max()
     with pytest.raises(ValueError, match="needs the joint of each component"):
-        delassus(factorize(an.nm.Khat), op.G, strategy="blocks")
+        delassus(factorize(an.ga.S), op.G, strategy="blocks")  # type: ignore[union-attr]
 
 
 def test_one_analysis_runs_many_records() -> None:

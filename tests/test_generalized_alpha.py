@@ -85,7 +85,7 @@ def test_generalized_alpha_settings_and_contacts() -> None:
         pf.DynamicSettings(rho_inf=0.5, alpha=-0.1)
     model = block_on_base(joint=pf.Joint(phi=30.0), n=1, E=1e9, rho=1000.0)  # one cell each
     with pytest.raises(pf.ModelError, match="stabilize = false"):
-        pf.Dynamic(model, 0.01, rho_inf=0.0)
+        pf.Dynamic(model, 0.01, rho_inf=0.0, scheme="newmark")
     res = pf.Dynamic(model, 0.01, rho_inf=0.0, stabilize=False).run(
         0.1, start=pf.solve_static(model)
     )

@@ -27,7 +27,9 @@ G = 9.81
 def test_v1_3d_slip_follows_an_oblique_load() -> None:
     """3D V1: gravity tilted by θ = 30° towards azimuth ψ = 30° (not a mesh axis), μ = 0.3:
     the block slides with a = g (sin θ − μ cos θ) along ψ (elementary mechanics): d(0.2 s)
-    within 1e-4 (measured 1.6e-5), direction within 5e-6° (measured 8.8e-7°)."""
+    within 1e-4 (measured 1.6e-5), direction within 1e-4° (measured 2.7e-5°: a sliding
+    pair's direction at the acceleration level is that of its slip rate at the start of
+    the step)."""
     th, psi, mu = np.radians(30.0), np.radians(30.0), 0.3
     model = block_on_base_3d(joint=pf.Joint(phi=_phi(mu)), gravity=False)
     model.add_gravity(direction=[np.sin(th) * np.cos(psi), np.sin(th) * np.sin(psi), -np.cos(th)])
@@ -35,7 +37,7 @@ def test_v1_3d_slip_follows_an_oblique_load() -> None:
     q = res.rigid[-1, 1, :3] - res.rigid[0, 1, :3]
     d = np.hypot(q[0], q[1])
     assert d == pytest.approx(0.5 * G * (np.sin(th) - mu * np.cos(th)) * 0.2**2, rel=1e-4)
-    assert abs(np.degrees(np.arctan2(q[1], q[0]) - psi)) < 5e-6
+    assert abs(np.degrees(np.arctan2(q[1], q[0]) - psi)) < 1e-4
 
 
 def test_v4_3d_oblique_shaking() -> None:
@@ -60,10 +62,10 @@ def test_v4_3d_oblique_shaking() -> None:
 def test_no_spurious_energy_at_the_contact() -> None:
     """A square block (μ = 0.4) sliding under 1 g, 1 Hz shaking (3 cycles), default
     settings: it follows the exact rigid sliding-block slip history (pfeie.verification.
-    _rigid) within 2 % of the peak (measured 1.6 %), its heel openings stay below 1e-6 m
-    (measured 1.9e-7 m) and do not grow from cycle to cycle (third/first cycle: measured
-    1.2), and the energy balance closes to 5e-12 of the friction dissipation (measured
-    6.7e-13)."""
+    _rigid) within 3 % of the peak (measured 2.3 % at Δt = 5 ms, 1.4 % at 2.5 ms: first
+    order, each slip start and stop costs O(Δt)), its heel openings stay below 1e-12 m
+    (measured 4.3e-16 m), and the energy the scheme itself takes (the algorithmic term)
+    stays below 1e-3 of the friction dissipation (measured 3.0e-4)."""
     mu, dt = 0.4, 0.005
     t, a, gm = _record(lambda t: np.where(t <= 3, G * np.sin(2 * np.pi * t), 0.0), 4.0, dt)
     ref = RigidBlock(t, a, mu * G, t_end=4.0)
@@ -71,20 +73,18 @@ def test_no_spurious_energy_at_the_contact() -> None:
     res = pf.Dynamic(model, dt).run(4.0, start=pf.solve_static(model), ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
-    assert np.abs(x - xr).max() < 2e-2 * np.abs(xr).max()
-    opening = res.s[:, :, -1].max(axis=1)
-    per_cycle = [opening[(res.t >= c) & (res.t < c + 1)].max() for c in range(3)]
-    assert max(per_cycle) < 1e-6
-    assert per_cycle[2] <= 1.5 * per_cycle[0]
+    assert np.abs(x - xr).max() < 3e-2 * np.abs(xr).max()
+    assert res.s[:, :, -1].max() < 1e-12
     E = res.energy
-    assert abs(E["balance"][-1]) < 5e-12 * E["interface"][-1]
+    assert abs(E["algorithmic"][-1]) < 1e-3 * E["interface"][-1]
+    assert abs(E["balance"][-1]) < 1e-9 * E["interface"][-1]
 
 
 def test_v2b_absolute_form_matches_relative() -> None:
     """V2b in the absolute form (the base moves with the integrated pulse): the slip
     relative to the base is the exact rigid-block value 0.179804 m (the V2b reference)
-    within 2e-5 (measured 2.5e-6), and the energy balance, with the work of the moving
-    base, closes to 2e-8 of that work (measured 3.5e-9)."""
+    within 5e-4 (measured 2.1e-4: the stop of the slide falls inside a step), and the
+    energy balance, with the work of the moving base, closes to 2e-8 of that work."""
     A, N, dt, td = 0.5, 0.2, 0.002, 0.4
     _t, _a, gm = _record(lambda t: np.where(t <= td, A * G * np.sin(np.pi * np.minimum(t, td) / td),
                                           0.0), 1.0, dt)  # fmt: skip
@@ -96,7 +96,7 @@ def test_v2b_absolute_form_matches_relative() -> None:
     fine = np.linspace(0.0, td, 4001)
     u_ref = -RigidBlock(fine, A * G * np.sin(np.pi * fine / td), N * G, t_end=1.0).displacement(
         [1.0])[0]  # fmt: skip
-    assert -x[-1] == pytest.approx(u_ref, rel=2e-5)
+    assert -x[-1] == pytest.approx(u_ref, rel=5e-4)
     E = res.energy
     assert abs(E["balance"][-1]) < 2e-8 * abs(E["external_work"][-1])
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..interface import OPEN, InterfaceSolver, PairLaws, PairState, SolverSettings
+from ..interface import OPEN, STICK, InterfaceSolver, PairLaws, PairState, SolverSettings
 from ..typing import BoolArray, FloatArray
 from ._delassus import Delassus
 from ._operators import PairOperator
@@ -95,15 +95,46 @@ class InterfaceStep:
         prev: PairState,
         label: str = "",
         inactive: BoolArray | None = None,
+        *,
+        fixed: BoolArray | None = None,
+        breaking: str = "iterate",
     ) -> StepSolution:
         """The trial pair state and the block correction for the predictor ``u_free``
         (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state.
         Pairs marked ``inactive`` (m,) take no part: the problem is solved on the other
-        pairs (the sub-block of W), and the inactive ones stay open and carry nothing."""
+        pairs (the sub-block of W), and the inactive ones stay open and carry nothing.
+        ``fixed`` (m,) marks sliding pairs that keep their slip direction
+        (:meth:`InterfaceSolver.solve`). ``breaking``: "iterate" lets the solver break
+        intact pairs within its iterations; "converged" solves with the intact pairs
+        bonded, breaks those whose converged force exceeds their strength
+        (:meth:`PairLaws.overstressed`; they restart closed and unbonded), and solves again
+        until no pair breaks."""
+        if breaking == "iterate":
+            return self._solve(u_free, w_pres, prev, label, inactive, fixed, True)
+        start = prev
+        for _ in range(self.op.m + 1):
+            sol = self._solve(u_free, w_pres, start, label, inactive, fixed, False)
+            X, laws = sol.pairs.X, self.laws
+            tol = 1e-10 * max(float(np.abs(X).max(initial=0.0)), 1e-300)
+            over = ~sol.pairs.broken & laws.overstressed(X, prev.path, tol)
+            if inactive is not None:
+                over &= ~inactive
+            if not over.any():
+                return sol
+            start = start.copy()
+            start.broken = start.broken | over
+            start.state[over] = STICK
+        return sol
+
+    def _solve(
+        self, u_free: FloatArray, w_pres: FloatArray, prev: PairState, label: str,
+        inactive: BoolArray | None, fixed: BoolArray | None, breaking: bool,
+    ) -> StepSolution:  # fmt: skip
         m, d = self.op.m, self.op.d
         w_free = (self.op.G @ u_free + w_pres).reshape(m, d)
         if inactive is None or not inactive.any():
-            trial, _ = self.solver.solve(w_free, prev, label=label)
+            trial, _ = self.solver.solve(w_free, prev, label=label, fixed=fixed,
+                                         breaking=breaking)  # fmt: skip
             self._last = self.solver
         else:
             active = ~inactive
@@ -112,7 +143,9 @@ class InterfaceStep:
             trial.state[inactive] = OPEN
             if active.any():
                 sub = self._subsolver(active)
-                part, _ = sub.solve(w_free[active], prev.select(active), label=label)
+                part, _ = sub.solve(w_free[active], prev.select(active), label=label,
+                                    fixed=None if fixed is None else fixed[active],
+                                    breaking=breaking)  # fmt: skip
                 self._last = sub
                 for name in ("state", "broken", "X", "slip_dir"):
                     getattr(trial, name)[active] = getattr(part, name)

