@@ -208,3 +208,29 @@ def test_refused_combinations() -> None:
     damped = block_on_base(joint=pf.Joint(phi=30.0))
     damped.damping = pf.Rayleigh(0.0, 1e-4)
     assert pf.Dynamic(damped, 0.01, rho_inf=0.5).ga is not None
+
+
+def test_joint_node_accelerations_stay_bounded_under_mesh_refinement() -> None:
+    """V1a's block (30°, μ = 0.3) on 2 × 2, 4 × 4 and 8 × 8 Q4 meshes: the smooth
+    acceleration of the sliding joint nodes (two corners and the middle of the block's
+    base) stays within 5 % of the rigid value g (sin θ − μ cos θ) along the slope on every
+    mesh (measured 3.8 %, 3.3 %, 3.1 %: the elastic vibration of the block released at
+    t = 0, undamped) and does not grow with refinement; normal to the slope it is zero to
+    1e-10 of it (measured 2e-14). The contact-stabilised Newmark step gave thousands of g
+    on sliding joints."""
+    th, mu = np.radians(30.0), 0.3
+    a_rigid = G * (np.sin(th) - mu * np.cos(th))
+    along, normal = np.array([np.cos(th), -np.sin(th)]), np.array([np.sin(th), np.cos(th)])
+    worst = []
+    for n in (2, 4, 8):
+        model = block_on_base(joint=pf.Joint(phi=np.degrees(np.arctan(mu))), incline_deg=30.0,
+                              n=n)  # fmt: skip
+        assert model.pairs is not None
+        nb = np.asarray(model.pairs.node_b)
+        probes = [int(nb[0]), int(nb[len(nb) // 2]), int(nb[-1])]
+        res = pf.Dynamic(model, 0.001).run(0.2, probes=probes)
+        a = res.probe_a[5:]
+        worst.append(float(np.abs(a @ along - a_rigid).max() / a_rigid))
+        assert np.abs(a @ normal).max() < 1e-10 * a_rigid
+    assert max(worst) < 5e-2, worst
+    assert worst[-1] <= 1.1 * worst[0], worst

@@ -90,7 +90,7 @@ class InterfaceStep:
 
     def solve(
         self,
-        u_free: FloatArray,
+        u_free: FloatArray | None,
         w_pres: FloatArray,
         prev: PairState,
         label: str = "",
@@ -98,9 +98,13 @@ class InterfaceStep:
         *,
         fixed: BoolArray | None = None,
         breaking: str = "iterate",
+        correct: bool = True,
     ) -> StepSolution:
         """The trial pair state and the block correction for the predictor ``u_free``
-        (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1}; ``prev`` the committed state.
+        (free DOFs); ``w_pres`` (M,) is G_p u_p at t_{n+1} (or, with ``u_free`` None, the
+        whole free relative motion); ``prev`` the committed state. The trial state's ``w``
+        is the relative motion at the solution. With ``correct=False`` the block
+        correction is left to the caller (``du`` empty).
         Pairs marked ``inactive`` (m,) take no part: the problem is solved on the other
         pairs (the sub-block of W), and the inactive ones stay open and carry nothing.
         ``fixed`` (m,) marks sliding pairs that keep their slip direction
@@ -109,11 +113,13 @@ class InterfaceStep:
         bonded, breaks those whose converged force exceeds their strength
         (:meth:`PairLaws.overstressed`; they restart closed and unbonded), and solves again
         until no pair breaks."""
+        m, d = self.op.m, self.op.d
+        w_free = (w_pres if u_free is None else self.op.G @ u_free + w_pres).reshape(m, d)
         if breaking == "iterate":
-            return self._solve(u_free, w_pres, prev, label, inactive, fixed, True)
+            return self._solve(w_free, prev, label, inactive, fixed, True, correct)
         start = prev
         for _ in range(self.op.m + 1):
-            sol = self._solve(u_free, w_pres, start, label, inactive, fixed, False)
+            sol = self._solve(w_free, start, label, inactive, fixed, False, correct)
             X, laws = sol.pairs.X, self.laws
             tol = 1e-10 * max(float(np.abs(X).max(initial=0.0)), 1e-300)
             over = ~sol.pairs.broken & laws.overstressed(X, prev.path, tol)
@@ -127,11 +133,10 @@ class InterfaceStep:
         return sol
 
     def _solve(
-        self, u_free: FloatArray, w_pres: FloatArray, prev: PairState, label: str,
-        inactive: BoolArray | None, fixed: BoolArray | None, breaking: bool,
+        self, w_free: FloatArray, prev: PairState, label: str, inactive: BoolArray | None,
+        fixed: BoolArray | None, breaking: bool, correct: bool,
     ) -> StepSolution:  # fmt: skip
         m, d = self.op.m, self.op.d
-        w_free = (self.op.G @ u_free + w_pres).reshape(m, d)
         if inactive is None or not inactive.any():
             trial, _ = self.solver.solve(w_free, prev, label=label, fixed=fixed,
                                          breaking=breaking)  # fmt: skip
@@ -155,6 +160,8 @@ class InterfaceStep:
             trial.s[:, -1] += self.laws.gap
             trial.w = trial.s - self.laws.compliance * trial.X
             trial.w[:, -1] -= self.laws.gap
+        if not correct:
+            return StepSolution(trial, np.zeros(0))
         du = self.W.correct(trial.X.ravel() * self.scale)
         return StepSolution(trial, np.asarray(du))
 

@@ -62,10 +62,10 @@ from pydantic import ValidationError
 
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
-from ..interface import OPEN, SLIDE, PairState
+from ..interface import INTACT, OPEN, SLIDE, STICK, PairState
 from ..linalg import Factorization
 from ..model import GroundMotion, Model
-from ..typing import FloatArray, IntArray
+from ..typing import BoolArray, FloatArray, IntArray
 from ._contact import VelocityProjection
 from ._corotation import Corotation
 from ._excitation import Excitation
@@ -180,6 +180,7 @@ class Dynamic:
         self.project: VelocityProjection | None = None
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
+        self.velocity_corrections = 0  # steps whose velocity correction was solved
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.nm.factor,
@@ -562,42 +563,93 @@ class Dynamic:
         start = PairState(prev.state, prev.broken, prev.X, zero, zero, prev.slip_dir, path)
         a_pres = Gp @ pres[2] if pres is not None else zero.ravel()
         sol = self.istep.solve(acc_free, a_pres, start, label, inactive=~closed,
-                               fixed=prev.state == SLIDE, breaking="converged")  # fmt: skip
+                               fixed=prev.state == SLIDE, breaking="converged",
+                               correct=False)  # fmt: skip
         lam = sol.pairs.X
-        acc = acc_free + sol.du
-        smooth = ga.advance(kin, acc, f1)
-        # 2. the velocity correction on the step impulse
-        laws = self.model.pair_laws
+        # the relative motion of the smooth step from G q̈ = w − a_p (no block solve yet)
         G = self.op.G
-        gap = (G @ smooth.u + self.w_pres(t1, ex)).reshape(m, d)[:, -1] + laws.gap
+        laws = self.model.pair_laws
+        _, q_hat, v_hat = ga.known(kin)
+        cq, cv = ga.weights
+        g_acc = sol.pairs.w.ravel() - a_pres
+        gap = (G @ q_hat + cq * g_acc + self.w_pres(t1, ex)).reshape(m, d)[:, -1] + laws.gap
+        u_pres = Gp @ pres[1] if pres is not None else zero.ravel()
+        U_minus = G @ v_hat + cv * g_acc + u_pres  # G ṽ (+ the supports' velocity)
+        # 2. the velocity correction on the step impulse P (U = G ṽ + s W (P − hλ))
         broken = sol.pairs.broken
         part = ~broken | (gap <= _GAP_TOL) | (lam[:, -1] > 0)
-        v_free = smooth.v - h * sol.du
-        u_pres = Gp @ pres[1] if pres is not None else zero.ravel()
-        vstart = PairState(np.where(part, sol.pairs.state, OPEN).astype(np.int8), broken,
-                           h * lam, zero, zero, sol.pairs.slip_dir, path)  # fmt: skip
-        vel = self.vstep.solve(v_free, u_pres, vstart, label, inactive=~part,
-                               breaking="converged")  # fmt: skip
-        v1 = v_free + vel.du
+        state = np.where(part, sol.pairs.state, OPEN).astype(np.int8)
+        P = PairState(state, broken, h * lam, zero, zero, sol.pairs.slip_dir, path)
+        if not self._impulse_is_smooth(P, closed, part, U_minus.reshape(m, d)):
+            w_free = U_minus - self.vstep.W.apply(ga.s * h * lam.ravel())
+            P = self.vstep.solve(None, w_free, P, label, inactive=~part, breaking="converged",
+                                 correct=False).pairs  # fmt: skip
+            self.velocity_corrections += 1
+        # one block solve for both: q̈ = q̈_free + sŜ⁻¹Gᵀλ, v = ṽ + sŜ⁻¹Gᵀ(P − hλ)
+        acc = acc_free
+        dv = np.zeros_like(acc_free)
+        Lam = P.X - h * lam  # the impulses beyond hλ
+        if Lam.any():
+            Z = self.vstep.W.correct(ga.s * np.column_stack([lam.ravel(), Lam.ravel()]))
+            acc = acc_free + Z[:, 0]
+            dv = Z[:, 1]
+        elif lam.any():
+            acc = acc_free + self.vstep.W.correct(ga.s * lam.ravel())
+        smooth = ga.advance(kin, acc, f1)
+        v1 = smooth.v + dv
         # the energy the impulses beyond hλ take: −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing)
-        Lam = vel.pairs.X - h * lam
-        U_minus = self.op.relative(smooth.v, pres[1] if pres is not None else None)
-        U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
-        impact = -0.5 * float(np.sum(Lam * (U_minus + U_plus)))
+        impact = 0.0
+        if Lam.any():
+            U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
+            impact = -0.5 * float(np.sum(Lam * (U_minus.reshape(m, d) + U_plus)))
         # 3. the position correction
         u1 = smooth.u
-        pen = vel.pairs.broken & (gap < 0.0) & (self._gmg > 0)
+        pen = P.broken & (gap < 0.0) & (self._gmg > 0)
         if pen.any():
             nu = np.zeros((m, d))
             nu[pen, -1] = -gap[pen] / self._gmg[pen]
             u1 = u1 + self.minv * (G.T @ nu.ravel())
         new = State(t1, u1, v1, acc, f1, smooth.aux)
-        P = vel.pairs
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
         s = w.copy()
         s[:, -1] += laws.gap
         trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact)
+
+    def _impulse_is_smooth(
+        self, P: PairState, closed: BoolArray, part: BoolArray, U: FloatArray
+    ) -> bool:
+        """Whether the step impulse P = hλ already satisfies the velocity-level law, so
+        that the velocity correction can be skipped: the same pairs take part as carried
+        smooth forces (nothing new touches), and at U = G ṽ the intact and sticking pairs
+        do not move, the sliding ones keep sliding along their direction and the open
+        ones separate (to the solver's tolerance)."""
+        if not np.array_equal(part, closed):
+            return False
+        d = self.d
+        Up = U[part]
+        if not Up.size:
+            return True
+        tol = self.settings.tolerance * max(float(np.abs(U).max()), 1e-300)
+        st = P.state[part]
+        still = (st == INTACT) | (st == STICK)
+        if np.abs(Up[still]).max(initial=0.0) > tol:
+            return False
+        if (Up[st == OPEN, -1] < -tol).any():
+            return False
+        sl = st == SLIDE
+        if sl.any():
+            if np.abs(Up[sl, -1]).max() > tol:
+                return False
+            sdir = P.slip_dir[part][sl]
+            along = np.einsum("kj,kj->k", Up[sl, :-1], sdir)
+            if (along <= tol).any():
+                return False
+            if d == 3:
+                across = Up[sl, :-1] - along[:, None] * sdir
+                if np.abs(across).max() > tol:
+                    return False
+        return True
 
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
         """Right-hand side of the corotational step (see :mod:`._corotation`)."""

@@ -96,9 +96,14 @@ class NonsmoothAlpha:
         f = np.zeros_like(u) if f is None else f
         return State(t, u, v, acc, f, acc.copy())
 
-    def _known(self, state: State) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(a*, q̂, v̂): a_{n+1} = q̈_{n+1}/s + a*, q̃ = q̂ + β h² a_{n+1} − β h² a* … (the
-        parts known at t_n)."""
+    @property
+    def weights(self) -> tuple[float, float]:
+        """(β h²/s, γ h/s): q̃ = q̂ + β h²/s q̈_{n+1} and ṽ = v̂ + γ h/s q̈_{n+1}."""
+        return self.beta * self.dt**2 / self.s, self.gamma * self.dt / self.s
+
+    def known(self, state: State) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(a*, q̂, v̂), the parts known at t_n: a_{n+1} = q̈_{n+1}/s + a*, and q̃, ṽ as in
+        :attr:`weights`."""
         h, b, g = self.dt, self.beta, self.gamma
         am, af = self.alpha_m, self.alpha_f
         aux = state.a if state.aux is None else state.aux
@@ -109,7 +114,7 @@ class NonsmoothAlpha:
 
     def free_acceleration(self, state: State, f_next: FloatArray) -> FloatArray:
         """q̈_{n+1} without pair forces: Ŝ⁻¹ s (f − C v̂ − K q̂), one back-substitution."""
-        _, q_hat, v_hat = self._known(state)
+        _, q_hat, v_hat = self.known(state)
         sys_ = self.system
         r = f_next - sys_.K @ q_hat
         if sys_.C is not None:
@@ -119,7 +124,7 @@ class NonsmoothAlpha:
     def advance(self, state: State, acc: FloatArray, f_next: FloatArray) -> State:
         """The smooth state at t_{n+1} (q̃, ṽ, q̈, a) from the accepted acceleration."""
         h, b, g = self.dt, self.beta, self.gamma
-        a_star, q_hat, v_hat = self._known(state)
+        a_star, q_hat, v_hat = self.known(state)
         aux = acc / self.s + a_star
         return State(state.t + h, q_hat + b * h * h * (acc / self.s),
                      v_hat + g * h * (acc / self.s), acc, f_next, aux)  # fmt: skip
