@@ -1,4 +1,5 @@
-"""Property-based fuzzing (Hypothesis) of the model-file loader and the record readers:
+"""Property-based fuzzing (Hypothesis) of the model-file loader, the mesh reader and the
+record readers:
 every input ends in success or in pfeie's typed error (:class:`PfeieError`, exit 2 with a
 ``pfeie: error`` line through the command line), never in another exception.
 
@@ -16,13 +17,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from pfeie.cli import main
 from pfeie.errors import PfeieError
-from pfeie.io import Override, load_job, read_record, reference_rows
+from pfeie.io import Override, load_job, read_mesh, read_record, reference_rows
 
 HERE = Path(__file__).resolve().parent
 MESH = HERE / "data" / "two_blocks_v41.msh"
@@ -216,7 +218,47 @@ def _record_case(budget: settings) -> Callable[[], None]:
     return case  # type: ignore[no-any-return]
 
 
+_MSH = [(HERE / "data" / f"two_blocks_v{v}.msh").read_text().splitlines() for v in (22, 41)]
+_EDIT = st.tuples(
+    st.integers(0, 10**4), st.sampled_from(["delete", "repeat", "replace"]),
+    st.sampled_from(["0", "-1", "99999", "1e400", "nan", "x", "", "2", "$EndNodes", "3 1 2",
+                     "$Elements", "1.5"]),
+)  # fmt: skip
+
+
+def _mesh_case(budget: settings) -> Callable[[], None]:
+    @budget
+    @given(which=st.integers(0, 1), edits=st.lists(_EDIT, min_size=1, max_size=4))
+    def case(which: int, edits: list[tuple[int, str, str]]) -> None:
+        """A gmsh file with lines deleted, repeated, or a field replaced: read, or a
+        MeshError naming the file."""
+        lines = list(_MSH[which])
+        for i, op, token in edits:
+            i %= len(lines)
+            if op == "delete" and len(lines) > 1:
+                del lines[i]
+            elif op == "repeat":
+                lines.insert(i, lines[i])
+            else:
+                fields = lines[i].split() or [""]
+                fields[i % len(fields)] = token
+                lines[i] = " ".join(fields)
+        with tempfile.TemporaryDirectory() as tmp:
+            p = Path(tmp) / "m.msh"
+            p.write_text("\n".join(lines) + "\n")
+            try:
+                mesh = read_mesh(p)
+            except PfeieError as exc:
+                assert str(p) in str(exc)
+            else:
+                assert mesh.n_cells > 0 and np.all(np.isfinite(mesh.points))
+
+    return case  # type: ignore[no-any-return]
+
+
 test_model_file_fuzz = _model_file_case(FAST)
+test_mesh_fuzz = _mesh_case(FAST)
+test_mesh_fuzz_long = pytest.mark.slow(_mesh_case(LONG))
 test_record_fuzz = _record_case(FAST)
 test_model_file_fuzz_long = pytest.mark.slow(_model_file_case(LONG))
 test_record_fuzz_long = pytest.mark.slow(_record_case(LONG))

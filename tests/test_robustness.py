@@ -346,3 +346,15 @@ def test_gravity_direction(
 def test_nothing_to_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     p = model(tmp_path, extra="dynamic = false\nstatic = false")
     fails(capsys, ["check", str(p)], "model.toml", "analysis.dynamic", "nothing to run")
+
+
+def test_non_finite_coordinates(tmp_path: Path) -> None:
+    nodes = [*NODES[:5], (2.0, 1e400, 0.0)]
+    with pytest.raises(MeshError, match=r"plate\.msh: .*non-finite"):
+        read_mesh(msh22(tmp_path / "plate.msh", nodes=nodes))
+    import pfeie as pf
+
+    mesh = pf.box(1.0, 1.0, 1.0, 1, 1, 1)
+    mesh.points[0, 2] = np.nan
+    with pytest.raises(MeshError, match="1 node"):
+        mesh.check()

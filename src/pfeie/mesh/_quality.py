@@ -9,7 +9,8 @@ some of them and a negative one at others):
 - *inverted or self-intersecting*: det J < 0 somewhere (after the 2D cells were turned
   counter-clockwise, :meth:`Mesh.orient`);
 - *duplicated*: two cells on the same corner nodes (a surface in two physical groups,
-  written twice).
+  written twice);
+- node coordinates that are not finite.
 
 Cells are named by their gmsh element id when the mesh was read from gmsh
 (:attr:`Mesh.cell_ids`), else by cell type and index.
@@ -53,6 +54,10 @@ def check_cells(mesh: Mesh, where: str = "") -> None:
     """Raise :class:`MeshError` on degenerate, inverted or duplicated cells (see the
     module doc); ``where`` (the file) leads the message."""
     head = f"{where}: " if where else ""
+    bad = np.flatnonzero(~np.isfinite(mesh.points).all(axis=1))
+    if bad.size:
+        raise MeshError(f"{head}{bad.size} node(s) with non-finite coordinates, e.g. "
+                        f"{mesh.points[bad[0]].tolist()}; expected finite numbers (m)")  # fmt: skip
     problems: list[str] = []
     keys, owners = [], []
     for ctype, conn in mesh.cells.items():
