@@ -30,7 +30,7 @@ from ._version import __version__
 from .dynamics import Dynamic, DynamicResult, DynamicSettings, RunStopped, StepState
 from .errors import InputError, ModelError, PfeieError
 from .interface import OPEN, SLIDE, SolverSettings
-from .io import Job, ResultsWriter, write_paraview
+from .io import Job, ResultsWriter, output_folder, write_paraview
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
@@ -72,8 +72,7 @@ def run_job(
     stream: TextIO | None = None,
 ) -> dict[str, Any]:  # fmt: skip
     """Run a validated model file; returns the results summary (also written to disk)."""
-    out = job.folder
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(job.folder, f"{job.path}: output.folder")
     a = job.analysis
     model = job.model
     static: StaticResult | None = None

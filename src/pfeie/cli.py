@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from ._version import __version__
-from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError
+from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError, ResultsError
 
 if TYPE_CHECKING:
     from .io import Override
@@ -137,7 +137,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"record: {r.summary()}", file=sys.stderr)
     try:
         summary = run_job(job, progress=not args.quiet)
-    except (InputError, RecordError) as exc:
+    except (InputError, MeshError, RecordError, ResultsError) as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except MechanismError as exc:

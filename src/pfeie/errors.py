@@ -39,3 +39,8 @@ class RecordError(PfeieError):
 class InputError(PfeieError):
     """A model file is invalid: the message names the file, the key path, what was
     expected and what was found."""
+
+
+class ResultsError(PfeieError):
+    """A results file is missing, is not a pfeie results file, or holds nothing for the
+    asked output (the message names the file and what was expected)."""

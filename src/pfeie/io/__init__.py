@@ -1,6 +1,7 @@
 """Input and output: gmsh meshes, ground-motion records, model files."""
 
 from ._export import export_csv
+from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import (
     Job,
@@ -20,7 +21,7 @@ from ._results import Results, ResultsWriter
 
 __all__ = [
     "Job", "ModelFile", "Override", "Results", "ResultsWriter", "export_csv", "from_gmsh",
-    "json_schema", "load_job", "parse_override", "parse_value", "read_mesh", "read_model_file",
-    "read_record", "reference_markdown", "reference_rows",
+    "json_schema", "load_job", "output_file", "output_folder", "parse_override", "parse_value",
+    "read_mesh", "read_model_file", "read_record", "reference_markdown", "reference_rows",
     "write_at2", "write_paraview",
 ]  # fmt: skip

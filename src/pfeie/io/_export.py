@@ -1,4 +1,9 @@
-"""Tidy CSV tables of a results file (one observation per row)."""
+"""Tidy CSV tables of a results file (one observation per row).
+
+A run with histories gives probes.csv, bodies.csv, energy.csv, joints.csv and
+pairs_final.csv; a static-only run (``analysis.dynamic = false``) gives the static state:
+nodes_static.csv (displacements) and pairs_static.csv (the pair state of every joint).
+"""
 
 from __future__ import annotations
 
@@ -7,17 +12,21 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import ResultsError
+from ._files import output_folder
 from ._results import Results
 
 AXES = "xyz"
 
 
 def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
-    """Write probes.csv, bodies.csv, energy.csv, joints.csv and pairs_final.csv."""
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    files = []
+    """Write probes.csv, bodies.csv, energy.csv, joints.csv and pairs_final.csv (or, for a
+    static-only run, nodes_static.csv and pairs_static.csv)."""
     with Results(results) as res:
+        if res.n_times == 0:
+            return _export_static(res, folder)
+        out = output_folder(folder)
+        files = []
         t = res.time
         path = out / "probes.csv"
         with path.open("w", newline="") as fh:
@@ -93,4 +102,42 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                             ]
                         )
             files += [path, final]
+    return files
+
+
+def _export_static(res: Results, folder: str | Path) -> list[Path]:
+    """The static state of a results file without histories."""
+    if not res.has_static:
+        raise ResultsError(
+            f"{res.path}: nothing to export: no time history and no static "
+            "state (expected the results of a static or dynamic run)"
+        )
+    out = output_folder(folder)
+    u = np.asarray(res.f["static/u"][...])
+    x = np.asarray(res.f["mesh/points"][...])
+    d = x.shape[1]
+    path = out / "nodes_static.csv"
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["node", *(f"{a}_m" for a in AXES[:d]), *(f"u{a}_m" for a in AXES[:d])])
+        for k in range(x.shape[0]):
+            w.writerow([k, *(f"{c:.6g}" for c in x[k]), *(f"{c:.9g}" for c in u[k])])
+    files = [path]
+    if res.interface_names and "static/X" in res.f:
+        path = out / "pairs_static.csv"
+        names = ["intact", "stick", "slide", "open"]
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["joint", "pair", *(f"{a}_m" for a in AXES[:d]), "area_m2",
+                        "normal_stress_Pa", "shear_stress_Pa", "opening_m", "state",
+                        "broken"])  # fmt: skip
+            for name in res.interface_names:
+                pr = res.static_pairs(name)
+                shear = np.linalg.norm(pr["shear_stress"], axis=-1)
+                for k in range(pr["area"].size):
+                    w.writerow([name, k, *(f"{c:.6g}" for c in pr["x"][k]),
+                                f"{pr['area'][k]:.6g}", f"{pr['normal_stress'][k]:.9g}",
+                                f"{shear[k]:.9g}", f"{pr['opening'][k]:.9g}",
+                                names[int(pr["state"][k])], int(pr["broken"][k])])  # fmt: skip
+        files.append(path)
     return files

@@ -4,7 +4,10 @@ The physical groups of the top dimension (surfaces in 2D, volumes in 3D) become 
 groups: the blocks. Groups one dimension lower (curves in 2D, surfaces in 3D) become facet
 groups: interfaces, supports, loaded faces. Lower groups (points) are ignored with a log
 message. The mesh dimension is that of the highest-dimensional cells; a 2D mesh drawn in
-the plane z = 0 keeps x and y.
+the plane z = 0 keeps x and y (a 2D mesh with varying z is refused). The mesh is checked
+(:func:`pfeie.mesh.check_cells`: degenerate, inverted, duplicated cells); cells are named
+in messages by their gmsh element ids (read from ASCII files; binary files name cells by
+type and index).
 
 Example (the demo's mesh; ``tests/test_io.py`` reads MSH 2.2 and 4.1 files)::
 
@@ -23,7 +26,7 @@ import numpy as np
 
 from ..element import cell_dimension
 from ..errors import MeshError
-from ..mesh import Mesh
+from ..mesh import Mesh, planar_points
 
 log = logging.getLogger(__name__)
 
@@ -34,18 +37,64 @@ def read_mesh(path: str | Path) -> Mesh:
     if not p.is_file():
         raise MeshError(f"{p}: mesh file not found")
     try:
-        import meshio
+        from meshio import gmsh
     except ImportError:  # pragma: no cover - meshio is in the io extra
         raise MeshError("reading gmsh files needs meshio: pip install 'pfeie[io]'") from None
-    try:
-        m = meshio.read(p, file_format="gmsh")
+    try:  # meshio's own gmsh reader: meshio.read prints and exits on a ReadError
+        m = gmsh.read(p)
     except Exception as exc:
-        raise MeshError(f"{p}: cannot read the gmsh file ({type(exc).__name__}: {exc})") from None
-    return from_gmsh(m, p)
+        why = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
+        raise MeshError(f"{p}: cannot read the gmsh file ({why}); expected a gmsh .msh "
+                        "file, format 2.2 or 4.1") from None  # fmt: skip
+    try:
+        ids = element_ids(p, len(m.cells), [len(b.data) for b in m.cells])
+    except Exception:  # the ids only name cells in messages
+        ids = None
+    return from_gmsh(m, p, ids)
 
 
-def from_gmsh(m: Any, path: Path | str = "<mesh>") -> Mesh:
-    """Build a :class:`Mesh` from a meshio mesh read from gmsh (physical groups by name)."""
+def element_ids(path: Path, n_blocks: int, sizes: list[int]) -> list[np.ndarray] | None:
+    """The gmsh element ids of an ASCII .msh file (2.2 or 4.x), one array per meshio cell
+    block (meshio drops them); ``None`` for a binary file or when the blocks do not match
+    meshio's."""
+    with path.open("rb") as fh:
+        lines = iter(fh)
+        for raw in lines:
+            if raw.strip() == b"$MeshFormat":
+                version, ftype = next(lines).split()[:2]
+                if ftype != b"0":
+                    return None
+                break
+        else:
+            return None
+        for raw in lines:
+            if raw.strip() == b"$Elements":
+                break
+        else:
+            return None
+        blocks: list[list[int]] = []
+        if version.startswith(b"2"):
+            n = int(next(lines))
+            last = None
+            for _ in range(n):
+                fields = next(lines).split()
+                if fields[1] != last:
+                    blocks.append([])
+                    last = fields[1]
+                blocks[-1].append(int(fields[0]))
+        else:
+            n_entity = int(next(lines).split()[0])
+            for _ in range(n_entity):
+                n = int(next(lines).split()[3])
+                blocks.append([int(next(lines).split()[0]) for _ in range(n)])
+    if len(blocks) != n_blocks or [len(b) for b in blocks] != sizes:
+        return None
+    return [np.asarray(b, dtype=np.int64) for b in blocks]
+
+
+def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None = None) -> Mesh:
+    """Build a :class:`Mesh` from a meshio mesh read from gmsh (physical groups by name),
+    checked (:meth:`Mesh.check`); ``ids``: the gmsh element ids of each cell block."""
     phys = m.cell_data.get("gmsh:physical")
     names = {int(v[0]): (str(k), int(v[1])) for k, v in (m.field_data or {}).items()}
     if phys is None or not names:
@@ -53,24 +102,36 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>") -> Mesh:
             f"{path}: the mesh has no named physical groups; name the blocks and "
             "interfaces with Physical Surface/Curve (2D) or Volume/Surface (3D)"
         )
+    if len(phys) != len(m.cells):  # MSH 4 with entities in no physical group: see cell_sets
+        phys = [np.zeros(len(b.data), dtype=np.int64) for b in m.cells]
     dims = [cell_dimension(b.type) if _known(b.type) else -1 for b in m.cells]
-    top = max(dims)
+    top = max(dims, default=-1)
     if top not in (2, 3):
         raise MeshError(f"{path}: no 2D or 3D cells (found dimensions {sorted(set(dims))})")
-    points = np.asarray(m.points, dtype=float)[:, :top]
+    points = np.asarray(m.points, dtype=float)
     cells: dict[str, list[np.ndarray]] = {}
+    cell_ids: dict[str, list[np.ndarray]] = {}
     counts: dict[str, int] = {}
     cgroups: dict[str, dict[str, list[np.ndarray]]] = {}
     fgroups: dict[str, dict[str, list[np.ndarray]]] = {}
     ignored: set[str] = set()
-    for block, dim, tags in zip(m.cells, dims, phys, strict=True):
+    offsets: list[int] = []
+    for k, (block, dim, tags) in enumerate(zip(m.cells, dims, phys, strict=True)):
         data = np.asarray(block.data, dtype=np.int64)
+        if data.size and (data.min() < 0 or data.max() >= points.shape[0]):
+            raise MeshError(f"{path}: {block.type} elements refer to nodes that are not in the "
+                            "file's node list")  # fmt: skip
         tags = np.asarray(tags, dtype=np.int64)
+        offsets.append(counts.get(block.type, 0) if dim == top else 0)
         if dim == top:
             off = counts.get(block.type, 0)
             cells.setdefault(block.type, []).append(data)
+            if ids is not None:
+                cell_ids.setdefault(block.type, []).append(ids[k])
             counts[block.type] = off + data.shape[0]
             for tag in np.unique(tags):
+                if tag == 0:
+                    continue
                 name = names.get(int(tag), (f"physical_{tag}", dim))[0]
                 cgroups.setdefault(name, {}).setdefault(block.type, []).append(
                     off + np.flatnonzero(tags == tag))  # fmt: skip
@@ -84,6 +145,7 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>") -> Mesh:
             for tag in np.unique(tags):
                 if tag:
                     ignored.add(names.get(int(tag), (f"physical_{tag}", dim))[0])
+    _more_groups(m, dims, top, offsets, cgroups, fgroups)
     if ignored:
         log.info("%s: physical groups of lower dimension ignored: %s", path, sorted(ignored))
     clash = set(cgroups) & set(fgroups)
@@ -101,15 +163,42 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>") -> Mesh:
         return out
 
     mesh = Mesh(
-        points[used],
+        planar_points(points[used], top, str(path)),
         {t: rm(np.concatenate(v)) for t, v in cells.items()},
-        {g: {t: np.concatenate(v) for t, v in d.items()} for g, d in cgroups.items()},
+        {g: {t: np.unique(np.concatenate(v)) for t, v in d.items()} for g, d in cgroups.items()},
         {g: {t: rm(np.concatenate(v)) for t, v in d.items()} for g, d in fgroups.items()},
+        {t: np.concatenate(v) for t, v in cell_ids.items()} if ids is not None else {},
     )
     flipped = mesh.orient()
     if flipped:
         log.info("%s: %d clockwise cell(s) reoriented", path, flipped)
+    mesh.check(str(path))
     return mesh
+
+
+def _more_groups(
+    m: Any, dims: list[int], top: int, offsets: list[int],
+    cgroups: dict[str, dict[str, list[np.ndarray]]],
+    fgroups: dict[str, dict[str, list[np.ndarray]]],
+) -> None:  # fmt: skip
+    """Add the memberships of entities in several physical groups (MSH 4: meshio's
+    ``gmsh:physical`` keeps the first group of an entity, its ``cell_sets`` all of them;
+    MSH 2 writes such elements once per group)."""
+    sets = getattr(m, "cell_sets", None) or {}
+    for name, value in (m.field_data or {}).items():
+        per_block = sets.get(name)
+        if per_block is None or len(per_block) != len(m.cells):
+            continue
+        gdim = int(value[1])
+        for block, dim, off, idx in zip(m.cells, dims, offsets, per_block, strict=True):
+            if idx is None or len(idx) == 0 or dim != gdim:
+                continue
+            idx = np.asarray(idx, dtype=np.int64)
+            if dim == top:
+                cgroups.setdefault(str(name), {}).setdefault(block.type, []).append(off + idx)
+            elif dim == top - 1:
+                data = np.asarray(block.data, dtype=np.int64)[idx]
+                fgroups.setdefault(str(name), {}).setdefault(block.type, []).append(data)
 
 
 def _known(cell_type: str) -> bool:

@@ -141,7 +141,7 @@ class Job:
         d = self.analysis.duration
         if d is not None:
             return float(d)
-        return max((g.time[-1] for g in self.records), default=0.0)
+        return float(max((g.time[-1] for g in self.records), default=0.0))
 
     @property
     def n_steps(self) -> int:
@@ -216,6 +216,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     digest = hashlib.sha256(raw).hexdigest()
     base = p.parent
     mesh = read_mesh(base / cfg.mesh.file)
+    if mesh.dim == 3:
+        for key in ("plane", "thickness"):
+            if key in cfg.model_fields_set:
+                raise InputError(f"{p}: {key}: a 2D setting, but the mesh {cfg.mesh.file} is 3D "
+                                 f"(volumes); remove {key}")  # fmt: skip
     mats = {}
     for name, mt in cfg.materials.items():
         mats[name] = Elastic(mt.E, mt.nu, mt.rho)
@@ -273,12 +278,18 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
         if direction is not None and len(direction) != mesh.dim:
             raise InputError(f"{p}: loads.gravity_direction: expected {mesh.dim} components, "
                              f"found {direction!r}")  # fmt: skip
-        model.add_gravity(loads.gravity, direction=direction)
+        try:
+            model.add_gravity(loads.gravity, direction=direction)
+        except ModelError as exc:
+            raise InputError(f"{p}: loads.gravity_direction: {exc}") from None
     for i, pr in enumerate(loads.pressure):
         if pr.group not in model.mesh.facet_groups:
             raise InputError(_group_msg(p, f"loads.pressure[{i}].group", pr.group,
                                         model.mesh, mesh.dim - 1))  # fmt: skip
-        model.add_pressure(pr.group, pr.value)
+        try:
+            model.add_pressure(pr.group, pr.value)
+        except ModelError as exc:
+            raise InputError(f"{p}: loads.pressure[{i}].group: {exc}") from None
     up = mesh.dim - 1
     g_acc = loads.gravity or 9.81
     for i, hy in enumerate(loads.hydrostatic):
@@ -286,7 +297,10 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             if g not in model.mesh.facet_groups:
                 raise InputError(_group_msg(p, f"loads.hydrostatic[{i}].groups", g, model.mesh,
                                             mesh.dim - 1))  # fmt: skip
-            model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
+            try:
+                model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
+            except ModelError as exc:
+                raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
     records = []
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:
@@ -315,6 +329,13 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
         probes[name] = model.nearest_node(list(xyz))
     if cfg.analysis.dynamic and not records and cfg.analysis.duration is None:
         raise InputError(f"{p}: analysis.duration: missing (required without ground_motion)")
+    if cfg.analysis.dynamic and cfg.analysis.duration is None:
+        longest = float(max(g.time[-1] for g in records))
+        try:
+            cfg.analysis.steps(longest)
+        except ValueError as exc:
+            raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
+                             "expected fewer than 1e9 steps)") from None  # fmt: skip
     return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
 
 

@@ -27,6 +27,7 @@ and, where it applies, the line.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from pathlib import Path
@@ -51,7 +52,12 @@ def _numbers(line: str, path: Path, lineno: int) -> list[float]:
     rest = _NUMBER.sub(" ", line)
     if rest.replace(",", " ").replace(";", " ").strip():
         raise RecordError(f"{path}: line {lineno}: cannot read numbers from {line.strip()!r}")
-    return [float(t.replace("d", "e").replace("D", "e")) for t in tokens]
+    values = [float(t.replace("d", "e").replace("D", "e")) for t in tokens]
+    for tok, v in zip(tokens, values, strict=True):
+        if not math.isfinite(v):
+            raise RecordError(f"{path}: line {lineno}: {tok!r} is beyond the range of a double "
+                              "(|x| < 1.8e308); expected a finite number")  # fmt: skip
+    return values
 
 
 def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArray, float, str]:
@@ -71,9 +77,14 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
     if m is None:
         raise RecordError(f"{path}: line 4: expected 'NPTS=..., DT=...' or '<npts> <dt> NPTS, "
                           f"DT', found {head.strip()!r}")  # fmt: skip
-    npts, dt = int(m.group(1)), float(m.group(2))
-    if not dt > 0:
-        raise RecordError(f"{path}: line 4: DT must be > 0 s, found {dt}")
+    npts = int(m.group(1))
+    try:
+        dt = float(m.group(2))
+    except ValueError:
+        raise RecordError(f"{path}: line 4: DT: expected a number, found {m.group(2)!r}") from None
+    if not (math.isfinite(dt) and dt > 0):
+        raise RecordError(f"{path}: line 4: DT: expected a finite number > 0 s, found "
+                          f"{m.group(2)!r}")  # fmt: skip
     values: list[float] = []
     for i, line in enumerate(lines[4:], start=5):
         if line.strip():
@@ -136,8 +147,7 @@ def read_record(
     label = name or p.stem
     if kind == "at2":
         acc, step, title = _read_at2(p, lines, units)
-        gm = GroundMotion.from_samples(acc, dt=step, units="g", scale=scale, direction=direction,
-                                       name=name or title)  # fmt: skip
+        gm = _make(p, acc, step, None, "g", scale, direction, name or title)
     else:
         if units is None:
             raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")

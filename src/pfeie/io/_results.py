@@ -6,6 +6,8 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
   ``completed`` (false until the run ends normally), ``stop_reason``, and JSON strings
   ``model_summary``, ``analysis``, ``units``;
 - ``/mesh``: ``points`` (n, d), ``cells/<type>``, ``body`` (n,), ``body_names``;
+  connectivities and indices have units ``index``, codes ``code``, flags ``flag``,
+  unit vectors and frames ``1``;
 - ``/pairs``: ``x`` (m, d), ``frame`` (m, d, d), ``area`` (m,), ``interface`` (m,),
   ``node_a``, ``node_b``, attribute ``names``;
 - ``/records/<i>``: ``time``, ``acceleration``, ``direction``, attribute ``name``;
@@ -32,15 +34,18 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from ..errors import PfeieError
+from ..errors import PfeieError, ResultsError
 from ..typing import FloatArray
 
 UNITS = {
     "time": "s", "u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2", "X": "N", "w": "m",
     "s": "m", "rigid": "m (translations), rad (rotations)", "energy": "J", "points": "m",
     "area": "m^2 (x thickness in 2D)", "acceleration": "m/s^2", "state": "code",
-    "broken": "flag",
+    "broken": "flag", "index": "index", "direction": "1", "frame": "1",
 }  # fmt: skip
+
+#: what makes an HDF5 file a pfeie results file
+REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
 
 
 def _h5py() -> Any:
@@ -59,7 +64,13 @@ class ResultsWriter:
     ) -> None:
         h5py = _h5py()
         self.path = Path(path)
-        self.f = h5py.File(self.path, "w")
+        try:
+            self.f = h5py.File(self.path, "w")
+        except OSError as exc:
+            raise ResultsError(
+                f"{self.path}: cannot write the results file ({exc}); "
+                "expected a writable file in the output folder"
+            ) from None
         self.field_every, self.flush_s = max(int(field_every), 1), flush_s
         self.rows = 0
         self._buf: list[dict[str, Any]] = []
@@ -79,25 +90,24 @@ class ResultsWriter:
         g = f.create_group("mesh")
         self._ds(g, "points", model.mesh.points, "m")
         for ctype, conn in model.mesh.cells.items():
-            g.create_dataset(f"cells/{ctype}", data=conn)
-        g.create_dataset("body", data=model.body_of_node)
+            self._ds(g, f"cells/{ctype}", conn, UNITS["index"])
+        self._ds(g, "body", model.body_of_node, UNITS["index"])
         g.attrs["body_names"] = json.dumps(model.body_names())
         P = model.pairs
         m = 0 if P is None else P.n
         if P is not None:
             pg = f.create_group("pairs")
             self._ds(pg, "x", P.x, "m")
-            pg.create_dataset("frame", data=P.frame)
+            self._ds(pg, "frame", P.frame, UNITS["frame"])
             self._ds(pg, "area", P.area, UNITS["area"])
-            pg.create_dataset("interface", data=P.interface)
-            pg.create_dataset("node_a", data=P.node_a)
-            pg.create_dataset("node_b", data=P.node_b)
+            for key in ("interface", "node_a", "node_b"):
+                self._ds(pg, key, getattr(P, key), UNITS["index"])
             pg.attrs["names"] = json.dumps(list(P.names))
         for i, rec in enumerate(job.records):
             rg = f.create_group(f"records/{i}")
             self._ds(rg, "time", rec.time, "s")
             self._ds(rg, "acceleration", rec.acceleration, "m/s^2")
-            rg.create_dataset("direction", data=rec.direction)
+            self._ds(rg, "direction", rec.direction, UNITS["direction"])
             rg.attrs["name"] = rec.name
         k = len(job.probes)
         nb = model.n_bodies
@@ -159,8 +169,8 @@ class ResultsWriter:
         if static.pairs is not None:
             for key in ("X", "w", "s"):
                 self._ds(g, key, getattr(static.pairs, key), UNITS[key])
-            g.create_dataset("state", data=static.pairs.state)
-            g.create_dataset("broken", data=static.pairs.broken)
+            self._ds(g, "state", static.pairs.state, UNITS["state"])
+            self._ds(g, "broken", static.pairs.broken, UNITS["broken"])
         self.f.flush()
 
     def append(self, row: dict[str, Any]) -> None:
@@ -221,12 +231,20 @@ class Results:
     def __init__(self, path: str | Path) -> None:
         h5py = _h5py()
         self.path = Path(path)
+        what = "expected a results file (results.h5) written by `pfeie run`"
         if not self.path.is_file():
-            raise PfeieError(f"{self.path}: results file not found")
+            raise ResultsError(f"{self.path}: results file not found ({what})")
         try:
             self.f = h5py.File(self.path, "r")
         except OSError as exc:
-            raise PfeieError(f"{self.path}: not a readable results file ({exc})") from None
+            raise ResultsError(f"{self.path}: not an HDF5 file ({what}; {exc})") from None
+        lacks = [f"/{k}" for k in REQUIRED if k not in self.f]
+        if "pfeie_version" not in self.f.attrs:
+            lacks.insert(0, "the attribute pfeie_version")
+        if lacks:
+            self.f.close()
+            raise ResultsError(f"{self.path}: not a pfeie results file ({what}; it lacks "
+                               f"{', '.join(lacks)})")  # fmt: skip
 
     def close(self) -> None:
         self.f.close()
@@ -248,6 +266,42 @@ class Results:
                 val = json.loads(val)
             out[k] = val.item() if isinstance(val, np.generic) else val
         return out
+
+    @property
+    def n_times(self) -> int:
+        """Number of recorded times (0 for a static-only run)."""
+        return int(self.f["history/time"].shape[0])
+
+    @property
+    def has_static(self) -> bool:
+        """Whether the file holds the static state (``/static``)."""
+        return "static/u" in self.f
+
+    def static_pairs(self, interface: str | None = None) -> dict[str, FloatArray]:
+        """The static state of the pairs of one interface or all: x, area, X, w, s,
+        state, broken, and normal_stress, shear_stress (Pa, compression +), opening (m)."""
+        if "pairs" not in self.f:
+            raise ResultsError(f"{self.path}: the model has no interfaces")
+        if "static/X" not in self.f:
+            raise ResultsError(f"{self.path}: no static pair state (expected /static/X: the "
+                               "run had analysis.static = false)")  # fmt: skip
+        sel = self._select(interface)
+        out = {k: np.asarray(self.f[f"pairs/{k}"][...])[sel] for k in ("x", "area", "frame")}
+        for k in ("X", "w", "s", "state", "broken"):
+            out[k] = np.asarray(self.f[f"static/{k}"][...])[sel]
+        A = out["area"]
+        out["normal_stress"] = out["X"][..., -1] / A
+        out["shear_stress"] = out["X"][..., :-1] / A[:, None]
+        out["opening"] = np.maximum(out["s"][..., -1], 0.0)
+        return out
+
+    def _select(self, interface: str | None) -> Any:
+        if interface is None:
+            return slice(None)
+        names = self.interface_names
+        if interface not in names:
+            raise ResultsError(f"{self.path}: no interface {interface!r}; interfaces: {names}")
+        return np.flatnonzero(self.f["pairs/interface"][...] == names.index(interface))
 
     @property
     def completed(self) -> bool:
@@ -272,7 +326,7 @@ class Results:
         relative form)."""
         names = self.probe_names
         if name not in names:
-            raise PfeieError(f"{self.path}: no probe {name!r}; probes: {names}")
+            raise ResultsError(f"{self.path}: no probe {name!r}; probes: {names}")
         k = names.index(name)
         return {key: np.asarray(self.f[f"history/probes/{key}"][:, k])
                 for key in ("u", "v", "a", "a_abs")}  # fmt: skip
@@ -295,14 +349,8 @@ class Results:
         (n_t, m, d); state, broken (n_t, m); and derived normal_stress, shear_stress (Pa,
         compression +), opening (m), slip (m, since the start of the run)."""
         if "pairs" not in self.f:
-            raise PfeieError(f"{self.path}: the model has no interfaces")
-        sel: Any = slice(None)
-        if interface is not None:
-            names = self.interface_names
-            if interface not in names:
-                raise PfeieError(f"{self.path}: no interface {interface!r}; interfaces: "
-                                 f"{names}")  # fmt: skip
-            sel = np.flatnonzero(self.f["pairs/interface"][...] == names.index(interface))
+            raise ResultsError(f"{self.path}: the model has no interfaces")
+        sel = self._select(interface)
         out = {k: np.asarray(self.f[f"pairs/{k}"][...])[sel] for k in ("x", "area", "frame")}
         for k in ("X", "w", "s", "state", "broken"):
             out[k] = np.asarray(self.f[f"history/pairs/{k}"][...])[:, sel]

@@ -24,7 +24,14 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Annotated, Any, Literal, NamedTuple, Union
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    model_validator,
+)
 from pydantic.fields import FieldInfo
 from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
 from pydantic_core import PydanticCustomError, core_schema
@@ -48,6 +55,16 @@ Positive = Annotated[float, Field(gt=0.0)]
 NonNegative = Annotated[float, Field(ge=0.0)]
 
 
+def _path_text(v: str) -> str:
+    if "\x00" in v:
+        raise ValueError(f"expected a path, found a string with a NUL character {v!r}")
+    return v
+
+
+#: a file or folder name: any string but one with a NUL character (no OS takes it)
+PathText = Annotated[str, AfterValidator(_path_text)]
+
+
 def _check(key: str, text: str) -> PydanticCustomError:
     """A cross-key error of a table, reported at ``<table>.<key>``."""
     return PydanticCustomError("pfeie_check", "{key}: {text}", {"key": key, "text": text})
@@ -61,7 +78,7 @@ class MeshFile(_Table):
     """``[mesh]``: the gmsh mesh."""
 
     file: Annotated[
-        str,
+        PathText,
         Field(
             description="gmsh mesh (.msh 2.2 or 4.1) whose physical groups name the blocks "
             "(surfaces in 2D, volumes in 3D) and the interfaces and faces (curves in 2D, "
@@ -206,7 +223,7 @@ class Loads(_Table):
 class GroundMotionRecord(_Table):
     """``[[ground_motion]]``: an acceleration record and its direction."""
 
-    file: Annotated[str, Field(description="record file")]
+    file: Annotated[PathText, Field(description="record file")]
     format: Annotated[
         Literal["auto", "at2", "two-column", "one-column"],
         Field(description="'auto', 'at2', 'two-column' or 'one-column'"),
@@ -247,6 +264,9 @@ class Analysis(DynamicSettings):
 
     @model_validator(mode="after")
     def _not_too_many_steps(self) -> Analysis:
+        if not (self.static or self.dynamic):
+            raise _check("dynamic", "nothing to run: static and dynamic are both false; "
+                         "expected one of them (or both) true")  # fmt: skip
         if self.duration is not None:
             try:
                 self.steps(self.duration)
@@ -262,7 +282,7 @@ class Analysis(DynamicSettings):
 class Output(_Table):
     """``[output]``: where and what to write."""
 
-    folder: Annotated[str, Field(description="output folder")] = "results"
+    folder: Annotated[PathText, Field(description="output folder")] = "results"
     every: Annotated[int, Field(gt=0, description="record the histories every n-th step")] = 1
     field_every: Annotated[
         int, Field(gt=0, description="store the nodal fields (u, v, a) every n-th recorded step")

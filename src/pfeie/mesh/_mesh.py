@@ -21,6 +21,7 @@ import numpy as np
 from ..element import reference
 from ..errors import MeshError
 from ..typing import FloatArray, IntArray
+from ._quality import check_cells
 
 
 @dataclass
@@ -32,13 +33,18 @@ class Mesh:
     points: node coordinates, shape (n_points, dim), dim = 2 or 3.
     cells: connectivity per cell type, each of shape (n_cells, n_nodes_per_cell).
     cell_groups: group name → cell type → indices into ``cells[type]``.
-    facet_groups: group name → facet type → facet connectivity (n_facets, n_nodes).
+    facet_groups: group name → facet type → facet connectivity (n_facets, n_nodes); a
+        facet given twice (on both of its cells) is stored once.
+    cell_ids: cell type → the id of each cell in the file it was read from (gmsh element
+        ids), for messages; empty for a mesh built in Python (cells are then named by type
+        and index).
     """
 
     points: FloatArray
     cells: dict[str, IntArray]
     cell_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
     facet_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
+    cell_ids: dict[str, IntArray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.points = np.ascontiguousarray(self.points, dtype=float)
@@ -58,11 +64,48 @@ class Mesh:
                 if ctype not in self.cells:
                     raise MeshError(f"cell group {name!r} refers to absent cell type {ctype!r}")
                 grp[ctype] = np.asarray(idx, dtype=np.int64)
+                n = self.cells[ctype].shape[0]
+                if grp[ctype].size and (grp[ctype].min() < 0 or grp[ctype].max() >= n):
+                    raise MeshError(f"cell group {name!r}: {ctype} indices outside 0..{n - 1}")
         for name, fgrp in self.facet_groups.items():
             for ftype, conn in fgrp.items():
                 if reference(ftype).dim != self.dim - 1:
                     raise MeshError(f"facet group {name!r}: {ftype!r} is not a facet type")
-                fgrp[ftype] = np.asarray(conn, dtype=np.int64)
+                conn = np.asarray(conn, dtype=np.int64)
+                if conn.ndim == 2 and conn.shape[0] > 1:  # each facet once
+                    _, first = np.unique(facet_keys(conn, ftype), axis=0, return_index=True)
+                    if first.size < conn.shape[0]:
+                        conn = conn[np.sort(first)]
+                fgrp[ftype] = conn
+        for ctype, ids in list(self.cell_ids.items()):
+            ids = np.asarray(ids, dtype=np.int64)
+            if ctype not in self.cells or ids.shape != (self.cells[ctype].shape[0],):
+                raise MeshError(f"cell_ids of {ctype!r} must give one id per cell")
+            self.cell_ids[ctype] = ids
+
+    def cell_label(self, ctype: str, index: int) -> str:
+        """A cell for messages: its gmsh element id, or its type and index."""
+        ids = self.cell_ids.get(ctype)
+        if ids is not None:
+            return f"gmsh element {int(ids[index])}"
+        return f"{ctype} cell {index}"
+
+    def check(self, where: str = "") -> None:
+        """Raise :class:`MeshError` on degenerate, inverted or duplicated cells, each named
+        (see :func:`pfeie.mesh.check_cells`)."""
+        check_cells(self, where)
+
+    def facet_multiplicity(self, ftype: str, conn: IntArray) -> IntArray:
+        """How many cells share each facet (1 on the boundary, 2 inside; 0 if the facet
+        is no face of a cell)."""
+        keys = facet_keys(np.asarray(conn, dtype=np.int64), ftype)
+        out = np.zeros(keys.shape[0], dtype=np.int64)
+        for _, _, _, tkeys, _, count in self._facet_table():
+            if tkeys.shape[1] != keys.shape[1] or keys.shape[0] == 0:
+                continue
+            at, found = match_rows(tkeys, keys)
+            out[found] = count[at[found]]
+        return out
 
     @property
     def dim(self) -> int:
@@ -210,7 +253,9 @@ class Mesh:
             name: {t: new_index[t][idx[keep[t][idx]]] for t, idx in grp.items() if t in cells}
             for name, grp in self.cell_groups.items()
         }
-        return Mesh(self.points, cells, cgroups, {k: dict(v) for k, v in self.facet_groups.items()})
+        ids = {t: i[keep[t]] for t, i in self.cell_ids.items() if t in cells}
+        return Mesh(self.points, cells, cgroups, {k: dict(v) for k, v in self.facet_groups.items()},
+                    ids)  # fmt: skip
 
     # -- meshio ---------------------------------------------------------------------------
     def to_meshio(self) -> Any:
@@ -253,7 +298,7 @@ class Mesh:
         """
         dims = [reference(b.type).dim for b in m.cells]
         top = max(dims) if dim is None else dim
-        points = np.asarray(m.points, dtype=float)[:, :top]
+        points = planar_points(np.asarray(m.points, dtype=float), top)
         cells: dict[str, list[IntArray]] = {}
         offsets: list[int] = []
         for b, d in zip(m.cells, dims, strict=True):
@@ -288,6 +333,26 @@ _FLIP_2D: dict[str, list[int]] = {
     "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
     "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
 }
+
+
+def planar_points(points: FloatArray, dim: int, where: str = "") -> FloatArray:
+    """The first ``dim`` coordinates of ``points``; for a plane mesh (``dim`` 2) given
+    with z, z must be the same everywhere (a plane parallel to x-y, usually z = 0), else
+    :class:`MeshError` (dropping z would distort the mesh)."""
+    if dim == 2 and points.ndim == 2 and points.shape[1] == 3 and points.shape[0]:
+        z = points[:, 2]
+        extent = max(float(np.ptp(points[:, 0])), float(np.ptp(points[:, 1])), 1e-300)
+        if not np.all(np.isfinite(points)):
+            raise MeshError(f"{where or 'mesh'}: non-finite node coordinates")
+        if float(np.ptp(z)) > 1e-9 * extent:
+            k = int(np.argmax(np.abs(z - z[0])))
+            raise MeshError(
+                f"{where or 'mesh'}: a plane (2D) mesh must lie in the x-y plane, but z "
+                f"ranges from {z.min():.6g} to {z.max():.6g} (e.g. node at "
+                f"{np.round(points[k], 6).tolist()}); expected z = 0: draw the section in "
+                "x-y (a section in x-z or y-z would lose a coordinate)"
+            )
+    return np.ascontiguousarray(points[:, :dim], dtype=float)
 
 
 def facet_keys(conn: IntArray, ftype: str) -> IntArray:

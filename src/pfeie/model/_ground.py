@@ -75,10 +75,21 @@ class GroundMotion:
                 raise ModelError(f"ground motion {name!r}: {t.size} times for {acc.size} values")
             if np.any(np.diff(t) <= 0):
                 raise ModelError(f"ground motion {name!r}: times must increase strictly")
+        if not np.all(np.isfinite(t)):
+            raise ModelError(f"ground motion {name!r}: times beyond the range of a double "
+                             f"(last {t[-1]} s); expected finite times")  # fmt: skip
         e = np.asarray(direction, dtype=float)
-        if not np.linalg.norm(e) > 0:
-            raise ModelError(f"ground motion {name!r}: direction must be a non-zero vector")
-        acc_si = np.asarray(acc * G_UNITS[units] * scale, dtype=float)
+        big = float(np.abs(e).max()) if e.size else 0.0
+        e = e / big if np.isfinite(big) and big > 0 else e
+        norm = np.linalg.norm(e)
+        if not (np.isfinite(norm) and norm > 0 and np.isfinite(big)):
+            raise ModelError(f"ground motion {name!r}: direction must be a finite non-zero "
+                             f"vector, got {e.tolist()}")  # fmt: skip
+        with np.errstate(over="ignore", invalid="ignore"):
+            acc_si = np.asarray(acc * G_UNITS[units] * scale, dtype=float)
+        if not np.all(np.isfinite(acc_si)):
+            raise ModelError(f"ground motion {name!r}: scale {scale} × the record overflows; "
+                             "expected finite accelerations (m/s²)")  # fmt: skip
         unit = np.asarray(e / np.linalg.norm(e), dtype=float)
         return cls(np.asarray(t, dtype=float), acc_si, unit, name)
 

@@ -125,9 +125,13 @@ class Model:
             raise ModelError(f"thickness must be > 0 m, got {thickness}")
         if not blocks:
             raise ModelError("a model needs at least one block")
+        if mesh.dim == 3 and plane == "stress":
+            raise ModelError("plane = 'stress' is a 2D hypothesis, but the mesh is 3D; a 3D "
+                             "model takes no plane hypothesis")  # fmt: skip
         names = [b.name for b in blocks]
         if len(set(names)) != len(names):
             raise ModelError(f"block names must be unique, got {names}")
+        _disjoint_blocks(mesh, blocks)
         self.input_mesh = mesh
         self.interfaces = list(interfaces)
         self.split: SplitMesh | None = None
@@ -249,7 +253,14 @@ class Model:
         e[-1] = -1.0
         if direction is not None:
             e = np.asarray(direction, dtype=float)
+            big = float(np.abs(e).max()) if e.size else 0.0
+            if e.shape != (self.dim,) or not (np.isfinite(big) and big > 0):
+                raise ModelError(f"gravity direction: expected a finite non-zero vector of "
+                                 f"{self.dim} components, got {e.tolist()}")  # fmt: skip
+            e = e / big
             e = e / np.linalg.norm(e)
+        if not (np.isfinite(g) and g >= 0):
+            raise ModelError(f"gravity: expected a finite acceleration >= 0 m/s², got {g}")
         self.loads.append(Load("gravity", None, g * e, amplitude))
 
     def add_body_force(
@@ -266,7 +277,7 @@ class Model:
         self, group: str, value: VectorField, amplitude: Amplitude | None = None
     ) -> None:
         """A traction (N/m²) on a facet group: a vector or a function of points."""
-        self.mesh.facet_group(group)
+        self._boundary_group(group, "traction")
         self.loads.append(Load("traction", group, value, amplitude))
 
     def add_pressure(
@@ -275,9 +286,25 @@ class Model:
         value: float | Callable[[FloatArray], FloatArray],
         amplitude: Amplitude | None = None,
     ) -> None:
-        """A pressure (Pa, positive pushing into the body) on a facet group."""
-        self.mesh.facet_group(group)
+        """A pressure (Pa, positive pushing into the body) on a facet group: faces on the
+        boundary of the blocks or on a joint (a facet group that also holds facets inside a
+        block is refused: a pressure there has no side to push)."""
+        self._boundary_group(group, "pressure")
         self.loads.append(Load("pressure", group, value, amplitude))
+
+    def _boundary_group(self, group: str, what: str) -> None:
+        """Refuse a surface load on facets that are not on the boundary of a block (after
+        the interfaces are split, a joint's faces are on the boundary of its blocks)."""
+        for ftype, conn in self.mesh.facet_group(group).items():
+            inside = np.flatnonzero(self.mesh.facet_multiplicity(ftype, conn) > 1)
+            if inside.size:
+                x = self.mesh.points[conn[inside[0]]].mean(axis=0)
+                raise ModelError(
+                    f"{what} on {group!r}: {inside.size} of its {conn.shape[0]} facet(s) lie "
+                    f"inside a block (shared by two cells), the first at "
+                    f"{np.round(x, 6).tolist()}; expected facets on the boundary of a block "
+                    "or on an interface"
+                )
 
     def add_nodal_force(
         self,
@@ -613,6 +640,26 @@ class Model:
             "nodes": int(self.active_nodes.size), "dof": int(self.n_dof),
             "free_dof": int(free.size), "prescribed_dof": int(pres.size),
         }  # fmt: skip
+
+
+def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> None:
+    """Refuse cells in two blocks' groups, naming the cells (gmsh element ids)."""
+    owner: dict[str, IntArray] = {}
+    for ib, blk in enumerate(blocks):
+        for ctype, idx in mesh.cell_groups.get(blk.cell_group, {}).items():
+            own = owner.setdefault(ctype, np.full(mesh.cells[ctype].shape[0], -1, np.int64))
+            idx = np.unique(np.asarray(idx, dtype=np.int64))
+            clash = idx[own[idx] >= 0]
+            if clash.size:
+                other = blocks[int(own[clash[0]])]
+                cells = ", ".join(mesh.cell_label(ctype, int(c)) for c in clash[:5])
+                more = f" and {clash.size - 5} more" if clash.size > 5 else ""
+                raise ModelError(
+                    f"groups {other.cell_group!r} (block {other.name!r}) and {blk.cell_group!r} "
+                    f"(block {blk.name!r}) share {clash.size} {ctype} cell(s): {cells}{more}; "
+                    "expected each cell in one block group"
+                )
+            own[idx] = ib
 
 
 def _field(value: VectorField | float, x: FloatArray) -> FloatArray:

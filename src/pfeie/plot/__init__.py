@@ -1,7 +1,15 @@
 """Figures and the HTML report of a results file."""
 
-from ._plots import plot_all, plot_energy, plot_joint, plot_probe, plot_rigid, plot_states
+from ._plots import (
+    plot_all,
+    plot_energy,
+    plot_joint,
+    plot_probe,
+    plot_rigid,
+    plot_states,
+    plot_static,
+)
 from ._report import write_report
 
 __all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_states",
-           "write_report"]  # fmt: skip
+           "plot_static", "write_report"]  # fmt: skip

@@ -10,6 +10,11 @@
   (position along the joint × time; intact, stick, slide, open);
 - ``rigid_motion.png``: translation and rotation histories of the bodies that move;
 - ``energy.png``: the energy terms and the balance residual.
+
+A static-only run (``analysis.dynamic = false``) has no histories: ``plot_all`` then
+writes ``static_<name>.png``, the normal and shear stress of the static state along each
+interface, and refuses (:class:`~pfeie.errors.ResultsError`) a file with neither
+histories nor a static pair state.
 """
 
 from __future__ import annotations
@@ -19,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import PfeieError
-from ..io import Results
+from ..errors import PfeieError, ResultsError
+from ..io import Results, output_folder
 
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
 STATE_LABELS = ["intact", "stick", "slide", "open"]
@@ -40,11 +45,20 @@ def _plt() -> Any:
 
 def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
     """Every figure of a results file into ``folder``; returns the files written."""
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
     files: list[Path] = []
     with Results(results) as res:
         title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        if res.n_times == 0:
+            if not (res.interface_names and "static/X" in res.f):
+                raise ResultsError(
+                    f"{res.path}: nothing to plot: no time history (a static-only run, or "
+                    "a run stopped before its first step) and no static pair state; expected "
+                    "a results file of a dynamic run or of a static run with interfaces"
+                )
+            out = output_folder(folder)
+            return [plot_static(res, name, out / f"static_{name}.png", title)
+                    for name in res.interface_names]  # fmt: skip
+        out = output_folder(folder)
         for name in res.probe_names:
             files.append(plot_probe(res, name, out / f"probe_{name}.png", title))
         for name in res.interface_names:
@@ -187,4 +201,31 @@ def plot_energy(res: Results, path: Path, title: str = "") -> Path:
     for a in ax:
         a.grid(alpha=0.3)
     ax[0].set_title(f"{title}\nenergy balance", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
+    """Normal and shear stress of the static state along an interface, with the pair
+    states."""
+    plt = _plt()
+    pr = res.static_pairs(name)
+    order, s = _arc(pr["x"])
+    shear = np.linalg.norm(pr["shear_stress"], axis=-1)[order]
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    ax[0].plot(s, 1e-6 * pr["normal_stress"][order], lw=1.0, marker=".",
+               label="normal (compression +)")  # fmt: skip
+    ax[0].set_ylabel("normal stress (MPa)")
+    ax[1].plot(s, 1e-6 * shear, lw=1.0, marker=".", color="C1", label="shear")
+    state = pr["state"][order]
+    for k, lab in enumerate(STATE_LABELS):
+        hit = state == k
+        if hit.any():
+            ax[1].scatter(s[hit], 1e-6 * shear[hit], s=18, color=STATE_COLOURS[k], label=lab,
+                          zorder=3)  # fmt: skip
+    ax[1].set_ylabel("shear stress (MPa)")
+    ax[1].set_xlabel("position along the joint (m)")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(loc="upper right", fontsize=8)
+    ax[0].set_title(f"{title}\nstatic state of {name}", fontsize=10)
     return _finish(fig, path)

@@ -10,12 +10,16 @@ from typing import Any
 
 import numpy as np
 
-from ..io import Results
+from ..errors import InputError, ResultsError
+from ..io import Results, output_file
 from ._plots import plot_all
 
 
 def joint_table(res: Results) -> list[dict[str, Any]]:
-    """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share."""
+    """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share
+    (for a static-only run: the static state, :func:`static_joint_table`)."""
+    if res.n_times == 0:
+        return static_joint_table(res)
     rows = []
     for name in res.interface_names:
         pr = res.pairs(name)
@@ -31,18 +35,43 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
     return rows
 
 
+def static_joint_table(res: Results) -> list[dict[str, Any]]:
+    """Per joint, the static state: pairs, mean normal stress, largest opening, shares
+    sliding, open and broken (empty without a static pair state)."""
+    if "static/X" not in res.f:
+        return []
+    rows = []
+    for name in res.interface_names:
+        pr = res.static_pairs(name)
+        A = pr["area"]
+        rows.append({
+            "joint": name, "pairs": int(A.size),
+            "static normal stress, mean (MPa)": 1e-6 * float((pr["X"][:, -1]).sum() / A.sum()),
+            "largest opening (mm)": 1e3 * float(pr["opening"].max()),
+            "sliding (%)": 100 * float(((pr["state"] == 2) * A).sum() / A.sum()),
+            "open (%)": 100 * float(((pr["state"] == 3) * A).sum() / A.sum()),
+            "broken (%)": 100 * float((pr["broken"] * A).sum() / A.sum()),
+        })  # fmt: skip
+    return rows
+
+
 def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     """Write ``report.html`` beside the results file (or at ``out``); figures embedded."""
     rpath = Path(results)
     target = Path(out) if out is not None else rpath.with_name("report.html")
-    with tempfile.TemporaryDirectory() as tmp:
-        figs = plot_all(rpath, tmp)
-        images = [(f.stem, base64.b64encode(f.read_bytes()).decode()) for f in figs]
-    with Results(rpath) as res:
+    with Results(rpath) as res:  # a file that is not a results file is refused first
         meta = res.meta
         summ = meta["model_summary"]
         joints = joint_table(res)
         t_end = float(res.time[-1]) if res.time.size else 0.0
+        static_only = res.n_times == 0
+    output_file(target)
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            figs = plot_all(rpath, tmp)
+        except ResultsError:  # nothing to plot (static run without interfaces)
+            figs = []
+        images = [(f.stem, base64.b64encode(f.read_bytes()).decode()) for f in figs]
     esc = html.escape
     title = summ.get("title") or Path(meta["model_file"]).stem
     status = ("completed" if meta["completed"] else
@@ -53,7 +82,8 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         ("blocks", ", ".join(summ["blocks"])), ("bodies", summ["bodies"]),
         ("cells", summ["cells"]), ("DOF", f"{summ['dof']} ({summ['free_dof']} free)"),
         ("pairs", ", ".join(f"{k}: {v}" for k, v in summ["pairs"].items()) or "none"),
-        ("time step", f"{summ['dt']} s"), ("run", f"{status} at t = {t_end:.3f} s"),
+        ("time step", f"{summ['dt']} s"),
+        ("run", "static state only" if static_only else f"{status} at t = {t_end:.3f} s"),
         ("ground motion form", meta.get("form", "")),
     ]  # fmt: skip
     parts = [
@@ -87,5 +117,8 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         parts.append(f"<h3>{esc(name.replace('_', ' '))}</h3>"
                      f"<img alt='{esc(name)}' src='data:image/png;base64,{data}'>")  # fmt: skip
     parts.append("</body></html>")
-    target.write_text("\n".join(parts))
+    try:
+        target.write_text("\n".join(parts))
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write the report: {exc.strerror or exc}") from None
     return target

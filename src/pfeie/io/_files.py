@@ -1,0 +1,38 @@
+"""Output folders: created, or a clear error naming the folder (never an ``OSError``)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..errors import InputError
+
+
+def output_folder(path: str | Path, where: str = "") -> Path:
+    """Create the folder ``path`` (and its parents) if needed and check that it can be
+    written; :class:`InputError` names the folder (after ``where``, e.g. the model file
+    and key) and what was expected."""
+    p = Path(path)
+    head = f"{where}: " if where else ""
+    expect = "expected a folder that can be created and written"
+    try:
+        if p.exists() and not p.is_dir():
+            raise InputError(f"{head}{p}: is a file, not a folder ({expect})")
+        p.mkdir(parents=True, exist_ok=True)
+    except (OSError, ValueError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise InputError(f"{head}{p}: cannot create the output folder: {reason} "
+                         f"({expect})") from None  # fmt: skip
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise InputError(f"{head}{p}: the output folder is not writable ({expect})")
+    return p
+
+
+def output_file(path: str | Path, where: str = "") -> Path:
+    """The folder of an output file, created and checked by :func:`output_folder`."""
+    p = Path(path)
+    head = f"{where}: " if where else ""
+    if p.is_dir():
+        raise InputError(f"{head}{p}: is a folder (expected the path of a file to write)")
+    output_folder(p.parent, where)
+    return p

@@ -1,0 +1,112 @@
+"""Mesh checks before any work: degenerate, inverted and duplicated cells.
+
+:func:`check_cells` evaluates the Jacobian determinant of every cell at the points of
+its quadrature rule and at its nodes (a bow-tie quadrilateral has a positive Jacobian at
+some of them and a negative one at others):
+
+- *degenerate*: repeated corner nodes, or a largest |det J| below 1e-10 of the cell's
+  size to the power of the dimension (collinear or coplanar nodes: zero area or volume);
+- *inverted or self-intersecting*: det J < 0 somewhere (after the 2D cells were turned
+  counter-clockwise, :meth:`Mesh.orient`);
+- *duplicated*: two cells on the same corner nodes (a surface in two physical groups,
+  written twice);
+- node coordinates that are not finite.
+
+Cells are named by their gmsh element id when the mesh was read from gmsh
+(:attr:`Mesh.cell_ids`), else by cell type and index.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..element import quadrature, reference
+from ..errors import MeshError
+
+if TYPE_CHECKING:
+    from ._mesh import Mesh
+
+#: relative size of |det J| below which a cell is degenerate
+DEGENERATE = 1e-10
+_SHOW = 5
+
+
+def _names(mesh: Mesh, ctype: str, idx: np.ndarray) -> str:
+    shown = ", ".join(mesh.cell_label(ctype, int(i)) for i in idx[:_SHOW])
+    more = f" and {idx.size - _SHOW} more" if idx.size > _SHOW else ""
+    return shown + more
+
+
+def jacobians(points: np.ndarray, ctype: str, conn: np.ndarray) -> np.ndarray:
+    """det J of every cell at its quadrature points and its nodes, shape (c, q + n)."""
+    ref = reference(ctype)
+    xi, _ = quadrature(ctype, 2 * ref.degree)
+    xi = np.concatenate([xi, ref.nodes])
+    _, dN = ref.shape_functions(xi)
+    X = points[conn]  # (c, n, d)
+    J = np.einsum("cnd,qne->cqde", X, dN)
+    return np.asarray(np.linalg.det(J), dtype=float)
+
+
+def check_cells(mesh: Mesh, where: str = "") -> None:
+    """Raise :class:`MeshError` on degenerate, inverted or duplicated cells (see the
+    module doc); ``where`` (the file) leads the message."""
+    head = f"{where}: " if where else ""
+    bad = np.flatnonzero(~np.isfinite(mesh.points).all(axis=1))
+    if bad.size:
+        raise MeshError(f"{head}{bad.size} node(s) with non-finite coordinates, e.g. "
+                        f"{mesh.points[bad[0]].tolist()}; expected finite numbers (m)")  # fmt: skip
+    problems: list[str] = []
+    keys, owners = [], []
+    for ctype, conn in mesh.cells.items():
+        if conn.shape[0] == 0:
+            continue
+        ref = reference(ctype)
+        corners = np.sort(conn[:, : ref.n_corners], axis=1)
+        repeated = np.flatnonzero((np.diff(corners, axis=1) == 0).any(axis=1))
+        X = mesh.points[conn[:, : ref.n_corners]]
+        size = np.ptp(X, axis=1).max(axis=1)  # largest extent of each cell
+        det = jacobians(mesh.points, ctype, conn)
+        scale = np.maximum(size, np.finfo(float).tiny) ** mesh.dim
+        flat = np.abs(det).max(axis=1) <= DEGENERATE * scale
+        degenerate = np.union1d(repeated, np.flatnonzero(flat))
+        if degenerate.size:
+            problems.append(
+                f"{degenerate.size} degenerate {ctype} cell(s) (zero {_measure(mesh.dim)}: "
+                f"coincident, collinear or coplanar nodes): {_names(mesh, ctype, degenerate)}"
+            )
+        inverted = np.setdiff1d(np.flatnonzero((det < -DEGENERATE * scale[:, None]).any(axis=1)),
+                                degenerate)  # fmt: skip
+        if inverted.size:
+            problems.append(
+                f"{inverted.size} inverted or self-intersecting {ctype} cell(s) (negative "
+                f"Jacobian determinant: nodes in the wrong order, or a bow-tie): "
+                f"{_names(mesh, ctype, inverted)}"
+            )
+        keys.append(corners)
+        owners.append([(ctype, i) for i in range(conn.shape[0])])
+    for width in {k.shape[1] for k in keys}:
+        same = [(k, o) for k, o in zip(keys, owners, strict=True) if k.shape[1] == width]
+        pool = np.concatenate([k for k, _ in same])
+        who = [w for _, o in same for w in o]
+        _, first, inv, counts = np.unique(pool, axis=0, return_index=True,
+                                          return_inverse=True, return_counts=True)  # fmt: skip
+        inv = inv.ravel()
+        dup = np.flatnonzero(counts[inv] > 1)
+        dup = dup[dup != first[inv[dup]]]
+        if dup.size:
+            pairs = [f"{mesh.cell_label(*who[int(first[inv[j]])])} and "
+                     f"{mesh.cell_label(*who[int(j)])}" for j in dup[:_SHOW]]  # fmt: skip
+            more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
+            problems.append(
+                f"{dup.size} duplicated cell(s) on the same nodes (a surface or volume in two "
+                f"physical groups?): {'; '.join(pairs)}{more}"
+            )
+    if problems:
+        raise MeshError("\n".join(head + p for p in problems))
+
+
+def _measure(dim: int) -> str:
+    return "area" if dim == 2 else "volume"

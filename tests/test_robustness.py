@@ -1,0 +1,360 @@
+"""Wrong inputs and edge models through the command line: each ends in exit 2 with a
+``pfeie: error`` line naming the file (and key, group, gmsh element id or line) and what
+was expected, never a traceback; a static-only run goes through plot, report and export;
+every dataset of a results file has units."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfeie.cli import main
+from pfeie.errors import MeshError, ModelError, RecordError, ResultsError
+from pfeie.io import Results, read_mesh, read_record
+
+# a 2 m × 1 m plate of two quadrilaterals (gmsh ids 10 and 11) on a line "bottom"; "mid"
+# is the interior line between them
+NODES = [(0, 0, 0), (1, 0, 0), (2, 0, 0), (0, 1, 0), (1, 1, 0), (2, 1, 0)]
+NAMES = {1: (2, "all"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
+ELEMENTS = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [2, 5]), (4, 1, 5, [4, 5]),
+            (5, 1, 5, [5, 6]), (10, 3, 1, [1, 2, 5, 4]), (11, 3, 1, [2, 3, 6, 5])]  # fmt: skip
+
+MODEL = """
+[mesh]
+file = "plate.msh"
+[materials.rock]
+E = 1e9
+nu = 0.25
+rho = 2000.0
+[blocks]
+all = "rock"
+[[supports]]
+group = "bottom"
+[analysis]
+EXTRA
+[output]
+folder = "out"
+"""
+
+
+def msh22(path: Path, nodes=NODES, elements=ELEMENTS, names=NAMES) -> Path:  # type: ignore[no-untyped-def]
+    """A gmsh MSH 2.2 ASCII file: nodes (x, y, z), elements (id, gmsh type, physical, nodes)."""
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(names))]
+    lines += [f'{d} {tag} "{name}"' for tag, (d, name) in names.items()]
+    lines += ["$EndPhysicalNames", "$Nodes", str(len(nodes))]
+    lines += [f"{i} {x} {y} {z}" for i, (x, y, z) in enumerate(nodes, start=1)]
+    lines += ["$EndNodes", "$Elements", str(len(elements))]
+    lines += [f"{i} {t} 2 {ph} {ph} " + " ".join(map(str, ns)) for i, t, ph, ns in elements]
+    lines += ["$EndElements"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def model(tmp: Path, extra: str = "dynamic = false", text: str = MODEL, **mesh) -> Path:  # type: ignore[no-untyped-def]
+    msh22(tmp / "plate.msh", **mesh)
+    p = tmp / "model.toml"
+    p.write_text(text.replace("EXTRA", extra))
+    return p
+
+
+def fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
+    """Exit 2, one or more ``pfeie: error`` lines holding every word, no traceback."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "pfeie: error" in err and "Traceback" not in err
+    for w in words:
+        assert w in err, (w, err)
+    return err
+
+
+# -- item: a static-only run goes through plot, report and export ---------------------------
+def test_static_only_run_plots_reports_and_exports(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A static-only run of a model with a joint: plot writes the static joint figure,
+    report the page with the static joint table, export the static tables."""
+    text = MODEL.replace('all = "rock"', 'all = "rock"\n[interfaces.mid]\nfriction_angle = 30.0')
+    msh22(tmp_path / "plate.msh")
+    # "mid" splits the plate in two bodies, both on the support "bottom"
+    p = tmp_path / "model.toml"
+    p.write_text(text.replace("EXTRA", "dynamic = false"))
+    assert main(["run", str(p), "--quiet"]) == 0
+    res = tmp_path / "out" / "results.h5"
+    with Results(res) as r:
+        assert r.n_times == 0 and r.has_static
+    assert main(["plot", str(res)]) == 0
+    assert (tmp_path / "out" / "figures" / "static_mid.png").stat().st_size > 1000
+    assert main(["report", str(res)]) == 0
+    page = (tmp_path / "out" / "report.html").read_text()
+    assert "static state only" in page and "static normal stress" in page
+    assert main(["export", str(res), "--csv", str(tmp_path / "csv")]) == 0
+    rows = (tmp_path / "csv" / "pairs_static.csv").read_text().splitlines()
+    assert rows[0].startswith("joint,pair") and len(rows) == 1 + 2  # two pairs on "mid"
+    assert (tmp_path / "csv" / "nodes_static.csv").is_file()
+
+
+def test_static_only_run_without_interfaces(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Without interfaces there is nothing to plot (exit 2, said so); report and export
+    still work."""
+    p = model(tmp_path)
+    assert main(["run", str(p), "--quiet"]) == 0
+    res = str(tmp_path / "out" / "results.h5")
+    capsys.readouterr()
+    fails(capsys, ["plot", res], "results.h5", "nothing to plot", "static-only")
+    assert main(["report", res]) == 0
+    assert main(["export", res, "--csv", str(tmp_path / "csv")]) == 0
+    assert [f.name for f in sorted((tmp_path / "csv").iterdir())] == ["nodes_static.csv"]
+
+
+# -- item: files that are not results files ------------------------------------------------
+@pytest.mark.parametrize("command", ["plot", "report", "export"])
+def test_not_a_results_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    import h5py
+
+    other = tmp_path / "other.h5"
+    with h5py.File(other, "w") as f:
+        f["x"] = [1.0, 2.0]
+    text = tmp_path / "text.h5"
+    text.write_text("not hdf5\n")
+    extra = ["--csv", str(tmp_path / "csv")] if command == "export" else []
+    fails(capsys, [command, str(other), *extra], "other.h5", "not a pfeie results file",
+          "pfeie_version", "written by `pfeie run`")  # fmt: skip
+    fails(capsys, [command, str(text), *extra], "text.h5", "not an HDF5 file")
+    fails(capsys, [command, str(tmp_path / "none.h5"), *extra], "none.h5", "not found")
+    with pytest.raises(ResultsError, match="lacks"):
+        Results(other)
+
+
+# -- item: output folders --------------------------------------------------------------------
+def test_output_folder_that_cannot_be_made(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "afile").write_text("x")
+    p = model(tmp_path, text=MODEL.replace('folder = "out"', 'folder = "afile"'))
+    fails(capsys, ["run", str(p), "--quiet"], "model.toml", "output.folder", "afile",
+          "is a file, not a folder")  # fmt: skip
+    p.write_text(MODEL.replace("EXTRA", "dynamic = false").replace(
+        'folder = "out"', 'folder = "afile/sub"'))  # fmt: skip
+    fails(capsys, ["run", str(p), "--quiet"], "output.folder", "afile/sub",
+          "cannot create the output folder")  # fmt: skip
+    p.write_text(MODEL.replace("EXTRA", "dynamic = false").replace(
+        'folder = "out"', 'folder = "o\\u0000ut"'))  # fmt: skip
+    fails(capsys, ["check", str(p)], "output.folder", "NUL")
+    p.write_text(MODEL.replace("EXTRA", "dynamic = false"))
+    assert main(["run", str(p), "--quiet"]) == 0
+    res = str(tmp_path / "out" / "results.h5")
+    fails(capsys, ["export", res, "--csv", str(tmp_path / "afile")], "afile", "not a folder")
+    fails(capsys, ["report", res, "--out", str(tmp_path / "afile" / "r.html")], "afile")
+    fails(capsys, ["report", res, "--out", str(tmp_path)], str(tmp_path), "is a folder")
+
+
+# -- item: meshes ----------------------------------------------------------------------------
+def test_bow_tie_and_degenerate_cells_are_named_by_gmsh_id(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bow = [e if e[0] != 11 else (11, 3, 1, [2, 3, 5, 6]) for e in ELEMENTS]
+    p = model(tmp_path, elements=bow)
+    fails(capsys, ["check", str(p)], "plate.msh", "inverted or self-intersecting",
+          "gmsh element 11")  # fmt: skip
+    nodes = [*NODES[:5], (3.0, 0.0, 0.0)]  # node 6 on the line of nodes 2, 3: a flat quad
+    flat = [e if e[0] != 11 else (11, 3, 1, [2, 3, 6, 5]) for e in ELEMENTS]
+    flat[-1] = (11, 2, 1, [2, 3, 6])  # a triangle on three collinear nodes
+    p = model(tmp_path, nodes=nodes, elements=flat)
+    fails(capsys, ["check", str(p)], "plate.msh", "degenerate triangle", "gmsh element 11")
+    twice = [*ELEMENTS, (12, 3, 1, [2, 3, 6, 5])]
+    p = model(tmp_path, elements=twice)
+    fails(capsys, ["check", str(p)], "duplicated", "gmsh element 11 and gmsh element 12")
+
+
+def test_cells_named_by_index_without_gmsh() -> None:
+    import pfeie as pf
+
+    mesh = pf.rectangle(2.0, 1.0, 2, 1)
+    mesh.cells["quad"][1] = mesh.cells["quad"][1][[0, 1, 3, 2]]
+    with pytest.raises(MeshError, match="quad cell 1"):
+        mesh.check()
+
+
+def test_plane_mesh_outside_x_y(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xz = [(x, 0.0, y) for x, y, _ in NODES]  # the plate drawn in the x-z plane
+    p = model(tmp_path, nodes=xz)
+    fails(capsys, ["check", str(p)], "plate.msh", "x-y plane", "expected z = 0")
+    tilted = [(x, y, 0.1 * y) for x, y, _ in NODES]
+    with pytest.raises(MeshError, match="x-y plane"):
+        read_mesh(msh22(tmp_path / "t.msh", nodes=tilted))
+    flat = [(x, y, 5.0) for x, y, _ in NODES]  # parallel to x-y: z dropped
+    assert read_mesh(msh22(tmp_path / "f.msh", nodes=flat)).dim == 2
+
+
+def test_3d_mesh_with_plane_stress(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    nodes = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    names = {1: (3, "all"), 3: (2, "bottom")}
+    elements = [(1, 2, 3, [1, 2, 3]), (2, 4, 1, [1, 2, 3, 4])]
+    p = model(tmp_path, nodes=nodes, elements=elements, names=names,
+              text='plane = "stress"\n' + MODEL)  # fmt: skip
+    fails(capsys, ["check", str(p)], "model.toml", "plane", "3D", "remove plane")
+    p.write_text(MODEL.replace("EXTRA", "dynamic = false"))
+    assert main(["check", str(p)]) == 0
+    import pfeie as pf
+
+    with pytest.raises(ModelError, match="2D hypothesis"):
+        pf.Model(read_mesh(tmp_path / "plate.msh"),
+                 [pf.Block("all", pf.Elastic(1e9, 0.2, 1.0))], plane="stress")  # fmt: skip
+
+
+def test_cells_in_two_block_groups(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Cell 11 of two physical surfaces: gmsh writes it once per group (MSH 2.2)."""
+    names = {**NAMES, 2: (2, "dam")}
+    els = [*ELEMENTS[:-1], (11, 3, 2, [2, 3, 6, 5])]
+    text = MODEL.replace('all = "rock"', 'all = "rock"\ndam = "rock"')
+    p = model(tmp_path, names=names, elements=els, text=text)
+    assert main(["check", str(p)]) == 0  # distinct groups: fine
+    import pfeie as pf
+
+    mesh = read_mesh(tmp_path / "plate.msh")
+    mesh.cell_groups["dam"] = {"quad": np.array([1])}
+    mesh.cell_groups["all"] = {"quad": np.array([0, 1])}
+    with pytest.raises(ModelError, match=r"'all' .* and 'dam' .* share 1 quad cell\(s\): gmsh "
+                       r"element 11"):  # fmt: skip
+        pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.2, 1.0)),
+                        pf.Block("dam", pf.Elastic(1e9, 0.2, 1.0))])  # fmt: skip
+    capsys.readouterr()
+    fails(capsys, ["check", str(model(tmp_path, names=names, text=text,
+                                      elements=[*ELEMENTS, (12, 3, 2, [2, 3, 6, 5])]))],
+          "duplicated", "gmsh element 11 and gmsh element 12")  # fmt: skip
+
+
+def test_pressure_on_interior_facets(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A facet group with facets inside a block is refused for a pressure; a facet given
+    twice (on both of its cells) is stored once."""
+    text = MODEL + '[[loads.pressure]]\ngroup = "mid"\nvalue = 1e5\n'
+    text = text.replace("[analysis]", "[analysis]").replace(
+        '[[loads.pressure]]', '[loads]\n[[loads.pressure]]')  # fmt: skip
+    p = model(tmp_path, text=text)
+    fails(capsys, ["check", str(p)], "model.toml", "loads.pressure[0].group", "'mid'",
+          "inside a block", "expected facets on the boundary")  # fmt: skip
+    import pfeie as pf
+
+    mesh = pf.rectangle(2.0, 1.0, 2, 1)
+    grp = mesh.add_facet_group("mid", lambda x: abs(x[:, 0] - 1.0) < 1e-9, boundary_only=False)
+    assert sum(c.shape[0] for c in grp.values()) == 2  # both cells' copies of one facet
+    mesh = pf.Mesh(mesh.points, mesh.cells, mesh.cell_groups, mesh.facet_groups)
+    assert mesh.facet_groups["mid"]["line"].shape[0] == 1
+
+
+def test_unreadable_msh(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    p = model(tmp_path)
+    (tmp_path / "plate.msh").write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0\n")
+    fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "expected")
+    (tmp_path / "plate.msh").write_bytes(b"\x00\xff" * 50)
+    fails(capsys, ["run", str(p)], "plate.msh", "gmsh")
+    (tmp_path / "plate.msh").write_text("time,acc\n0,0\n")  # meshio.read would exit
+    fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "2.2 or 4.1")
+
+
+# -- item: records ---------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("name", "text", "words"),
+    [
+        ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= 0.01 SEC\n0.1 1e400 0.2\n",
+         ["r.at2", "line 5", "'1e400'", "expected a finite number"]),
+        ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= 1e999 SEC\n0.1 0.2 0.3\n",
+         ["r.at2", "line 4", "DT", "finite number > 0"]),
+        ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= .. SEC\n0.1 0.2 0.3\n",
+         ["r.at2", "line 4", "DT: expected a number"]),
+        ("r.csv", "t,a\n0,0\n0.01,nan\n", ["r.csv", "line 3", "'nan'"]),
+        ("r.csv", "t,a\n0,0\n1e400,0.1\n", ["r.csv", "line 3", "'1e400'"]),
+        ("r.txt", "0.1\n-1e309\n", ["r.txt", "line 2", "'-1e309'"]),
+    ],
+)  # fmt: skip
+def test_non_finite_record_values(tmp_path: Path, name: str, text: str, words: list[str]) -> None:
+    p = tmp_path / name
+    p.write_text(text)
+    with pytest.raises(RecordError) as err:
+        read_record(p, units="g", dt=0.01 if name.endswith(".txt") else None)
+    for w in words:
+        assert w in str(err.value)
+
+
+def test_record_scale_overflow(tmp_path: Path) -> None:
+    p = tmp_path / "r.csv"
+    p.write_text("t,a\n0,0\n0.01,1e300\n")
+    with pytest.raises(RecordError, match=r"r\.csv.*overflows"):
+        read_record(p, units="g", scale=1e10)
+
+
+# -- item: units of every dataset ------------------------------------------------------------
+def test_every_dataset_has_units(tmp_path: Path) -> None:
+    """A dynamic run with a joint and a probe: every dataset of results.h5 has units."""
+    import h5py
+
+    text = MODEL.replace('all = "rock"', 'all = "rock"\n[interfaces.mid]\nfriction_angle = 30.0')
+    text = text.replace('folder = "out"', 'folder = "out"\nprobes = { p = [1.0, 1.0] }')
+    p = model(tmp_path, extra="dt = 0.001\nduration = 0.003", text=text)
+    assert main(["run", str(p), "--quiet"]) == 0
+    missing: list[str] = []
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        f.visititems(lambda name, obj: missing.append(name)
+                     if isinstance(obj, h5py.Dataset) and "units" not in obj.attrs else None)
+        n = []
+        f.visititems(lambda name, obj: n.append(name) if isinstance(obj, h5py.Dataset) else None)
+    assert not missing
+    assert {"mesh/cells/quad", "mesh/body", "pairs/frame", "pairs/node_a", "static/state",
+            "history/pairs/state"} <= set(n)  # fmt: skip
+
+
+def test_msh41_entity_in_two_physical_surfaces(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """MSH 4.1: the upper surface in the groups 'dam' and 'rock' (meshio keeps the first
+    group of an entity in its tags): both groups hold its cells, and two blocks on them
+    are refused, naming gmsh element ids."""
+    src = (Path(__file__).parent / "data" / "two_blocks_v41.msh").read_text()
+    line = next(ln for ln in src.splitlines() if ln.startswith("2 -9.999999994736442e-08 0.99"))
+    assert " 1e-07 1 2 4 " in line
+    both = line.replace(" 1e-07 1 2 4 ", " 1e-07 2 2 1 4 ")
+    (tmp_path / "plate.msh").write_text(src.replace(line, both))
+    mesh = read_mesh(tmp_path / "plate.msh")
+    assert mesh.cell_groups["dam"]["triangle"].size == 84
+    assert mesh.cell_groups["rock"]["triangle"].size == 168
+    p = tmp_path / "model.toml"
+    p.write_text(MODEL.replace("EXTRA", "").replace('all = "rock"', 'rock = "rock"\ndam = "rock"'))
+    fails(capsys, ["check", str(p)], "model.toml", "'rock'", "'dam'", "share 84 triangle",
+          "gmsh element")  # fmt: skip
+
+
+@pytest.mark.parametrize("direction", ["[0.0, 0.0]", "[1e308, 1e308]"])
+def test_gravity_direction(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], direction: str
+) -> None:
+    """A zero direction is refused (it made NaN loads); a huge one is normalised without
+    overflow."""
+    p = model(tmp_path, text=MODEL + f"[loads]\ngravity_direction = {direction}\n")
+    if direction == "[0.0, 0.0]":
+        fails(capsys, ["check", str(p)], "model.toml", "loads.gravity_direction",
+              "finite non-zero vector")  # fmt: skip
+    else:
+        assert main(["check", str(p)]) == 0
+
+
+def test_nothing_to_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    p = model(tmp_path, extra="dynamic = false\nstatic = false")
+    fails(capsys, ["check", str(p)], "model.toml", "analysis.dynamic", "nothing to run")
+
+
+def test_non_finite_coordinates(tmp_path: Path) -> None:
+    nodes = [*NODES[:5], (2.0, 1e400, 0.0)]
+    with pytest.raises(MeshError, match=r"plate\.msh: .*non-finite"):
+        read_mesh(msh22(tmp_path / "plate.msh", nodes=nodes))
+    import pfeie as pf
+
+    mesh = pf.box(1.0, 1.0, 1.0, 1, 1, 1)
+    mesh.points[0, 2] = np.nan
+    with pytest.raises(MeshError, match="1 node"):
+        mesh.check()
