@@ -181,6 +181,7 @@ class Dynamic:
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.velocity_corrections = 0  # steps whose velocity correction was solved
+        self._last_strain: tuple[FloatArray, float] | None = None
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.nm.factor,
@@ -311,7 +312,12 @@ class Dynamic:
         """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
         if self.corot is not None:
             return self.corot.strain_energy(u, R)
-        return 0.5 * float(u @ (self.system.K @ u))
+        last = self._last_strain
+        if last is not None and last[0] is u:  # the recorder and the energy account ask twice
+            return last[1]
+        value = 0.5 * float(u @ (self.system.K @ u))
+        self._last_strain = (u, value)
+        return value
 
     def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
         """Rigid motion of every body (n_bodies, r): centroid translation (m) and

@@ -4,6 +4,7 @@ forms or from the exact rigid-block integrator (:mod:`._rigid`), never pasted.""
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +12,17 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import Block as _Block
-from .. import Dynamic, Elastic, GroundMotion, Interface, Joint, Model, modal, solve_static
+from .. import (
+    Dynamic,
+    Elastic,
+    GroundMotion,
+    Interface,
+    Joint,
+    Model,
+    Rayleigh,
+    modal,
+    solve_static,
+)
 from ..interface import OPEN, SLIDE
 from ..mesh import rectangle
 from ._core import CaseResult, Check, Series, case
@@ -301,12 +312,19 @@ def v4(fast: bool) -> CaseResult:
     return res
 
 
+_BETA_R = 0.1 / (2 * np.pi * 200.0)  # 5 % of critical at 200 Hz, stiffness-proportional
+
+
 def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
     """The deformable V4 variant: a 2 m × 1 m block (4 × 4 Q4) shaken at 0.8 g, 2 Hz."""
     mu, T = 0.2, 4.0
     t, a, gm = _record(lambda t: np.where(t <= 3, 0.8 * G * np.sin(4 * np.pi * t), 0.0), T, dt)
     ref = RigidBlock(t, a, mu * G, t_end=T)
     model = block_on_base(joint=Joint(phi=_phi(mu)), n=4, E=E, width=2.0, height=1.0)
+    # an undamped block sliding under friction develops an elastic rocking (≈ 200 Hz at
+    # 10 GPa) as Δt falls (0.21 % at 0.125 ms undamped against 0.042 % damped, measured);
+    # the stiffness-proportional damping of a real structure keeps it out
+    model.damping = Rayleigh(0.0, _BETA_R)
     res = Dynamic(model, dt).run(T, start=solve_static(model), ground=[gm],
                                  every=max(1, round(1e-3 / dt)))  # fmt: skip
     x = slip_x(res) - slip_x(res)[0]
@@ -314,7 +332,7 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
     err = float(np.abs(x - xr).max() / np.abs(xr).max())
     # the offset at the end of every slip episode, over that episode's slip excursion
     ends, edges = [], [0.0, *ref.stops]
-    for t0, t1 in zip(edges[:-1], edges[1:], strict=True):
+    for t0, t1 in itertools.pairwise(edges):
         i0, i1 = (int(np.argmin(np.abs(res.t - tt))) for tt in (t0, t1))
         excursion = abs(float(xr[i1] - xr[i0]))
         if excursion > 1e-3:
@@ -323,7 +341,7 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
     E_ = res.energy
     alg = float(abs(E_["algorithmic"][-1]) / E_["interface"][-1])
     checks = [
-        # measured at Δt = 1 ms: 0.37 %; 0.9 % (worst episode); 2e-15 m; 1e-5
+        # measured at Δt = 1 ms: 0.39 %; 0.38 % (worst episode); 7e-16 m; 5e-7
         Check("whole-history slip error / peak slip", 0.0, err, 1e-2, False),
         Check("worst slip-episode offset / its excursion", 0.0, max(ends), 1e-2, False),
         Check("largest opening (no hop)", 0.0, opening, 1e-6, False, "m"),
@@ -343,26 +361,30 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
       "that the contact time stepping converges in Δt (no chatter, no hop, no drift from "
       "episode to episode) down to the block's deformability floor.",
       "Exact rigid integration of the sampled record (pfeie.verification._rigid); the "
-      "deformable block departs from it by its elasticity: ≈ 0.1 % of the peak slip at "
-      "10 GPa, falling as 1/E (shown by the 100 GPa row).",
-      "A 2 m × 1 m block (4 × 4 Q4, E = 10 GPa, ν = 0.2, ρ = 2400) on a fixed base, μ = 0.2, "
-      "base 0.8 g sin(4πt) for 3 s, then 1 s at rest; Δt = 1 ms (the table: 2 to 0.25 ms).")  # fmt: skip
+      "deformable block departs from it by its elasticity, a floor that falls as 1/E "
+      "(shown by the 100 GPa column).",
+      "A 2 m × 1 m block (4 × 4 Q4, E = 10 GPa, ν = 0.2, ρ = 2400, stiffness-proportional "
+      "damping of 5 % at 200 Hz) on a fixed base, μ = 0.2, base 0.8 g sin(4πt) for 3 s, "
+      "then 1 s at rest; Δt = 1 ms (the table: 2 to 0.125 ms, and E = 100 GPa).")  # fmt: skip
 def v4d(fast: bool) -> CaseResult:
     res, _ = _v4d(0.001)
     if not fast:
-        dts = [0.002, 0.001, 0.0005, 0.00025]
-        rows = [_v4d(dt)[1] for dt in dts]
-        errs = [r["err"] for r in rows]
-        stiff = _v4d(0.00025, E=100e9)[1]["err"]
-        res.extra["table"] = {"dt": dts, "error": errs,
-                              "episode": [r["episode"] for r in rows],
-                              "error at 0.25 ms, E = 100 GPa": stiff}  # fmt: skip
-        # first order until the deformability floor (measured 0.72, 0.37, 0.073, 0.088 %:
-        # the last halving is at the floor)
-        _convergence(res, "whole-history slip", "dt", dts[:3], errs[:3], 1, 1.0)
-        # the floor ∝ 1/E: the 100 GPa block at 0.25 ms over the 10 GPa one
-        res.checks.append(Check("error at 0.25 ms: 100 GPa / 10 GPa", 0.0, stiff / errs[-1],
-                                0.5, False))  # fmt: skip
+        dts = [0.002, 0.001, 0.0005, 0.00025, 0.000125]
+        soft = [_v4d(dt)[1] for dt in dts]
+        stiff = [_v4d(dt, E=100e9)[1] for dt in dts]
+        head = ["Δt (ms)", "error, 10 GPa", "worst episode, 10 GPa", "error, 100 GPa",
+                "worst episode, 100 GPa"]  # fmt: skip
+        rows = [[f"{1e3 * dt:g}", f"{100 * a['err']:.3f} %", f"{100 * a['episode']:.3f} %",
+                 f"{100 * b['err']:.3f} %", f"{100 * b['episode']:.3f} %"]
+                for dt, a, b in zip(dts, soft, stiff, strict=True)]  # fmt: skip
+        res.extra["table"] = (head, rows)
+        # first order: each slip start and stop costs O(Δt) through the auxiliary
+        # acceleration (measured 1.02 at 10 GPa; the errors scatter with where the events
+        # fall in the steps)
+        _convergence(res, "whole-history slip", "dt", dts, [a["err"] for a in soft], 1, 0.8)
+        res.checks.append(Check("observed rate of the whole-history slip error, 100 GPa", 0.8,
+                                float(np.polyfit(np.log(dts), np.log([b["err"] for b in stiff]),
+                                                 1)[0]), 0.0, False, at_least=True))  # fmt: skip
     return res
 
 
