@@ -131,8 +131,8 @@ class EnergyAccount:
 
     def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
-        ``interface`` the work of the smooth pair forces, −λ_{n+1}·Δw (friction and
-        contact); ``impact`` the energy taken by the velocity correction,
+        ``interface`` the work of the smooth pair forces, −λ_{n+1}·Δw on the smooth motion
+        (friction and contact; the position correction is not theirs); ``impact`` the energy taken by the velocity correction,
         −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ; the scheme has no exact discrete energy
         identity, so its ``algorithmic`` dissipation is what closes the balance (checked
         small against the input, and shrinking with Δt, in the tests)."""
@@ -147,7 +147,9 @@ class EnergyAccount:
         if an.m:
             m, d = an.m, an.d
             lam = nxt.pairs.X if nxt.lam is None else nxt.lam
-            dw = (an.op.G @ du).reshape(m, d)
+            # the smooth forces work on the smooth motion, not on the position correction
+            smooth_du = du if nxt.shift is None else du - nxt.shift
+            dw = (an.op.G @ smooth_du).reshape(m, d)
             if self.ex.form == "absolute" and self.ex.ground:
                 dwp = (an.w_pres(k1.t, self.ex) - an.w_pres(k0.t, self.ex)).reshape(m, d)
                 ext -= float(np.sum(nxt.pairs.X * dwp))
