@@ -132,10 +132,10 @@ class EnergyAccount:
     def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
         ``interface`` the work of the smooth pair forces, −λ_{n+1}·Δw on the smooth motion
-        (friction and contact; the position correction is not theirs); ``impact`` the energy taken by the velocity correction,
-        −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ; the scheme has no exact discrete energy
-        identity, so its ``algorithmic`` dissipation is what closes the balance (checked
-        small against the input, and shrinking with Δt, in the tests)."""
+        (friction and contact; the position correction is not theirs); ``impact`` the
+        energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ; the
+        scheme has no exact discrete energy identity, so its ``algorithmic`` dissipation
+        is what closes the balance (docs/theory.md gives what it holds)."""
         an, acc = self.an, self.acc
         k0, k1 = cur.kin, nxt.kin
         du = k1.u - k0.u
