@@ -11,9 +11,13 @@ Energy (J), accumulated over the run (method.md §8):
 - ``interface``: −Σ X·Δw, the work dissipated at the pairs (friction, contact); the
   contact-stabilised step uses X_{n+1} (pair forces constant over the step), the plain
   rule the step average of X;
-- ``impact``: the kinetic energy removed by the velocity projection;
+- ``impact``: the kinetic energy removed by the velocity projection (contact-stabilised
+  Newmark), or taken by the impulses of the velocity correction (nonsmooth
+  generalised-α);
 - ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
-  per step for Moreau-Jean (zero for the Newmark family, whose balance holds exactly);
+  per step for Moreau-Jean (zero for the Newmark family, whose balance holds exactly;
+  for the default nonsmooth generalised-α, which has no exact discrete identity, the
+  residual that closes the balance: the energy of the high modes the scheme damps);
 - ``balance``: the residual of the equation above (zero to round-off with the average
   acceleration rule).
 """
