@@ -17,6 +17,7 @@ The problem knows nothing of time: the integrator owns K̂, P̂ and s.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,6 +72,19 @@ class InterfaceStep:
                                       regularize=self.regularize)  # fmt: skip
         self._last = self.solver
         self._subsolvers: dict[bytes, InterfaceSolver] = {}
+
+    def with_laws(self, laws: PairLaws) -> InterfaceStep:
+        """The same problem (operators, weight, settings) for other laws with the same
+        joint compliance, sharing the factorised W (e.g. the smooth forces and the step
+        impulses of one time step)."""
+        if not np.array_equal(laws.compliance, self.laws.compliance):
+            raise ValueError("with_laws needs the same joint compliance")
+        other = copy.copy(self)
+        other.laws = laws
+        other.solver = self.solver.with_laws(laws)
+        other._last = other.solver
+        other._subsolvers = {}
+        return other
 
     def _subsolver(self, active: np.ndarray) -> InterfaceSolver:
         """The solver of the sub-problem of the ``active`` pairs (cached per pattern)."""

@@ -243,8 +243,7 @@ class Dynamic:
         reg = model.pairs.regularization
         self.istep = InterfaceStep(self.op, W, laws.scaled(1.0), ga.s,
                                    settings=settings.solver(), regularize=reg)  # fmt: skip
-        self.vstep = InterfaceStep(self.op, W, laws.scaled(self.dt), ga.s,
-                                   settings=settings.solver(), regularize=reg)  # fmt: skip
+        self.vstep = self.istep.with_laws(laws.scaled(self.dt))
         G = self.op.G
         self._gmg = np.asarray(G.multiply(G) @ self.minv).reshape(self.m, self.d)[:, -1]
 

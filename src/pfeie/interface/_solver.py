@@ -35,6 +35,7 @@ exact local solutions takes over from the last iterate; if that also fails,
 
 from __future__ import annotations
 
+import copy
 import logging
 import warnings
 from dataclasses import dataclass
@@ -117,6 +118,20 @@ class InterfaceSolver:
                 self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
                 self._winv = None
+
+    def with_laws(self, laws: PairLaws) -> InterfaceSolver:
+        """This solver (W, its factorisation, settings) for other laws with the same joint
+        compliance, without factorising W again."""
+        if not np.array_equal(laws.compliance, self.props.compliance):
+            raise ValueError("with_laws needs the same joint compliance")
+        other = copy.copy(self)
+        other.props = laws
+        other._cache = {}
+        other._gapv = np.zeros_like(self._gapv)
+        if other.m:
+            other._gapv[:, -1] = laws.gap
+        other.last = SolveInfo(0, 0.0, "none")
+        return other
 
     # -- reduced linear system for given states ---------------------------------------------
     def _linear(
