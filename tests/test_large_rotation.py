@@ -93,7 +93,9 @@ def test_spinning_block_3d_about_a_principal_axis() -> None:
     X = mesh.points
     xc = X.mean(axis=0)
     axis = A[:, 0]
-    an = Dynamic(model, 0.01, large_rotation=True)
+    # the Newmark rule: its phase error is the one quoted (the default nonsmooth
+    # generalised-α, ρ∞ = 0, turns 2.7e-4 rad off)
+    an = Dynamic(model, 0.01, large_rotation=True, scheme="newmark")
     res = an.run(1.0, start=an.initial(v0=1.5 * np.cross(axis, X - xc)))
     assert res.final is not None
     assert np.abs(res.rigid[-1, 0, 3:] - 1.5 * res.t[-1] * axis).max() < 1e-4

@@ -185,7 +185,7 @@ class Dynamic:
         self._last_strain: tuple[FloatArray, float] | None = None
         self.corot: Corotation | None = None
         if settings.large_rotation:
-            self.corot = Corotation(model, self.system, self.nm.factor,
+            self.corot = Corotation(model, self.system, self.factor,
                                     self.op if self.m else None)  # fmt: skip
         if self.m and self.ga is not None:
             assert model.pairs is not None
@@ -239,7 +239,8 @@ class Dynamic:
                 "damping (a Rayleigh beta > 0): without it the blocks hop at contacts "
                 "(docs/theory.md); use rho_inf = 0 or add damping"
             )
-        W = delassus(ga.factor, self.op.G)
+        W = (self.corot.reference_delassus() if self.corot is not None
+             else delassus(ga.factor, self.op.G))  # fmt: skip
         reg = model.pairs.regularization
         self.istep = InterfaceStep(self.op, W, laws.scaled(1.0), ga.s,
                                    settings=settings.solver(), regularize=reg)  # fmt: skip
@@ -291,6 +292,8 @@ class Dynamic:
                 self._use(op)
                 assert self.istep is not None
                 self.istep.update(op, W)
+                if self.vstep is not None:
+                    self.vstep = self.istep.with_laws(self.vstep.laws)
         return R
 
     def elastic_force(self, u: FloatArray, R: FloatArray | None = None) -> FloatArray:
@@ -548,7 +551,15 @@ class Dynamic:
         kin, h = cur.kin, self.dt
         t1 = kin.t + h
         f1 = ex.load(t1)
-        acc_free = ga.free_acceleration(kin, f1)
+        if self.corot is None:
+            acc_free = ga.free_acceleration(kin, f1)
+        else:
+            # the frames of the configuration predicted for t_{n+1} (q̂ + β h²/s q̈_n), in
+            # which the elastic force at q̃ is linear: F(q̂) + Q K₀ Qᵀ (β h²/s) q̈
+            _, q_hat, v_hat = ga.known(kin)
+            R = self._corotate(q_hat + ga.weights[0] * kin.a)
+            r = f1 - self.elastic_force(q_hat, R) - self.damping_force(v_hat, q_hat, R)
+            acc_free = self.corot.rotated_solve(ga.s * r, R)
         m, d = self.m, self.d
         if not m:
             return StepState(ga.advance(kin, acc_free, f1), cur.pairs, cur.step + 1)
@@ -600,7 +611,11 @@ class Dynamic:
         # one block solve for all: q̈ = q̈_free + sŜ⁻¹Gᵀλ, v = ṽ + sŜ⁻¹Gᵀ(P − hλ), Δq
         Lam = P.X - h * lam  # the impulses beyond hλ
         cols = [c for c in (lam.ravel(), Lam.ravel(), nu) if c.any()]
-        Z = np.asarray(W.correct(ga.s * np.column_stack(cols))) if cols else None
+        Z = None
+        if cols:
+            rhs = ga.s * np.column_stack(cols)
+            Z = (np.asarray(W.correct(rhs)) if self.corot is None else
+                 np.column_stack([W.correct(c) for c in rhs.T]))  # fmt: skip
         parts = iter(range(len(cols)))
         acc = acc_free + Z[:, next(parts)] if Z is not None and lam.any() else acc_free
         dv = Z[:, next(parts)] if Z is not None and Lam.any() else 0.0

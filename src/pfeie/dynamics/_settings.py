@@ -44,8 +44,8 @@ class DynamicSettings(BaseModel):
         "rho_inf, default 0), 'newmark' (the Newmark / HHT-α / generalised-α family, with "
         "the contact-stabilised pair step) or 'moreau-jean' (the θ-method with "
         "velocity-level contact impulses, robust for impacts, dissipative: see theta); "
-        "default 'nonsmooth-alpha', or 'newmark' when alpha, beta, gamma, stabilize or "
-        "large_rotation is given",
+        "default 'nonsmooth-alpha', or 'newmark' when alpha, beta, gamma or stabilize is "
+        "given",
     )] = "nonsmooth-alpha"  # fmt: skip
     theta: Annotated[float, Field(
         ge=0.5, le=1.0, allow_inf_nan=False,
@@ -90,10 +90,10 @@ class DynamicSettings(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _implied_scheme(cls, data: object) -> object:
-        """Newmark's own options (alpha, beta, gamma, stabilize, large_rotation) imply
+        """Newmark's own options (alpha, beta, gamma, stabilize) imply
         scheme = 'newmark' when no scheme is given."""
         if isinstance(data, dict) and data.get("scheme") is None:
-            own = ("alpha", "beta", "gamma", "stabilize", "large_rotation")
+            own = ("alpha", "beta", "gamma", "stabilize")
             if any(data.get(k) not in (None, 0.0, False) or (k == "stabilize" and k in data)
                    for k in own):  # fmt: skip
                 data = {**data, "scheme": "newmark"}
@@ -104,10 +104,11 @@ class DynamicSettings(BaseModel):
         if self.alpha != 0.0 and self.rho_inf is not None:
             raise ValueError("give either alpha (HHT-α) or rho_inf (generalised-α), not both")
         if self.large_rotation and (
-            self.alpha != 0.0 or self.rho_inf is not None or self.scheme != "newmark"
-        ):
-            raise ValueError("large_rotation runs on the Newmark rule only: set scheme = "
-                             "'newmark' (and no alpha or rho_inf)")  # fmt: skip
+            self.scheme == "moreau-jean"
+            or (self.scheme == "newmark" and (self.alpha != 0.0 or self.rho_inf is not None))
+        ):  # fmt: skip
+            raise ValueError("large_rotation runs on the nonsmooth-alpha scheme or on the "
+                             "Newmark rule (alpha = 0, no rho_inf)")  # fmt: skip
         if self.scheme == "nonsmooth-alpha" and (
             self.alpha != 0.0 or self.beta is not None or self.gamma is not None
         ):

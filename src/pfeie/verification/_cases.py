@@ -99,8 +99,9 @@ def v1a(fast: bool) -> CaseResult:
     drift = float(q @ np.array([np.sin(th), np.cos(th)]))  # normal to the joint
     _MODELS["V1a"] = model
     return CaseResult("V1a", "Block sliding down an incline", [
-        # measured 1.1e-6 (0.2 s), 6.1e-7 (0.4 s); the drift 1.7e-7 m (elastic settling)
-        Check(f"slip d({T} s)", 0.5 * acc * T**2, float(d[-1]), 1e-5, unit="m"),
+        # measured 2.0e-6 (0.2 s), 3.1e-7 (0.4 s); the drift 2.0e-7 m (elastic settling)
+        Check(f"slip d({T} s)", 0.5 * acc * T**2, float(d[-1]), 1e-5 if fast else 3e-6,
+              unit="m"),
         Check("normal drift into the base (no settling)", 0.0, abs(drift), 1e-6, False, "m"),
         Check("pairs not sliding at the end (fraction)", 0.0,
               float(np.mean(res.state[-1] != SLIDE)), 0.0, False),
@@ -269,17 +270,17 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
     i1 = int(np.argmin(np.abs(res.t - ref.stops[0])))
     t1, _ = _slide_interval(res)
     checks = [
-        # measured at Δt = 1 ms: 0.505 Δt; 2.3e-6; 1.3e-3; 1.7e-4 m; balance 3.9e-13
+        # measured at Δt = 1 ms: 0.505 Δt; 9.2e-7; 3.8e-3; 0.47 mm; balance 1.2e-15
         Check("first slip", float(ref.starts[0]), t1, 0.6 * dt, False, "s"),
         Check("first-episode slip", float(xr[i1]), float(x[i1]), 2e-5, unit="m"),
         Check("extreme slip", float(xr.min()), float(x.min()), 5e-3, unit="m"),
         Check("residual slip", float(xr[-1]), float(x[-1]), 1e-3, False, "m"),
-        # the slip is never positive (measured: 0); heel openings 3.3e-7 m
+        # the slip is never positive (measured: 0); openings 2.8e-15 m (round-off: no hop)
         Check("largest positive slip (the block creeps one way)", 0.0, max(float(x.max()), 0.0),
               0.0, False, "m"),
-        Check("largest heel opening (contact stabilisation)", 0.0, float(res.s[:, :, -1].max()),
-              2e-6, False, "m"),
-        Check("energy balance / friction work", 0.0, _balance(res), 2e-12, False),
+        Check("largest opening (no hop)", 0.0, float(res.s[:, :, -1].max()), 1e-12, False,
+              "m"),
+        Check("energy balance / friction work", 0.0, _balance(res), 1e-13, False),
     ]  # fmt: skip
     # the case text integrates the continuous sine, the reference here the record sampled at
     # Δt (measured at 1 ms: 3.8e-7 s, 5.7e-7 s; 1.9e-6, 2.9e-6, 3.3e-6 m)
@@ -341,12 +342,13 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
     E_ = res.energy
     alg = float(abs(E_["algorithmic"][-1]) / E_["interface"][-1])
     checks = [
-        # measured at Δt = 1 ms: 0.39 %; 0.38 % (worst episode); 7e-16 m; 5e-7
+        # measured at Δt = 1 ms: 0.39 %; 0.38 % (worst episode); 8e-16 m (round-off: no
+        # hop); 4.8e-7 (1.2e-5 at 2 ms)
         Check("whole-history slip error / peak slip", 0.0, err, 1e-2, False),
         Check("worst slip-episode offset / its excursion", 0.0, max(ends), 1e-2, False),
-        Check("largest opening (no hop)", 0.0, opening, 1e-6, False, "m"),
+        Check("largest opening (no hop)", 0.0, opening, 1e-12, False, "m"),
         Check("pair-steps open", 0.0, float(np.mean(res.state == OPEN)), 0.0, False),
-        Check("|algorithmic energy| / friction work", 0.0, alg, 1e-4, False),
+        Check("|algorithmic energy| / friction work", 0.0, alg, 5e-6, False),
     ]  # fmt: skip
     _MODELS["V4d"] = model
     out = CaseResult("V4d", "Deformable block, repeated stick-slip", checks,
@@ -583,7 +585,7 @@ def _v7b(n: int, dt: float, t_end: float) -> dict[str, Any]:
       "(integrated here with event location, `verification._rigid.rocking`).",
       "A 0.5 m × 2 m concrete block (E = 30 GPa, 4 × 16 Q4, lumped mass) on a fixed base, "
       "joint μ = tan 60° (no sliding), tilted by θ₀ about its right toe and released; "
-      "`Dynamic(..., large_rotation=True)`, Δt = 1 ms.")  # fmt: skip
+      "`Dynamic(..., large_rotation=True)` (nonsmooth generalised-α), Δt = 1 ms.")  # fmt: skip
 def v7b(fast: bool) -> CaseResult:
     b, h = 0.25, 1.0
     alpha, R = float(np.arctan(b / h)), float(np.hypot(b, h))
@@ -611,7 +613,7 @@ def v7b(fast: bool) -> CaseResult:
              f"exact: its residual before the impact is {out['balance']:.2e} of the work of "
              "gravity.")  # fmt: skip
     res = CaseResult("V7b", "Rocking block: free rocking", [
-        # measured 1.8e-3 and 2.1e-3 (4 × 16 cells, Δt = 1 ms)
+        # measured 1.9e-3 and 1.5e-3 (4 × 16 cells, Δt = 1 ms)
         Check("quarter period", ref_q, out["t_q"], 1e-2, unit="s"),
         Check("effective restitution η", eta_h, out["eta"], 1e-2),
     ], [Series("pfeie", out["res"].t, out["th"]), Series("Housner (rigid, η)", ts, ref, "--")],
