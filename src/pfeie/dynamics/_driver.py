@@ -96,6 +96,7 @@ class StepState:
     v_raw: FloatArray | None = None  # velocity before the contact projection
     lam: FloatArray | None = None  # smooth pair forces λ (nonsmooth-α), (m, d)
     impact: float = 0.0  # energy taken by the step's velocity correction (J)
+    correction: float = 0.0  # strain energy stored by its position correction (J)
     shift: FloatArray | None = None  # the step's position correction Δq (nonsmooth-α)
 
 
@@ -602,15 +603,10 @@ class Dynamic:
             P = self.vstep.solve(None, w_free, P, label, inactive=~part, breaking="converged",
                                  correct=False).pairs  # fmt: skip
             self.velocity_corrections += 1
-        # 3. the position correction of the pairs that penetrate at q̃: Δq = sŜ⁻¹Gᵀν with
-        # the normal components ν of those pairs such that s W ν closes their gaps (the
-        # blocks' own flexibility spreads the correction; a node moved alone would store
-        # a spurious strain energy of the order of E g²)
+        # one block solve for both: q̈ = q̈_free + sŜ⁻¹Gᵀλ, v = ṽ + sŜ⁻¹Gᵀ(P − hλ)
         W = self.vstep.W
-        nu = self._position_correction(W, ga.s, gap, P.broken)
-        # one block solve for all: q̈ = q̈_free + sŜ⁻¹Gᵀλ, v = ṽ + sŜ⁻¹Gᵀ(P − hλ), Δq
         Lam = P.X - h * lam  # the impulses beyond hλ
-        cols = [c for c in (lam.ravel(), Lam.ravel(), nu) if c.any()]
+        cols = [c for c in (lam.ravel(), Lam.ravel()) if c.any()]
         Z = None
         if cols:
             rhs = ga.s * np.column_stack(cols)
@@ -619,54 +615,33 @@ class Dynamic:
         parts = iter(range(len(cols)))
         acc = acc_free + Z[:, next(parts)] if Z is not None and lam.any() else acc_free
         dv = Z[:, next(parts)] if Z is not None and Lam.any() else 0.0
-        dq = Z[:, next(parts)] if Z is not None and nu.any() else 0.0
         smooth = ga.advance(kin, acc, f1)
         v1 = smooth.v + dv
-        u1 = smooth.u + dq
-        # the energy the impulses beyond hλ take: −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing)
-        impact = 0.0
+        # 3. the position correction: the pairs that penetrate at q̃ are moved apart along
+        # their normal in the lumped-mass metric, one pair at a time (method.md §3.1)
+        u1 = smooth.u
+        dq: FloatArray | None = None
+        pen = P.broken & (gap < 0.0) & (self._gmg > 0)
+        if pen.any():
+            nu = np.zeros((m, d))
+            nu[pen, -1] = -gap[pen] / self._gmg[pen]
+            dq = self.minv * (G.T @ nu.ravel())
+            u1 = u1 + dq
+        # the energy the impulses beyond hλ take, −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing), and
+        # the strain energy the position correction stores
+        impact = correction = 0.0
         if Lam.any():
             U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
             impact = -0.5 * float(np.sum(Lam * (U_minus.reshape(m, d) + U_plus)))
+        if dq is not None:
+            correction = self.strain_energy(u1) - self.strain_energy(smooth.u)
         new = State(t1, u1, v1, acc, f1, smooth.aux)
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
         s = w.copy()
         s[:, -1] += laws.gap
         trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact,
-                         shift=dq if isinstance(dq, np.ndarray) else None)  # fmt: skip
-
-    def _position_correction(
-        self, W: Any, s: float, gap: FloatArray, broken: BoolArray
-    ) -> FloatArray:
-        """Normal components ν (M,) of the position correction Δq = sŜ⁻¹Gᵀν: the smallest
-        non-negative ν whose relative motion s W ν closes every penetrating gap, g + s W ν
-        ≥ 0 ⊥ ν ≥ 0 on the broken pairs (an active set on the normal components: the pairs
-        that penetrate, then those the correction pushes in, until none)."""
-        m, d = self.m, self.d
-        nu = np.zeros(m * d)
-        active = broken & (gap < 0.0)
-        if not active.any():
-            return nu
-        cand = np.flatnonzero(broken)
-        rows = cand * d + d - 1
-        unit = np.zeros((m * d, cand.size))
-        unit[rows, np.arange(cand.size)] = 1.0
-        Wn = s * np.asarray(W.apply(unit))[rows]  # (k, k): normal rows and columns
-        on = active[cand]
-        g = gap[cand]
-        for _ in range(2 * cand.size + 1):
-            x = np.zeros(cand.size)
-            idx = np.flatnonzero(on)
-            x[idx] = np.linalg.solve(Wn[np.ix_(idx, idx)], -g[idx])
-            g_new = g + Wn @ x
-            pull = on & (x < 0.0)
-            push = ~on & (g_new < -1e-12 * max(float(np.abs(g).max()), 1e-300))
-            if not (pull.any() or push.any()):
-                break
-            on = (on & ~pull) | push
-        nu[rows] = x
-        return nu
+                         correction=correction, shift=dq)  # fmt: skip
 
     def _impulse_is_smooth(
         self, P: PairState, closed: BoolArray, part: BoolArray, U: FloatArray

@@ -128,7 +128,7 @@ class ResultsWriter:
         self._grow(hp, "broken", (m,), "flag", np.bool_)
         he = h.create_group("energy")
         for key in ("kinetic", "strain", "external_work", "damping", "interface", "impact",
-                    "algorithmic", "balance"):  # fmt: skip
+                    "algorithmic", "correction", "balance"):  # fmt: skip
             self._grow(he, key, (), "J")
         fg = f.create_group("fields")
         self._grow(fg, "time", (), "s")
