@@ -127,7 +127,7 @@ def write_manual(results: list[CaseResult], folder: str | Path, fast: bool) -> l
         tab = r.extra.get("table")
         if tab:
             head, rows = tab
-            page += ["**Sensitivity.**", "", "| " + " | ".join(head) + " |",
+            page += ["**Table.**", "", "| " + " | ".join(head) + " |",
                      "|" + "---|" * len(head), *["| " + " | ".join(row) + " |" for row in rows],
                      ""]  # fmt: skip
         if r.notes:
