@@ -110,7 +110,7 @@ def v1a(fast: bool) -> CaseResult:
             ex = 0.5 * acc * r.t**2
             errs.append(float(np.abs(_along(r, th) - ex).max() / ex[-1]))
             rows.append([f"{1e3 * dt:g}", f"{errs[-1]:.2e}", f"{float(r.opening.max()):.1e}"])
-        extra["table"] = (["Δt (ms)", "max |d − a t²/2| / d(T)", "largest opening (m)"], rows)
+        extra["table"] = (["Δt (ms)", "max abs(d − a t²/2) / d(T)", "largest opening (m)"], rows)
         steps.append(Check("largest slip error over the Δt table", 0.0, max(errs), 1e-6, False))
     return CaseResult("V1a", "Block sliding down an incline", [*steps,
         # measured 2.0e-6 (0.2 s), 3.1e-7 (0.4 s); the drift 2.0e-7 m (elastic settling)
