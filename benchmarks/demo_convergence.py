@@ -70,7 +70,8 @@ def run(work: Path, tag: str, dt: float, sets: list[str], scale: float) -> dict[
 
 
 def first_breaks(path: Path) -> dict[str, float]:
-    """The time of each joint's first broken pair (s), NaN if none breaks."""
+    """The time of each joint's first pair that breaks during the record (s), NaN if none
+    does (pairs broken in the static state do not count)."""
     out: dict[str, float] = {}
     with h5py.File(path, "r") as f:
         t = f["history/time"][:]
@@ -81,6 +82,7 @@ def first_breaks(path: Path) -> dict[str, float]:
         return out
     for k, name in enumerate(names):
         cols = broken[:, joint == k]
+        cols = cols & ~cols[:1]  # pairs broken already in the static state do not count
         hit = np.flatnonzero(cols.any(axis=1))
         out[name] = float(t[hit[0]]) if hit.size else float("nan")
     return out
