@@ -28,11 +28,11 @@ LAYERS = [  # bottom to top: (names, what they hold)
 
 STEP = [  # the data flow of one step, top to bottom: (box text, owner)
     ("Excitation.load(t₁): f = f_model − M ι a_g", "dynamics"),
-    ("Newmark.predict: u_free = K̂⁻¹ P̂   (1 back-substitution)", "dynamics"),
-    ("InterfaceStep: w_free = G u_free + G_p u_p", "coupling"),
-    ("InterfaceSolver: w = w_free + s W X, joint law → X, states (trial)", "interface"),
-    ("Delassus.correct: u = u_free + s K̂⁻¹ Gᵀ X   (Z X or 1 solve)", "coupling"),
-    ("Newmark.advance: v, a;  VelocityProjection at closed pairs", "dynamics"),
+    ("NonsmoothAlpha.free_acceleration: q̈_free = Ŝ⁻¹ r   (1 back-substitution)", "dynamics"),
+    ("InterfaceStep: smooth forces λ, law on c_q G q̈ (springs: on G q_{n+1})", "coupling"),
+    ("InterfaceSolver: w = w_free + s c_q W λ, joint law → λ, states (trial)", "interface"),
+    ("velocity correction: impulses P (same W, impulse units), if needed", "coupling"),
+    ("Delassus.correct [λ, P − hλ]; advance; position correction", "dynamics"),
     ("commit the trial pairs; Recorder + EnergyAccount", "dynamics"),
 ]
 

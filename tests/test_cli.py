@@ -200,7 +200,7 @@ def test_large_rotation_key_runs_the_body_frames(
         folder = tmp_path / flag
         folder.mkdir()
         text = SMALL.replace("duration = DURATION",
-                             f'duration = 0.3\nscheme = "newmark"\nlarge_rotation = {flag}')
+                             f"duration = 0.3\nlarge_rotation = {flag}")
         p = _write(folder, text)
         assert main(["run", str(p), "--quiet"]) == 0
         with Results(folder / "out" / "results.h5") as res:

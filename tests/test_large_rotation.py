@@ -172,7 +172,7 @@ def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
     pulse = pf.GroundMotion.from_samples([4.905, 4.905, 0.0, 0.0],
                                          time=[0.0, 0.2, 0.2 + 1e-9, 1.0])  # fmt: skip
     static = pf.solve_static(model)
-    out = [Dynamic(model, 0.004, large_rotation=lr, scheme="newmark").run(
+    out = [Dynamic(model, 0.004, large_rotation=lr).run(
         0.6, start=static, ground=[pulse]) for lr in (False, True)]  # fmt: skip
     s0, s1 = (r.rigid[:, 1, 0] - r.rigid[0, 1, 0] for r in out)
     assert abs(s0[-1]) > 0.1

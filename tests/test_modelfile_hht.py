@@ -294,9 +294,11 @@ def test_hht_through_the_python_api(tmp_path: Path, run) -> None:  # type: ignor
     np.testing.assert_allclose(u, u_f, atol=1e-12 * np.abs(u_f).max())
 
 
-def test_run_command_runs_hht(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """``pfeie run --set analysis.alpha=-0.1`` (a model with a joint, which the results
-    writer stores) builds the analysis with HHT's β = 0.3025, γ = 0.6."""
+def test_run_command_runs_hht(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                              capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """``pfeie run --set analysis.alpha=-0.1`` builds the analysis with HHT's β = 0.3025,
+    γ = 0.6 on a model without interfaces; on a model with a joint the Newmark family is
+    refused (exit 2, naming the schemes that take interfaces)."""
     import pfeie._job as job_module
     from pfeie.cli import main
     from test_cli import SMALL, _write
@@ -310,6 +312,12 @@ def test_run_command_runs_hht(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -
         return an
 
     monkeypatch.setattr(job_module, "Dynamic", spy)
-    p = _write(tmp_path, SMALL, duration=0.05)
+    joint = "[interfaces.joint]\nfriction_angle = 26.565\n"
+    assert joint in SMALL
+    p = _write(tmp_path, SMALL.replace(joint, ""), duration=0.05)
     assert main(["run", str(p), "--quiet", "--set", "analysis.alpha=-0.1"]) == 0
     assert made == [pytest.approx((0.3025, 0.6, -0.1))]
+    capsys.readouterr()
+    p = _write(tmp_path, SMALL, duration=0.05)
+    assert main(["run", str(p), "--quiet", "--set", "analysis.alpha=-0.1"]) == 2
+    assert "without interfaces" in capsys.readouterr().err

@@ -211,19 +211,20 @@ def test_command_line_settings_are_validated(
 
 
 def test_command_line_settings_reach_the_run(tmp_path: Path) -> None:
-    """--duration, --dt and --set change the run; the stored settings show β, γ of HHT-α."""
+    """--duration, --dt and --set change the run; the stored settings show the scheme and
+    θ chosen on the command line."""
     from pfeie.io import Results
 
     p = _write(tmp_path, SMALL)
     assert main(["run", str(p), "--quiet", "--duration", "0.1", "--dt", "0.01",
-                 "--set", "analysis.alpha=-0.1", "--set", "output.folder=run2",
+                 "--set", "analysis.scheme=moreau-jean", "--set", "analysis.theta=0.8",
+                 "--set", "output.folder=run2",
                  "--set", "output.paraview=false"]) == 0  # fmt: skip
     with Results(tmp_path / "run2" / "results.h5") as res:
         assert res.time[-1] == pytest.approx(0.1) and len(res.time) == 11
         a = json.loads(res.meta["analysis"]) if isinstance(res.meta["analysis"], str) else (
             res.meta["analysis"])  # fmt: skip
-    assert a["alpha"] == -0.1 and a["beta"] == pytest.approx(0.3025)
-    assert a["gamma"] == pytest.approx(0.6)
+    assert a["scheme"] == "moreau-jean" and a["theta"] == 0.8
     assert not (tmp_path / "run2" / "blocks.xdmf").exists()
 
 

@@ -1,17 +1,17 @@
-"""Time integration: Newmark / HHT-α on the blocks, and the PFE/IE analysis that couples
-it to the interfaces through :mod:`pfeie.coupling`.
+"""Time integration of the blocks, and the PFE/IE analysis that couples it to the
+interfaces through :mod:`pfeie.coupling`.
 
-- :class:`Newmark` (with :class:`SecondOrderSystem`, :class:`State`, :class:`History`):
-  the integrator, predictor and corrector, knowing nothing of pairs;
+- the integrators, knowing nothing of pairs: :class:`NonsmoothAlpha` (the default
+  nonsmooth generalised-α's smooth part), :class:`MoreauJean` (the θ-method) and
+  :class:`Newmark` (Newmark / HHT-α / generalised-α, for models without interfaces; with
+  :class:`SecondOrderSystem`, :class:`State`, :class:`History`);
 - :class:`Dynamic`: the analysis of a model, factorised once, run for any number of
   records (:meth:`Dynamic.run`), with its :class:`DynamicSettings`;
 - its parts: :class:`Excitation` (relative or absolute ground motion),
-  :class:`Corotation` (body frames for large rotations), :class:`VelocityProjection`
-  (contact stabilisation), :class:`Recorder` and :class:`EnergyAccount` (histories and
-  the energy balance), giving a :class:`DynamicResult`.
+  :class:`Corotation` (body frames for large rotations), :class:`Recorder` and
+  :class:`EnergyAccount` (histories and the energy balance), giving a :class:`DynamicResult`.
 """
 
-from ._contact import VelocityProjection
 from ._corotation import Corotation
 from ._driver import Dynamic, RunStopped, StepState
 from ._excitation import Excitation
@@ -24,5 +24,5 @@ from ._settings import DynamicSettings
 __all__ = [
     "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
     "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
-    "SecondOrderSystem", "State", "StepState", "VelocityProjection",
+    "SecondOrderSystem", "State", "StepState",
 ]  # fmt: skip

@@ -1,49 +1,34 @@
 """The PFE/IE dynamic analysis: a time integrator on the blocks, the interface problem on
-the pairs (method.md §5.1).
+the pairs (method.md §3.1, §5.1).
 
-:class:`Dynamic` is built once per model and time step: it factorises the blocks' effective
-matrix K̂ and builds the Delassus operator W, and then runs any number of records (a
-record is an argument of :meth:`Dynamic.run`, not of the constructor). Its parts, each with
-one job:
+:class:`Dynamic` is built once per model and time step: it factorises the blocks' step
+matrix and builds the Delassus operator W, and then runs any number of records (a record
+is an argument of :meth:`Dynamic.run`, not of the constructor). Its parts, each with one
+job:
 
-- the time integrator (:class:`~pfeie.dynamics.Newmark`: Newmark, HHT-α; predictor and
-  corrector, knows nothing of pairs);
-- the one-step interface problem (:class:`pfeie.coupling.InterfaceStep`: predictor →
-  interface solve → corrector);
+- the time integrator, which knows nothing of pairs: :class:`~pfeie.dynamics.NonsmoothAlpha`
+  (default), :class:`~pfeie.dynamics.MoreauJean`, or :class:`~pfeie.dynamics.Newmark`
+  (Newmark / HHT-α / generalised-α, for models without interfaces);
+- the one-step interface problem (:class:`pfeie.coupling.InterfaceStep`: the pair forces
+  and states for a free motion, on W; the block correction);
 - the excitation of a run (:class:`~pfeie.dynamics.Excitation`: relative or absolute
   form);
 - corotation, optional (:class:`~pfeie.dynamics.Corotation`: body frames for large
   rotations);
-- the contact stabilisation (:class:`~pfeie.dynamics.VelocityProjection`);
 - the recorder and the energy account (:class:`~pfeie.dynamics.Recorder`).
 
-One step from t_n to t_{n+1}:
+One step of the default nonsmooth generalised-α scheme from t_n to t_{n+1}
+(:meth:`Dynamic._step_nonsmooth_alpha`, docs/theory.md):
 
-1. predictor: u_free = K̂⁻¹ P̂ (one back-substitution of the once-factorised blocks);
-2. interface: the pair forces X and states from w = w_free + s W X and the joint law;
-3. corrector: u_{n+1} = u_free + s K̂⁻¹ Gᵀ X, then v, a by Newmark;
-4. contact stabilisation: the relative velocity of the pairs closed at t_{n+1} is
-   projected to zero, mass-weighted (momentum is kept).
-
-Contact forces in time (the contact-stabilised scheme, default). The smooth forces
-(loads, elastic, damping) follow Newmark's rule, but the pair forces are taken constant
-over the step, equal to X_{n+1} (an impulse X_{n+1} Δt per step, as in the nonsmooth
-θ-method of Moreau and Jean with θ = 1). Newmark's acceleration a then holds only the
-smooth part, M a = f − K u − C v, and
-
-    u_{n+1} = ũ + β Δt² a_{n+1} + ½ Δt² M⁻¹ Gᵀ X,   v_{n+1} = ṽ + γ Δt a_{n+1} + Δt M⁻¹ Gᵀ X,
-
-so s = 1/(2β) (2 for the average-acceleration rule); for γ = 2β (β = 1/4, γ = 1/2) the
-velocity needs no extra term and the discrete energy balance is exact:
-
-    ΔT + ΔU + Δu·C v̄ = Δu·f̄ + X_{n+1}·Δw.
-
-The pair term is −(dissipation) ≤ 0: friction opposes the slip increment, a closing
-pair is pushed with X_n ≥ 0, an open pair carries nothing, an intact or sticking one does
-not move. So the contact cannot pump energy into impacts or rocking, which the plain rule
-(forces averaged between t_n and t_{n+1}) does. With ``stabilize=False`` the plain rule
-is used (the pair forces averaged like any load, s = 1 + α, no projection), for
-comparison and for joints with springs (V10).
+1. free acceleration q̈_free = Ŝ⁻¹ r (one back-substitution of the once-factorised
+   Ŝ = s M + γ h C + β h² K);
+2. smooth pair forces λ at the acceleration level for the pairs closed at t_n (intact
+   pairs bilateral, Signorini and Coulomb on G q̈); joints with springs act on the
+   displacement at t_{n+1};
+3. velocity correction: the Signorini–Coulomb law at the velocity level on the step
+   impulse P of the rigid contacts predicted closed (skipped when P = hλ satisfies it);
+4. one back-substitution with two right-hand sides for the block response to λ and to
+   P − hλ, and a local position correction of penetrating pairs.
 
 Commit: the step's pair state is a trial until the step is accepted; then it becomes the
 committed state of the next step (:meth:`PairState.committed`).
@@ -66,7 +51,6 @@ from ..interface import INTACT, OPEN, SLIDE, STICK, PairState
 from ..linalg import Factorization
 from ..model import GroundMotion, Model
 from ..typing import BoolArray, FloatArray, IntArray
-from ._contact import VelocityProjection
 from ._corotation import Corotation
 from ._excitation import Excitation
 from ._moreau import MoreauJean, impulse_laws
@@ -93,7 +77,6 @@ class StepState:
     kin: State
     pairs: PairState
     step: int = 0
-    v_raw: FloatArray | None = None  # velocity before the contact projection
     lam: FloatArray | None = None  # smooth pair forces λ (nonsmooth-α), (m, d)
     impact: float = 0.0  # energy taken by the step's velocity correction (J)
     correction: float = 0.0  # strain energy stored by its position correction (J)
@@ -107,8 +90,8 @@ class Dynamic:
     ----------
     model: the model (blocks, interfaces, supports, loads).
     dt: time step (s); K̂ is factorised once for it.
-    settings: a :class:`DynamicSettings`; or its fields as keywords (``beta``, ``gamma``,
-        ``alpha`` for Newmark / HHT-α, ``stabilize``, ``large_rotation``, ``tolerance``,
+    settings: a :class:`DynamicSettings`; or its fields as keywords (``scheme``,
+        ``rho_inf``, ``theta``, ``beta``, ``gamma``, ``alpha``, ``large_rotation``, ``tolerance``,
         ``backend``): every option and its default is documented there.
 
     Example
@@ -166,11 +149,9 @@ class Dynamic:
         else:
             self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
                               rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
-        # the contact-stabilised step belongs to the Newmark family
-        self.stabilize = settings.stabilize and self.mj is None and self.ga is None
         self.d = model.dim
         # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
-        # their nodes take no part in the velocity projection (M⁻¹ = 0 there)
+        # their nodes take no part in the position correction (M⁻¹ = 0 there)
         self.mass = np.asarray(self.system.M.diagonal(), dtype=float)
         self.minv = np.divide(1.0, self.mass, out=np.zeros_like(self.mass),
                               where=self.mass > 0)  # fmt: skip
@@ -179,7 +160,6 @@ class Dynamic:
         self.m = self.op.m
         self._w_pres0 = self.op.w_prescribed(self.system.prescribed_values)
         t0 = _time.perf_counter()
-        self.project: VelocityProjection | None = None
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.velocity_corrections = 0  # steps whose velocity correction was solved
@@ -203,22 +183,11 @@ class Dynamic:
                                        settings=settings.solver(),
                                        regularize=model.pairs.regularization)  # fmt: skip
         elif self.m:
-            assert model.pairs is not None
-            if self.stabilize and self.nm.alpha_m:
-                raise ModelError(
-                    "generalised-α (rho_inf) with interfaces needs stabilize = false: the "
-                    "contact-stabilised step is written for Newmark and HHT-α"
-                )
-            if self.stabilize:
-                self.project = VelocityProjection(self.op, self.minv, self.mass,
-                                                  model.pairs.redundant)  # fmt: skip
-            W = (self.corot.reference_delassus() if self.corot is not None
-                 else delassus(self.nm.factor, self.op.G))  # fmt: skip
-            # stabilised: X constant over the step (weight 1/(2β)); plain: Newmark load
-            scale = 0.5 / self.nm.beta if self.stabilize else 1.0 - self.nm.alpha_f
-            self.istep = InterfaceStep(self.op, W, model.pair_laws, scale,
-                                       settings=settings.solver(),
-                                       regularize=model.pairs.regularization)  # fmt: skip
+            raise ModelError(
+                f"scheme = 'newmark' runs models without interfaces; this model has "
+                f"{self.m} interface pairs: use scheme = 'nonsmooth-alpha' (the default; "
+                "rho_inf for numerical damping) or 'moreau-jean'"
+            )
         self.setup_time = _time.perf_counter() - t0
 
     def _setup_nonsmooth_alpha(
@@ -229,11 +198,6 @@ class Dynamic:
         impulses (strengths times h); and the local position correction's G M⁻¹ Gᵀ."""
         assert model.pairs is not None
         laws = model.pair_laws
-        if laws.compliance.any():
-            raise ModelError(
-                "the nonsmooth-alpha scheme needs rigid joints (no kn, ks): a joint with "
-                "springs is a smooth force; use scheme = 'newmark' with stabilize = false"
-            )
         if ga.rho_inf > 0 and not (model.damping is not None and model.damping.beta > 0):
             raise ModelError(
                 f"rho_inf = {ga.rho_inf} with interfaces needs stiffness-proportional "
@@ -243,7 +207,12 @@ class Dynamic:
         W = (self.corot.reference_delassus() if self.corot is not None
              else delassus(ga.factor, self.op.G))  # fmt: skip
         reg = model.pairs.regularization
-        self.istep = InterfaceStep(self.op, W, laws.scaled(1.0), ga.s,
+        # both pair problems are posed in displacement units, on the position increment
+        # c_q G q̈ (c_q = β h²/s): a rigid contact's law on G q̈ is the same law on c_q G q̈,
+        # and a spring's law acts on the displacement G q_{n+1} = G q̂ + c_q G q̈; the
+        # velocity problem is scaled by c_q likewise (its law is positively homogeneous)
+        self._spring = laws.springs
+        self.istep = InterfaceStep(self.op, W, laws.scaled(1.0), ga.s * ga.weights[0],
                                    settings=settings.solver(), regularize=reg)  # fmt: skip
         self.vstep = self.istep.with_laws(laws.scaled(self.dt))
         G = self.op.G
@@ -278,8 +247,6 @@ class Dynamic:
         if op is self.op:
             return
         self.op = op
-        if self.project is not None:
-            self.project.update(op)
         self._w_pres0 = op.w_prescribed(self.system.prescribed_values)
 
     def _corotate(self, u: FloatArray) -> FloatArray:
@@ -377,9 +344,7 @@ class Dynamic:
         if ps is None:
             ps = PairState.empty(d)
         f_ext = ex.load(t0)
-        GX = self.op.G.T @ ps.X.ravel() if m else 0.0
-        # smooth acceleration (stabilised) or total (plain rule)
-        f = f_ext if self.stabilize else f_ext + GX
+        f = f_ext + (self.op.G.T @ ps.X.ravel() if m else 0.0)
         v = np.zeros(n) if v0 is None else np.asarray(v0, dtype=float).ravel()[free]
         if self.system.C is not None:
             f = f - self.damping_force(v, u)
@@ -419,10 +384,11 @@ class Dynamic:
         if not m:
             return self.minv * r
         G = self.op.G
-        closed = ps.state != OPEN
+        spring = self._spring  # a spring's force is known from the state: X
+        closed = (ps.state != OPEN) & ~spring
         at_rest = not np.any(ex.ground_acceleration(t0)) and not ex.moves_supports
         if (static and at_rest) or not closed.any():
-            X = ps.X if static else np.zeros((m, d))
+            X = ps.X if static else np.where(spring[:, None], ps.X, 0.0)
             return self.minv * (r + G.T @ X.ravel())
         from ..interface import InterfaceSolver
 
@@ -437,24 +403,23 @@ class Dynamic:
                           ps.slip_dir[idx], ps.path[idx])  # fmt: skip
         laws = self.model.pair_laws.subset(idx).scaled(1.0)
         sol, _ = InterfaceSolver(Wm, laws).solve(w_free, start, label=f"t = {t0:g} s")
-        X = np.zeros((m, d))
+        X = np.where(spring[:, None], ps.X, 0.0)
         X[idx] = sol.X
         return self.minv * (r + G.T @ X.ravel())
 
     # -- one step ------------------------------------------------------------------------------
-    def step(self, cur: StepState, ex: Excitation | None = None) -> tuple[StepState, float]:
-        """One step; returns the next state (the committed pair state of the next step)
-        and the kinetic energy removed by the stabilisation (J)."""
+    def step(self, cur: StepState, ex: Excitation | None = None) -> StepState:
+        """One step; returns the next state (with the committed pair state of the
+        step)."""
         ex = self.excitation() if ex is None else ex
         if self.mj is not None:
-            return self._step_moreau_jean(cur, ex, self.mj), 0.0
+            return self._step_moreau_jean(cur, ex, self.mj)
         if self.ga is not None:
-            return self._step_nonsmooth_alpha(cur, ex, self.ga), 0.0
+            return self._step_nonsmooth_alpha(cur, ex, self.ga)
+        # the Newmark family: models without interfaces
         kin = cur.kin
         t1 = kin.t + self.dt
         f_ext = ex.load(t1)
-        m, d = self.m, self.d
-        prev = cur.pairs
         if self.corot is None:
             u_free = self.nm.predict(kin, f_ext)
         else:
@@ -464,42 +429,7 @@ class Dynamic:
             dt = self.dt
             R = self._corotate(kin.u + dt * kin.v + (0.5 - self.nm.beta) * dt**2 * kin.a)
             u_free = kin.u + self.corot.rotated_solve(self._increment_load(kin, f_ext, R), R)
-            if m and (self.corot.a_body >= 0).any():
-                # the committed relative motion, seen in the turned frames
-                laws = self.model.pair_laws
-                prev = cur.pairs.copy()
-                prev.w = (self.op.G @ kin.u + self.w_pres(kin.t, ex)).reshape(m, d)
-                prev.s = prev.w + laws.compliance * prev.X
-                prev.s[:, -1] += laws.gap
-        if not m:
-            new = self.nm.advance(kin, u_free, f_ext)
-            return StepState(new, cur.pairs, cur.step + 1), 0.0
-        assert self.istep is not None
-        sol = self.istep.solve(u_free, self.w_pres(t1, ex), prev,
-                               label=f"step {cur.step + 1} (t = {t1:.6g} s)")  # fmt: skip
-        trial = sol.pairs.committed(prev)
-        u = u_free + sol.du
-        GX = self.op.G.T @ trial.X.ravel()
-        lost = 0.0
-        if self.stabilize:
-            assert self.project is not None
-            new = self.nm.advance(kin, u, f_ext)
-            scale = self.istep.scale
-            impulse = self.minv * GX
-            new.a = new.a - scale * impulse
-            extra = 1.0 - self.nm.gamma * scale
-            if extra:
-                new.v = new.v + self.dt * extra * impulse
-            mass = self.mass
-            v_raw = new.v.copy()
-            ke0 = 0.5 * float(new.v @ (mass * new.v))
-            vp = self.op.Gp @ ex.prescribed(t1)[1] if ex.moves_supports else None
-            new.v, _ = self.project(new.v, trial, vp)
-            lost = ke0 - 0.5 * float(new.v @ (mass * new.v))
-        else:
-            new = self.nm.advance(kin, u, f_ext + GX)
-            v_raw = None
-        return StepState(new, trial, cur.step + 1, v_raw), lost
+        return StepState(self.nm.advance(kin, u_free, f_ext), cur.pairs, cur.step + 1)
 
     def _step_moreau_jean(self, cur: StepState, ex: Excitation, mj: MoreauJean) -> StepState:
         """One Moreau-Jean step (see :mod:`._moreau`): the free velocity, the pair impulses
@@ -571,37 +501,56 @@ class Dynamic:
         pres = ex.prescribed(t1) if moving else None
         Gp = self.op.Gp
         zero = np.zeros((m, d))
-        # 1. the smooth pair forces at the acceleration level
-        closed = prev.state != OPEN
+        # 1. the smooth pair forces at the acceleration level, posed in displacement units:
+        # rigid contacts on the increment c_q G q̈, springs on G q_{n+1} (see the set-up)
+        G = self.op.G
+        laws = self.model.pair_laws
+        spring = self._spring
+        closed = (prev.state != OPEN) & ~spring  # the rigid contacts closed at t_n
         # the strength at t_{n+1}: slip-dependent laws at the path predicted for t_{n+1}
         # from the slip rate at t_n (second order in the path; the committed path is kept)
         U0 = self.op.relative(kin.v, ex.prescribed(kin.t)[1] if moving else None)
         rate = np.where(prev.state == SLIDE, np.linalg.norm(U0[:, :-1], axis=1), 0.0)
         path = prev.path + h * rate
-        start = PairState(prev.state, prev.broken, prev.X, zero, zero, prev.slip_dir, path)
-        a_pres = Gp @ pres[2] if pres is not None else zero.ravel()
-        sol = self.istep.solve(acc_free, a_pres, start, label, inactive=~closed,
-                               fixed=prev.state == SLIDE, breaking="converged",
-                               correct=False)  # fmt: skip
-        lam = sol.pairs.X
-        # the relative motion of the smooth step from G q̈ = w − a_p (no block solve yet)
-        G = self.op.G
-        laws = self.model.pair_laws
         _, q_hat, v_hat = ga.known(kin)
         cq, cv = ga.weights
-        g_acc = sol.pairs.w.ravel() - a_pres
+        a_pres = Gp @ pres[2] if pres is not None else zero.ravel()
+        g_free = G @ acc_free
+        w_free = cq * (g_free + a_pres)
+        if spring.any():
+            # springs: G q_{n+1} = G q̂ + c_q G q̈ (with the prescribed side at t_{n+1}),
+            # and the committed s, their elastic reference
+            w_known = G @ q_hat + self.w_pres(t1, ex)
+            sc = np.repeat(spring, d)
+            w_free[sc] = w_known[sc] + cq * g_free[sc]
+            sw, ss = np.where(spring[:, None], prev.w, 0.0), np.where(spring[:, None], prev.s, 0.0)
+        else:
+            sw = ss = zero
+        start = PairState(prev.state, prev.broken, prev.X, sw, ss, prev.slip_dir, path)
+        sol = self.istep.solve(None, w_free, start, label, inactive=~(closed | spring),
+                               fixed=(prev.state == SLIDE) & ~spring, breaking="converged",
+                               correct=False)  # fmt: skip
+        lam = sol.pairs.X
+        # the relative motion of the smooth step from G q̈ (no block solve yet)
+        w_sol = sol.pairs.w.ravel()
+        g_acc = w_sol / cq - a_pres
+        if spring.any():
+            g_acc[sc] = (w_sol[sc] - w_known[sc]) / cq
         gap = (G @ q_hat + cq * g_acc + self.w_pres(t1, ex)).reshape(m, d)[:, -1] + laws.gap
         u_pres = Gp @ pres[1] if pres is not None else zero.ravel()
         U_minus = G @ v_hat + cv * g_acc + u_pres  # G ṽ (+ the supports' velocity)
-        # 2. the velocity correction on the step impulse P (U = G ṽ + s W (P − hλ))
+        # 2. the velocity correction on the step impulse P (U = G ṽ + s W (P − hλ)), for
+        # the rigid contacts (a spring takes no impulse), scaled by c_q as the smooth problem
         broken = sol.pairs.broken
-        part = ~broken | (gap <= _GAP_TOL) | (lam[:, -1] > 0)
-        state = np.where(part, sol.pairs.state, OPEN).astype(np.int8)
+        part = ~spring & (~broken | (gap <= _GAP_TOL) | (lam[:, -1] > 0))
+        state = np.where(part | spring, sol.pairs.state, OPEN).astype(np.int8)
         P = PairState(state, broken, h * lam, zero, zero, sol.pairs.slip_dir, path)
         if not self._impulse_is_smooth(P, closed, part, U_minus.reshape(m, d)):
-            w_free = U_minus - self.vstep.W.apply(ga.s * h * lam.ravel())
+            w_free = cq * (U_minus - self.vstep.W.apply(ga.s * h * lam.ravel()))
             P = self.vstep.solve(None, w_free, P, label, inactive=~part, breaking="converged",
                                  correct=False).pairs  # fmt: skip
+            P.X[spring] = h * lam[spring]
+            P.state[spring] = sol.pairs.state[spring]
             self.velocity_corrections += 1
         # one block solve for both: q̈ = q̈_free + sŜ⁻¹Gᵀλ, v = ṽ + sŜ⁻¹Gᵀ(P − hλ)
         W = self.vstep.W
@@ -621,7 +570,7 @@ class Dynamic:
         # their normal in the lumped-mass metric, one pair at a time (method.md §3.1)
         u1 = smooth.u
         dq: FloatArray | None = None
-        pen = P.broken & (gap < 0.0) & (self._gmg > 0)
+        pen = P.broken & (gap < 0.0) & (self._gmg > 0) & ~spring
         if pen.any():
             nu = np.zeros((m, d))
             nu[pen, -1] = -gap[pen] / self._gmg[pen]
@@ -637,9 +586,10 @@ class Dynamic:
             correction = self.strain_energy(u1) - self.strain_energy(smooth.u)
         new = State(t1, u1, v1, acc, f1, smooth.aux)
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
-        s = w.copy()
+        X = P.X / h
+        s = w + laws.compliance * X
         s[:, -1] += laws.gap
-        trial = PairState(P.state, P.broken, P.X / h, w, s, P.slip_dir, prev.path)
+        trial = PairState(P.state, P.broken, X, w, s, P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact,
                          correction=correction, shift=dq)  # fmt: skip
 
@@ -735,7 +685,7 @@ class Dynamic:
         j = 0
         for i in range(1, n + 1):
             try:
-                nxt, lost = self.step(cur, ex)
+                nxt = self.step(cur, ex)
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
@@ -743,7 +693,7 @@ class Dynamic:
                     j += 1
                     rec.record(j, cur)
                 break
-            rec.account.add_step(cur, nxt, lost)
+            rec.account.add_step(cur, nxt)
             if m and self.istep is not None:
                 iters[i] = self.istep.iterations
             cur = nxt

@@ -7,18 +7,18 @@ Energy (J), accumulated over the run (method.md §8):
 
 - ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
   includes the work of the moving base through the joints);
-- ``damping``: Σ Δu·C v̄ (with the velocities before the contact projection, for which
-  Newmark's equilibrium holds);
-- ``interface``: −Σ X·Δw, the work dissipated at the pairs (friction, contact); the
-  contact-stabilised step uses X_{n+1} (pair forces constant over the step), the plain
-  rule the step average of X;
-- ``impact``: the kinetic energy removed by the velocity projection (contact-stabilised
-  Newmark), or taken by the impulses of the velocity correction (nonsmooth
+- ``damping``: Σ Δu·C v̄;
+- ``interface``: −Σ X·Δw, the work dissipated (friction, contact) or stored (joint
+  springs) at the pairs: the smooth forces λ_{n+1} of the nonsmooth generalised-α on its
+  smooth motion (the step average for springs), the impulses on the θ-velocity for
+  Moreau-Jean;
+- ``impact``: the energy taken by the impulses of the velocity correction (nonsmooth
   generalised-α);
 - ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
-  per step for Moreau-Jean (zero for the Newmark family, whose balance holds exactly;
-  for the default nonsmooth generalised-α, which has no exact discrete identity, the
-  residual that closes the balance: the energy of the high modes the scheme damps);
+  per step for Moreau-Jean (zero for Newmark's average-acceleration rule, whose balance
+  holds exactly; for the default nonsmooth generalised-α, which has no exact discrete
+  identity, the residual that closes the balance: the energy of the high modes the
+  scheme damps);
 - ``correction``: the strain energy that the position correction of the nonsmooth
   generalised-α stores when it moves penetrating pair nodes apart (an input: it is then
   radiated or dissipated by the scheme; ∝ Δt² as the penetrations are O(Δt));
@@ -108,8 +108,8 @@ class EnergyAccount:
         self.an, self.ex = an, excitation
         self.acc = dict.fromkeys(ENERGY_TERMS[2:], 0.0)
 
-    def add_step(self, cur: StepState, nxt: StepState, lost: float) -> None:
-        """Add the work of the step cur → nxt; ``lost`` is the projection's kinetic loss."""
+    def add_step(self, cur: StepState, nxt: StepState) -> None:
+        """Add the work of the step cur → nxt."""
         an, acc = self.an, self.acc
         if an.mj is not None:
             self._add_moreau_jean(cur, nxt)
@@ -117,31 +117,19 @@ class EnergyAccount:
         if an.ga is not None:
             self._add_nonsmooth_alpha(cur, nxt)
             return
-        plain = bool(an.m) and not an.stabilize
-        G = an.op.G
+        # the Newmark family (no interfaces): the trapezoidal rule, exact for β = 1/4,
+        # γ = 1/2
         du = nxt.kin.u - cur.kin.u
-        f0 = cur.kin.f - (G.T @ cur.pairs.X.ravel() if plain else 0.0)
-        f1 = nxt.kin.f - (G.T @ nxt.pairs.X.ravel() if plain else 0.0)
-        acc["external_work"] += 0.5 * float(du @ (f0 + f1))
+        acc["external_work"] += 0.5 * float(du @ (cur.kin.f + nxt.kin.f))
         if an.system.C is not None:
-            # Newmark's equilibrium holds with the velocities before the projection
-            acc["damping"] += 0.5 * float(du @ an.damping_force(_raw(cur) + _raw(nxt), cur.kin.u))
-        if an.m:
-            m, d = an.m, an.d
-            dw = (G @ du).reshape(m, d)
-            Xw = nxt.pairs.X if an.stabilize else 0.5 * (cur.pairs.X + nxt.pairs.X)
-            if self.ex.form == "absolute" and self.ex.ground:
-                # the moving base works on the blocks through the joints
-                dwp = (an.w_pres(nxt.kin.t, self.ex) - an.w_pres(cur.kin.t, self.ex)).reshape(m, d)
-                acc["external_work"] -= float(np.sum(Xw * dwp))
-                dw = dw + dwp
-            acc["interface"] -= float(np.sum(Xw * dw))
-            acc["impact"] += lost
+            acc["damping"] += 0.5 * float(du @ an.damping_force(cur.kin.v + nxt.kin.v, cur.kin.u))
 
     def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
         ``interface`` the work of the smooth pair forces, −λ_{n+1}·Δw on the smooth motion
-        (friction and contact; the position correction is not theirs); ``impact`` the
+        (friction and contact; the position correction is not theirs), and for joints
+        with springs −½(λ_n + λ_{n+1})·Δw, which is the change of their elastic energy
+        exactly while they stick (a spring is a smooth force); ``impact`` the
         energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ; the
         scheme has no exact discrete energy identity, so its ``algorithmic`` dissipation
         is what closes the balance (docs/theory.md gives what it holds)."""
@@ -156,6 +144,10 @@ class EnergyAccount:
         if an.m:
             m, d = an.m, an.d
             lam = nxt.pairs.X if nxt.lam is None else nxt.lam
+            spring = an.model.pair_laws.springs
+            if spring.any():
+                lam0 = cur.pairs.X if cur.lam is None else cur.lam
+                lam = np.where(spring[:, None], 0.5 * (lam0 + lam), lam)
             # the smooth forces work on the smooth motion, not on the position correction
             smooth_du = du if nxt.shift is None else du - nxt.shift
             dw = (an.op.G @ smooth_du).reshape(m, d)
@@ -199,10 +191,6 @@ class EnergyAccount:
         acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
 
 
-def _raw(st: StepState) -> FloatArray:
-    return st.kin.v if st.v_raw is None else st.v_raw
-
-
 class Recorder:
     """Histories of a run at ``n_out`` instants: probes, rigid motions, pairs, energy."""
 
@@ -237,12 +225,7 @@ class Recorder:
         U = full_u.reshape(-1, d)
         self.pu[i] = U[probes]
         self.pv[i] = full_v.reshape(-1, d)[probes]
-        pair_a = None
-        if an.stabilize and m:  # a holds the smooth part; add the pair forces
-            pair_a = system.expand(an.minv * (an.op.G.T @ st.pairs.X.ravel()), prescribed=False)
         A = full_a.reshape(-1, d)[probes]
-        if pair_a is not None:
-            A = A + pair_a.reshape(-1, d)[probes]
         self.pa[i] = A
         self.paa[i] = A + ex.ground_acceleration(k.t) if ex.form == "relative" else A
         R = an.corot.rotations(k.u) if an.corot is not None else None
@@ -256,7 +239,6 @@ class Recorder:
         for key in ENERGY_TERMS[2:]:
             E[key][i] = self.account.acc[key]
         if self.on_record is not None:
-            full_a_out = full_a if pair_a is None else full_a + pair_a
             e_row = {key: float(E[key][i]) for key in ENERGY_TERMS}
             e_row["balance"] = (
                 sum(e_row[key] for key in ENERGY_TERMS if key not in _INPUTS)
@@ -269,7 +251,7 @@ class Recorder:
                 "probe_a_abs": self.paa[i], "rigid": self.rigid[i], "X": st.pairs.X,
                 "w": st.pairs.w, "s": st.pairs.s, "state": st.pairs.state,
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
-                "a": full_a_out.reshape(-1, d),
+                "a": full_a.reshape(-1, d),
             })  # fmt: skip
 
     def result(

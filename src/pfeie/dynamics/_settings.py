@@ -41,11 +41,10 @@ class DynamicSettings(BaseModel):
     scheme: Annotated[Literal["nonsmooth-alpha", "newmark", "moreau-jean"], Field(
         description="time stepping: 'nonsmooth-alpha' (generalised-α on the smooth forces, "
         "pair forces at the acceleration level and Coulomb impulses at the velocity level; "
-        "rho_inf, default 0), 'newmark' (the Newmark / HHT-α / generalised-α family, with "
-        "the contact-stabilised pair step) or 'moreau-jean' (the θ-method with "
-        "velocity-level contact impulses, robust for impacts, dissipative: see theta); "
-        "default 'nonsmooth-alpha', or 'newmark' when alpha, beta, gamma or stabilize is "
-        "given",
+        "rho_inf, default 0), 'newmark' (the Newmark / HHT-α / generalised-α family, for "
+        "models without interfaces) or 'moreau-jean' (the θ-method with velocity-level "
+        "contact impulses, robust for impacts, dissipative: see theta); default "
+        "'nonsmooth-alpha', or 'newmark' when alpha, beta or gamma is given",
     )] = "nonsmooth-alpha"  # fmt: skip
     theta: Annotated[float, Field(
         ge=0.5, le=1.0, allow_inf_nan=False,
@@ -66,14 +65,10 @@ class DynamicSettings(BaseModel):
     )] = 0.0  # fmt: skip
     rho_inf: Annotated[float | None, Field(
         ge=0.0, le=1.0, allow_inf_nan=False,
-        description="generalised-α spectral radius at infinity in [0, 1] (Chung & Hulbert "
-        "1993), instead of alpha; sets α_m, α_f, β and γ (models without interfaces, or "
-        "with stabilize = false)",
+        description="spectral radius at infinity in [0, 1] of the nonsmooth-alpha scheme "
+        "(default 0; > 0 with interfaces needs a Rayleigh beta > 0) or, with scheme = "
+        "'newmark', of Chung & Hulbert's generalised-α (1993), instead of alpha",
     )] = None  # fmt: skip
-    stabilize: Annotated[bool, Field(
-        description="contact-stabilised Newmark: pair forces as step impulses and a "
-        "velocity projection at closed pairs (see docs/theory.md)",
-    )] = True  # fmt: skip
     large_rotation: Annotated[bool, Field(
         description="carry finite rotations of the floating blocks in body frames "
         "(rocking, toppling; see docs/theory.md)",
@@ -90,13 +85,22 @@ class DynamicSettings(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _implied_scheme(cls, data: object) -> object:
-        """Newmark's own options (alpha, beta, gamma, stabilize) imply
-        scheme = 'newmark' when no scheme is given."""
-        if isinstance(data, dict) and data.get("scheme") is None:
-            own = ("alpha", "beta", "gamma", "stabilize")
-            if any(data.get(k) not in (None, 0.0, False) or (k == "stabilize" and k in data)
-                   for k in own):  # fmt: skip
-                data = {**data, "scheme": "newmark"}
+        """Newmark's own options (alpha, beta, gamma) imply scheme = 'newmark' when no
+        scheme is given. ``stabilize`` (the contact-stabilised Newmark step, removed) gets
+        a message of its own."""
+        if isinstance(data, dict) and "stabilize" in data:
+            raise ValueError(
+                "stabilize was removed with the contact-stabilised Newmark step: models "
+                "with interfaces run scheme = 'nonsmooth-alpha' (the default) or "
+                "'moreau-jean'; delete the key"
+            )
+        own = ("alpha", "beta", "gamma")
+        if (
+            isinstance(data, dict)
+            and data.get("scheme") is None
+            and any(data.get(k) not in (None, 0.0) for k in own)
+        ):
+            data = {**data, "scheme": "newmark"}
         return data
 
     @model_validator(mode="after")

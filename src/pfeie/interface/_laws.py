@@ -273,13 +273,22 @@ class PairLaws:
         nt = np.linalg.norm(X[:, :-1], axis=1)
         return np.asarray((Xn < -t - tol) | (nt > c + mu * Xn + tol))
 
+    @property
+    def springs(self) -> BoolArray:
+        """Pairs (m,) of joints with springs (a weak layer: k_n or k_s given)."""
+        return np.asarray(self.compliance.any(axis=1))
+
     def scaled(self, factor: float) -> PairLaws:
         """The laws seen at a rate level: the strengths (cohesion and tension forces)
         times ``factor`` (1 for forces at the acceleration level, h for step impulses at
-        the velocity level), no gap and no joint compliance (the law acts on relative
-        accelerations or velocities, not on displacements)."""
-        return PairLaws(self.area * factor, np.zeros_like(self.compliance),
-                        np.zeros_like(self.gap), self.initially_broken, self.laws,
+        the velocity level). Rigid contacts lose their gap (the law acts on relative
+        accelerations or velocities, not on displacements); the pairs of joints with
+        springs keep their compliance and gap: a spring is a smooth force of the
+        displacement, whose law the time stepping poses on the displacement at the end of
+        the step."""
+        spring = self.springs
+        return PairLaws(self.area * factor, self.compliance.copy(),
+                        np.where(spring, self.gap, 0.0), self.initially_broken, self.laws,
                         self.index)  # fmt: skip
 
     def subset(self, idx: IntArray) -> PairLaws:

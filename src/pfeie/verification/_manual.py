@@ -186,8 +186,8 @@ _WHY: dict[str, tuple[float, float, str]] = {
     "V7b": (1.5, 2.5, "The error is that of the lumped mass's moment of inertia, which the "
             "rocking period depends on (order h²); Δt (1 ms) contributes less."),
     "V6": (0.5, 1.0, "The landing and the release of the contact node are perfectly inelastic "
-           "at the node (the velocity projection): the momentum lost vanishes with the mesh, "
-           "here more slowly than h; the plateau force is exact on every mesh."),
+           "at the node (the velocity correction, e = 0): the momentum lost vanishes with the "
+           "mesh, here more slowly than h; the plateau force is exact on every mesh."),
 }  # fmt: skip
 
 
