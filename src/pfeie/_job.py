@@ -27,10 +27,26 @@ from typing import Any, TextIO
 import numpy as np
 
 from ._version import __version__
-from .dynamics import Dynamic, DynamicResult, DynamicSettings, RunStopped, StepState
+from .dynamics import (
+    Checkpoint,
+    Dynamic,
+    DynamicResult,
+    DynamicSettings,
+    RunStopped,
+    StepState,
+)  # fmt: skip
 from .errors import InputError, ModelError, PfeieError
 from .interface import OPEN, SLIDE, SolverSettings
-from .io import Job, ResultsWriter, output_folder, write_paraview
+from .io import (
+    CheckpointWriter,
+    Job,
+    ResultsWriter,
+    history,
+    output_folder,
+    reopen_results,
+    run_key,
+    write_paraview,
+)  # fmt: skip
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
@@ -69,9 +85,13 @@ class Progress:
 
 def run_job(
     job: Job, *, progress: bool = True, duration: float | None = None,
-    stream: TextIO | None = None,
+    stream: TextIO | None = None, resume: bool = False, checkpoint_s: float = 30.0,
 ) -> dict[str, Any]:  # fmt: skip
-    """Run a validated model file; returns the results summary (also written to disk)."""
+    """Run a validated model file; returns the results summary (also written to disk).
+
+    A checkpoint is written to the results file every ``checkpoint_s`` seconds and at the
+    end (:mod:`pfeie.io._checkpoint`); ``resume`` continues a stopped run from it (or
+    extends a completed one to a longer duration)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
     a = job.analysis
     model = job.model
@@ -79,9 +99,17 @@ def run_job(
     t0 = time.perf_counter()
     # the dynamic analysis first: a setting it refuses is an input error, found before work
     dyn = dynamic_analysis(job) if a.dynamic else None
-    writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
+    if resume and dyn is None:
+        raise InputError(f"{job.path}: analysis: --resume continues a dynamic run; this "
+                         "model file has none (analysis.dynamic = false)")  # fmt: skip
+    ck: Checkpoint | None = None
+    if resume:
+        writer, ck = reopen_results(out / "results.h5", job)
+    else:
+        writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
+    ckw = CheckpointWriter(writer, run_key(job), checkpoint_s)
     try:
-        if a.static:
+        if a.static and ck is None:
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
@@ -96,6 +124,9 @@ def run_job(
         except ValueError as exc:
             writer.close(False, f"invalid duration: {exc}")
             raise InputError(f"{job.path}: duration: {exc}") from None
+        if ck is not None:
+            log.info("resuming at step %d (t = %.6g s) of %d", ck.state.step, ck.state.kin.t, n)
+            n = max(n - ck.state.step, 0)
         flag: dict[str, str] = {}
 
         def on_signal(signum: int, _frame: Any) -> None:
@@ -113,13 +144,16 @@ def run_job(
         try:
             result = dyn.run(n_steps=n, ground=job.records, form=a.form, start=static,
                              probes=list(job.probes.values()), every=job.output.every,
-                             callback=callback,
-                             on_record=writer.append)  # fmt: skip
+                             callback=callback, on_record=writer.append, resume=ck,
+                             on_checkpoint=ckw)  # fmt: skip
         finally:
             for s, h in old.items():
                 signal.signal(s, h)
+        ckw.close()
         if not result.completed:
             stopped = result.stop_reason or "stopped"
+        if ck is not None:  # the summary of the whole run, not of its resumed part
+            result = history(writer, result.completed, result.stop_reason)
     summary = summarize(job, static, result)
     summary["stopped"] = stopped
     summary["wall_time_s"] = round(time.perf_counter() - t0, 3)

@@ -47,10 +47,14 @@ def _parser() -> argparse.ArgumentParser:
         help="run a model file (static state, then the earthquake)",
         description="Run a model file: the static state, then the dynamic "
         "analysis; writes results.h5, summary.json and summary.txt (and the ParaView "
-        "series) to the output folder. Ctrl-C stops cleanly and keeps what was computed.",
+        "series) to the output folder. Ctrl-C stops cleanly and keeps what was computed; "
+        "--resume continues from the last checkpoint (written every 30 s and at the end).",
     )
     run.add_argument("model", help="model file (TOML)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--resume", action="store_true", help="continue a stopped run from the "
+                     "checkpoint in its results file (same model file and --set options; a "
+                     "longer --duration extends a completed run)")  # fmt: skip
     chk = sub.add_parser("check", help="validate a model file and print its summary",
                          description="Validate a model file (mesh, groups, records) and print "
                          "the model summary: blocks, DOF, pairs per interface, records, "
@@ -136,7 +140,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for r in job.records:
         print(f"record: {r.summary()}", file=sys.stderr)
     try:
-        summary = run_job(job, progress=not args.quiet)
+        summary = run_job(job, progress=not args.quiet, resume=args.resume)
     except (InputError, MeshError, RecordError, ResultsError) as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT

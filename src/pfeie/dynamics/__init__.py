@@ -13,7 +13,7 @@ interfaces through :mod:`pfeie.coupling`.
 """
 
 from ._corotation import Corotation
-from ._driver import Dynamic, RunStopped, StepState
+from ._driver import Checkpoint, Dynamic, RunStopped, StepState
 from ._excitation import Excitation
 from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
@@ -22,7 +22,7 @@ from ._recorder import DynamicResult, EnergyAccount, Recorder
 from ._settings import DynamicSettings
 
 __all__ = [
-    "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
-    "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
-    "SecondOrderSystem", "State", "StepState",
+    "Checkpoint", "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount",
+    "Excitation", "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha",
+    "Recorder", "RunStopped", "SecondOrderSystem", "State", "StepState",
 ]  # fmt: skip

@@ -83,6 +83,19 @@ class StepState:
     shift: FloatArray | None = None  # the step's position correction Δq (nonsmooth-α)
 
 
+@dataclass
+class Checkpoint:
+    """Everything a run needs to continue exactly where it was (:meth:`Dynamic.run`):
+    the step state, the running sums of the energy account (J), the kinetic and strain
+    energy at the start of the run (J; the balance is measured from them), and the index
+    of the state's recorded row."""
+
+    state: StepState
+    energy: dict[str, float]
+    origin: tuple[float, float]
+    row: int
+
+
 class Dynamic:
     """A PFE/IE dynamic analysis of a model with (or without) interfaces.
 
@@ -649,12 +662,21 @@ class Dynamic:
         every: int = 1,
         callback: Callable[[StepState], None] | None = None,
         on_record: Callable[[dict[str, Any]], None] | None = None,
+        resume: Checkpoint | None = None,
+        on_checkpoint: Callable[[Checkpoint], None] | None = None,
     ) -> DynamicResult:
         """Integrate over ``duration`` (s) or ``n_steps`` steps under the records
-        ``ground`` (relative or absolute ``form``), recording every ``every`` steps.
-        ``start`` is a :class:`StepState`, a static result or None. ``on_record``
-        receives every recorded row (probe, rigid, pair and energy values, and the full
-        nodal u, v, a), e.g. to stream them to a results file.
+        ``ground`` (relative or absolute ``form``), recording the steps whose number is a
+        multiple of ``every``. ``start`` is a :class:`StepState`, a static result or None.
+        ``on_record`` receives every recorded row (probe, rigid, pair and energy values,
+        and the full nodal u, v, a), e.g. to stream them to a results file.
+
+        Checkpoint and resume: ``on_checkpoint`` is called at every recorded row after
+        the first with a :class:`Checkpoint` (the state, the energy account, the row
+        index; cheap: it holds references); a run given ``resume=checkpoint`` continues
+        from it exactly (the same bits as a run that was never stopped; its row 0, the
+        checkpoint's, is not passed to ``on_record`` again), for ``duration`` or
+        ``n_steps`` more steps.
 
         If a step fails (the interface problem does not converge), the histories up to
         the last completed step are returned with ``completed = False`` and the error is
@@ -671,47 +693,71 @@ class Dynamic:
         if not every >= 1:
             raise ModelError(f"every must be >= 1, got {every}")
         ex = self.excitation(ground, form)
-        cur = start if isinstance(start, StepState) else self._initial(ex, start)
+        if resume is not None:
+            cur, row0 = resume.state, resume.row
+            if self.corot is not None:
+                self._corotate(cur.kin.u)
+        else:
+            cur = start if isinstance(start, StepState) else self._initial(ex, start)
+            row0 = 0
         m, d = self.m, self.d
         probes = np.asarray(probes, dtype=np.int64)
-        rec = Recorder(self, ex, probes, n // every + 2, on_record)  # a spare row for a stop
+        # rows: the start, the steps on the grid of `every`, a spare one for a stop
+        rec = Recorder(self, ex, probes, n // every + 3, on_record,
+                       origin=None if resume is None else resume.origin)  # fmt: skip
+        if resume is not None:
+            rec.account.acc.update(resume.energy)
         iters = np.zeros(n + 1, dtype=np.int32)
-        if m and start is not None and not isinstance(start, StepState):
+        if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
-        rec.record(0, cur)
+        rec.record(0, cur, emit=resume is None)
         t_wall = _time.perf_counter()
         completed = True
         reason: str | None = None
         j = 0
+
+        def checkpoint() -> None:
+            if on_checkpoint is not None:
+                on_checkpoint(rec.checkpoint(cur, row0 + j))
+
         for i in range(1, n + 1):
             try:
                 nxt = self.step(cur, ex)
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
-                if (i - 1) % every:  # keep the last completed step
+                if cur.step % every:  # keep the last completed step
                     j += 1
                     rec.record(j, cur)
+                    checkpoint()
                 break
             rec.account.add_step(cur, nxt)
             if m and self.istep is not None:
                 iters[i] = self.istep.iterations
             cur = nxt
-            if i % every == 0:
-                j = i // every
+            on_grid = cur.step % every == 0
+            if on_grid:
+                j += 1
                 rec.record(j, cur)
+            stop: str | None = None
             if callback is not None:
                 try:
                     callback(cur)
                 except RunStopped as exc:
-                    log.warning("run stopped at step %d (t = %.4g s): %s", i, cur.kin.t, exc)
-                    completed, reason = False, f"stopped: {exc}"
-                    if i % every:
-                        j += 1
-                        rec.record(j, cur)
-                    break
+                    log.warning("run stopped at step %d (t = %.4g s): %s", cur.step,
+                                cur.kin.t, exc)  # fmt: skip
+                    stop = f"stopped: {exc}"
+            if stop is not None:
+                completed, reason = False, stop
+                if not on_grid:
+                    j += 1
+                    rec.record(j, cur)
+                checkpoint()
+                break
+            if on_grid:
+                checkpoint()
         wall = _time.perf_counter() - t_wall
         return rec.result(j + 1, cur, iters, wall, completed, reason)
 
 
-__all__ = ["Dynamic", "RunStopped", "StepState"]
+__all__ = ["Checkpoint", "Dynamic", "RunStopped", "StepState"]

@@ -38,7 +38,7 @@ from ..typing import FloatArray, IntArray
 from ._excitation import Excitation
 
 if TYPE_CHECKING:
-    from ._driver import Dynamic, StepState
+    from ._driver import Checkpoint, Dynamic, StepState
 
 ENERGY_TERMS = ("kinetic", "strain", "external_work", "damping", "interface", "impact",
                 "algorithmic", "correction")  # fmt: skip
@@ -197,8 +197,12 @@ class Recorder:
     def __init__(
         self, an: Dynamic, excitation: Excitation, probes: IntArray, n_out: int,
         on_record: Callable[[dict[str, Any]], None] | None = None,
+        origin: tuple[float, float] | None = None,
     ) -> None:  # fmt: skip
         self.an, self.ex, self.probes, self.on_record = an, excitation, probes, on_record
+        # the kinetic and strain energy the balance is measured from (those of row 0 of
+        # this run, or of the start of the run it resumes)
+        self.origin = origin
         model, d, m = an.model, an.d, an.m
         r = 3 if d == 2 else 6
         self.t = np.zeros(n_out)
@@ -210,8 +214,9 @@ class Recorder:
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
 
-    def record(self, i: int, st: StepState) -> None:
-        """Row i of the histories from the state ``st``."""
+    def record(self, i: int, st: StepState, emit: bool = True) -> None:
+        """Row i of the histories from the state ``st``; ``emit`` False keeps it from
+        ``on_record`` (the row a resumed run starts from is already on disk)."""
         an, ex, probes, d, m = self.an, self.ex, self.probes, self.an.d, self.an.m
         system = an.system
         k = st.kin
@@ -236,14 +241,15 @@ class Recorder:
         E = self.E
         E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
         E["strain"][i] = an.strain_energy(k.u, R)
+        if self.origin is None:
+            self.origin = (float(E["kinetic"][i]), float(E["strain"][i]))
         for key in ENERGY_TERMS[2:]:
             E[key][i] = self.account.acc[key]
-        if self.on_record is not None:
+        if self.on_record is not None and emit:
             e_row = {key: float(E[key][i]) for key in ENERGY_TERMS}
             e_row["balance"] = (
                 sum(e_row[key] for key in ENERGY_TERMS if key not in _INPUTS)
-                - E["kinetic"][0]
-                - E["strain"][0]
+                - sum(self.origin)
                 - sum(e_row[key] for key in _INPUTS)
             )
             self.on_record({
@@ -254,6 +260,14 @@ class Recorder:
                 "a": full_a.reshape(-1, d),
             })  # fmt: skip
 
+    def checkpoint(self, st: StepState, row: int) -> Checkpoint:
+        """A :class:`Checkpoint` of the state ``st``, recorded as row ``row`` of the
+        whole run."""
+        from ._driver import Checkpoint
+
+        assert self.origin is not None
+        return Checkpoint(st, dict(self.account.acc), self.origin, row)
+
     def result(
         self, rows: int, final: StepState, iterations: np.ndarray, wall: float,
         completed: bool, reason: str | None,
@@ -263,8 +277,8 @@ class Recorder:
         E = self.E
         tot = (E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
                + E["algorithmic"])  # fmt: skip
-        E["balance"] = (tot - (E["kinetic"][0] + E["strain"][0]) - E["external_work"]
-                        - E["correction"])  # fmt: skip
+        assert self.origin is not None
+        E["balance"] = tot - sum(self.origin) - E["external_work"] - E["correction"]
         P = self.an.model.pairs
         return DynamicResult(
             self.t[keep], self.probes, self.pu[keep], self.pv[keep], self.pa[keep],

@@ -1,5 +1,6 @@
 """Input and output: gmsh meshes, ground-motion records, model files."""
 
+from ._checkpoint import CheckpointWriter, history, reopen_results, run_key
 from ._export import export_csv
 from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
@@ -20,8 +21,28 @@ from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
 
 __all__ = [
-    "Job", "ModelFile", "Override", "Results", "ResultsWriter", "export_csv", "from_gmsh",
-    "json_schema", "load_job", "output_file", "output_folder", "parse_override", "parse_value",
-    "read_mesh", "read_model_file", "read_record", "reference_markdown", "reference_rows",
-    "write_at2", "write_paraview",
+    "CheckpointWriter",
+    "Job",
+    "ModelFile",
+    "Override",
+    "Results",
+    "ResultsWriter",
+    "export_csv",
+    "from_gmsh",
+    "history",
+    "json_schema",
+    "load_job",
+    "output_file",
+    "output_folder",
+    "parse_override",
+    "parse_value",
+    "read_mesh",
+    "read_model_file",
+    "read_record",
+    "reference_markdown",
+    "reference_rows",
+    "reopen_results",
+    "run_key",
+    "write_at2",
+    "write_paraview",
 ]  # fmt: skip

@@ -136,6 +136,18 @@ class ResultsWriter:
             self._grow(fg, key, (n, d), UNITS[key], chunk_rows=1)
         f.flush()
 
+    @classmethod
+    def reopen(cls, f: Any, rows: int, job: Any, *, flush_s: float = 2.0) -> ResultsWriter:
+        """A writer that appends to the open results file ``f`` holding ``rows`` rows (a
+        run resumed from its checkpoint, :mod:`pfeie.io._checkpoint`)."""
+        self = cls.__new__(cls)
+        self.path, self.f = Path(f.filename), f
+        self.field_every, self.flush_s = max(int(job.output.field_every), 1), flush_s
+        self.rows = int(rows)
+        self._buf = []
+        self._last_flush = time.perf_counter()
+        return self
+
     @staticmethod
     def _ds(g: Any, name: str, data: Any, units: str) -> None:
         g.create_dataset(name, data=data)

@@ -1,0 +1,190 @@
+"""Checkpoints of a run in its results file, and resuming a stopped run.
+
+Besides its rows, a run writes the group ``/checkpoint`` of its results file: the full
+step state of a recorded row (displacements, velocities, accelerations, the load and the
+scheme's auxiliary acceleration on the free DOFs; every pair's state, forces, relative
+motion, slip direction and path; the smooth pair forces), the running sums of the energy
+account, the energy the balance is measured from, and the row index. It is replaced at
+most every ``interval`` seconds of wall time and at the end of the run (completed,
+stopped by Ctrl-C or SIGTERM, or by a step that failed).
+
+``pfeie run --resume`` (:func:`pfeie._job.run_job` with ``resume=True``) opens the results
+file of a stopped run, checks that the inputs are the same (the *run key*: the validated
+model file with its command-line overrides except the duration, and the bytes of the
+mesh and record files), cuts the histories back to the checkpoint's row and continues
+from it. The resumed results are the same bits as those of a run that was never stopped
+(``tests/test_checkpoint.py``). A longer ``--duration`` extends a completed run the same
+way.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..dynamics import Checkpoint, DynamicResult, State, StepState
+from ..errors import ResultsError
+from ..interface import PairState
+from ._results import ResultsWriter, _h5py
+
+_KIN = ("u", "v", "a", "f")
+_PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
+_UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state": "code",
+          "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
+          "lam": "N"}  # fmt: skip
+
+
+def run_key(job: Any) -> str:
+    """The SHA-256 of what a run's results depend on, except its duration: the validated
+    model file with its overrides, and the bytes of the mesh and record files."""
+    spec = json.loads(json.dumps(job.spec, default=str))
+    spec.get("analysis", {}).pop("duration", None)
+    h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
+    base = Path(job.path).parent
+    files = [base / spec["mesh"]["file"]]
+    files += [base / g["file"] for g in spec.get("ground_motion", []) if g.get("file")]
+    for p in files:
+        h.update(p.read_bytes() if p.is_file() else str(p).encode())
+    return h.hexdigest()
+
+
+class CheckpointWriter:
+    """Writes the checkpoints of a run into its results file (see the module doc): call
+    it with every :class:`~pfeie.dynamics.Checkpoint` of the run (``on_checkpoint`` of
+    :meth:`pfeie.Dynamic.run`); it keeps the latest and writes it when ``interval``
+    seconds have passed since the last one, and on :meth:`close`."""
+
+    def __init__(self, writer: ResultsWriter, key: str, interval: float = 30.0) -> None:
+        self.writer, self.key, self.interval = writer, key, float(interval)
+        self._pending: Checkpoint | None = None
+        self._last = time.perf_counter()
+        writer.f.attrs["run_key"] = key
+
+    def __call__(self, ck: Checkpoint) -> None:
+        self._pending = ck
+        if time.perf_counter() - self._last >= self.interval:
+            self.write()
+
+    def close(self) -> None:
+        """Write the latest checkpoint, if it is not on disk yet."""
+        self.write()
+
+    def write(self) -> None:
+        ck = self._pending
+        if ck is None:
+            return
+        w = self.writer
+        w.flush()
+        f = w.f
+        if f["history/time"].shape[0] != ck.row + 1:
+            raise ResultsError(f"{w.path}: checkpoint of row {ck.row} with "
+                               f"{f['history/time'].shape[0]} rows on disk")  # fmt: skip
+        if "checkpoint_new" in f:
+            del f["checkpoint_new"]
+        g = f.create_group("checkpoint_new")
+        st = ck.state
+        kin = st.kin
+        g.attrs.update(
+            row=ck.row, step=st.step, t=kin.t, fields_rows=f["fields/time"].shape[0],
+            energy=json.dumps(ck.energy), origin=json.dumps(list(ck.origin)),
+            run_key=self.key,
+        )  # fmt: skip
+        data = {f"kin/{k}": getattr(kin, k) for k in _KIN}
+        data.update({f"pairs/{k}": getattr(st.pairs, k) for k in _PAIRS})
+        if kin.aux is not None:
+            data["kin/aux"] = kin.aux
+        if st.lam is not None:
+            data["pairs/lam"] = st.lam
+        for name, value in data.items():
+            g.create_dataset(name, data=value)
+            g[name].attrs["units"] = _UNITS[name.split("/")[1]]
+        if "checkpoint" in f:
+            del f["checkpoint"]
+        f.move("checkpoint_new", "checkpoint")
+        f.flush()
+        self._pending = None
+        self._last = time.perf_counter()
+
+
+def read_checkpoint(f: Any) -> Checkpoint:
+    """The checkpoint of an open results file."""
+    g = f["checkpoint"]
+    u, v, a, f_ = (np.asarray(g[f"kin/{k}"]) for k in _KIN)
+    aux = np.asarray(g["kin/aux"]) if "kin/aux" in g else None
+    kin = State(float(g.attrs["t"]), u, v, a, f_, aux)
+    pairs = PairState(*(np.asarray(g[f"pairs/{k}"]) for k in _PAIRS))
+    lam = np.asarray(g["pairs/lam"]) if "pairs/lam" in g else None
+    st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam)
+    energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
+    o0, o1 = json.loads(g.attrs["origin"])
+    return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]))
+
+
+def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoint]:
+    """The results file of a stopped run opened to continue it: the inputs checked against
+    the run key, the histories cut back to the checkpoint's row. Errors
+    (:class:`ResultsError`) name the file and what was expected."""
+    p = Path(path)
+    if not p.is_file():
+        raise ResultsError(f"{p}: nothing to resume: no results file (run without --resume)")
+    try:
+        f = _h5py().File(p, "r+")
+    except OSError as exc:
+        raise ResultsError(f"{p}: cannot open the results file to resume it ({exc})") from None
+    try:
+        if "checkpoint" not in f:
+            raise ResultsError(f"{p}: nothing to resume: the file has no checkpoint (a "
+                               "run of an older pfeie, or one stopped before its first "
+                               "row)")  # fmt: skip
+        key = run_key(job)
+        if f.attrs.get("run_key", "") != key:
+            raise ResultsError(
+                f"{p}: cannot resume: the model file, its --set overrides, the mesh or a "
+                f"record differ from those of the run ({job.path}); run without --resume"
+            )
+        ck = read_checkpoint(f)
+        rows, frows = ck.row + 1, int(f["checkpoint"].attrs["fields_rows"])
+
+        def cut(name: str, obj: Any) -> None:
+            if hasattr(obj, "resize") and obj.maxshape and obj.maxshape[0] is None:
+                obj.resize(frows if name.startswith("fields") else rows, axis=0)
+
+        for top in ("history", "fields"):
+            f[top].visititems(lambda n, o, top=top: cut(f"{top}/{n}", o))
+        f.attrs["completed"] = False
+        f.attrs["stop_reason"] = ""
+        f.flush()
+    except BaseException:
+        f.close()
+        raise
+    return ResultsWriter.reopen(f, rows, job), ck
+
+
+def history(writer: ResultsWriter, completed: bool, reason: str | None) -> DynamicResult:
+    """The whole run's histories as a :class:`~pfeie.dynamics.DynamicResult`, read back
+    from the file (a resumed run holds only its own part in memory)."""
+    writer.flush()
+    f = writer.f
+    h = f["history"]
+
+    def arr(name: str) -> Any:
+        return np.asarray(h[name])
+
+    nodes = np.asarray(json.loads(h["probes"].attrs["nodes"]), dtype=np.int64)
+    area = np.asarray(f["pairs/area"]) if "pairs" in f else np.zeros(0)
+    energy = {k: arr(f"energy/{k}") for k in h["energy"]}
+    return DynamicResult(
+        t=arr("time"), probes=nodes, probe_u=arr("probes/u"), probe_v=arr("probes/v"),
+        probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
+        X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
+        broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
+        stop_reason=reason,
+    )  # fmt: skip
+
+
+__all__ = ["CheckpointWriter", "history", "read_checkpoint", "reopen_results", "run_key"]

@@ -1,0 +1,107 @@
+"""Checkpoint and resume: a stopped run continues from the checkpoint in its results file
+and gives the same bits as a run that was never stopped (the reference is that run, an
+independent computation); inputs that changed are refused."""
+
+from __future__ import annotations
+
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.cli import main
+from pfeie.io import Results
+from pfeie.verification._models import block_on_base
+from test_cli import SMALL, _write, start_run
+
+G = 9.81
+_HISTORY = ("rigid", "X", "w", "s", "state", "broken", "probe_u", "probe_a")
+
+
+def test_resume_gives_the_same_bits() -> None:
+    """A bonded block (c = 2 kPa, σ_t = 1 kPa) shaken at 0.8 g, 2 Hz: it breaks, slides and
+    sticks. Run for 1 s at once, and for 0.5 s then resumed from its last checkpoint by a
+    new analysis object (as a new process would): every history, the energy terms and the
+    recorded times are identical (recording every 3rd step, so that the stop falls off
+    the recording grid)."""
+    model = block_on_base(joint=pf.Joint(c=2e3, phi=30.0, tensile=1e3, initial="intact"),
+                          E=10e9, n=4, width=2.0)  # fmt: skip
+    gm = pf.GroundMotion.from_function(lambda t: 0.8 * G * np.sin(4 * np.pi * t), 1.5, 1e-3)
+    static = pf.solve_static(model)
+    node = [model.nearest_node([1.0, 1.5])]
+    kw = {"ground": [gm], "every": 3, "probes": node}
+    full = pf.Dynamic(model, 0.002).run(1.0, start=static, **kw)
+    cks: list[pf.dynamics.Checkpoint] = []
+    part = pf.Dynamic(model, 0.002).run(0.5, start=static, on_checkpoint=cks.append, **kw)
+    ck = cks[-1]
+    assert ck.state.step == 249 and ck.row == part.t.size - 1
+    rest = pf.Dynamic(model, 0.002).run(n_steps=500 - ck.state.step, resume=ck, **kw)
+    assert full.broken[-1].all() and np.abs(full.slip[-1]).max() > 1e-5  # it did slide
+    np.testing.assert_array_equal(np.r_[part.t, rest.t[1:]], full.t)
+    for key in _HISTORY:
+        both = np.concatenate([getattr(part, key), getattr(rest, key)[1:]])
+        np.testing.assert_array_equal(both, getattr(full, key), err_msg=key)
+    for key, values in full.energy.items():
+        np.testing.assert_array_equal(np.r_[part.energy[key], rest.energy[key][1:]], values,
+                                      err_msg=key)  # fmt: skip
+
+
+def _histories(path: Path) -> dict[str, np.ndarray]:
+    with Results(path) as res:
+        out = {"time": res.time, **{f"pairs/{k}": v for k, v in res.pairs().items()}}
+        out.update({f"energy/{k}": v for k, v in res.energy().items()})
+        out.update({f"probe/{k}": v for k, v in res.probe("top").items()})
+        out["rigid"] = res.rigid(1)
+        t_f, fields = res.fields()
+        out["fields/time"] = t_f
+        out.update({f"fields/{k}": v for k, v in fields.items()})
+        assert res.completed
+    return out
+
+
+def test_command_line_resume_after_sigint_and_extension(tmp_path: Path) -> None:
+    """``pfeie run --resume``: (a) a run stopped by SIGINT continues to its duration; (b) a
+    completed run of 1 s extended with ``--duration 3``. Both results files equal, array
+    for array, that of one uninterrupted run of 3 s (fields included), and their times
+    increase strictly (no row written twice)."""
+    ref_dir, ext_dir, sig_dir = (tmp_path / k for k in ("ref", "ext", "sig"))
+    for d in (ref_dir, ext_dir, sig_dir):
+        d.mkdir()
+    text = SMALL.replace('folder = "out"', 'folder = "out"\nfield_every = 7')
+    assert main(["run", str(_write(ref_dir, text, duration=3.0)), "--quiet"]) == 0
+    ref = _histories(ref_dir / "out" / "results.h5")
+    p = _write(ext_dir, text, duration=3.0)
+    assert main(["run", str(p), "--quiet", "--duration", "1.0"]) == 0
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    p = _write(sig_dir, text, duration=3.0)
+    proc = start_run(p, wait=0.0)
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=120)
+    with Results(sig_dir / "out" / "results.h5") as res:
+        stopped_at = float(res.time[-1])
+        assert not res.completed
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    for d in (ext_dir, sig_dir):
+        got = _histories(d / "out" / "results.h5")
+        assert np.all(np.diff(got["time"]) > 0)
+        assert got.keys() == ref.keys()
+        for key, value in ref.items():
+            np.testing.assert_array_equal(got[key], value, err_msg=f"{d.name}: {key}")
+    assert 0 < stopped_at < 3.0  # the signal stopped the run inside its duration
+
+
+def test_resume_refuses_other_inputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--resume`` without a results file, or with another friction angle (--set) than
+    the run's: exit 2 and a ``pfeie: error`` line naming the file and the cause."""
+    p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet", "--resume"]) == 2
+    assert "nothing to resume" in capsys.readouterr().err
+    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet", "--resume", "--set",
+                 "interfaces.joint.friction_angle=30.0"]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert "pfeie: error: " in err and "results.h5: cannot resume" in err, err
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0  # same inputs: nothing to do
