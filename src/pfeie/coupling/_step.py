@@ -86,6 +86,13 @@ class InterfaceStep:
         other._subsolvers = {}
         return other
 
+    def _held_open(self, inactive: BoolArray) -> bool:
+        """Whether to solve with the ``inactive`` pairs held open inside the full solver
+        (one more row each in its capacitance system, on the once-inverted W) rather than
+        on the sub-block of the active pairs (a new factorisation per pattern): when W was
+        inverted once and the held pairs are at most half of them."""
+        return self.solver.woodbury and 2 * int(inactive.sum()) <= inactive.size
+
     def _subsolver(self, active: np.ndarray) -> InterfaceSolver:
         """The solver of the sub-problem of the ``active`` pairs (cached per pattern)."""
         key = active.tobytes()
@@ -119,8 +126,9 @@ class InterfaceStep:
         whole free relative motion); ``prev`` the committed state. The trial state's ``w``
         is the relative motion at the solution. With ``correct=False`` the block
         correction is left to the caller (``du`` empty).
-        Pairs marked ``inactive`` (m,) take no part: the problem is solved on the other
-        pairs (the sub-block of W), and the inactive ones stay open and carry nothing.
+        Pairs marked ``inactive`` (m,) take no part: they are held open and carry
+        nothing, and the problem is solved on the other pairs (inside the full solver, or
+        on the sub-block of W when many are inactive, :meth:`_held_open`).
         ``fixed`` (m,) marks sliding pairs that keep their slip direction
         (:meth:`InterfaceSolver.solve`). ``breaking``: "iterate" lets the solver break
         intact pairs within its iterations; "converged" solves with the intact pairs
@@ -151,9 +159,9 @@ class InterfaceStep:
         fixed: BoolArray | None, breaking: bool, correct: bool,
     ) -> StepSolution:  # fmt: skip
         m, d = self.op.m, self.op.d
-        if inactive is None or not inactive.any():
+        if inactive is None or not inactive.any() or self._held_open(inactive):
             trial, _ = self.solver.solve(w_free, prev, label=label, fixed=fixed,
-                                         breaking=breaking)  # fmt: skip
+                                         breaking=breaking, inactive=inactive)  # fmt: skip
             self._last = self.solver
         else:
             active = ~inactive

@@ -21,7 +21,10 @@ Two modes for the time stepping at the rate levels (method.md §3.1), arguments 
 already sliding at the start of the step keeps X_t = −(c A + μ X_n) ŝ at the acceleration
 level: it may open but not stick), and ``breaking=False`` keeps intact pairs intact
 whatever their force (the caller decides breaks on the converged forces, see
-:meth:`PairLaws.overstressed`).
+:meth:`PairLaws.overstressed`). Pairs marked ``inactive`` are held open (X = 0, whatever
+their gap): the time stepping solves the problem of the other pairs without a new
+factorisation, since an open pair is one more row of the capacitance system of the
+once-inverted W_c (Woodbury).
 The answer is accepted only when the complementarity residual
 
     r_k = ρ|Δs_k| (intact, stick), |X_t − Π_{τ_max}(X_t − ρ Δs_t)| (broken, closed),
@@ -108,6 +111,7 @@ class InterfaceSolver:
         self._cache: dict[bytes, tuple[object, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
         self._fixed = np.zeros(self.m, dtype=bool)
+        self._inactive = np.zeros(self.m, dtype=bool)
         self._breaking = True
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
@@ -115,9 +119,27 @@ class InterfaceSolver:
         if border is None and regularize == 0.0 and self.m:
             try:
                 cf = sla.cho_factor(self.Wc, check_finite=False)
-                self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
-                self._winv = None
+                # redundant pairs (more constraints than the blocks' motions they tie, as
+                # in FCLIB's stacked boxes): W is singular, the forces are not unique but
+                # the relative motions are. A proximal shift ε I with ε = 1e-12 of the
+                # mean diagonal picks one answer; it moves the relative motions by ε X,
+                # far below the solver's tolerance
+                eps = 1e-12 * float(diag.mean())
+                self.Wc = self.Wc + eps * np.eye(self.Wc.shape[0])
+                log.info("W is singular (redundant pairs): shifted by %.1e", eps)
+                try:
+                    cf = sla.cho_factor(self.Wc, check_finite=False)
+                except (np.linalg.LinAlgError, sla.LinAlgError):
+                    cf = None
+            if cf is not None:
+                self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
+
+    @property
+    def woodbury(self) -> bool:
+        """Whether W_c was inverted once (each state pattern is then a capacitance system
+        of its open and sliding components)."""
+        return self._winv is not None
 
     def with_laws(self, laws: PairLaws) -> InterfaceSolver:
         """This solver (W, its factorisation, settings) for other laws with the same joint
@@ -159,7 +181,9 @@ class InterfaceSolver:
         ncol = pos[pair_fr * d + d - 1]
         key = kin.tobytes() + ncol.tobytes() + np.round(coef, 14).tobytes()
         if self._winv is not None:
-            return self._woodbury(key, flat, kin, fr, coef, x0, target, w_free), np.zeros(0)
+            X = self._woodbury(key, flat, kin, fr, coef, x0, target, w_free)
+            X.reshape(-1)[flat == 1] = 0.0  # open: zero, not the round-off of the update
+            return X, np.zeros(0)
         r = 0 if self.E is None else self.E.shape[1]
         cached = self._cache.get(key)
         Wk = self.Wc[kin]
@@ -297,7 +321,7 @@ class InterfaceSolver:
             upd = sl & ~op & ~back & (nds > tolD) & ~fixed
             new.slip_dir[upd] = ds[upd] / nds[upd, None]
         # open
-        cl = (state == OPEN) & (s[:, -1] < -tolD)
+        cl = (state == OPEN) & (s[:, -1] < -tolD) & ~self._inactive
         new.state[cl] = np.where(fixed[cl], SLIDE, STICK)
         return new
 
@@ -327,6 +351,8 @@ class InterfaceSolver:
         proj[fx[cl]] = -tau[fx, None] * st.slip_dir[fx]  # sliding along the given ŝ
         r[cl] = np.linalg.norm(Xt[cl] - proj, axis=1) + rho * np.abs(s[cl, -1])
         r[cl] += np.maximum(0.0, -(Xn[cl] + t[cl]))
+        off = self._inactive
+        r[off] = np.linalg.norm(X[off], axis=1)
         return r / fscale
 
     # -- driver -------------------------------------------------------------------------------
@@ -339,26 +365,40 @@ class InterfaceSolver:
         *,
         fixed: np.ndarray | None = None,
         breaking: bool = True,
+        inactive: np.ndarray | None = None,
     ) -> tuple[PairState, FloatArray]:
         """Trial pair state for the step and the border unknowns q (empty without border).
 
         ``prev`` is the committed state at the start of the step; it is not modified.
         ``fixed`` (m,) marks sliding pairs whose slip direction ``prev.slip_dir`` is held
-        (they slide or open, never stick); with ``breaking=False`` intact pairs stay intact
-        (see the module docstring).
+        (they slide or open, never stick); with ``breaking=False`` intact pairs stay intact;
+        ``inactive`` (m,) pairs are held open with X = 0 (see the module docstring).
         """
         self._fixed = (np.zeros(self.m, dtype=bool) if fixed is None
                        else np.asarray(fixed, dtype=bool) & (prev.state == SLIDE))  # fmt: skip
+        self._inactive = (np.zeros(self.m, dtype=bool) if inactive is None
+                          else np.asarray(inactive, dtype=bool))  # fmt: skip
+        self._fixed &= ~self._inactive
         self._breaking = bool(breaking)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         st = prev.copy()
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
         st.state[reopen] = STICK
+        st.state[self._inactive] = OPEN
         seen: dict[bytes, int] = {}
         q = np.zeros(0)
         history: list[np.ndarray] = []
+        it = 0
         for it in range(1, self.max_iter + 1):
-            X, q = self._linear(st, prev, w_free, e)
+            try:
+                X, q = self._linear(st, prev, w_free, e)
+            except MechanismError:
+                if self.E is not None:  # statics: a floating block left free by its pairs
+                    raise
+                # a singular system for these states (redundant pairs): the Newton
+                # fallback below works on the whole law instead
+                log.debug("%s: singular state system, to the Newton fallback", label)
+                break
             st.X = X
             st.s = self.relative(X, q, w_free) + self.props.compliance * X
             st.w = st.s - self.props.compliance * X - self._gapv
@@ -384,9 +424,19 @@ class InterfaceSolver:
         st2, q2, n_it = self._newton(st, q, prev, w_free, e)
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
         if res <= self.tol:
-            self.last = SolveInfo(self.max_iter + n_it, res, "semismooth Newton")
+            self.last = SolveInfo(it + n_it, res, "semismooth Newton")
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
             return st2, q2
+        # a cold start (X = 0, every closed pair sticking) where the last iterate failed
+        cold = prev.copy()
+        cold.X[:] = 0.0
+        st4, q4, n4 = self._newton(cold, np.zeros_like(q), prev, w_free, e)
+        res4 = float(self.residual(st4, prev, w_free).max(initial=0.0))
+        if res4 <= self.tol:
+            self.last = SolveInfo(it + n_it + n4, res4, "semismooth Newton (cold start)")
+            return st4, q4
+        if res4 < res:
+            st2, q2, res = st4, q4, res4
         if self.E is not None:
             raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
         st3 = self._gauss_seidel(st2, prev, w_free)
@@ -471,7 +521,7 @@ class InterfaceSolver:
         state[broken] = STICK
         state[sliding] = SLIDE
         state[broken & self._fixed] = SLIDE
-        state[opened] = OPEN
+        state[opened | self._inactive] = OPEN
         with np.errstate(invalid="ignore", divide="ignore"):
             sdir[sliding] = -X[sliding, :-1] / nt[sliding, None]
         out.state, out.slip_dir = state, sdir
@@ -561,6 +611,10 @@ class InterfaceSolver:
                 if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
                     dtau[k * d + d - 1] = mu[k]
                 J[k, :-1] = Ir[k, :-1] - np.outer(zh[k], dtau) - P @ dz
+        off = self._inactive
+        F[off] = Xm[off]
+        if jac:
+            J[off] = Ir[off]
         Fv, Jv = F.ravel(), (J.reshape(M, N) if jac else None)
         if self.E is None:
             return Fv, Jv
@@ -586,8 +640,11 @@ class InterfaceSolver:
         intact = self.props.strength(np.zeros(m, dtype=bool), prev.path)
         residual = self.props.strength(np.ones(m, dtype=bool), prev.path)
         trial = st.copy()
+        active = np.flatnonzero(~self._inactive).tolist()
+        X[self._inactive] = 0.0
+        state[self._inactive] = OPEN
         for sweep in range(1, sweeps + 1):
-            for k in range(m):
+            for k in active:
                 Wkk = Wc[k, :, k, :]
                 b = b_all[k] - Wkk @ X[k]
                 strength = tuple(float(a[k]) for a in (*intact, *residual))

@@ -237,25 +237,35 @@ def v2b(fast: bool) -> CaseResult:
 
 
 # -- V3, V4, V5 ------------------------------------------------------------------------------
+def _v3(dt: float, E: float = 30e9) -> tuple[Any, np.ndarray, np.ndarray, RigidBlock]:
+    """V3 at Δt: the run, the downslope slip, the exact reference on the record sampled at
+    Δt, and the reference itself."""
+    beta, phi = np.radians(20.0), np.radians(30.0)
+    mu, ky = np.tan(phi), np.tan(phi - beta)
+    kappa = np.cos(beta) + mu * np.sin(beta)
+    t, a, _ = _record(lambda t: np.where(t <= 2.5, 0.4 * G * np.sin(4 * np.pi * t), 0.0), 3.0, dt)
+    ref = RigidBlock(t, -kappa * a, kappa * ky * G, two_way=False, t_end=3.0)
+    gm = GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
+    model = block_on_base(joint=Joint(phi=30.0), incline_deg=20.0, E=E)
+    _MODELS["V3"] = model
+    res = Dynamic(model, dt).run(3.0, start=solve_static(model), ground=[gm],
+                                 every=max(1, round(1e-3 / dt)))  # fmt: skip
+    return res, _along(res, beta), ref.displacement(res.t), ref
+
+
 @case("V3", "Block on an incline under horizontal sinusoidal shaking",
       "Incline 20°, φ = 30°, base 0.4 g sin(4πt) for 5 cycles: one-way downslope sliding.",
       "k_y = tan(φ − β); s'' = (cos β + μ sin β)(a − k_y g) while sliding; exact rigid "
       "integration: 0.0455160 m per cycle, 0.227580 m in all.",
-      "A 1 m block (2 × 2 Q4) on a base rotated by 20°; horizontal base motion.")  # fmt: skip
+      "A 1 m block (2 × 2 Q4, E = 30 GPa) on a base rotated by 20°; horizontal base "
+      "motion; Δt = 2.5 ms (the table: 10 to 0.3125 ms, and E = 100 GPa).")  # fmt: skip
 def v3(fast: bool) -> CaseResult:
     beta, phi = np.radians(20.0), np.radians(30.0)
-    mu, ky = np.tan(phi), np.tan(phi - beta)
+    mu = np.tan(phi)
     kappa = np.cos(beta) + mu * np.sin(beta)
     dt = 0.0025
-    t, a, _ = _record(lambda t: np.where(t <= 2.5, 0.4 * G * np.sin(4 * np.pi * t), 0.0), 3.0, dt)
-    ref = RigidBlock(t, -kappa * a, kappa * ky * G, two_way=False, t_end=3.0)
-    gm = GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
-    model = block_on_base(joint=Joint(phi=30.0), incline_deg=20.0)
-    res = Dynamic(model, dt).run(3.0, start=solve_static(model), ground=[gm])
-    s = _along(res, beta)
-    xr = ref.displacement(res.t)
+    res, s, xr, ref = _v3(dt)
     i1 = int(np.searchsorted(res.t, 0.45))
-    _MODELS["V3"] = model
     # the case text's numbers are those of the continuous sine; the reference here integrates
     # the record sampled at Δt, which the solver sees (measured 2.2e-4, 2.2e-4 relative and
     # 4.8e-6 s)
@@ -263,13 +273,38 @@ def v3(fast: bool) -> CaseResult:
             _text("slip after one cycle", "0.0455160", xr[i1], "m", 5e-4 * 0.0455160),
             _text("slip after 5 cycles", "0.227580", xr[-1], "m", 5e-4 * 0.227580),
             _text("first slip", "0.0363278", ref.starts[0], "s", 2e-5)]  # fmt: skip
-    return CaseResult("V3", "Block on an incline under horizontal shaking", [
-        # measured 6.3e-4 and 5.3e-4 (nonsmooth generalised-α: first order at each slip
+    out = CaseResult("V3", "Block on an incline under horizontal shaking", [
+        # measured 6.3e-4 and 5.7e-4 (nonsmooth generalised-α: first order at each slip
         # start and stop)
         Check("slip after one cycle", float(xr[i1]), float(s[i1]), 2e-3, unit="m"),
         Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 3e-3, unit="m"),
+        # measured 8.6e-8 m: the block's elastic heel under the shaking, no hop
+        Check("largest opening (no hop)", 0.0, float(res.opening.max()), 1e-6, False, "m"),
     ], [Series("pfeie", res.t, s), Series("rigid block (exact)", res.t, xr, "--")],
         ylabel="downslope slip (m)", extra={"case_text": text})  # fmt: skip
+    if not fast:
+        dts = [0.01, 0.005, 0.0025, 0.00125, 0.000625, 0.0003125]
+        rows: list[list[str]] = []
+        errs: list[float] = []
+        stiff: list[float] = []
+        for dt_ in dts:
+            for E, acc in ((30e9, errs), (100e9, stiff)):
+                _, s_, xr_, _ = _v3(dt_, E)
+                acc.append(float(np.abs(s_ - xr_).max() / np.abs(xr_).max()))
+            rows.append([f"{1e3 * dt_:g}", f"{100 * errs[-1]:.4f} %",
+                         f"{100 * stiff[-1]:.4f} %"])  # fmt: skip
+        out.extra["table"] = (["Δt (ms)", "whole-history error, 30 GPa",
+                               "whole-history error, 100 GPa"], rows)  # fmt: skip
+        # from T/50 = 10 ms down to the block's deformability floor (≈ 1e-4 at 30 GPa,
+        # reached at 1.25 ms; measured 0.57, 0.19, 0.057, 0.013, 0.0078, 0.013 %): the rate
+        # over the first four halvings (measured 1.8; first order per slip event, the
+        # events at fixed times in the record)
+        _convergence(out, "whole-history slip", "dt", dts[:4], errs[:4], 1, 1.5)
+        out.checks.append(Check("whole-history slip error at the manual's Δt (2.5 ms)", 0.0,
+                                errs[2], 1e-3, False))  # fmt: skip
+        out.checks.append(Check("whole-history slip error below the floor, 100 GPa, 0.625 ms",
+                                0.0, stiff[4], 1e-4, False))  # fmt: skip
+    return out
 
 
 def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
@@ -329,12 +364,14 @@ def v4(fast: bool) -> CaseResult:
 _BETA_R = 0.1 / (2 * np.pi * 200.0)  # 5 % of critical at 200 Hz, stiffness-proportional
 
 
-def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
-    """The deformable V4 variant: a 2 m × 1 m block (4 × 4 Q4) shaken at 0.8 g, 2 Hz."""
+def _v4d(dt: float, E: float = 10e9, height: float = 1.0) -> tuple[CaseResult, dict[str, Any]]:
+    """The deformable V4 variant: a 2 m wide block of 0.5 m Q4 cells (4 × 4 for the 1 m
+    height of V4d, 4 × 8 for the 4 m of V4u, whose heel lifts) shaken at 0.8 g, 2 Hz."""
     mu, T = 0.2, 4.0
     t, a, gm = _record(lambda t: np.where(t <= 3, 0.8 * G * np.sin(4 * np.pi * t), 0.0), T, dt)
     ref = RigidBlock(t, a, mu * G, t_end=T)
-    model = block_on_base(joint=Joint(phi=_phi(mu)), n=4, E=E, width=2.0, height=1.0)
+    model = block_on_base(joint=Joint(phi=_phi(mu)), n=4, ny=max(4, round(2 * height)), E=E,
+                          width=2.0, height=height)  # fmt: skip
     # an undamped block sliding under friction develops an elastic rocking (≈ 200 Hz at
     # 10 GPa) as Δt falls (0.21 % at 0.125 ms undamped against 0.042 % damped, measured);
     # the stiffness-proportional damping of a real structure keeps it out
@@ -354,6 +391,14 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
     opening = float(res.s[:, :, -1].max())
     E_ = res.energy
     alg = float(abs(E_["algorithmic"][-1]) / E_["interface"][-1])
+    is_open = res.state == OPEN
+    switches = int((is_open[1:] != is_open[:-1]).sum(axis=0).max(initial=0))
+    info = {"err": err, "episode": max(ends), "opening": opening, "switches": switches,
+            "episodes": len(ends), "opened": np.flatnonzero(is_open.any(axis=0))}  # fmt: skip
+    if height != 1.0:
+        _MODELS["V4u"] = model
+        return CaseResult("V4u", "", [], [Series("pfeie", res.t, x),
+                          Series("rigid block (exact)", res.t, xr, "--")]), info  # fmt: skip
     checks = [
         # measured at Δt = 1 ms: 0.39 %; 0.38 % (worst episode); 8e-16 m (round-off: no
         # hop); 4.8e-7 (1.2e-5 at 2 ms)
@@ -368,7 +413,7 @@ def _v4d(dt: float, E: float = 10e9) -> tuple[CaseResult, dict[str, float]]:
                      [Series("pfeie", res.t, x), Series("rigid block (exact)", res.t, xr, "--")],
                      ylabel="slip relative to the base (m)",
                      extra={"episodes": len(ends)})  # fmt: skip
-    return out, {"err": err, "episode": max(ends)}
+    return out, info
 
 
 @case("V4d", "Deformable block, repeated stick-slip",
@@ -403,10 +448,91 @@ def v4d(fast: bool) -> CaseResult:
     return res
 
 
+@case("V4u", "Deformable tall block, stick-slip with heel uplift",
+      "V4d's shaking on a block 4 m tall and 2 m wide: friction caps the base shear at μW, "
+      "whose moment puts the resultant at e = μ h = 0.4 m from the centre, beyond the "
+      "kern (b/3 = 0.33 m) but inside the base (b = 1 m): the heel lifts elastically while "
+      "the rigid block neither rocks nor tips, so the rigid sliding reference still holds.",
+      "Exact rigid integration of the sampled record (pfeie.verification._rigid); the "
+      "deformable block departs from it by its elasticity (its rocking on the lifting heel "
+      "is excited at every slip start and stop), a floor that falls as 1/E: shown at 10 "
+      "and 100 GPa.",
+      "A 2 m × 4 m block (4 × 8 Q4, ν = 0.2, ρ = 2400, stiffness-proportional damping of 5 % "
+      "at 200 Hz) on a fixed base, μ = 0.2, base 0.8 g sin(4πt) for 3 s, then 1 s at rest; "
+      "E = 100 GPa at Δt = 1 ms (the table: 2 to 0.125 ms, and E = 10 GPa).")  # fmt: skip
+def v4u(fast: bool) -> CaseResult:
+    dt = 0.001
+    out, info = _v4d(dt, E=100e9, height=4.0)
+    model = _MODELS["V4u"]
+    assert model.pairs is not None
+    x_open = model.mesh.points[model.pairs.node_a[info["opened"]], 0]
+    out.title = "Deformable tall block, stick-slip with heel uplift"
+    out.ylabel = "slip relative to the base (m)"
+    out.checks = [
+        # measured at 1 ms: 0.15 %, 0.54 %; openings 1.4e-6 m (elastic: the block's
+        # rocking on its heel); no pair hops (the largest opening is elastic, 1e-5 m bounds
+        # it at 100 GPa)
+        Check("whole-history slip error / peak slip", 0.0, info["err"], 5e-3, False),
+        Check("worst slip-episode offset / its excursion", 0.0, info["episode"], 1e-2, False),
+        Check("slip episodes", 12.0, float(info["episodes"]), 0.0, False),
+        Check("largest opening (elastic heel uplift)", 0.0, info["opening"], 1e-5, False, "m"),
+    ]  # fmt: skip
+    out.notes = ("Pairs that open during the run: those at x = "
+                 f"{', '.join(f'{v:g}' for v in x_open)} m (of 0 to 2 m); they lift "
+                 "elastically, the heel and toe in turn as the base shear reverses, and the "
+                 "middle ones when the block's rocking mode, excited at each slip start and "
+                 "stop, adds to the static eccentricity.")  # fmt: skip
+    if not fast:
+        dts = [0.002, 0.001, 0.0005, 0.00025, 0.000125]
+        stiff = [_v4d(d_, E=100e9, height=4.0)[1] for d_ in dts]
+        soft = [_v4d(d_, E=10e9, height=4.0)[1] for d_ in dts]
+        head = ["Δt (ms)", "error, 100 GPa", "worst episode, 100 GPa", "largest opening",
+                "error, 10 GPa", "worst episode, 10 GPa", "largest opening"]  # fmt: skip
+        rows = [[f"{1e3 * d_:g}", f"{100 * a['err']:.3f} %", f"{100 * a['episode']:.3f} %",
+                 f"{a['opening']:.1e} m", f"{100 * b['err']:.3f} %",
+                 f"{100 * b['episode']:.3f} %", f"{b['opening']:.1e} m"]
+                for d_, a, b in zip(dts, stiff, soft, strict=True)]  # fmt: skip
+        out.extra["table"] = (head, rows)
+        # measured at 100 GPa: 1.2, 0.15, 0.14, 0.12, 0.069 % (the floor ≈ 0.1 % from 1 ms
+        # down); worst episode 0.87 % at 2 ms, ≤ 0.54 % after; at 10 GPa the floor is ≈ 1.1 %
+        # (0.57 to 1.4 %, ∝ 1/E) and the worst episode 0.86 to 1.1 %
+        out.checks.append(Check("worst whole-history error from 1 ms down, 100 GPa", 0.0,
+                                max(a["err"] for a in stiff[1:]), 3e-3, False))  # fmt: skip
+        out.checks.append(Check("worst episode offset over the Δt table, 100 GPa", 0.0,
+                                max(a["episode"] for a in stiff), 1e-2, False))  # fmt: skip
+        # the floor falls with E (measured ratio 16 at 0.125 ms)
+        out.checks.append(Check("error ratio 10 GPa / 100 GPa at 0.125 ms (the floor)", 5.0,
+                                soft[-1]["err"] / stiff[-1]["err"], 0.0, False,
+                                at_least=True))  # fmt: skip
+    return out
+
+
 def _elcentro(t_max: float) -> tuple[np.ndarray, np.ndarray]:
     data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
     keep = data[:, 0] <= t_max
     return data[keep, 0], data[keep, 1] * G
+
+
+def _v5(dt: float, k: float, one_way: bool, t_rec: np.ndarray, a_rec: np.ndarray,
+        every: int = 1) -> tuple[Any, np.ndarray, np.ndarray]:  # fmt: skip
+    """V5 at Δt: one-way sliding on a 20° incline with yield coefficient ``k`` (φ = 20° +
+    atan k), or two-way on a horizontal joint with μ = ``k``; the run, the slip and the
+    exact reference."""
+    if one_way:
+        beta = np.radians(20.0)
+        phi = beta + np.arctan(k)
+        kappa = np.cos(beta) + np.tan(phi) * np.sin(beta)
+        ref = RigidBlock(t_rec, -kappa * a_rec, kappa * k * G, two_way=False, t_end=13.0)
+        gm = GroundMotion.from_samples(-a_rec, time=t_rec, direction=[1.0, 0.0])
+        model = block_on_base(joint=Joint(phi=float(np.degrees(phi))), incline_deg=20.0)
+    else:
+        ref = RigidBlock(t_rec, a_rec, k * G, t_end=13.0)
+        gm = GroundMotion.from_samples(a_rec, time=t_rec, direction=[1.0, 0.0])
+        model = block_on_base(joint=Joint(phi=_phi(k)))
+    _MODELS["V5"] = model
+    res = Dynamic(model, dt).run(13.0, start=solve_static(model), ground=[gm], every=every)
+    x = _along(res, np.radians(20.0)) if one_way else slip_x(res) - slip_x(res)[0]
+    return res, x, ref.displacement(res.t)
 
 
 @case("V5", "Newmark block under El Centro 1940",
@@ -414,39 +540,51 @@ def _elcentro(t_max: float) -> tuple[np.ndarray, np.ndarray]:
       "horizontal joint with μ = k_y, under the El Centro 1940 N-S record.",
       "Exact rigid-block integration of the linearly interpolated record (independent of "
       "the solver).",
-      "A 1 m block (2 × 2 Q4); one-way: incline 20° with φ = 20° + atan k_y.")  # fmt: skip
+      "A 1 m block (2 × 2 Q4, E = 30 GPa); one-way: incline 20° with φ = 20° + atan k_y, "
+      "Δt = 5 ms; two-way: Δt = 1 ms (the table: 8 to 0.25 ms for k_y = μ = 0.10).")  # fmt: skip
 def v5(fast: bool) -> CaseResult:
     t, a = _elcentro(12.0)
     checks, series = [], []
-    kys = [0.10] if fast else [0.05, 0.10, 0.15]
-    beta = np.radians(20.0)
-    for ky in kys:
-        phi = beta + np.arctan(ky)
-        kappa = np.cos(beta) + np.tan(phi) * np.sin(beta)
-        ref = RigidBlock(t, -kappa * a, kappa * ky * G, two_way=False, t_end=13.0)
-        gm = GroundMotion.from_samples(-a, time=t, direction=[1.0, 0.0])
-        model = block_on_base(joint=Joint(phi=float(np.degrees(phi))), incline_deg=20.0)
-        res = Dynamic(model, 0.005).run(13.0, start=solve_static(model), ground=[gm])
-        s = _along(res, beta)
+    for ky in [0.10] if fast else [0.05, 0.10, 0.15]:
+        res, s, xr = _v5(0.005, ky, True, t, a)
         # measured 2.6e-3, 1.0e-2, 1.2e-2 (k_y = 0.05, 0.10, 0.15)
-        checks.append(Check(f"one-way slip, k_y = {ky}", float(ref.displacement([13.0])[0]),
-                            float(s[-1]), 2e-2, unit="m"))  # fmt: skip
+        checks.append(Check(f"one-way slip, k_y = {ky}", float(xr[-1]), float(s[-1]), 2e-2,
+                            unit="m"))  # fmt: skip
         series += [Series(f"pfeie one-way k_y={ky}", res.t, s),
-                   Series(f"exact k_y={ky}", res.t, ref.displacement(res.t), "--")]  # fmt: skip
+                   Series(f"exact k_y={ky}", res.t, xr, "--")]  # fmt: skip
     for mu in [0.10] if fast else [0.05, 0.10, 0.15]:
-        ref = RigidBlock(t, a, mu * G, t_end=13.0)
-        model = block_on_base(joint=Joint(phi=_phi(mu)))
-        gm = GroundMotion.from_samples(a, time=t, direction=[1.0, 0.0])
-        res = Dynamic(model, 0.001).run(13.0, start=solve_static(model), every=5, ground=[gm])
-        x = slip_x(res) - slip_x(res)[0]
-        xr = ref.displacement(res.t)
+        res, x, xr = _v5(0.001, mu, False, t, a, every=5)
         peak = float(np.abs(xr).max())
         # measured 2.5e-3, 6.1e-3, 1.2e-2 (μ = 0.05, 0.10, 0.15)
         checks.append(Check(f"two-way max error / peak, μ = {mu}", 0.0,
                             float(np.abs(x - xr).max()) / peak, 2e-2, False))  # fmt: skip
-    _MODELS["V5"] = model
-    return CaseResult("V5", "Newmark block under El Centro 1940", checks, series,
-                      ylabel="downslope slip (m)")  # fmt: skip
+    out = CaseResult("V5", "Newmark block under El Centro 1940", checks, series,
+                     ylabel="downslope slip (m)")  # fmt: skip
+    if not fast:
+        dts = [0.008, 0.004, 0.002, 0.001, 0.0005, 0.00025]
+        one: list[float] = []
+        two: list[float] = []
+        for dt in dts:
+            for one_way, acc in ((True, one), (False, two)):
+                _, x, xr = _v5(dt, 0.10, one_way, t, a, every=max(1, round(1e-3 / dt)))
+                acc.append(float(np.abs(x - xr).max() / np.abs(xr).max()))
+        out.extra["table"] = (["Δt (ms)", "one-way k_y = 0.10", "two-way μ = 0.10"],
+                              [[f"{1e3 * dt:g}", f"{100 * e1:.3f} %", f"{100 * e2:.3f} %"]
+                               for dt, e1, e2 in zip(dts, one, two, strict=True)])  # fmt: skip
+        # measured: two-way 9.0, 3.4, 1.3, 0.68, 0.48, 0.52 %; one-way 0.54, 0.058, 0.025,
+        # 0.015, 0.020, 0.023 %. The rate before the floor (8 to 1 ms; measured 1.25, first
+        # order per slip start and stop); the floor, reached from 1 ms (two-way, 0.5 %) and
+        # 2 ms (one-way, 0.02 %): for the one-way case the block's elasticity; the two-way
+        # floor (0.15 mm of a 29 mm peak) is the same at 30 and 100 GPa and with 5 %
+        # stiffness damping at 200 Hz (measured 0.50 %, 0.57 % at 0.5 ms), so it is not the
+        # elasticity: it builds up over the record's ~40 slip reversals, each of which costs
+        # a step of stick (see docs/verification.md)
+        _convergence(out, "whole-history two-way slip", "dt", dts[:4], two[:4], 1, 1.0)
+        out.checks.append(Check("whole-history two-way slip error at 1 ms", 0.0, two[3], 1e-2,
+                                False))  # fmt: skip
+        out.checks.append(Check("whole-history one-way slip error at 1 ms", 0.0, one[3], 1e-3,
+                                False))  # fmt: skip
+    return out
 
 
 # -- V6 ------------------------------------------------------------------------------------
@@ -585,7 +723,8 @@ def _v7b(n: int, dt: float, t_end: float) -> dict[str, Any]:
     inertia = float((w * ((X[on] - xc) ** 2).sum(axis=1)).sum() / (w.sum() * (b * b + h * h) / 3))
     balance = float(np.abs(res.energy["balance"][: i + 1]).max()) / drop
     return {"model": model, "res": res, "th": th, "t_q": t_q, "th1": th1, "eta": eta(th0, th1),
-            "alpha": alpha, "th0": th0, "inertia": inertia, "balance": balance}  # fmt: skip
+            "alpha": alpha, "th0": th0, "inertia": inertia, "balance": balance,
+            "penetration": float(-min(res.s[:, :, -1].min(), 0.0))}  # fmt: skip
 
 
 @case("V7b", "Rocking block: free rocking",
@@ -618,10 +757,10 @@ def v7b(fast: bool) -> CaseResult:
              f"{100 * (out['inertia'] - 1):.2g} % on 4 × 16 cells), an error of order h². The "
              "effective "
              "restitution comes from the distributed, perfectly inelastic contact of the "
-             "whole base (velocity projection) and from the elastic vibration the impact "
-             f"excites; on 4 × 16 cells at Δt = 1 ms it differs from Housner's point impact "
-             f"by {100 * (out['eta'] / eta_h - 1):+.2g} % (the full suite tabulates its "
-             "dependence on the mesh and Δt). The body "
+             "whole base (the velocity correction, e = 0) and from the elastic vibration "
+             "the impact excites; on 4 × 16 cells at Δt = 1 ms it differs from Housner's "
+             f"point impact by {100 * (out['eta'] / eta_h - 1):+.2g} % (the full suite "
+             "tabulates its dependence on the mesh and Δt). The body "
              "frames of each step are predicted, not iterated, so the energy balance is not "
              f"exact: its residual before the impact is {out['balance']:.2e} of the work of "
              "gravity.")  # fmt: skip
@@ -638,16 +777,37 @@ def v7b(fast: bool) -> CaseResult:
         hs = [2 * h / (4 * n) for n in ns]
         # second order: the lumped mass's moment of inertia is off by O(h²) (measured 1.97)
         _convergence(res, "quarter period", "h", hs, errs, 2, 1.8)
-        dts = [2e-3, 1e-3, 5e-4]
+        dts = [2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4]
         by_dt = [_v7b(4, dt, 1.1) if dt != 1e-3 else runs[1] for dt in dts]
         res.extra["table"] = (
-            ["mesh", "Δt (s)", "quarter period (s)", "η_eff", "η_eff / η_Housner"],
-            [[f"{n} × {4 * n}", "0.001", f"{r['t_q']:.5f}", f"{r['eta']:.4f}",
-              f"{r['eta'] / eta_h:.4f}"] for n, r in zip(ns, runs, strict=True)]
-            + [["4 × 16", f"{dt:g}", f"{r['t_q']:.5f}", f"{r['eta']:.4f}",
-                f"{r['eta'] / eta_h:.4f}"] for dt, r in zip(dts, by_dt, strict=True)
-               if dt != 1e-3],
+            ["mesh", "Δt (s)", "first impact (s)", "θ₁/θ₀", "η_eff", "η_eff / η_Housner",
+             "largest penetration (m)"],
+            [[f"{n} × {4 * n}", "0.001", f"{r['t_q']:.6f}", f"{r['th1'] / r['th0']:.4f}",
+              f"{r['eta']:.4f}", f"{r['eta'] / eta_h:.4f}", f"{r['penetration']:.1e}"]
+             for n, r in zip(ns, runs, strict=True)]
+            + [["4 × 16", f"{dt:g}", f"{r['t_q']:.6f}", f"{r['th1'] / r['th0']:.4f}",
+                f"{r['eta']:.4f}", f"{r['eta'] / eta_h:.4f}", f"{r['penetration']:.1e}"]
+               for dt, r in zip(dts, by_dt, strict=True) if dt != 1e-3],
         )  # fmt: skip
+        # the first impact converges in Δt (measured 0.494713 to 0.494721 s from 2 to
+        # 0.125 ms: a spread of 1.6e-5, the lumped inertia's 0.19 % offset aside), with no
+        # penetration (measured 1e-20 m: round-off)
+        t_qs = [r["t_q"] for r in by_dt]
+        res.checks.append(Check("spread of the first impact over Δt = 2 to 0.125 ms", 0.0,
+                                float(np.ptp(t_qs)) / ref_q, 1e-4, False))  # fmt: skip
+        pen = max(r["penetration"] for r in by_dt)
+        res.checks.append(Check("largest penetration over the Δt table", 0.0, pen, 1e-15,
+                                False, "m"))  # fmt: skip
+        lifts = [r["th1"] / r["th0"] for r in by_dt]
+        res.notes += (f" The lift after the impact, θ₁/θ₀ = "
+                      f"{', '.join(f'{v:.3f}' for v in lifts)} at Δt = 2 to 0.125 ms, does not "
+                      "settle at these steps: it is set by the elastic waves the impact sends "
+                      "through the block, which a step resolves only when it is shorter than an "
+                      "element's transit time (h/c = 35 µs here); the undamped block's "
+                      "rebound then grows towards θ₁/θ₀ ≈ 0.93 (measured at 0.03 ms on the "
+                      "small-tilt block of tests/test_nonsmooth_alpha.py). A rigid-block "
+                      "restitution is a model choice, not a converged quantity of an elastic "
+                      "block.")  # fmt: skip
         dev = [abs(r["eta"] / eta_h - 1) for r in runs[1:] + by_dt]
         res.notes += (f" On 4 × 16 cells and finer, at Δt from 0.5 to 2 ms, η_eff differs from "
                       f"Housner's by at most {100 * max(dev):.2g} %; on the coarsest mesh "
