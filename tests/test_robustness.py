@@ -358,3 +358,66 @@ def test_non_finite_coordinates(tmp_path: Path) -> None:
     mesh.points[0, 2] = np.nan
     with pytest.raises(MeshError, match="1 node"):
         mesh.check()
+
+
+def test_probe_outside_scale_zero_and_massless_blocks(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], caplog: pytest.LogCaptureFixture
+) -> None:
+    """A probe point far from the model, and a record scaled by 0, exit 2 naming the key
+    and what was expected; a probe on the model passes; a density of 0 (a massless block,
+    legitimate for a foundation) is said, not silent."""
+    p = model(tmp_path)
+    text = p.read_text()
+    p.write_text(text + "probes = { far = [50.0, 0.5] }\n")
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "output.probes.far: the point [50.0, 0.5] lies 48 m from the nearest node" in err
+    p.write_text(text + "probes = { near = [2.05, 1.0] }\n")
+    assert main(["check", str(p)]) == 0
+    capsys.readouterr()
+    np.savetxt(tmp_path / "rec.csv", np.c_[[0.0, 0.1], [0.0, 1.0]], delimiter=",")
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\nscale = 0.0\n')
+    assert main(["check", str(p)]) == 2
+    assert "ground_motion[0].scale: a scale of 0 removes the record" in capsys.readouterr().err
+    p.write_text(text.replace("rho = 2000.0", "rho = 0.0"))
+    assert main(["check", str(p)]) == 0
+    assert "materials.rock.rho = 0: the blocks all are massless" in caplog.text
+
+
+def test_last_paraview_frame_is_the_final_time(tmp_path: Path) -> None:
+    """Fields every 4th row of a 0.1 s run at 0.01 s (rows 0, 4, 8): the final frame is
+    added, at t = 0.1 s, and equals the last state (read back by meshio from the XDMF of a
+    single-cell-type mesh)."""
+    import meshio
+
+    p = model(tmp_path, "duration = 0.1\ndt = 0.01")
+    p.write_text(p.read_text() + "field_every = 4\n[loads]\ngravity = 9.81\n")
+    assert main(["run", str(p), "--quiet"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        tf, fields = res.fields()
+        np.testing.assert_allclose(tf, [0.0, 0.04, 0.08, 0.1], atol=1e-12)
+        assert np.abs(fields["u"][-1]).max() > 0
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "out" / "blocks.xdmf")) as r:
+        r.read_points_cells()
+        t, pd, _ = r.read_data(r.num_steps - 1)
+        assert t == pytest.approx(0.1)
+        np.testing.assert_allclose(pd["displacement"][:, :2], fields["u"][-1], rtol=1e-15)
+
+
+def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The results file says its format (1.1); a file of another major version is refused
+    with a message naming both versions (exit 2 from ``pfeie report``)."""
+    import h5py
+
+    p = model(tmp_path, "duration = 0.02\ndt = 0.01")
+    assert main(["run", str(p), "--quiet"]) == 0
+    path = tmp_path / "out" / "results.h5"
+    with Results(path) as res:
+        assert res.f.attrs["format_version"] == "1.1"
+    with h5py.File(path, "r+") as f:
+        f.attrs["format_version"] = "2.0"
+    with pytest.raises(ResultsError, match=r"format 2.0, but this pfeie .* reads format 1.x"):
+        Results(path)
+    capsys.readouterr()
+    assert main(["report", str(path)]) == 2
+    assert "results format 2.0" in capsys.readouterr().err

@@ -204,6 +204,16 @@ def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
         raise InputError("\n".join(lines)) from None
 
 
+def _largest_cell(mesh: Any) -> float:
+    """The largest cell diameter of a mesh (m): the diagonal of its bounding box."""
+    size = 0.0
+    for conn in mesh.cells.values():
+        if len(conn):
+            xyz = mesh.points[np.asarray(conn)]
+            size = max(size, float(np.linalg.norm(np.ptp(xyz, axis=1), axis=1).max()))
+    return size
+
+
 def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
@@ -322,11 +332,27 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
         records.append(rec)
     probes = {}
+    reach = _largest_cell(model.mesh)
     for name, xyz in cfg.output.probes.items():
         if len(xyz) != mesh.dim:
             raise InputError(f"{p}: output.probes.{name}: expected {mesh.dim} coordinates, "
                              f"found {xyz!r}")  # fmt: skip
-        probes[name] = model.nearest_node(list(xyz))
+        node = model.nearest_node(list(xyz))
+        gap = float(np.linalg.norm(model.mesh.points[node] - np.asarray(xyz, dtype=float)))
+        if gap > reach:
+            where = ", ".join(f"{v:.6g}" for v in model.mesh.points[node])
+            raise InputError(
+                f"{p}: output.probes.{name}: the point {list(xyz)} lies {gap:.4g} m from the "
+                f"nearest node of the mesh (node {node + 1} at [{where}]); expected a point "
+                f"of the model (its largest cell is {reach:.4g} m across)"
+            )
+        probes[name] = node
+    for mname, material in cfg.materials.items():
+        if material.rho == 0.0:
+            users = [b for b, m_ in cfg.blocks.items() if m_ == mname]
+            log.warning("%s: materials.%s.rho = 0: the blocks %s are massless (no inertia; "
+                        "a foundation usually gets a small density instead)", p, mname,
+                        ", ".join(users) or "(none)")  # fmt: skip
     if cfg.analysis.dynamic and not records and cfg.analysis.duration is None:
         raise InputError(f"{p}: analysis.duration: missing (required without ground_motion)")
     if cfg.analysis.dynamic and cfg.analysis.duration is None:

@@ -44,6 +44,11 @@ UNITS = {
     "broken": "flag", "index": "index", "direction": "1", "frame": "1",
 }  # fmt: skip
 
+#: the layout's version, major.minor: a reader refuses another major version (the layout
+#: changed incompatibly); a minor version adds groups or attributes (1.1: /checkpoint,
+#: run_key; files without the attribute are 1.0)
+FORMAT_VERSION = "1.1"
+
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
 
@@ -74,6 +79,7 @@ class ResultsWriter:
         self.field_every, self.flush_s = max(int(field_every), 1), flush_s
         self.rows = 0
         self._buf: list[dict[str, Any]] = []
+        self._last: tuple[float, dict[str, Any]] | None = None
         self._last_flush = time.perf_counter()
         model = job.model
         d = model.dim
@@ -82,7 +88,8 @@ class ResultsWriter:
         settings = an.model_dump()
         settings["beta"], settings["gamma"], settings["alpha"] = an.newmark()
         f.attrs.update(
-            pfeie_version=__version__, model_file=str(job.path), model_sha256=job.digest,
+            pfeie_version=__version__, format_version=FORMAT_VERSION,
+            model_file=str(job.path), model_sha256=job.digest,
             form=an.form, completed=False, stop_reason="",
             model_summary=json.dumps(job.summary(), default=str),
             analysis=json.dumps(settings), units=json.dumps(UNITS),
@@ -145,6 +152,7 @@ class ResultsWriter:
         self.field_every, self.flush_s = max(int(job.output.field_every), 1), flush_s
         self.rows = int(rows)
         self._buf = []
+        self._last = None
         self._last_flush = time.perf_counter()
         return self
 
@@ -192,6 +200,9 @@ class ResultsWriter:
                 for k, v in row.items() if k not in ("u", "v", "a")}  # fmt: skip
         if self.rows % self.field_every == 0:
             keep["fields"] = {k: np.array(row[k], copy=True) for k in ("u", "v", "a")}
+            self._last = None
+        else:  # the fields of the last row are written at the end (the final frame)
+            self._last = (row["t"], {k: row[k] for k in ("u", "v", "a")})
         self._buf.append(keep)
         self.rows += 1
         now = time.perf_counter()
@@ -221,8 +232,16 @@ class ResultsWriter:
 
     def close(self, completed: bool, reason: str | None = None,
               summary: dict[str, Any] | None = None) -> None:  # fmt: skip
-        """Mark the file completed (or not, with the reason) and close it."""
+        """Write the fields of the last row if they are not on disk yet (the final frame
+        of the ParaView series is the final time), mark the file completed (or not, with
+        the reason) and close it."""
         self.flush()
+        if self._last is not None:
+            t, fl = self._last
+            self._extend(self.f["fields/time"], [t])
+            for key in ("u", "v", "a"):
+                self._extend(self.f[f"fields/{key}"], [fl[key]])
+            self._last = None
         self.f.attrs["completed"] = bool(completed)
         self.f.attrs["stop_reason"] = reason or ""
         if summary is not None:
@@ -257,6 +276,15 @@ class Results:
             self.f.close()
             raise ResultsError(f"{self.path}: not a pfeie results file ({what}; it lacks "
                                f"{', '.join(lacks)})")  # fmt: skip
+        version = str(self.f.attrs.get("format_version", "1.0"))
+        if version.split(".")[0] != FORMAT_VERSION.split(".")[0]:
+            writer = str(self.f.attrs.get("pfeie_version", "?"))
+            self.f.close()
+            raise ResultsError(
+                f"{self.path}: results format {version}, but this pfeie ({__version__}) reads "
+                f"format {FORMAT_VERSION.split('.')[0]}.x; use the pfeie that wrote it "
+                f"({writer}) or run the model again"
+            )
 
     def close(self) -> None:
         self.f.close()

@@ -48,6 +48,13 @@ class Expect:
 
 _CONFIG = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
+
+def _nonzero(v: float) -> float:
+    if v == 0.0:
+        raise ValueError("a scale of 0 removes the record; expected a non-zero number")
+    return v
+
+
 Vector = Annotated[list[float], Field(min_length=2, max_length=3),
                    Expect("an array of 2 to 3 numbers")]  # fmt: skip
 Angle = Annotated[float, Field(ge=0.0, lt=90.0), Expect("an angle in [0, 90) degrees")]
@@ -233,7 +240,11 @@ class GroundMotionRecord(_Table):
         Field(description="units of the record: 'g', 'm/s2' or 'cm/s2' (AT2: g)"),
     ] = None
     dt: Annotated[Positive | None, Field(description="time step of a one-column record (s)")] = None
-    scale: Annotated[float, Field(description="scale factor")] = 1.0
+    scale: Annotated[
+        float,
+        Field(description="scale factor (not 0; negative flips the record)"),
+        AfterValidator(_nonzero),
+    ] = 1.0
     component: Annotated[
         Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")
     ] = "x"
