@@ -1,5 +1,5 @@
-"""Property-based fuzzing (Hypothesis) of the model-file loader, the mesh reader and the
-record readers:
+"""Property-based fuzzing (Hypothesis) of the model-file loader, the mesh reader, the
+record readers and the command line (random subcommands, options and values):
 every input ends in success or in pfeie's typed error (:class:`PfeieError`, exit 2 with a
 ``pfeie: error`` line through the command line), never in another exception.
 
@@ -256,6 +256,59 @@ def _mesh_case(budget: settings) -> Callable[[], None]:
     return case  # type: ignore[no-any-return]
 
 
+_TOKENS = st.sampled_from([
+    "--duration", "--dt", "--set", "--quiet", "--resume", "--out", "--csv", "--json", "-o",
+    "-v", "--help", "0", "-1", "nan", "inf", "1e400", "0.05", "1e-9", "analysis.dt=0.02",
+    "analysis.dt=-1", "analysis=1", "x", "", "=", "MODEL", "RESULTS", "none.toml", "none.h5",
+    "out2", "/", "a\x00b",
+])  # fmt: skip
+
+
+def _cli_case(budget: settings) -> Callable[..., None]:
+    @budget
+    @given(command=st.sampled_from(["run", "check", "plot", "report", "export", "schema", "zz"]),
+           rest=st.lists(_TOKENS, max_size=5))  # fmt: skip
+    def case(command: str, rest: list[str], cli_dir: tuple[Path, Path]) -> None:
+        """``pfeie COMMAND ...`` with random options and values (the model file, a results
+        file, missing files, bad numbers): exit 0, 1 or 2 (argparse's own exit 2
+        included), never another exception."""
+        model, results = cli_dir
+        argv = [command] + [{"MODEL": str(model), "RESULTS": str(results)}.get(t, t)
+                            for t in rest]  # fmt: skip
+        if command in ("run", "check") and "MODEL" not in rest:
+            argv.insert(1, str(model))
+        out, err = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(argv)
+            except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
+                code = exc.code if isinstance(exc.code, int) else 2
+        assert code in (0, 1, 2), (argv, code, err.getvalue())
+        if code == 2 and "usage:" not in err.getvalue():
+            assert "pfeie: error" in err.getvalue(), (argv, err.getvalue())
+        assert "Traceback" not in err.getvalue()
+
+    return case  # type: ignore[no-any-return]
+
+
+@pytest.fixture(scope="module")
+def cli_dir(base: Path) -> tuple[Path, Path]:
+    """The fuzz model (a short run) and a results file of it."""
+    d = base.parent
+    text = base.read_text().replace("dt = 0.01", "dt = 0.05\nduration = 0.1")
+    model = d / "cli.toml"
+    model.write_text(text.replace('folder = "out"', 'folder = "cli_out"'))
+    assert main(["run", str(model), "--quiet"]) == 0
+    return model, d / "cli_out" / "results.h5"
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)  # --out and -o with relative paths write here
+
+
+test_cli_fuzz = _cli_case(settings(FAST, max_examples=25))
+test_cli_fuzz_long = pytest.mark.slow(_cli_case(settings(LONG, max_examples=400)))
 test_model_file_fuzz = _model_file_case(FAST)
 test_mesh_fuzz = _mesh_case(FAST)
 test_mesh_fuzz_long = pytest.mark.slow(_mesh_case(LONG))

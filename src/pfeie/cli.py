@@ -224,7 +224,7 @@ def _post(args: argparse.Namespace) -> int:
         if args.command == "plot":
             from .plot import plot_all
 
-            out = Path(args.out) if args.out else Path(args.results).with_name("figures")
+            out = Path(args.out) if args.out else Path(args.results).parent / "figures"
             files = plot_all(args.results, out)
         elif args.command == "export":
             from .io import export_csv

@@ -58,7 +58,7 @@ def static_joint_table(res: Results) -> list[dict[str, Any]]:
 def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     """Write ``report.html`` beside the results file (or at ``out``); figures embedded."""
     rpath = Path(results)
-    target = Path(out) if out is not None else rpath.with_name("report.html")
+    target = Path(out) if out is not None else rpath.parent / "report.html"
     with Results(rpath) as res:  # a file that is not a results file is refused first
         meta = res.meta
         summ = meta["model_summary"]
