@@ -87,6 +87,13 @@ def test_small_model_runs_and_writes_results(
         assert res.meta["model_sha256"] == load_job(p).digest
     s = json.loads((out / "summary.json").read_text())
     assert s["joints"]["joint"]["residual_slip_max_m"] < 1e-3
+    # the pair solver's counters: every step iterates at least once, and the worst final
+    # residual is within the solver's tolerance (1e-8)
+    with Results(out / "results.h5") as res:
+        it = np.asarray(res.f["history/solver/iterations"])
+        assert it.shape == res.time.shape and it[1:].min() >= 1
+    assert s["solver"]["worst_residual"] <= 1e-8 and s["solver"]["fallback_steps"] >= 0
+    assert s["solver"]["iterations_mean"] >= 1.0
     assert "joint joint" in capsys.readouterr().out
 
 

@@ -221,6 +221,13 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             }
     s["joints"] = joints
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
+    if res.solver:
+        fb, it = res.solver["fallbacks"], res.solver["iterations"]
+        s["solver"] = {
+            "fallback_steps": int(np.count_nonzero(fb)),
+            "iterations_mean": round(float(it[1:].mean()) if it.size > 1 else 0.0, 2),
+            "worst_residual": float(res.solver["residual"].max(initial=0.0)),
+        }
     return s
 
 
@@ -253,6 +260,13 @@ def format_summary(s: dict[str, Any]) -> str:
         lines.append(
             f"  energy       friction/contact {e.get('interface', 0):.4g} J, damping "
             f"{e.get('damping', 0):.4g} J, balance {e.get('balance', 0):.2e} J"
+        )
+    if "solver" in s:
+        sv = s["solver"]
+        lines.append(
+            f"  pair solver  {sv['iterations_mean']:.1f} iterations a step; "
+            f"{sv['fallback_steps']} step(s) needed a fallback; worst residual "
+            f"{sv['worst_residual']:.1e}"
         )
     if "wall_time_s" in s:
         lines.append(f"  wall time    {s['wall_time_s']:.1f} s")

@@ -25,10 +25,11 @@ from ._delassus import (
 )  # fmt: skip
 from ._operators import PairOperator, relative_operator
 from ._static import StaticInterfaceProblem, floating_modes, pins
-from ._step import InterfaceStep, StepSolution
+from ._step import InterfaceStep, SolveStats, StepSolution
 
 __all__ = [
     "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep",
-    "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "StaticInterfaceProblem",
-    "StepSolution", "delassus", "floating_modes", "pins", "relative_operator",
+    "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "SolveStats",
+    "StaticInterfaceProblem", "StepSolution", "delassus", "floating_modes", "pins",
+    "relative_operator",
 ]  # fmt: skip

@@ -29,6 +29,22 @@ from ._operators import PairOperator
 
 
 @dataclass
+class SolveStats:
+    """What the pair problems of one time step cost: solver iterations, the solves that
+    needed a fallback (semismooth Newton or projected Gauss-Seidel after the state
+    iteration), and the worst final residual (scaled, as the solver's tolerance)."""
+
+    iterations: int = 0
+    fallbacks: int = 0
+    residual: float = 0.0
+    solves: int = 0
+
+    def reset(self) -> None:
+        self.iterations = self.fallbacks = self.solves = 0
+        self.residual = 0.0
+
+
+@dataclass
 class StepSolution:
     """The trial pair state of the step and the block correction Δu = s K̂⁻¹ Gᵀ X."""
 
@@ -63,6 +79,7 @@ class InterfaceStep:
         self.laws, self.scale = laws, float(scale)
         self.settings = SolverSettings() if settings is None else settings
         self.regularize = regularize
+        self.stats = SolveStats()  # shared with the problems made by with_laws
         self.update(op, W)
 
     def update(self, op: PairOperator, W: Delassus) -> None:
@@ -182,6 +199,12 @@ class InterfaceStep:
             trial.s[:, -1] += self.laws.gap
             trial.w = trial.s - self.laws.compliance * trial.X
             trial.w[:, -1] -= self.laws.gap
+        info = self._last.last
+        st = self.stats
+        st.iterations += info.iterations
+        st.fallbacks += info.method != "state iteration"
+        st.residual = max(st.residual, info.residual)
+        st.solves += 1
         if not correct:
             return StepSolution(trial, np.zeros(0))
         du = self.W.correct(trial.X.ravel() * self.scale)
@@ -193,4 +216,4 @@ class InterfaceStep:
         return self._last.last.iterations
 
 
-__all__ = ["InterfaceStep", "StepSolution"]
+__all__ = ["InterfaceStep", "SolveStats", "StepSolution"]

@@ -707,7 +707,13 @@ class Dynamic:
                        origin=None if resume is None else resume.origin)  # fmt: skip
         if resume is not None:
             rec.account.acc.update(resume.energy)
+        # the cost of the pair problems of every step: iterations, solves that needed a
+        # fallback, the worst residual (also summed per recorded row for the results file)
         iters = np.zeros(n + 1, dtype=np.int32)
+        falls = np.zeros(n + 1, dtype=np.int32)
+        resid = np.zeros(n + 1)
+        stats = self.istep.stats if m and self.istep is not None else None
+        since = [0, 0, 0.0]
         if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
         rec.record(0, cur, emit=resume is None)
@@ -721,6 +727,8 @@ class Dynamic:
                 on_checkpoint(rec.checkpoint(cur, row0 + j))
 
         for i in range(1, n + 1):
+            if stats is not None:
+                stats.reset()
             try:
                 nxt = self.step(cur, ex)
             except InterfaceError as exc:
@@ -732,13 +740,16 @@ class Dynamic:
                     checkpoint()
                 break
             rec.account.add_step(cur, nxt)
-            if m and self.istep is not None:
-                iters[i] = self.istep.iterations
+            if stats is not None:
+                iters[i], falls[i], resid[i] = stats.iterations, stats.fallbacks, stats.residual
+                since = [since[0] + stats.iterations, since[1] + stats.fallbacks,
+                         max(since[2], stats.residual)]  # fmt: skip
             cur = nxt
             on_grid = cur.step % every == 0
             if on_grid:
                 j += 1
-                rec.record(j, cur)
+                rec.record(j, cur, solver=since)
+                since = [0, 0, 0.0]
             stop: str | None = None
             if callback is not None:
                 try:
@@ -751,13 +762,15 @@ class Dynamic:
                 completed, reason = False, stop
                 if not on_grid:
                     j += 1
-                    rec.record(j, cur)
+                    rec.record(j, cur, solver=since)
                 checkpoint()
                 break
             if on_grid:
                 checkpoint()
         wall = _time.perf_counter() - t_wall
-        return rec.result(j + 1, cur, iters, wall, completed, reason)
+        solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
+                                         "residual": resid}  # fmt: skip
+        return rec.result(j + 1, cur, iters, wall, completed, reason, solver)
 
 
 __all__ = ["Checkpoint", "Dynamic", "RunStopped", "StepState"]

@@ -79,6 +79,7 @@ class DynamicResult:
     completed: bool = True
     pair_area: FloatArray = field(default_factory=lambda: np.zeros(0))
     stop_reason: str | None = None
+    solver: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -214,9 +215,11 @@ class Recorder:
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
 
-    def record(self, i: int, st: StepState, emit: bool = True) -> None:
+    def record(self, i: int, st: StepState, emit: bool = True,
+               solver: list[Any] | None = None) -> None:  # fmt: skip
         """Row i of the histories from the state ``st``; ``emit`` False keeps it from
-        ``on_record`` (the row a resumed run starts from is already on disk)."""
+        ``on_record`` (the row a resumed run starts from is already on disk); ``solver``
+        the pair problems' iterations, fallbacks and worst residual since the last row."""
         an, ex, probes, d, m = self.an, self.ex, self.probes, self.an.d, self.an.m
         system = an.system
         k = st.kin
@@ -258,6 +261,7 @@ class Recorder:
                 "w": st.pairs.w, "s": st.pairs.s, "state": st.pairs.state,
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
                 "a": full_a.reshape(-1, d),
+                "solver": [0, 0, 0.0] if solver is None else list(solver),
             })  # fmt: skip
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
@@ -270,7 +274,7 @@ class Recorder:
 
     def result(
         self, rows: int, final: StepState, iterations: np.ndarray, wall: float,
-        completed: bool, reason: str | None,
+        completed: bool, reason: str | None, solver: dict[str, np.ndarray] | None = None,
     ) -> DynamicResult:  # fmt: skip
         """The histories of the first ``rows`` rows."""
         keep = slice(0, rows)
@@ -285,6 +289,7 @@ class Recorder:
             self.paa[keep], self.rigid[keep], self.X[keep], self.w[keep], self.s[keep],
             self.state[keep], self.broken[keep], {k: v[keep] for k, v in E.items()}, final,
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
+            solver or {},
         )  # fmt: skip
 
 

@@ -413,7 +413,9 @@ class InterfaceSolver:
                 break
             key = new.state.tobytes() + new.broken.tobytes()
             if self.d == 3:
-                key += np.round(new.slip_dir[new.state == SLIDE], 6).tobytes()
+                # the same resolution as the settle test above (1e-9), so that directions
+                # still turning are not taken for a cycle
+                key += np.round(new.slip_dir[new.state == SLIDE], 9).tobytes()
             history.append(new.state.copy())
             if key in seen:
                 log.debug("%s: pair states cycle after %d iterations", label, it)

@@ -15,7 +15,9 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
 - ``/history``: ``time`` (n_t), ``probes/{u,v,a,a_abs}`` (n_t, k, d) with attributes
   ``names`` and ``nodes``, ``rigid`` (n_t, n_bodies, 3 or 6), ``pairs/{X,w,s}``
   (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
-  ``pairs/broken``, ``energy/<term>`` (n_t);
+  ``pairs/broken``, ``energy/<term>`` (n_t), ``solver/{iterations,fallbacks,residual}``
+  (n_t: the pair problems' iterations and solves that needed a fallback since the
+  previous row, and their worst final residual);
 - ``/fields``: ``time`` (n_f) and ``u``, ``v``, ``a`` (n_f, n, d) every ``field_every``-th
   recorded step.
 
@@ -133,6 +135,10 @@ class ResultsWriter:
             self._grow(hp, key, (m, d), UNITS[key])
         self._grow(hp, "state", (m,), "code", np.int8)
         self._grow(hp, "broken", (m,), "flag", np.bool_)
+        hs = h.create_group("solver")
+        self._grow(hs, "iterations", (), "count", np.int64)
+        self._grow(hs, "fallbacks", (), "count", np.int64)
+        self._grow(hs, "residual", (), "1")
         he = h.create_group("energy")
         for key in ("kinetic", "strain", "external_work", "damping", "interface", "impact",
                     "algorithmic", "correction", "balance"):  # fmt: skip
@@ -220,6 +226,10 @@ class ResultsWriter:
             if buf[0]["X"].size:
                 for key in ("X", "w", "s", "state", "broken"):
                     self._extend(f[f"history/pairs/{key}"], [r[key] for r in buf])
+            if "solver" in f["history"]:
+                for k, key in enumerate(("iterations", "fallbacks", "residual")):
+                    self._extend(f[f"history/solver/{key}"],
+                                 [r.get("solver", [0, 0, 0.0])[k] for r in buf])  # fmt: skip
             for key in buf[0]["energy"]:
                 self._extend(f[f"history/energy/{key}"], [r["energy"][key] for r in buf])
             fr = [r for r in buf if "fields" in r]
