@@ -189,8 +189,8 @@ def test_large_rotation_key_runs_the_body_frames(
 ) -> None:
     """``analysis.large_rotation = true`` reaches the analysis (the run has body frames),
     and for the small rotations of this model (μm) its block motion equals the
-    small-displacement run's to 1e-4 of the motion (the geometric terms are of the order
-    of the rotation, 1e-6 rad)."""
+    small-displacement run's to 2e-5 of the motion (the geometric terms are of the order
+    of the rotation, 1e-6 rad; measured 2.2e-6)."""
     import pfeie._job as job_module
 
     made: list[object] = []
@@ -215,4 +215,4 @@ def test_large_rotation_key_runs_the_body_frames(
     assert made[0] is None and made[1] is not None
     scale = np.abs(runs[0]).max()
     assert scale > 1e-6
-    assert np.abs(runs[1] - runs[0]).max() < 1e-4 * scale
+    assert np.abs(runs[1] - runs[0]).max() < 2e-5 * scale

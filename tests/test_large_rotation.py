@@ -166,8 +166,8 @@ def test_rest_of_a_stack_with_turning_pair_frames() -> None:
 
 def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
     """V2a's sliding block (rotations of order 1e-6 rad): the slip with body frames
-    equals the small-displacement result (an independent computation) to 5e-9 of its value
-    (measured 7.8e-10)."""
+    equals the small-displacement result (an independent computation) to 8e-11 of its value
+    (measured 8.0e-12, on the default nonsmooth generalised-α)."""
     model = block_on_base(joint=pf.Joint(phi=float(np.degrees(np.arctan(0.2)))))
     pulse = pf.GroundMotion.from_samples([4.905, 4.905, 0.0, 0.0],
                                          time=[0.0, 0.2, 0.2 + 1e-9, 1.0])  # fmt: skip
@@ -176,7 +176,7 @@ def test_small_rotations_agree_with_the_small_displacement_analysis() -> None:
         0.6, start=static, ground=[pulse]) for lr in (False, True)]  # fmt: skip
     s0, s1 = (r.rigid[:, 1, 0] - r.rigid[0, 1, 0] for r in out)
     assert abs(s0[-1]) > 0.1
-    assert np.abs(s1 - s0).max() < 5e-9 * abs(s0[-1])
+    assert np.abs(s1 - s0).max() < 8e-11 * abs(s0[-1])
 
 
 def test_large_rotation_refuses_hht() -> None:
