@@ -92,6 +92,21 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
     probes = (tmp_path / "csv" / "probes.csv").read_text().splitlines()
     assert probes[0] == "time_s,probe,quantity,component,value,unit"
     assert len(probes) == 1 + 4 * 2 * 61  # 4 quantities × 2 components × 61 times
+    # the joint's relative displacement series: the area mean of w − w(0) from the stored
+    # pair history (an independent computation), to round-off of the CSV's 9 digits
+    import csv
+
+    with Results(path) as res:
+        pr = res.pairs("joint")
+    A = pr["area"]
+    ref = ((pr["w"][-1] - pr["w"][0]) * A[:, None]).sum(axis=0) / A.sum()
+    rows = list(csv.DictReader((tmp_path / "csv" / "joints.csv").open()))
+    for i, axis in enumerate(("t1", "n")):
+        last = [r for r in rows if r["quantity"] == f"w_{axis}_mean"][-1]
+        assert float(last["value"]) == pytest.approx(ref[i], rel=1e-8, abs=1e-15)
+    final = list(csv.DictReader((tmp_path / "csv" / "pairs_final.csv").open()))
+    assert float(final[0]["final_w_n_m"]) == pytest.approx(pr["w"][-1, 0, -1], rel=1e-8,
+                                                            abs=1e-15)  # fmt: skip
     assert main(["report", str(path), "--out", str(tmp_path / "r.html")]) == 0
     html = (tmp_path / "r.html").read_text()
     assert "<h2>Joints</h2>" in html and html.count("data:image/png;base64") == 5

@@ -1,8 +1,11 @@
 """Tidy CSV tables of a results file (one observation per row).
 
-A run with histories gives probes.csv, bodies.csv, energy.csv, joints.csv and
-pairs_final.csv; a static-only run (``analysis.dynamic = false``) gives the static state:
-nodes_static.csv (displacements) and pairs_static.csv (the pair state of every joint).
+A run with histories gives probes.csv, bodies.csv, energy.csv, joints.csv (per joint and
+time: largest and mean slip, largest opening, the area-mean relative displacement of its
+faces w_t…, w_n since the start, the shares broken, sliding and open) and pairs_final.csv
+(per pair, its final relative displacement among others); a static-only run
+(``analysis.dynamic = false``) gives the static state: nodes_static.csv (displacements)
+and pairs_static.csv (the pair state of every joint).
 """
 
 from __future__ import annotations
@@ -69,8 +72,10 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                 w.writerow(["time_s", "joint", "quantity", "value", "unit"])
                 w2 = csv.writer(fh2)
                 coords = [f"{a}_m" for a in AXES[:d]]
+                axes = [*(f"t{i + 1}" for i in range(d - 1)), "n"]
                 w2.writerow(["joint", "pair", *coords, "area_m2", "residual_slip_m",
-                             "max_opening_m", "final_state", "broken"])  # fmt: skip
+                             "max_opening_m", *(f"final_w_{a}_m" for a in axes),
+                             "final_state", "broken"])  # fmt: skip
                 for name in res.interface_names:
                     pr = res.pairs(name)
                     A = pr["area"]
@@ -83,6 +88,12 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                         ("sliding_share", "-"): ((pr["state"] == 2) * A).sum(axis=1) / A.sum(),
                         ("open_share", "-"): ((pr["state"] == 3) * A).sum(axis=1) / A.sum(),
                     }
+                    # the relative displacement of the joint's faces (side b minus side a,
+                    # local axes t…, n; n + opening), area mean, since the start of the run
+                    rel = (pr["w"] * A[None, :, None]).sum(axis=1) / A.sum()
+                    rel = rel - rel[:1]
+                    for i, a in enumerate(axes):
+                        series[(f"w_{a}_mean", "m")] = rel[:, i]
                     for (qn, unit), arr in series.items():
                         for ti, val in zip(t, arr, strict=True):
                             w.writerow([f"{ti:.6g}", name, qn, f"{val:.9g}", unit])
@@ -97,6 +108,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                                 f"{A[k]:.6g}",
                                 f"{slip[-1, k]:.9g}",
                                 f"{pr['opening'][:, k].max():.9g}",
+                                *(f"{v:.9g}" for v in pr["w"][-1, k]),
                                 names[int(pr["state"][-1, k])],
                                 int(pr["broken"][-1, k]),
                             ]
