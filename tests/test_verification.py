@@ -124,3 +124,38 @@ def test_check_arithmetic_and_unknown_case() -> None:
     with pytest.raises(Exception, match="unknown verification case"):
         run(True, ["V99"])
     assert main(["verify", "--case", "V99"]) == 2
+
+
+def test_rigid_reference_against_a_fine_time_stepping() -> None:
+    """The exact rigid-block reference (``pfeie.verification._rigid``) against an
+    independent computation: a velocity-level Coulomb time stepping of the same rigid
+    block with a step of 10 µs (a friction impulse in [−h μg, h μg] per step, first order),
+    under El Centro 1940 two-way with μ = 0.10 over the first 3 s (its slip reverses through
+    v = 0 at 1.976, 2.202, 2.353 and 2.445 s): every millisecond within 2 µm of a 29 mm peak
+    (measured 0.44 µm, the fine stepping's own error). Before the reference pushed a knot
+    where a reversal slides on at once, it read as stuck up to the next record sample there,
+    0.26 mm off at 2.22 s."""
+    import numpy as np
+
+    from pfeie.verification._cases import G, _elcentro
+    from pfeie.verification._rigid import RigidBlock
+
+    t, a = _elcentro(3.0)
+    f = 0.10 * G
+    ref = RigidBlock(t, a, f, t_end=3.0)
+    h = 1e-5
+    ts = np.arange(round(3.0 / h) + 1) * h
+    ag = np.interp(ts, t, a)
+    x, v = 0.0, 0.0
+    xs = np.zeros(ts.size)
+    drive = -0.5 * h * (ag[1:] + ag[:-1])  # the relative velocity the base adds per step
+    for i in range(ts.size - 1):
+        vf = v + drive[i]
+        vn = 0.0 if abs(vf) <= h * f else vf - np.copysign(h * f, vf)
+        x += 0.5 * h * (v + vn)
+        v = vn
+        xs[i + 1] = x
+    every_ms = slice(0, None, 100)
+    err = np.abs(ref.displacement(ts[every_ms]) - xs[every_ms])
+    assert np.abs(xs).max() > 0.025
+    assert err.max() < 2e-6, (err.max(), ts[every_ms][np.argmax(err)])

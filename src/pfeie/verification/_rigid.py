@@ -75,10 +75,12 @@ class RigidBlock:
                 if sig == 0:
                     # stuck: find when p crosses +q (or −q two-way)
                     cands = []
-                    if p0 > q * (1 + 1e-12):
-                        sig = 1
-                    elif self.two_way and p0 < -q * (1 + 1e-12):
-                        sig = -1
+                    if p0 > q * (1 + 1e-12) or (self.two_way and p0 < -q * (1 + 1e-12)):
+                        # the drive already exceeds the friction: it slides on at once (a
+                        # reversal through v = 0); the knot starts the slide, so that the
+                        # motion between here and the next knot is evaluated as sliding
+                        sig = 1 if p0 > 0 else -1
+                        self._push(ta + tau, x, v, sig)
                     else:
                         for level in [q, -q] if self.two_way else [q]:
                             cands += [r for r in _roots_in(0.0, slope, p0 - level, 1e-15, L - tau)
