@@ -115,11 +115,37 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
 
 
 def test_run_writes_everything(tmp_path: Path) -> None:
+    """The files of a run; the interfaces series (one facet type: a uniform XDMF topology)
+    reads back with meshio, its last frame at the final time, its opening equal to the
+    results file's to round-off; the HDF5 of the series is gzip-compressed."""
+    import h5py
+    import meshio
+
     p = _write(tmp_path, SMALL)
     assert main(["run", str(p), "--quiet"]) == 0
     names = {f.name for f in (tmp_path / "out").iterdir()}
     assert {"results.h5", "blocks.xdmf", "blocks.h5", "interfaces.xdmf", "interfaces.h5",
             "summary.json", "summary.txt"} <= names  # fmt: skip
+    with Results(tmp_path / "out" / "results.h5") as res:
+        t_end, opening = res.time[-1], res.pairs()["opening"][-1]
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "out" / "interfaces.xdmf")) as r:
+        _, cells = r.read_points_cells()
+        assert len(cells) == 1  # one facet type (the mesh's: linear lines here)
+        t, pd, _ = r.read_data(r.num_steps - 1)
+    assert t == pytest.approx(t_end, abs=1e-12)
+    np.testing.assert_allclose(pd["opening"][: opening.size], opening, rtol=0, atol=1e-15)
+    # the repacking of a series' HDF5 file: datasets above 8 kB compressed, all equal
+    from pfeie.io._paraview import _compress
+
+    h5 = tmp_path / "series.h5"
+    big = np.tile(np.arange(3000.0), (3, 1)).T  # 72 kB
+    with h5py.File(h5, "w") as f:
+        f["data0"], f["data1"] = big, np.arange(4.0)
+    _compress(h5)
+    with h5py.File(h5, "r") as f:
+        assert f["data0"].compression == "gzip" and f["data1"].compression is None
+        np.testing.assert_array_equal(f["data0"][...], big)
+        np.testing.assert_array_equal(f["data1"][...], np.arange(4.0))
 
 
 def test_killed_run_leaves_a_readable_file(tmp_path: Path) -> None:

@@ -176,8 +176,11 @@ class ResultsWriter:
         # an empty axis (a model without probes or pairs) is left resizable: a chunk may
         # not exceed a fixed axis
         maxshape = (None, *[s if s else None for s in shape])
+        # gzip (level 4) with the byte shuffle: lossless, readable by any HDF5 reader
+        # (ParaView, h5py, MATLAB); the histories and fields shrink several-fold
         g.create_dataset(name, shape=(0, *shape), maxshape=maxshape, dtype=dtype,
-                         chunks=chunk)  # fmt: skip
+                         chunks=chunk, compression="gzip", compression_opts=4,
+                         shuffle=True)  # fmt: skip
         g[name].attrs["units"] = units
 
     @staticmethod
