@@ -216,3 +216,35 @@ def test_large_rotation_key_runs_the_body_frames(
     scale = np.abs(runs[0]).max()
     assert scale > 1e-6
     assert np.abs(runs[1] - runs[0]).max() < 2e-5 * scale
+
+
+def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``pfeie modal``: the table, modes.csv (the frequencies of :func:`pfeie.modal` on the
+    same model to round-off, effective-mass shares in [0, 1] whose running sum stays below
+    the free mass) and the ParaView series of the shapes (one frame per mode, read back
+    with meshio, each scaled to a largest displacement of 1); ``-n 0`` exits 2."""
+    import csv
+
+    import meshio
+
+    import pfeie as pf
+
+    p = _write(tmp_path, SMALL)
+    assert main(["modal", str(p), "-n", "4", "--out", str(tmp_path / "m")]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0].split()[:3] == ["mode", "f", "(Hz)"]
+    rows = list(csv.DictReader((tmp_path / "m" / "modes.csv").open()))
+    ref = pf.modal(load_job(p).model, 4).frequencies
+    f = np.array([float(r["frequency_hz"]) for r in rows])
+    np.testing.assert_allclose(f, ref, rtol=1e-8)
+    for axis in "xy":
+        share = np.array([float(r[f"share_{axis}"]) for r in rows])
+        assert np.all(share >= 0) and np.cumsum(share)[-1] <= 1 + 1e-12
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "m" / "modes.xdmf")) as r:
+        r.read_points_cells()
+        assert r.num_steps == 4
+        t, pd, _ = r.read_data(0)
+    assert t == 1.0
+    assert np.linalg.norm(pd["shape"], axis=1).max() == pytest.approx(1.0, rel=1e-12)
+    assert main(["modal", str(p), "-n", "0"]) == 2
+    assert "--modes: expected a number of modes >= 1" in capsys.readouterr().err

@@ -61,7 +61,24 @@ def _parser() -> argparse.ArgumentParser:
                          "estimated memory.")  # fmt: skip
     chk.add_argument("model", help="model file (TOML)")
     chk.add_argument("--json", action="store_true", help="print the summary as JSON")
-    for p in (run, chk):
+    mod = sub.add_parser(
+        "modal", help="natural frequencies, effective modal masses and mode shapes",
+        description="Modal analysis of a model file with its joints bonded (default) or "
+        "free: prints mode, frequency, period and the effective modal mass along each axis "
+        "(share of the free mass, and cumulative); writes modes.csv and the mode shapes as "
+        "a ParaView series (modes.xdmf, one frame per mode) to the output folder.",
+    )  # fmt: skip
+    mod.add_argument("model", help="model file (TOML)")
+    mod.add_argument("-n", "--modes", type=int, default=10, metavar="N",
+                     help="number of modes (default 10)")  # fmt: skip
+    mod.add_argument(
+        "--interfaces",
+        choices=["bonded", "free"],
+        default="bonded",
+        help="joints bonded (default) or free (their springs, if any, ignored)",
+    )
+    mod.add_argument("--out", metavar="DIR", help="output folder (default: output.folder)")
+    for p in (run, chk, mod):
         p.add_argument("--duration", metavar="T", help="duration (s), instead of "
                        "analysis.duration (> 0)")  # fmt: skip
         p.add_argument("--dt", metavar="DT", help="time step (s), instead of analysis.dt (> 0)")
@@ -130,6 +147,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except PfeieError as exc:
         print(f"pfeie: error: {args.model}: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    if args.command == "modal":
+        return _modal(args, job)
     if args.command == "check":
         s = job.summary()
         if args.json:
@@ -237,6 +256,45 @@ def _post(args: argparse.Namespace) -> int:
     except PfeieError as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    for f in files:
+        print(f)
+    return EXIT_OK
+
+
+def _modal(args: argparse.Namespace, job: object) -> int:
+    """``pfeie modal``: the table, modes.csv and the ParaView series of the mode shapes."""
+    from pathlib import Path
+
+    import numpy as np
+
+    from .io import output_folder, write_modes
+    from .solvers import modal
+
+    model = job.model  # type: ignore[attr-defined]
+    if not args.modes >= 1:
+        print(f"pfeie: error: --modes: expected a number of modes >= 1, got {args.modes}",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_INPUT
+    try:
+        res = modal(model, args.modes, interfaces=args.interfaces)
+        folder = output_folder(Path(args.out) if args.out else job.folder,  # type: ignore[attr-defined]
+                               "--out" if args.out else "output.folder")  # fmt: skip
+        files = write_modes(res, model, folder)
+    except PfeieError as exc:
+        print(f"pfeie: error: {args.model}: modal: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    axes = "xyz"[: model.dim]
+    total = res.total_mass
+    head = (f"{'mode':>4} {'f (Hz)':>10} {'T (s)':>9} "
+            + " ".join(f"{'m_' + a + ' %':>8} {'cum %':>7}" for a in axes))  # fmt: skip
+    print(head)
+    print("-" * len(head))
+    cum = np.cumsum(res.effective_mass, axis=0)
+    for k, f in enumerate(res.frequencies):
+        cols = " ".join(f"{100 * res.effective_mass[k, i] / max(total[i], 1e-300):>8.2f} "
+                        f"{100 * cum[k, i] / max(total[i], 1e-300):>7.2f}"
+                        for i in range(model.dim))  # fmt: skip
+        print(f"{k + 1:>4} {f:>10.4f} {1 / f:>9.4f} {cols}")
     for f in files:
         print(f)
     return EXIT_OK

@@ -16,7 +16,7 @@ from ._modelfile import (
     reference_markdown,
     reference_rows,
 )
-from ._paraview import write_paraview
+from ._paraview import write_modes, write_paraview
 from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
 
@@ -44,5 +44,6 @@ __all__ = [
     "reopen_results",
     "run_key",
     "write_at2",
+    "write_modes",
     "write_paraview",
 ]  # fmt: skip

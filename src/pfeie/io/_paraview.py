@@ -76,6 +76,43 @@ def write_paraview(results: str | Path, model: Any, folder: str | Path) -> list[
     return written
 
 
+def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
+    """The mode shapes of a :class:`~pfeie.solvers.ModalResult` as a ParaView series
+    (``modes.xdmf``: one frame per mode, "time" = the mode number; point data ``shape``,
+    scaled to a largest displacement of 1, and cell data ``body``) and ``modes.csv``
+    (mode, frequency (Hz), period (s), effective modal mass (kg) and its share of the free
+    mass along each axis)."""
+    try:
+        from meshio.xdmf import TimeSeriesWriter
+    except ImportError:  # pragma: no cover
+        raise PfeieError("ParaView output needs meshio: pip install 'pfeie[io]'") from None
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    mesh = model.mesh
+    cells = [(t, c) for t, c in mesh.cells.items()]
+    cell_body = [model.body_of_node[c[:, 0]] for _, c in cells]
+    path = out / "modes.xdmf"
+    with contextlib.chdir(out), TimeSeriesWriter(path.name) as w:
+        w.write_points_cells(mesh.points, cells)
+        for k, shape in enumerate(result.shapes):
+            peak = float(np.linalg.norm(shape, axis=1).max())
+            w.write_data(float(k + 1), point_data={"shape": _pad3(shape / max(peak, 1e-300))},
+                         cell_data={"body": cell_body})  # fmt: skip
+    _compress(out / "modes.h5")
+    axes = "xyz"[: mesh.dim]
+    csv_path = out / "modes.csv"
+    total = np.asarray(result.total_mass)
+    rows = ["mode,frequency_hz,period_s," + ",".join(
+        f"mass_{a}_kg,share_{a}" for a in axes)]  # fmt: skip
+    for k, f in enumerate(result.frequencies):
+        me = result.effective_mass[k]
+        share = me / np.maximum(total, 1e-300) if total.size else np.full(me.shape, np.nan)
+        rows.append(f"{k + 1},{f:.9g},{1 / f:.9g}," + ",".join(
+            f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
+    csv_path.write_text("\n".join(rows) + "\n")
+    return [path, csv_path]
+
+
 def _compress(path: Path) -> None:
     """Rewrite the HDF5 file that meshio wrote (uncompressed) with gzip and the byte
     shuffle, dataset for dataset under the same names, so that the XDMF still points at

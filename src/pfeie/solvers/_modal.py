@@ -12,7 +12,7 @@ floating blocks then have zero frequencies).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -29,11 +29,12 @@ from ..typing import FloatArray
 class ModalResult:
     """Natural frequencies (Hz), mass-normalised mode shapes (n_modes, n_points, dim),
     and effective modal masses (n_modes, dim) in kg for unit ground motion along each
-    axis (Σ over all modes = the free mass)."""
+    axis (Σ over all modes = the free mass, ``total_mass`` (dim,) kg)."""
 
     frequencies: FloatArray
     shapes: FloatArray
     effective_mass: FloatArray
+    total_mass: FloatArray = field(default_factory=lambda: np.zeros(0))  # (dim,) kg
 
     @property
     def periods(self) -> FloatArray:
@@ -97,7 +98,8 @@ def modal(
         influence[i::d, i] = 1.0
     iota = influence[system.free]
     gamma = vec.T @ (M @ iota)  # participation factors (n_modes, d), φ mass-normalised
-    return ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2)
+    total = np.einsum("ik,ik->k", iota, M @ iota)  # the free mass along each axis
+    return ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total)
 
 
 def _bond(model: Model, free: np.ndarray, K: sp.spmatrix) -> tuple[sp.csr_matrix, sp.spmatrix]:
