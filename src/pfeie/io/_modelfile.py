@@ -311,6 +311,16 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
             except ModelError as exc:
                 raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
+    for i, wg in enumerate(loads.westergaard):
+        for g in wg.groups:
+            if g not in model.mesh.facet_groups:
+                raise InputError(_group_msg(p, f"loads.westergaard[{i}].groups", g, model.mesh,
+                                            mesh.dim - 1))  # fmt: skip
+        try:
+            model.add_westergaard(wg.groups, wg.water_level, bottom=wg.bottom,
+                                  density=wg.density)  # fmt: skip
+        except ModelError as exc:
+            raise InputError(f"{p}: loads.westergaard[{i}]: {exc}") from None
     records = []
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:

@@ -212,6 +212,20 @@ class Hydrostatic(_Table):
     density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
 
 
+class Westergaard(_Table):
+    """``[[loads.westergaard]]``: the reservoir's added mass on wet faces."""
+
+    groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      Field(description="physical groups of the wet faces of the dam")]  # fmt: skip
+    water_level: Annotated[float, Field(description="water level (m, on the vertical axis)")]
+    bottom: Annotated[
+        float | None,
+        Field(description="elevation of the reservoir bottom (m); default the lowest point "
+              "of the wet faces"),
+    ] = None  # fmt: skip
+    density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
+
+
 class Loads(_Table):
     """``[loads]``: gravity, pressures, water."""
 
@@ -225,6 +239,11 @@ class Loads(_Table):
     hydrostatic: Annotated[
         list[Hydrostatic], Field(description="hydrostatic pressure ρ_w g (level − z)⁺ on faces")
     ] = []
+    westergaard: Annotated[
+        list[Westergaard],
+        Field(description="Westergaard's added mass 7/8 ρ_w √(H (level − z)) of the reservoir "
+              "on the wet faces, along their normal"),
+    ] = []  # fmt: skip
 
 
 class GroundMotionRecord(_Table):
