@@ -105,3 +105,25 @@ def test_resume_refuses_other_inputs(tmp_path: Path, capsys: pytest.CaptureFixtu
     err = capsys.readouterr().err
     assert "pfeie: error: " in err and "results.h5: cannot resume" in err, err
     assert main(["run", str(p), "--quiet", "--resume"]) == 0  # same inputs: nothing to do
+
+
+def test_one_run_per_output_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A run holds a lock on its output folder: a second run while the first is alive
+    exits 2 naming the other run's process; a lock left by a process that is gone (a
+    killed run) is taken over; the lock is removed at the end of a run."""
+    import os
+    import subprocess
+    import sys
+
+    p = _write(tmp_path, SMALL, duration=0.05)
+    (tmp_path / "out").mkdir()
+    lock = tmp_path / "out" / ".pfeie-run.lock"
+    lock.write_text(f"{os.getpid()}\nother.toml\n")  # this process: alive
+    assert main(["run", str(p), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert f"another pfeie run (pid {os.getpid()}, model other.toml)" in err
+    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True).stdout.strip()  # fmt: skip
+    lock.write_text(f"{gone}\nkilled.toml\n")
+    assert main(["run", str(p), "--quiet", "--set", "output.checkpoint_seconds=0"]) == 0
+    assert not lock.exists()

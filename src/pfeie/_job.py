@@ -85,14 +85,59 @@ class Progress:
 
 def run_job(
     job: Job, *, progress: bool = True, duration: float | None = None,
-    stream: TextIO | None = None, resume: bool = False, checkpoint_s: float = 30.0,
+    stream: TextIO | None = None, resume: bool = False, checkpoint_s: float | None = None,
 ) -> dict[str, Any]:  # fmt: skip
     """Run a validated model file; returns the results summary (also written to disk).
 
-    A checkpoint is written to the results file every ``checkpoint_s`` seconds and at the
-    end (:mod:`pfeie.io._checkpoint`); ``resume`` continues a stopped run from it (or
-    extends a completed one to a longer duration)."""
+    A checkpoint is written to the results file every ``checkpoint_s`` seconds (default
+    ``output.checkpoint_seconds``) and at the end (:mod:`pfeie.io._checkpoint`);
+    ``resume`` continues a stopped run from it (or extends a completed one to a longer
+    duration). One run at a time writes to an output folder (a lock file with its process
+    id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
+    with _FolderLock(out, job.path):
+        return _run(job, out, progress, duration, stream, resume, checkpoint_s)
+
+
+class _FolderLock:
+    """One run at a time per output folder: a lock file with the process id, created
+    exclusively; a lock whose process is gone is taken over."""
+
+    def __init__(self, folder: Path, model: Path) -> None:
+        self.path, self.model = folder / ".pfeie-run.lock", model
+
+    def __enter__(self) -> _FolderLock:
+        import os
+
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                text = self.path.read_text(errors="replace").split("\n")
+                try:
+                    pid = int(text[0])
+                    os.kill(pid, 0)
+                except (ValueError, ProcessLookupError, PermissionError):
+                    self.path.unlink(missing_ok=True)  # stale: its run is gone
+                    continue
+                raise InputError(
+                    f"{self.path.parent}: another pfeie run (pid {pid}, model "
+                    f"{text[1] if len(text) > 1 else '?'}) writes to this output folder; wait "
+                    "for it to end, or choose another output.folder"
+                ) from None
+            with os.fdopen(fd, "w") as fh:
+                fh.write(f"{os.getpid()}\n{self.model}\n")
+            return self
+        raise InputError(f"{self.path}: cannot take the output folder's lock")
+
+    def __exit__(self, *exc: object) -> None:
+        self.path.unlink(missing_ok=True)
+
+
+def _run(
+    job: Job, out: Path, progress: bool, duration: float | None, stream: TextIO | None,
+    resume: bool, checkpoint_s: float | None,
+) -> dict[str, Any]:  # fmt: skip
     a = job.analysis
     model = job.model
     static: StaticResult | None = None
@@ -107,7 +152,8 @@ def run_job(
         writer, ck = reopen_results(out / "results.h5", job)
     else:
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
-    ckw = CheckpointWriter(writer, run_key(job), checkpoint_s)
+    every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
+    ckw = CheckpointWriter(writer, run_key(job), every_s)
     try:
         if a.static and ck is None:
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))

@@ -320,6 +320,11 @@ class Output(_Table):
     paraview: Annotated[
         bool, Field(description="write the ParaView series (blocks.xdmf, interfaces.xdmf)")
     ] = True
+    checkpoint_seconds: Annotated[
+        NonNegative,
+        Field(description="wall time between two checkpoints of the run in results.h5 (s; "
+              "0: at every recorded row); `pfeie run --resume` continues from the last"),
+    ] = 30.0  # fmt: skip
     probes: Annotated[
         dict[str, Vector],
         Field(description="probe point coordinates (m); the nearest node is used"),
