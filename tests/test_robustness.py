@@ -452,3 +452,25 @@ def test_3d_block_on_roller_sides_slides() -> None:
     assert np.abs(ref).max() > 0.02
     assert np.abs(y - ref).max() < 1e-2 * np.abs(ref).max()
     assert np.abs(res.rigid[:, 1, 0]).max() < 1e-15
+
+
+def test_mechanism_names_the_free_modes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A block whose supports leave rigid modes free (rollers along x only on its bottom, or
+    a 3D box on rollers): the static analysis says which body and which modes, through the
+    API and the command line (exit 1, the analysis failed)."""
+    import pfeie as pf
+
+    box = pf.box(1.0, 1.0, 1.0, 1, 1, 1)
+    m = pf.Model(box, [pf.Block("all", pf.Elastic(1e9, 0.2, 2000.0))])
+    m.fix(m.nodes_at(lambda x: x[:, 2] < 1e-9), 2)  # rollers: z only
+    m.add_gravity()
+    with pytest.raises(pf.errors.MechanismError, match=r"body 'all' can move freely \(") as exc:
+        pf.solve_static(m)
+    for mode in ("translation x", "translation y", "rotation about z"):
+        assert mode in str(exc.value)
+    assert "rotation about x" not in str(exc.value)  # the rollers hold the rocking
+    p = model(tmp_path)
+    p.write_text(p.read_text().replace('group = "bottom"', 'group = "bottom"\ncomponents = ["x"]'))
+    assert main(["run", str(p), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "body 'all' can move freely (" in err and "translation y" in err, err

@@ -587,6 +587,50 @@ class Model:
             out.append(n if names.count(n) == 1 else f"{n}#{seen[n]}")
         return out
 
+    def unrestrained_modes(self) -> str:
+        """The rigid modes that the supports leave free, per body without interface pairs,
+        as text ("body 'a+b': translation y"), or "" when every such body is held. A body
+        with pairs may be held by its joints; the static interface problem judges those."""
+        d = self.dim
+        _, pres, _ = self._dofmap
+        flat = np.zeros(self.n_dof, dtype=bool)
+        flat[pres] = True
+        fixed = flat.reshape(-1, d)
+        paired = np.zeros(self.mesh.n_points, dtype=bool)
+        if self.pairs is not None:
+            paired[self.pairs.node_a] = paired[self.pairs.node_b] = True
+        names = self.body_names()
+        labels = (["translation x", "translation y", "rotation about z"] if d == 2 else
+                  ["translation x", "translation y", "translation z", "rotation about x",
+                   "rotation about y", "rotation about z"])  # fmt: skip
+        out = []
+        for b in range(self.n_bodies):
+            nodes = np.flatnonzero(self.body_of_node == b)
+            if not nodes.size or paired[nodes].any():
+                continue
+            X = self.mesh.points[nodes] - self.mesh.points[nodes].mean(axis=0)
+            basis = np.zeros((nodes.size, d, len(labels)))
+            for i in range(d):
+                basis[:, i, i] = 1.0
+            if d == 2:
+                basis[:, 0, 2], basis[:, 1, 2] = -X[:, 1], X[:, 0]
+            else:
+                for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
+                    basis[:, i, 3 + k], basis[:, j, 3 + k] = -X[:, j], X[:, i]
+            held = basis[fixed[nodes]]  # (prescribed components, modes)
+            if held.size:
+                _, sv, vt = np.linalg.svd(held, full_matrices=True)
+                rank = int((sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)).sum())
+                null = vt[rank:]
+            else:
+                null = np.eye(len(labels))
+            if null.shape[0]:
+                modes = [" + ".join(labels[k] for k in np.flatnonzero(np.abs(v) > 1e-6))
+                         for v in null]  # fmt: skip
+                out.append(f"body {names[b]!r} can move freely ({'; '.join(modes)}): no "
+                           "support holds it and no joint ties it")  # fmt: skip
+        return "; ".join(out)
+
     @cached_property
     def body_weights(self) -> FloatArray:
         """Nodal weights (n_points,) for centroids and rigid-motion fits: the lumped mass,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
+from ..errors import MechanismError
 from ..interface import PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
@@ -56,7 +57,14 @@ def solve_static(
     f_free = system.load(t)
     d = model.dim
     if model.pairs is None:
-        u_free = factorize(system.K, spd=True, backend=backend).solve(f_free)
+        try:
+            F = factorize(system.K, spd=True, backend=backend)
+        except MechanismError as exc:
+            free = model.unrestrained_modes()
+            if not free:
+                raise
+            raise MechanismError(f"{exc}: {free}") from None
+        u_free = F.solve(f_free)
         u = system.expand(u_free)
         r = model.stiffness() @ u - model.load_vector(t)
         reactions = np.zeros_like(r)
