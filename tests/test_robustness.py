@@ -474,3 +474,25 @@ def test_mechanism_names_the_free_modes(tmp_path: Path, capsys: pytest.CaptureFi
     assert main(["run", str(p), "--quiet"]) == 1
     err = capsys.readouterr().err
     assert "body 'all' can move freely (" in err and "translation y" in err, err
+
+
+def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``pga = 0.3`` scales a record to a peak of 0.3 g (to round-off); with ``scale`` too,
+    or on a record of zeros, exit 2 naming the record."""
+    from pfeie.io import load_job
+
+    p = model(tmp_path)
+    text = p.read_text()
+    np.savetxt(tmp_path / "rec.csv", np.c_[[0.0, 0.1, 0.2], [0.0, -0.12, 0.05]], delimiter=",")
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n')
+    rec = load_job(p).records[0]
+    assert rec.pga == pytest.approx(0.3 * 9.81, rel=1e-14)
+    assert rec.acceleration[1] < 0  # the sign is kept
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n'
+                 "scale = 2.0\n")  # fmt: skip
+    assert main(["check", str(p)]) == 2
+    assert "ground_motion[0]: give either scale or pga, not both" in capsys.readouterr().err
+    np.savetxt(tmp_path / "rec.csv", np.c_[[0.0, 0.1], [0.0, 0.0]], delimiter=",")
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n')
+    assert main(["check", str(p)]) == 2
+    assert "the record is all zeros" in capsys.readouterr().err

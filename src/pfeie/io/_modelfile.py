@@ -334,10 +334,19 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 raise InputError(f"{p}: ground_motion[{i}].component: 'z' in a 2D model")
             direction = [0.0] * mesh.dim
             direction[k] = 1.0
+        if gm.pga is not None and "scale" in gm.model_fields_set:
+            raise InputError(f"{p}: ground_motion[{i}]: give either scale or pga, not both")
         try:
             rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
                               scale=gm.scale, direction=direction,
                               baseline=gm.baseline)  # fmt: skip
+            if gm.pga is not None:
+                if not rec.pga > 0:
+                    raise RecordError(f"{gm.file}: the record is all zeros; it cannot be "
+                                      f"scaled to a PGA of {gm.pga} g")  # fmt: skip
+                rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
+                                  scale=gm.pga * 9.81 / rec.pga, direction=direction,
+                                  baseline=gm.baseline)  # fmt: skip
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
         records.append(rec)

@@ -264,6 +264,11 @@ class GroundMotionRecord(_Table):
         Field(description="scale factor (not 0; negative flips the record)"),
         AfterValidator(_nonzero),
     ] = 1.0
+    pga: Annotated[
+        Positive | None,
+        Field(description="scale the record to this peak ground acceleration (g), instead of "
+              "scale"),
+    ] = None  # fmt: skip
     component: Annotated[
         Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")
     ] = "x"
