@@ -141,3 +141,19 @@ def test_block_released_above_the_joint_falls_and_lands() -> None:
         res = an.run(0.03, start=start)
         closed = np.flatnonzero(~np.all(res.state == OPEN, axis=1))
         assert abs(res.t[closed[0]] - t_land) <= 0.7 * dt
+
+
+def test_sliding_safety_factor_of_a_joint() -> None:
+    """The sliding safety factor FS = Σ(cA + μN⁺)/‖ΣT‖ of the joint of a block on a 30°
+    incline: at rest with μ = 0.6, μ/tan 30° = 1.039230 (limit equilibrium) at every
+    recorded time; sliding with μ = 0.3, exactly 1 (a sliding joint carries its capacity:
+    with joints that slide FS cannot fall below 1, the slip is the demand), to round-off
+    (5e-14; measured 6.4e-15)."""
+    theta = np.radians(30.0)
+    for mu, ref in ((0.6, 0.6 / np.tan(theta)), (0.3, 1.0)):
+        model = block_on_base(joint=pf.Joint(phi=float(np.degrees(np.arctan(mu)))),
+                              incline_deg=30.0)  # fmt: skip
+        start = pf.solve_static(model) if mu > np.tan(theta) else None
+        res = pf.Dynamic(model, 0.002).run(0.1, start=start)
+        fs = res.safety_factor[1:, 0]
+        np.testing.assert_allclose(fs, ref, rtol=5e-14)

@@ -265,6 +265,11 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "max_opening_m": float(res.opening[:, idx].max()),
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
             }
+            if res.safety_factor.size:
+                fs = res.safety_factor[:, model.pairs.names.index(name)]
+                k = int(np.argmin(fs))
+                joints[name]["min_safety_factor"] = float(fs[k])
+                joints[name]["min_safety_factor_time_s"] = float(res.t[k])
     s["joints"] = joints
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     if res.solver:
@@ -300,7 +305,9 @@ def format_summary(s: dict[str, Any]) -> str:
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "
             f"(mean {1e3 * j['residual_slip_mean_m']:.2f}), max opening "
             f"{1e3 * j['max_opening_m']:.2f} mm, broken {100 * j['broken_share']:.0f} %"
-        )
+            + (f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
+               if "min_safety_factor" in j else "")
+        )  # fmt: skip
     if "energy_J" in s:
         e = s["energy_J"]
         lines.append(

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..interface import OPEN
 from ..typing import FloatArray, IntArray
 from ._excitation import Excitation
 
@@ -80,6 +81,7 @@ class DynamicResult:
     pair_area: FloatArray = field(default_factory=lambda: np.zeros(0))
     stop_reason: str | None = None
     solver: dict[str, np.ndarray] = field(default_factory=dict)
+    safety_factor: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -211,6 +213,8 @@ class Recorder:
         self.rigid = np.zeros((n_out, model.n_bodies, r))
         self.X, self.w, self.s = (np.zeros((n_out, m, d)) for _ in range(3))
         self.state = np.zeros((n_out, m), dtype=np.int8)
+        n_joints = len(model.pair_laws.index) if m else 0
+        self.fs = np.full((n_out, n_joints), np.inf)  # sliding safety factor per joint
         self.broken = np.zeros((n_out, m), dtype=bool)
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
@@ -240,6 +244,10 @@ class Recorder:
         self.rigid[i] = an.rigid(full_u, R)
         if m:
             self.X[i], self.w[i], self.s[i] = st.pairs.X, st.pairs.w, st.pairs.s
+            # on the smooth pair forces (impulses of an impact aside) where the scheme has them
+            force = st.pairs.X if st.lam is None else st.lam
+            self.fs[i] = an.model.pair_laws.safety_factor(
+                force, st.pairs.state == OPEN, st.pairs.broken, st.pairs.path)
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
         E = self.E
         E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
@@ -262,6 +270,7 @@ class Recorder:
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
                 "a": full_a.reshape(-1, d),
                 "solver": [0, 0, 0.0] if solver is None else list(solver),
+                "safety_factor": self.fs[i].copy(),
             })  # fmt: skip
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
@@ -289,7 +298,7 @@ class Recorder:
             self.paa[keep], self.rigid[keep], self.X[keep], self.w[keep], self.s[keep],
             self.state[keep], self.broken[keep], {k: v[keep] for k, v in E.items()}, final,
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
-            solver or {},
+            solver or {}, self.fs[keep],
         )  # fmt: skip
 
 

@@ -278,6 +278,35 @@ class PairLaws:
         """Pairs (m,) of joints with springs (a weak layer: k_n or k_s given)."""
         return np.asarray(self.compliance.any(axis=1))
 
+    def safety_factor(
+        self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray
+    ) -> FloatArray:
+        """The sliding safety factor of each interface (n_interfaces,), the ratio of the
+        joint's shear capacity to its shear force (USACE EM 1110-2-2100; FERC Ch. III):
+
+            FS = Σ (c A + μ N⁺) / ‖Σ T‖,
+
+        over its pairs, with each pair's current strength (intact or residual, the slip
+        path for slip-dependent laws), N its normal force (compression +) and T its shear
+        force (vector sum: the joint slides as a whole); open pairs carry nothing. ∞ when
+        the joint carries no shear.
+
+        >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
+        ...                                [MohrCoulomb(phi=45.0)], 2)
+        >>> X = np.array([[30.0, 100.0], [10.0, 100.0]])   # T, N of two pairs (N)
+        >>> no = np.zeros(2, dtype=bool)
+        >>> round(float(law.safety_factor(X, no, ~no, np.zeros(2))[0]), 6)  # 200/40
+        5.0
+        """
+        c, mu, _ = self.strength(broken, path)
+        cap = np.where(open_, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
+        out = np.full(len(self.index), np.inf)
+        for k, idx in enumerate(self.index):
+            shear = float(np.linalg.norm(X[idx, :-1].sum(axis=0)))
+            if shear > 0:
+                out[k] = float(cap[idx].sum()) / shear
+        return out
+
     def scaled(self, factor: float) -> PairLaws:
         """The laws seen at a rate level: the strengths (cohesion and tension forces)
         times ``factor`` (1 for forces at the acceleration level, h for step impulses at

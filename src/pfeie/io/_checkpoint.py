@@ -179,12 +179,13 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     area = np.asarray(f["pairs/area"]) if "pairs" in f else np.zeros(0)
     energy = {k: arr(f"energy/{k}") for k in h["energy"]}
     solver = {k: arr(f"solver/{k}") for k in h["solver"]} if "solver" in h else {}
+    fs = arr("joints/safety_factor") if "joints" in h else np.zeros((0, 0))
     return DynamicResult(
         t=arr("time"), probes=nodes, probe_u=arr("probes/u"), probe_v=arr("probes/v"),
         probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
         X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
-        stop_reason=reason, solver=solver,
+        stop_reason=reason, solver=solver, safety_factor=fs,
     )  # fmt: skip
 
 

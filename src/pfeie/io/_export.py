@@ -2,7 +2,8 @@
 
 A run with histories gives probes.csv, bodies.csv, energy.csv, joints.csv (per joint and
 time: largest and mean slip, largest opening, the area-mean relative displacement of its
-faces w_t…, w_n since the start, the shares broken, sliding and open) and pairs_final.csv
+faces w_t…, w_n since the start, the sliding safety factor, the shares broken, sliding and
+open) and pairs_final.csv
 (per pair, its final relative displacement among others); a static-only run
 (``analysis.dynamic = false``) gives the static state: nodes_static.csv (displacements)
 and pairs_static.csv (the pair state of every joint).
@@ -94,6 +95,9 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                     rel = rel - rel[:1]
                     for i, a in enumerate(axes):
                         series[(f"w_{a}_mean", "m")] = rel[:, i]
+                    if "history/joints/safety_factor" in res.f:
+                        fs = np.asarray(res.f["history/joints/safety_factor"][...])
+                        series[("safety_factor", "-")] = fs[:, res.interface_names.index(name)]
                     for (qn, unit), arr in series.items():
                         for ti, val in zip(t, arr, strict=True):
                             w.writerow([f"{ti:.6g}", name, qn, f"{val:.9g}", unit])

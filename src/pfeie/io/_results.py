@@ -133,6 +133,10 @@ class ResultsWriter:
         hp = h.create_group("pairs")
         for key in ("X", "w", "s"):
             self._grow(hp, key, (m, d), UNITS[key])
+        if P is not None:
+            hj = h.create_group("joints")
+            self._grow(hj, "safety_factor", (len(P.names),), "1")
+            hj.attrs["names"] = json.dumps(list(P.names))
         self._grow(hp, "state", (m,), "code", np.int8)
         self._grow(hp, "broken", (m,), "flag", np.bool_)
         hs = h.create_group("solver")
@@ -229,6 +233,9 @@ class ResultsWriter:
             if buf[0]["X"].size:
                 for key in ("X", "w", "s", "state", "broken"):
                     self._extend(f[f"history/pairs/{key}"], [r[key] for r in buf])
+            if "joints" in f["history"]:
+                self._extend(f["history/joints/safety_factor"],
+                             [r["safety_factor"] for r in buf])  # fmt: skip
             if "solver" in f["history"]:
                 for k, key in enumerate(("iterations", "fallbacks", "residual")):
                     self._extend(f[f"history/solver/{key}"],
