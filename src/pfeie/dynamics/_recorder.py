@@ -247,7 +247,8 @@ class Recorder:
             # on the smooth pair forces (impulses of an impact aside) where the scheme has them
             force = st.pairs.X if st.lam is None else st.lam
             self.fs[i] = an.model.pair_laws.safety_factor(
-                force, st.pairs.state == OPEN, st.pairs.broken, st.pairs.path)
+                force, st.pairs.state == OPEN, st.pairs.broken, st.pairs.path
+            )
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
         E = self.E
         E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
