@@ -3,10 +3,11 @@
 Besides its rows, a run writes the group ``/checkpoint`` of its results file: the full
 step state of a recorded row (displacements, velocities, accelerations, the load and the
 scheme's auxiliary acceleration on the free DOFs; every pair's state, forces, relative
-motion, slip direction and path; the smooth pair forces), the running sums of the energy
-account, the energy the balance is measured from, and the row index. It is replaced at
-most every ``interval`` seconds of wall time and at the end of the run (completed,
-stopped by Ctrl-C or SIGTERM, or by a step that failed).
+motion, slip direction and path; the smooth pair forces), the fields of the row when it
+is off the field grid (they become the final frame if the run ends there), the running
+sums of the energy account, the energy the balance is measured from, and the row index.
+It is replaced at most every ``interval`` seconds of wall time and at the end of the run
+(completed, stopped by Ctrl-C or SIGTERM, or by a step that failed).
 
 ``pfeie run --resume`` (:func:`pfeie._job.run_job` with ``resume=True``) opens the results
 file of a stopped run, checks that the inputs are the same (the *run key*: the validated
@@ -100,6 +101,9 @@ class CheckpointWriter:
             data["kin/aux"] = kin.aux
         if st.lam is not None:
             data["pairs/lam"] = st.lam
+        if w._last is not None:  # the row's fields, when it is off the field grid
+            g.attrs["last_t"] = w._last[0]
+            data.update({f"last/{k}": v for k, v in w._last[1].items()})
         for name, value in data.items():
             g.create_dataset(name, data=value)
             g[name].attrs["units"] = _UNITS[name.split("/")[1]]
@@ -162,7 +166,12 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
     except BaseException:
         f.close()
         raise
-    return ResultsWriter.reopen(f, rows, job), ck
+    writer = ResultsWriter.reopen(f, rows, job)
+    if "last" in f["checkpoint"]:  # the final frame, if the run ends at the checkpoint
+        g = f["checkpoint/last"]
+        t_last = float(f["checkpoint"].attrs["last_t"])
+        writer._last = (t_last, {k: np.asarray(g[k]) for k in ("u", "v", "a")})
+    return writer, ck
 
 
 def history(writer: ResultsWriter, completed: bool, reason: str | None) -> DynamicResult:
