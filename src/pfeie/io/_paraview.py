@@ -52,6 +52,7 @@ def write_paraview(results: str | Path, model: Any, folder: str | Path) -> list[
                     "acceleration": _pad3(fields["a"][i]), "stress": sig,
                 }, cell_data={"body": cell_body})  # fmt: skip
         _compress(out / "blocks.h5")
+        _one_grid(out / "blocks.xdmf")
         written.append(path)
         if model.pairs is not None and res.interface_names:
             path = out / "interfaces.xdmf"
@@ -72,6 +73,7 @@ def write_paraview(results: str | Path, model: Any, folder: str | Path) -> list[
                     pd = {k: _on_points(v, order) for k, v in data.items()}
                     w.write_data(float(t), point_data=pd, cell_data={"interface": cell_iface})
             _compress(out / "interfaces.h5")
+            _one_grid(out / "interfaces.xdmf")
             written.append(path)
     return written
 
@@ -99,6 +101,7 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
             w.write_data(float(k + 1), point_data={"shape": _pad3(shape / max(peak, 1e-300))},
                          cell_data={"body": cell_body})  # fmt: skip
     _compress(out / "modes.h5")
+    _one_grid(out / "modes.xdmf")
     axes = "xyz"[: mesh.dim]
     csv_path = out / "modes.csv"
     total = np.asarray(result.total_mass)
@@ -111,6 +114,39 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
             f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
     csv_path.write_text("\n".join(rows) + "\n")
     return [path, csv_path]
+
+
+def _one_grid(path: Path) -> None:
+    """Rewrite meshio's XDMF so that its only grid is the time series: meshio writes the
+    mesh as a grid of its own beside the series (ParaView shows it as a second, static
+    block) and points every frame at it with an XInclude. Here every frame carries the
+    Topology and Geometry elements themselves (they point at the same HDF5 datasets: the
+    mesh is stored once) and is marked ``GridType="Uniform"``, which meshio's reader and
+    VTK's XDMF reader both read."""
+    import copy
+    import xml.etree.ElementTree as ET
+
+    xi = "{http://www.w3.org/2003/XInclude}include"
+    tree = ET.parse(path)
+    domain = tree.getroot().find("Domain")
+    if domain is None:  # pragma: no cover - meshio always writes one
+        return
+    mesh = next((g for g in domain.findall("Grid") if g.get("Name") == "mesh"), None)
+    series = next((g for g in domain.findall("Grid") if g.get("GridType") == "Collection"),
+                  None)  # fmt: skip
+    if mesh is None or series is None:  # pragma: no cover
+        return
+    parts = [e for e in mesh if e.tag in ("Topology", "Geometry")]
+    for frame in series.findall("Grid"):
+        frame.set("GridType", "Uniform")
+        for k, inc in enumerate(e for e in list(frame) if e.tag == xi):
+            frame.remove(inc)
+            if k == 0:
+                for j, part in enumerate(parts):
+                    frame.insert(j, copy.deepcopy(part))
+    domain.remove(mesh)
+    ET.register_namespace("xi", "http://www.w3.org/2003/XInclude")
+    tree.write(path, encoding="unicode")
 
 
 def _compress(path: Path) -> None:
