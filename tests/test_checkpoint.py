@@ -57,6 +57,7 @@ def _histories(path: Path) -> dict[str, np.ndarray]:
         out["rigid"] = res.rigid(1)
         t_f, fields = res.fields()
         out["fields/time"] = t_f
+        out.update({f"envelope/{k}": v for k, v in res.envelope().items()})
         out.update({f"fields/{k}": v for k, v in fields.items()})
         assert res.completed
     return out

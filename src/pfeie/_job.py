@@ -191,11 +191,12 @@ def _run(
             result = dyn.run(n_steps=n, ground=job.records, form=a.form, start=static,
                              probes=list(job.probes.values()), every=job.output.every,
                              callback=callback, on_record=writer.append, resume=ck,
-                             on_checkpoint=ckw)  # fmt: skip
+                             on_checkpoint=ckw, envelope=job.output.envelope)  # fmt: skip
         finally:
             for s, h in old.items():
                 signal.signal(s, h)
         ckw.close()
+        writer.write_envelope(result.envelope)
         if not result.completed:
             stopped = result.stop_reason or "stopped"
         if ck is not None:  # the summary of the whole run, not of its resumed part
@@ -271,6 +272,18 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 joints[name]["min_safety_factor"] = float(fs[k])
                 joints[name]["min_safety_factor_time_s"] = float(res.t[k])
     s["joints"] = joints
+    env = res.envelope
+    if env and np.isfinite(env["node_max"]).any():
+        pts = model.mesh.points
+        hi, lo = int(np.nanargmax(env["node_max"])), int(np.nanargmin(env["node_min"]))
+        s["stress"] = {
+            "max_principal_Pa": float(env["node_max"][hi]),
+            "max_principal_at_m": pts[hi].round(4).tolist(),
+            "max_principal_time_s": float(env["node_max_time"][hi]),
+            "min_principal_Pa": float(env["node_min"][lo]),
+            "min_principal_at_m": pts[lo].round(4).tolist(),
+            "min_principal_time_s": float(env["node_min_time"][lo]),
+        }
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     if res.solver:
         fb, it = res.solver["fallbacks"], res.solver["iterations"]
@@ -308,6 +321,18 @@ def format_summary(s: dict[str, Any]) -> str:
             + (f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
+    if "stress" in s:
+        st = s["stress"]
+
+        def where(key: str) -> str:
+            return "(" + ", ".join(f"{x:g}" for x in st[key + "_at_m"]) + ") m"
+
+        lines.append(
+            f"  stress       max principal {st['max_principal_Pa'] / 1e6:.3g} MPa at "
+            f"{where('max_principal')}, t = {st['max_principal_time_s']:.2f} s; min "
+            f"{st['min_principal_Pa'] / 1e6:.3g} MPa at {where('min_principal')}, "
+            f"t = {st['min_principal_time_s']:.2f} s"
+        )
     if "energy_J" in s:
         e = s["energy_J"]
         lines.append(

@@ -1,6 +1,7 @@
 """Finite element machinery: vectorised kernels and sparse assembly (no physics objects)."""
 
 from ._kernels import (
+    VOIGT,
     CellValues,
     FacetValues,
     cell_values,
@@ -9,6 +10,8 @@ from ._kernels import (
     load,
     lump_hrz,
     mass_degree,
+    principal_extremes,
+    principal_stresses,
     scalar_mass,
     stiffness,
     stiffness_degree,
@@ -18,7 +21,8 @@ from ._kernels import (
 from ._sparse import assemble_matrix, assemble_vector, element_dofs
 
 __all__ = [
-    "CellValues", "FacetValues", "assemble_matrix", "assemble_vector", "cell_values",
+    "VOIGT", "CellValues", "FacetValues", "assemble_matrix", "assemble_vector", "cell_values",
     "element_dofs", "facet_load", "facet_values", "load", "lump_hrz", "mass_degree",
-    "scalar_mass", "stiffness", "stiffness_degree", "strain", "stress",
+    "principal_extremes", "principal_stresses", "scalar_mass", "stiffness", "stiffness_degree",
+    "strain", "stress",
 ]  # fmt: skip

@@ -18,11 +18,12 @@ from ._excitation import Excitation
 from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._nsga import NonsmoothAlpha
-from ._recorder import DynamicResult, EnergyAccount, Recorder
+from ._recorder import ENVELOPE_KEYS, DynamicResult, EnergyAccount, Recorder, StressEnvelope
 from ._settings import DynamicSettings
 
 __all__ = [
-    "Checkpoint", "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount",
-    "Excitation", "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha",
-    "Recorder", "RunStopped", "SecondOrderSystem", "State", "StepState",
+    "ENVELOPE_KEYS", "Checkpoint", "Corotation", "Dynamic", "DynamicResult", "DynamicSettings",
+    "EnergyAccount", "Excitation", "History", "MatrixSystem", "MoreauJean", "Newmark",
+    "NonsmoothAlpha", "Recorder", "RunStopped", "SecondOrderSystem", "State", "StepState",
+    "StressEnvelope",
 ]  # fmt: skip

@@ -87,13 +87,14 @@ class StepState:
 class Checkpoint:
     """Everything a run needs to continue exactly where it was (:meth:`Dynamic.run`):
     the step state, the running sums of the energy account (J), the kinetic and strain
-    energy at the start of the run (J; the balance is measured from them), and the index
-    of the state's recorded row."""
+    energy at the start of the run (J; the balance is measured from them), the index
+    of the state's recorded row, and the stress envelope so far (None: not recorded)."""
 
     state: StepState
     energy: dict[str, float]
     origin: tuple[float, float]
     row: int
+    envelope: dict[str, FloatArray] | None = None
 
 
 class Dynamic:
@@ -664,12 +665,18 @@ class Dynamic:
         on_record: Callable[[dict[str, Any]], None] | None = None,
         resume: Checkpoint | None = None,
         on_checkpoint: Callable[[Checkpoint], None] | None = None,
+        envelope: bool = True,
     ) -> DynamicResult:
         """Integrate over ``duration`` (s) or ``n_steps`` steps under the records
         ``ground`` (relative or absolute ``form``), recording the steps whose number is a
         multiple of ``every``. ``start`` is a :class:`StepState`, a static result or None.
         ``on_record`` receives every recorded row (probe, rigid, pair and energy values,
         and the full nodal u, v, a), e.g. to stream them to a results file.
+
+        ``envelope`` keeps the running extremes of the principal stresses at every
+        recorded row (:class:`~pfeie.dynamics.StressEnvelope`; ``result.envelope``; one
+        sparse product a row; not with ``large_rotation``, whose total displacement holds
+        rigid rotations).
 
         Checkpoint and resume: ``on_checkpoint`` is called at every recorded row after
         the first with a :class:`Checkpoint` (the state, the energy account, the row
@@ -704,7 +711,8 @@ class Dynamic:
         probes = np.asarray(probes, dtype=np.int64)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop
         rec = Recorder(self, ex, probes, n // every + 3, on_record,
-                       origin=None if resume is None else resume.origin)  # fmt: skip
+                       origin=None if resume is None else resume.origin, envelope=envelope,
+                       envelope_values=None if resume is None else resume.envelope)  # fmt: skip
         if resume is not None:
             rec.account.acc.update(resume.energy)
         # the cost of the pair problems of every step: iterations, solves that needed a

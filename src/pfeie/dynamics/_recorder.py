@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..assembly import principal_extremes
 from ..interface import OPEN
 from ..typing import FloatArray, IntArray
 from ._excitation import Excitation
@@ -82,6 +83,7 @@ class DynamicResult:
     stop_reason: str | None = None
     solver: dict[str, np.ndarray] = field(default_factory=dict)
     safety_factor: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
+    envelope: dict[str, FloatArray] = field(default_factory=dict)
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -102,6 +104,69 @@ class DynamicResult:
     def slip(self) -> FloatArray:
         """Joint slip since the start of the run, s_t − s_t(0) (n_t, m, d − 1), m."""
         return self.s[:, :, :-1] - self.s[:1, :, :-1]
+
+
+ENVELOPE_KEYS = ("node_max", "node_max_time", "node_min", "node_min_time",
+                 "cell_max", "cell_max_time", "cell_min", "cell_min_time")  # fmt: skip
+
+
+class StressEnvelope:
+    """The running extremes of the principal stresses over a run, at every recorded row:
+    per node the largest σ₁ and the smallest σ₃ of the nodal stress
+    (:meth:`pfeie.Model.nodal_stress`), per cell those over its quadrature points, each
+    with the time it was reached (Pa, tension positive; s). The stress is the small-strain
+    stress of the total displacement (the static state included), one sparse product a
+    row (:attr:`pfeie.Model.stress_operators`); cells of no block and their nodes hold NaN.
+
+    >>> import pfeie as pf
+    >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
+    >>> _ = mesh.add_cell_group("b", lambda x: x[:, 0] > -1)
+    >>> model = pf.Model(mesh, [pf.Block("b", pf.Elastic(1e9, 0.0, 1.0))])
+    >>> env = StressEnvelope(model)
+    >>> u = np.zeros(model.n_dof); u[0::2] = 1e-3 * mesh.points[:, 0]   # ε_xx = 1e-3
+    >>> env.update(0.5, u); env.update(1.0, -u)
+    >>> env.values["cell_max"], env.values["cell_max_time"], env.values["cell_min_time"]
+    (array([1000000.]), array([0.5]), array([1.]))
+    """
+
+    def __init__(self, model: Any, values: dict[str, FloatArray] | None = None) -> None:
+        self.op = model.stress_operators
+        cell = self.op.cell
+        self._starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]])
+        self._cells = cell[self._starts]
+        n_cells = sum(len(c) for c in model.mesh.cells.values())
+        n_nodes = model.mesh.n_points
+        self._nodes = np.asarray(model.active_nodes)
+        if values is not None:
+            self.values = {k: np.array(values[k], dtype=float) for k in ENVELOPE_KEYS}
+            return
+        nan_n, nan_c = np.full(n_nodes, np.nan), np.full(n_cells, np.nan)
+        self.values = {k: (nan_n if k.startswith("node") else nan_c).copy()
+                       for k in ENVELOPE_KEYS}  # fmt: skip
+        for k in ("node_max", "cell_max"):
+            self.values[k][self._nodes if k == "node_max" else self._cells] = -np.inf
+        for k in ("node_min", "cell_min"):
+            self.values[k][self._nodes if k == "node_min" else self._cells] = np.inf
+
+    def update(self, t: float, u: FloatArray) -> None:
+        """Fold in the stress of the full displacement vector ``u`` at time ``t``."""
+        v = self.values
+        hi_n, lo_n = principal_extremes((self.op.nodes @ u).reshape(-1, 6)[self._nodes])
+        hi_q, lo_q = principal_extremes((self.op.points @ u).reshape(-1, 6))
+        hi_c = np.maximum.reduceat(hi_q, self._starts)
+        lo_c = np.minimum.reduceat(lo_q, self._starts)
+        for key, idx, new, up in (("node_max", self._nodes, hi_n, True),
+                                  ("node_min", self._nodes, lo_n, False),
+                                  ("cell_max", self._cells, hi_c, True),
+                                  ("cell_min", self._cells, lo_c, False)):  # fmt: skip
+            old = v[key][idx]
+            better = new > old if up else new < old
+            v[key][idx[better]] = new[better]
+            v[key + "_time"][idx[better]] = t
+
+    def snapshot(self) -> dict[str, FloatArray]:
+        """A copy of the current envelope (for a checkpoint or a result)."""
+        return {k: a.copy() for k, a in self.values.items()}
 
 
 class EnergyAccount:
@@ -200,9 +265,12 @@ class Recorder:
     def __init__(
         self, an: Dynamic, excitation: Excitation, probes: IntArray, n_out: int,
         on_record: Callable[[dict[str, Any]], None] | None = None,
-        origin: tuple[float, float] | None = None,
+        origin: tuple[float, float] | None = None, envelope: bool = False,
+        envelope_values: dict[str, FloatArray] | None = None,
     ) -> None:  # fmt: skip
         self.an, self.ex, self.probes, self.on_record = an, excitation, probes, on_record
+        self.envelope = (StressEnvelope(an.model, envelope_values)
+                         if envelope and an.corot is None else None)  # fmt: skip
         # the kinetic and strain energy the balance is measured from (those of row 0 of
         # this run, or of the start of the run it resumes)
         self.origin = origin
@@ -235,6 +303,8 @@ class Recorder:
             pres = system.prescribed
             full_u[pres], full_v[pres], full_a[pres] = ex.prescribed(k.t)
         U = full_u.reshape(-1, d)
+        if self.envelope is not None:  # idempotent for the row a resumed run starts from
+            self.envelope.update(k.t, full_u)
         self.pu[i] = U[probes]
         self.pv[i] = full_v.reshape(-1, d)[probes]
         A = full_a.reshape(-1, d)[probes]
@@ -280,7 +350,8 @@ class Recorder:
         from ._driver import Checkpoint
 
         assert self.origin is not None
-        return Checkpoint(st, dict(self.account.acc), self.origin, row)
+        env = self.envelope.snapshot() if self.envelope is not None else None
+        return Checkpoint(st, dict(self.account.acc), self.origin, row, env)
 
     def result(
         self, rows: int, final: StepState, iterations: np.ndarray, wall: float,
@@ -300,7 +371,8 @@ class Recorder:
             self.state[keep], self.broken[keep], {k: v[keep] for k, v in E.items()}, final,
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
             solver or {}, self.fs[keep],
+            self.envelope.snapshot() if self.envelope is not None else {},
         )  # fmt: skip
 
 
-__all__ = ["DynamicResult", "EnergyAccount", "Recorder"]
+__all__ = ["ENVELOPE_KEYS", "DynamicResult", "EnergyAccount", "Recorder", "StressEnvelope"]

@@ -3,11 +3,12 @@
 Besides its rows, a run writes the group ``/checkpoint`` of its results file: the full
 step state of a recorded row (displacements, velocities, accelerations, the load and the
 scheme's auxiliary acceleration on the free DOFs; every pair's state, forces, relative
-motion, slip direction and path; the smooth pair forces), the fields of the row when it
-is off the field grid (they become the final frame if the run ends there), the running
-sums of the energy account, the energy the balance is measured from, and the row index.
-It is replaced at most every ``interval`` seconds of wall time and at the end of the run
-(completed, stopped by Ctrl-C or SIGTERM, or by a step that failed).
+motion, slip direction and path; the smooth pair forces), the stress envelope so far,
+the fields of the row when it is off the field grid (they become the final frame if the
+run ends there), the running sums of the energy account, the energy the balance is
+measured from, and the row index. It is replaced at most every ``interval`` seconds of
+wall time and at the end of the run (completed, stopped by Ctrl-C or SIGTERM, or by a
+step that failed).
 
 ``pfeie run --resume`` (:func:`pfeie._job.run_job` with ``resume=True``) opens the results
 file of a stopped run, checks that the inputs are the same (the *run key*: the validated
@@ -37,7 +38,9 @@ _KIN = ("u", "v", "a", "f")
 _PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
 _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state": "code",
           "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
-          "lam": "N"}  # fmt: skip
+          "lam": "N", "node_max": "Pa", "node_min": "Pa", "cell_max": "Pa", "cell_min": "Pa",
+          "node_max_time": "s", "node_min_time": "s", "cell_max_time": "s",
+          "cell_min_time": "s"}  # fmt: skip
 
 
 def run_key(job: Any) -> str:
@@ -101,6 +104,8 @@ class CheckpointWriter:
             data["kin/aux"] = kin.aux
         if st.lam is not None:
             data["pairs/lam"] = st.lam
+        for k, v in (ck.envelope or {}).items():
+            data[f"envelope/{k}"] = v
         if w._last is not None:  # the row's fields, when it is off the field grid
             g.attrs["last_t"] = w._last[0]
             data.update({f"last/{k}": v for k, v in w._last[1].items()})
@@ -126,7 +131,9 @@ def read_checkpoint(f: Any) -> Checkpoint:
     st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam)
     energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
     o0, o1 = json.loads(g.attrs["origin"])
-    return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]))
+    env = ({k: np.asarray(v) for k, v in g["envelope"].items()} if "envelope" in g
+           else None)  # fmt: skip
+    return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]), env)
 
 
 def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoint]:
@@ -189,12 +196,19 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     energy = {k: arr(f"energy/{k}") for k in h["energy"]}
     solver = {k: arr(f"solver/{k}") for k in h["solver"]} if "solver" in h else {}
     fs = arr("joints/safety_factor") if "joints" in h else np.zeros((0, 0))
+    env: dict[str, Any] = {}
+    if "envelope" in f:
+        g = f["envelope"]
+        for where in ("node", "cell"):
+            for ext in ("max", "min"):
+                env[f"{where}_{ext}"] = np.asarray(g[f"{where}s/{ext}_principal"])
+                env[f"{where}_{ext}_time"] = np.asarray(g[f"{where}s/{ext}_principal_time"])
     return DynamicResult(
         t=arr("time"), probes=nodes, probe_u=arr("probes/u"), probe_v=arr("probes/v"),
         probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
         X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
-        stop_reason=reason, solver=solver, safety_factor=fs,
+        stop_reason=reason, solver=solver, safety_factor=fs, envelope=env,
     )  # fmt: skip
 
 

@@ -54,6 +54,8 @@ def write_paraview(results: str | Path, model: Any, folder: str | Path) -> list[
         _compress(out / "blocks.h5")
         _one_grid(out / "blocks.xdmf")
         written.append(path)
+        if res.has_envelope:
+            written.append(_write_envelope(res.envelope(), mesh, cells, out))
         if model.pairs is not None and res.interface_names:
             path = out / "interfaces.xdmf"
             pts, icells, cell_iface, order = _interface_mesh(model)
@@ -114,6 +116,25 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
             f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
     csv_path.write_text("\n".join(rows) + "\n")
     return [path, csv_path]
+
+
+def _write_envelope(env: dict[str, np.ndarray], mesh: Any, cells: list[Any], out: Path) -> Path:
+    """``envelope.vtu``: the stress envelope of the run on the mesh (point data from the
+    nodal stress, cell data over each cell's quadrature points): ``max_principal`` and
+    ``min_principal`` (Pa, tension positive) and the times they were reached (s)."""
+    import meshio
+
+    sizes = np.cumsum([len(c) for _, c in cells])[:-1]
+    point_data, cell_data = {}, {}
+    for ext in ("max", "min"):
+        for suffix in ("", "_time"):
+            name = f"{ext}_principal{suffix}"
+            point_data[name] = env[f"node_{ext}{suffix}"]
+            cell_data[name] = np.split(env[f"cell_{ext}{suffix}"], sizes)
+    path = out / "envelope.vtu"
+    meshio.write(path, meshio.Mesh(_pad3(mesh.points), cells, point_data=point_data,
+                                   cell_data=cell_data), binary=True)  # fmt: skip
+    return path
 
 
 def _one_grid(path: Path) -> None:

@@ -250,6 +250,20 @@ class ResultsWriter:
         f.flush()
         self._last_flush = time.perf_counter()
 
+    def write_envelope(self, envelope: dict[str, Any]) -> None:
+        """The stress envelope of the run (``/envelope/{nodes,cells}/{max,min}_principal``
+        and their ``_time``; Pa and s; NaN outside the blocks), replacing any earlier one
+        (a resumed run writes the whole run's)."""
+        if not envelope:
+            return
+        if "envelope" in self.f:
+            del self.f["envelope"]
+        g = self.f.create_group("envelope")
+        for where in ("node", "cell"):
+            for ext, name in (("max", "max_principal"), ("min", "min_principal")):
+                self._ds(g, f"{where}s/{name}", envelope[f"{where}_{ext}"], "Pa")
+                self._ds(g, f"{where}s/{name}_time", envelope[f"{where}_{ext}_time"], "s")
+
     def close(self, completed: bool, reason: str | None = None,
               summary: dict[str, Any] | None = None) -> None:  # fmt: skip
         """Write the fields of the last row if they are not on disk yet (the final frame
@@ -424,6 +438,26 @@ class Results:
     def energy(self) -> dict[str, FloatArray]:
         """Energy terms (n_t,) in J."""
         return {k: np.asarray(v[...]) for k, v in self.f["history/energy"].items()}
+
+    @property
+    def has_envelope(self) -> bool:
+        return "envelope" in self.f
+
+    def envelope(self) -> dict[str, FloatArray]:
+        """The stress envelope of the run: ``node_max``, ``node_min`` (n_points,) and
+        ``cell_max``, ``cell_min`` (n_cells, over the mesh's cells type after type) the
+        largest σ₁ and the smallest σ₃ (Pa, tension positive; NaN outside the blocks),
+        and the times they were reached (``…_time``, s). Empty if the run kept none."""
+        if "envelope" not in self.f:
+            return {}
+        g = self.f["envelope"]
+        out = {}
+        for where in ("node", "cell"):
+            for ext in ("max", "min"):
+                ds = g[f"{where}s/{ext}_principal"]
+                out[f"{where}_{ext}"] = np.asarray(ds[...])
+                out[f"{where}_{ext}_time"] = np.asarray(g[f"{where}s/{ext}_principal_time"][...])
+        return out
 
     def fields(self) -> tuple[FloatArray, dict[str, FloatArray]]:
         """Times (n_f,) and the nodal fields u, v, a (n_f, n, d)."""

@@ -325,6 +325,11 @@ class Output(_Table):
     paraview: Annotated[
         bool, Field(description="write the ParaView series (blocks.xdmf, interfaces.xdmf)")
     ] = True
+    envelope: Annotated[
+        bool,
+        Field(description="keep the envelope of the principal stresses (per node and cell, "
+              "at every recorded row) in results.h5 and envelope.vtu"),
+    ] = True  # fmt: skip
     checkpoint_seconds: Annotated[
         NonNegative,
         Field(description="wall time between two checkpoints of the run in results.h5 (s; "

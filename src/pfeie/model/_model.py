@@ -42,6 +42,22 @@ class _CellSet:
     mu: FloatArray
     rho: FloatArray
     block: IntArray  # index of the owning block per cell
+    index: IntArray  # the cell's index among the mesh's cells of its type
+
+
+@dataclass(frozen=True)
+class StressOperators:
+    """The stress as a linear map of the full DOF vector u (small strains, the blocks'
+    elastic laws): ``points`` (6 n_q × n_dof) gives the Voigt components (order
+    :data:`pfeie.assembly.VOIGT`: xx, yy, zz, yz, xz, xy; Pa) at the stiffness
+    quadrature points of every block cell, row 6 i + k for point i and component k;
+    ``nodes`` (6 n_points × n_dof) the nodal stress of :meth:`Model.nodal_stress`;
+    ``cell`` (n_q,) the cell of each point, numbered over the mesh's cells type after type
+    in ``mesh.cells`` order. Built once: a step's stress is then one sparse product."""
+
+    points: sp.csr_matrix
+    nodes: sp.csr_matrix
+    cell: IntArray
 
 
 @dataclass(frozen=True)
@@ -193,7 +209,7 @@ class Model:
             if keep.size == 0:
                 continue
             b = which[keep]
-            sets.append(_CellSet(ctype, conn[keep], lame[b, 0], lame[b, 1], rho[b], b))
+            sets.append(_CellSet(ctype, conn[keep], lame[b, 0], lame[b, 1], rho[b], b, keep))
         return sets
 
     @cached_property
@@ -729,24 +745,68 @@ class Model:
             out[cs.cell_type] = (sig, cv.x)
         return out
 
+    @cached_property
+    def stress_operators(self) -> StressOperators:
+        """The stress operators of the model (:class:`StressOperators`), assembled column
+        by column from the stress kernel (one unit displacement of each element DOF for
+        all cells at once)."""
+        d, n_dof = self.dim, self.n_dof
+        offset = {t: 0 for t in self.mesh.cells}
+        run = 0
+        for t, conn in self.mesh.cells.items():
+            offset[t] = run
+            run += len(conn)
+        rows, cols, vals, cells = [], [], [], []
+        ext_r, ext_c, ext_v = [], [], []
+        cnt = np.zeros(self.mesh.n_points)
+        q0 = 0
+        for cs in self._cellsets:
+            cv = self._values(cs, asm.stiffness_degree(cs.cell_type))
+            c, nen = cs.conn.shape
+            nq = cv.dNdx.shape[1]
+            qid = q0 + np.arange(c * nq).reshape(c, nq)
+            for a in range(nen):
+                for i in range(d):
+                    ue = np.zeros((c, nen, d))
+                    ue[:, a, i] = 1.0
+                    sig = asm.stress(asm.strain(cv, ue), cs.lam, cs.mu, self.plane)
+                    for k, (r, cc) in enumerate(asm.VOIGT):
+                        rows.append((6 * qid + k).ravel())
+                        cols.append(np.repeat(cs.conn[:, a] * d + i, nq))
+                        vals.append(sig[:, :, r, cc].ravel())
+            cells.append(np.repeat(offset[cs.cell_type] + cs.index, nq))
+            # the nodal stress: the corner fit of the point values, averaged over cells
+            lin = reference(reference(cs.cell_type).linear)
+            xi, _ = quadrature(cs.cell_type, asm.stiffness_degree(cs.cell_type))
+            Nq, _ = lin.shape_functions(xi)
+            Nn, _ = lin.shape_functions(reference(cs.cell_type).nodes)
+            extrap = Nn @ np.linalg.pinv(Nq)  # (nen, nq)
+            for k in range(6):
+                ext_r.append(np.repeat(6 * cs.conn + k, nq, axis=1).ravel())
+                ext_c.append(np.tile(6 * qid + k, (1, nen)).ravel())
+                ext_v.append(np.broadcast_to(extrap.ravel(), (c, nen * nq)).ravel())
+            cnt += np.bincount(cs.conn.ravel(), minlength=self.mesh.n_points)
+            q0 += c * nq
+        vals_all = np.concatenate(vals)
+        keep = vals_all != 0.0
+        S = sp.csr_matrix((vals_all[keep], (np.concatenate(rows)[keep],
+                           np.concatenate(cols)[keep])), shape=(6 * q0, n_dof))  # fmt: skip
+        er = np.concatenate(ext_r)
+        scale = 1.0 / np.maximum(cnt, 1.0)[er // 6]
+        E = sp.csr_matrix((np.concatenate(ext_v) * scale, (er, np.concatenate(ext_c))),
+                          shape=(6 * self.mesh.n_points, 6 * q0))  # fmt: skip
+        return StressOperators(S, (E @ S).tocsr(), np.concatenate(cells))
+
     def nodal_stress(self, u: FloatArray) -> FloatArray:
         """Nodal stresses (n_points, 3, 3), Pa: per cell, a least-squares fit of the
         Gauss-point values by the corner (linear) shape functions, evaluated at the
-        nodes, then averaged over the cells sharing each node."""
-        acc = np.zeros((self.mesh.n_points, 9))
-        cnt = np.zeros(self.mesh.n_points)
-        for ctype, (sig, _) in self.stress(u).items():
-            lin = reference(reference(ctype).linear)
-            xi, _ = quadrature(ctype, asm.stiffness_degree(ctype))
-            Nq, _ = lin.shape_functions(xi)
-            Nn, _ = lin.shape_functions(reference(ctype).nodes)
-            extrap = Nn @ np.linalg.pinv(Nq)  # (n, q)
-            conn = next(cs.conn for cs in self._cellsets if cs.cell_type == ctype)
-            nod = np.einsum("nq,cqk->cnk", extrap, sig.reshape(sig.shape[0], sig.shape[1], 9))
-            for k in range(9):
-                acc[:, k] += np.bincount(conn.ravel(), nod[:, :, k].ravel(), self.mesh.n_points)
-            cnt += np.bincount(conn.ravel(), minlength=self.mesh.n_points)
-        return (acc / np.maximum(cnt, 1)[:, None]).reshape(-1, 3, 3)
+        nodes, then averaged over the cells sharing each node (one sparse product with
+        :attr:`stress_operators`)."""
+        v = (self.stress_operators.nodes @ np.asarray(u, dtype=float).ravel()).reshape(-1, 6)
+        out = np.empty((v.shape[0], 3, 3))
+        for k, (i, j) in enumerate(asm.VOIGT):
+            out[:, i, j] = out[:, j, i] = v[:, k]
+        return out
 
     def total_mass(self) -> float:
         """Mass of all blocks (kg; per unit thickness × thickness in 2D)."""
