@@ -368,8 +368,7 @@ def _spectrum(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .io import load_job, output_folder, read_record
-    from .model import GroundMotion
-    from .model._spectrum import MEASURES
+    from .model import INTENSITY_MEASURES, GroundMotion
 
     try:
         damping = _number("--damping", args.damping, 0.0, 1.0, closed=True)
@@ -394,7 +393,7 @@ def _spectrum(args: argparse.Namespace) -> int:
             spectra[rec.name + key] = s
             print(f"record: {rec.summary()}")
             for name, value in ims.items():
-                label, unit = MEASURES[name]
+                label, unit = INTENSITY_MEASURES[name]
                 if name == "sa":
                     label = f"Sa({period:g} s, {100 * damping:g} %)"
                 extra = f" ({value / 9.81:.4g} g)" if name in ("pga", "sa") else ""

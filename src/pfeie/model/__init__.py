@@ -5,10 +5,16 @@ from ._frames import BodyFrames
 from ._ground import GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
-from ._spectrum import ResponseSpectrum, intensity_measures, response_spectrum, sdof_response
+from ._spectrum import (
+    INTENSITY_MEASURES,
+    ResponseSpectrum,
+    intensity_measures,
+    response_spectrum,
+    sdof_response,
+)
 
 __all__ = [
-    "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load",
-    "Model", "Rayleigh", "ResponseSpectrum", "Support", "intensity_measures",
-    "response_spectrum", "sdof_response",
+    "INTENSITY_MEASURES", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
+    "LinearSystem", "Load", "Model", "Rayleigh", "ResponseSpectrum", "Support",
+    "intensity_measures", "response_spectrum", "sdof_response",
 ]  # fmt: skip

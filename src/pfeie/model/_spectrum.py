@@ -433,11 +433,11 @@ def intensity_measures(
 
 
 #: names and units of the intensity measures, for tables
-MEASURES = {
+INTENSITY_MEASURES = {
     "pga": ("PGA", "m/s²"), "pgv": ("PGV", "m/s"), "pgd": ("PGD", "m"),
     "arias": ("Arias intensity", "m/s"), "cav": ("CAV", "m/s"), "t5": ("t5", "s"),
     "t95": ("t95", "s"), "d5_95": ("D5-95", "s"), "sa": ("Sa(T1)", "m/s²"),
 }  # fmt: skip
 
-__all__ = ["MEASURES", "ResponseSpectrum", "ground_velocity_displacement", "husid",
+__all__ = ["INTENSITY_MEASURES", "ResponseSpectrum", "ground_velocity_displacement", "husid",
            "intensity_measures", "response_spectrum", "sdof_response"]  # fmt: skip
