@@ -388,7 +388,7 @@ def _scaled(rec: GroundMotion, gm: Any, path: Path, direction: list[float]) -> G
     table: read again with the factor (the scale is exact, the spectrum and the baseline
     correction being linear in the record); the factor is noted for the summary."""
     if gm.pga is not None:
-        have, want, what = rec.pga, gm.pga * 9.81, f"PGA {gm.pga:g} g"
+        have, want, what = rec.pga, gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
     elif gm.target_sa is not None:
         ts = gm.target_sa
         have, want = rec.sa(ts.period, ts.damping), ts.value * 9.81
@@ -396,11 +396,11 @@ def _scaled(rec: GroundMotion, gm: Any, path: Path, direction: list[float]) -> G
     else:
         return rec
     if not have > 0:
-        raise RecordError(f"{gm.file}: the record is all zeros; it cannot be scaled to a "
+        raise RecordError(f"{gm.file}: the record is all zeros; it cannot be scaled to "
                           f"{what}")  # fmt: skip
     factor = want / have
     if not np.isfinite(factor):
-        raise RecordError(f"{gm.file}: cannot scale the record to a {what} (its value is "
+        raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
     out = read_record(path, fmt=gm.format, dt=gm.dt, units=gm.units, scale=factor,
                       direction=direction, baseline=gm.baseline)  # fmt: skip
