@@ -1,5 +1,5 @@
-"""The command line: ``pfeie run``, ``check``, ``plot``, ``export``, ``report``,
-``verify``, ``schema``, ``pfeie --version``.
+"""The command line: ``pfeie run``, ``check``, ``modal``, ``spectrum``, ``plot``,
+``export``, ``report``, ``verify``, ``schema``, ``pfeie --version``.
 
 ``run`` and ``check`` take settings that override the model file's (``--duration``,
 ``--dt``, ``--set KEY=VALUE``, the value parsed as TOML); they are validated by the
@@ -85,6 +85,32 @@ def _parser() -> argparse.ArgumentParser:
         p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        dest="settings", help="override a key of the model file, the value "
                        "in TOML (repeatable), e.g. --set analysis.alpha=-0.1")  # fmt: skip
+    spc = sub.add_parser(
+        "spectrum", help="elastic response spectra and intensity measures of records",
+        description="Elastic response spectra of a record file (AT2, CSV) or of the "
+        "records of a model file (as scaled by scale, pga or target_sa): writes "
+        "spectrum.csv (T, Sd, PSv, PSa, peak absolute acceleration; SI units; "
+        "spectrum_<i>.csv for the record ground_motion[i] of a model with several) and "
+        "spectrum.png, and prints the intensity measures (PGA, PGV, PGD, Arias intensity, "
+        "CAV, D5-95, Sa(T1)). Exact recurrence for the piecewise-linear record.",
+    )  # fmt: skip
+    spc.add_argument(
+        "source",
+        metavar="RECORD_OR_MODEL",
+        help="record file (.AT2, two or one column) or model file (.toml)",
+    )
+    spc.add_argument("--damping", default="0.05", metavar="ZETA",
+                     help="damping ratio in [0, 1) (default 0.05)")  # fmt: skip
+    spc.add_argument("--periods", default="0.02:4:200", metavar="START:STOP:N",
+                     help="periods (s): N log-spaced from START to STOP (default 0.02:4:200),"
+                     " or a comma-separated list, e.g. 0.1,0.5,1")  # fmt: skip
+    spc.add_argument("--t1", metavar="T", help="period (s) of the intensity measure Sa(T1) "
+                     "(default: the target_sa period of a model's record, if any)")  # fmt: skip
+    spc.add_argument("--units", choices=["g", "m/s2", "cm/s2"],
+                     help="units of a record file that is not AT2 (required for it)")  # fmt: skip
+    spc.add_argument("--dt", metavar="DT", help="time step of a one-column record file (s)")
+    spc.add_argument("-o", "--out", default=".", metavar="DIR",
+                     help="output folder (default: the current folder)")  # fmt: skip
     sch = sub.add_parser("schema", help="write the JSON Schema of model files",
                          description="Write the JSON Schema of model files, for editors "
                          "(taplo, Even Better TOML: put '#:schema ./pfeie-model.schema.json' "
@@ -135,6 +161,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _verify(args)
     if args.command == "schema":
         return _schema(args)
+    if args.command == "spectrum":
+        return _spectrum(args)
     from ._job import format_summary, run_job
     from .io import load_job
 
@@ -297,6 +325,95 @@ def _modal(args: argparse.Namespace, job: object) -> int:
         print(f"{k + 1:>4} {f:>10.4f} {1 / f:>9.4f} {cols}")
     for f in files:
         print(f)
+    return EXIT_OK
+
+
+def _number(option: str, text: str, low: float, high: float = float("inf"),
+            closed: bool = False) -> float:  # fmt: skip
+    """A number of the command line in [low, high) (``closed``) or (low, high)."""
+    try:
+        x = float(text)
+    except ValueError:
+        x = float("nan")
+    ok = (low <= x if closed else low < x) and x < high
+    if not ok:
+        lo = f"[{low:g}" if closed else f"({low:g}"
+        raise InputError(f"{option}: expected a number in {lo}, {high:g}), found {text!r}")
+    return x
+
+
+def _period_list(text: str) -> list[float]:
+    """``START:STOP:N`` (N periods log-spaced) or ``T1,T2,...`` (s)."""
+    import numpy as np
+
+    expect = ("expected START:STOP:N (N periods log-spaced from START to STOP, "
+              "0 < START < STOP, N >= 2) or a comma-separated list of periods >= 0 s")  # fmt: skip
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            lo, hi, count = float(a), float(b), int(n)
+            if not (0 < lo < hi < float("inf") and count >= 2):
+                raise ValueError
+            return [float(x) for x in np.geomspace(lo, hi, count)]
+        out = [float(x) for x in text.split(",")]
+        if not all(0 <= x < float("inf") for x in out):
+            raise ValueError
+        return out
+    except ValueError:
+        raise InputError(f"--periods: {expect}, found {text!r}") from None
+
+
+def _spectrum(args: argparse.Namespace) -> int:
+    """``pfeie spectrum``: spectrum.csv, spectrum.png and the intensity measures."""
+    from pathlib import Path
+
+    from .io import load_job, output_folder, read_record
+    from .model import INTENSITY_MEASURES, GroundMotion
+
+    try:
+        damping = _number("--damping", args.damping, 0.0, 1.0, closed=True)
+        periods = _period_list(args.periods)
+        t1 = None if args.t1 is None else _number("--t1", args.t1, 0.0)
+        src = Path(args.source)
+        records: dict[str, tuple[GroundMotion, float | None]] = {}
+        if src.suffix.lower() == ".toml":
+            job = load_job(src)
+            targets = [g.get("target_sa") for g in job.spec["ground_motion"]]
+            for i, (rec, tgt) in enumerate(zip(job.records, targets, strict=True)):
+                key = "" if len(job.records) == 1 else f"_{i}"
+                records[key] = (rec, t1 if t1 is not None or not tgt else tgt["period"])
+        else:
+            dt = None if args.dt is None else _number("--dt", args.dt, 0.0)
+            records[""] = (read_record(src, units=args.units, dt=dt), t1)
+        out = output_folder(args.out, "--out")
+        spectra = {}
+        for key, (rec, period) in records.items():
+            s = rec.spectrum(periods, damping)
+            ims = rec.intensity_measures(period, damping)
+            spectra[rec.name + key] = s
+            print(f"record: {rec.summary()}")
+            for name, value in ims.items():
+                label, unit = INTENSITY_MEASURES[name]
+                if name == "sa":
+                    label = f"Sa({period:g} s, {100 * damping:g} %)"
+                extra = f" ({value / 9.81:.4g} g)" if name in ("pga", "sa") else ""
+                print(f"  {label:<22} {value:>12.6g} {unit}{extra}")
+            path = out / f"spectrum{key}.csv"
+            rows = ["T_s,Sd_m,PSv_m_per_s,PSa_m_per_s2,Sa_abs_m_per_s2"]
+            rows += [f"{T:.9g},{d:.9g},{v:.9g},{a:.9g},{b:.9g}" for T, d, v, a, b in
+                     zip(s.periods, s.sd, s.psv, s.psa, s.sa_abs, strict=True)]  # fmt: skip
+            path.write_text("\n".join(rows) + "\n")
+            print(path)
+        from .plot import plot_spectrum
+
+        print(plot_spectrum(spectra, out / "spectrum.png", src.name))
+    except (InputError, MeshError, RecordError) as exc:
+        for line in str(exc).splitlines():
+            print(f"pfeie: error: {line}", file=sys.stderr)
+        return EXIT_INPUT
+    except PfeieError as exc:
+        print(f"pfeie: error: {args.source}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     return EXIT_OK
 
 

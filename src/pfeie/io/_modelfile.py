@@ -334,21 +334,20 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 raise InputError(f"{p}: ground_motion[{i}].component: 'z' in a 2D model")
             direction = [0.0] * mesh.dim
             direction[k] = 1.0
-        if gm.pga is not None and "scale" in gm.model_fields_set:
-            raise InputError(f"{p}: ground_motion[{i}]: give either scale or pga, not both")
+        given = [k for k in ("scale", "pga", "target_sa") if k in gm.model_fields_set
+                 and (k == "scale" or getattr(gm, k) is not None)]  # fmt: skip
+        if len(given) > 1:
+            pair = f"either {given[0]} or {given[1]}, not both" if len(given) == 2 else (
+                "only one of scale, pga and target_sa")  # fmt: skip
+            raise InputError(f"{p}: ground_motion[{i}]: give {pair}")
         try:
             rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
                               scale=gm.scale, direction=direction,
                               baseline=gm.baseline)  # fmt: skip
-            if gm.pga is not None:
-                if not rec.pga > 0:
-                    raise RecordError(f"{gm.file}: the record is all zeros; it cannot be "
-                                      f"scaled to a PGA of {gm.pga} g")  # fmt: skip
-                rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
-                                  scale=gm.pga * 9.81 / rec.pga, direction=direction,
-                                  baseline=gm.baseline)  # fmt: skip
+            rec = _scaled(rec, gm, base / gm.file, direction)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
+        log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         records.append(rec)
     probes = {}
     reach = _largest_cell(model.mesh)
@@ -382,6 +381,30 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
     return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
+
+
+def _scaled(rec: GroundMotion, gm: Any, path: Path, direction: list[float]) -> GroundMotion:
+    """The record scaled to the ``pga`` (g) or the ``target_sa`` (Sa(T, ζ) in g) of its
+    table: read again with the factor (the scale is exact, the spectrum and the baseline
+    correction being linear in the record); the factor is noted for the summary."""
+    if gm.pga is not None:
+        have, want, what = rec.pga, gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
+    elif gm.target_sa is not None:
+        ts = gm.target_sa
+        have, want = rec.sa(ts.period, ts.damping), ts.value * 9.81
+        what = f"Sa({ts.period:g} s, {100 * ts.damping:g} %) = {ts.value:g} g"
+    else:
+        return rec
+    if not have > 0:
+        raise RecordError(f"{gm.file}: the record is all zeros; it cannot be scaled to "
+                          f"{what}")  # fmt: skip
+    factor = want / have
+    if not np.isfinite(factor):
+        raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
+                          f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
+    out = read_record(path, fmt=gm.format, dt=gm.dt, units=gm.units, scale=factor,
+                      direction=direction, baseline=gm.baseline)  # fmt: skip
+    return dataclasses.replace(out, scaling=f"scaled ×{factor:.6g} to {what}")
 
 
 def _slip_weakening(p: Path, group: str, joint: Joint, distance: float | None) -> Any:

@@ -246,6 +246,19 @@ class Loads(_Table):
     ] = []  # fmt: skip
 
 
+class TargetSa(_Table):
+    """``ground_motion[].target_sa``: scale the record so that its pseudo-spectral
+    acceleration at one period matches a target."""
+
+    period: Annotated[Positive, Field(description="period T (s) of the target")]
+    value: Annotated[
+        Positive, Field(description="target pseudo-spectral acceleration Sa(T, ζ) = ω² Sd (g)")
+    ]
+    damping: Annotated[
+        float, Field(gt=0.0, lt=1.0, description="damping ratio ζ of the spectrum")
+    ] = 0.05
+
+
 class GroundMotionRecord(_Table):
     """``[[ground_motion]]``: an acceleration record and its direction."""
 
@@ -268,6 +281,11 @@ class GroundMotionRecord(_Table):
         Positive | None,
         Field(description="scale the record to this peak ground acceleration (g), instead of "
               "scale"),
+    ] = None  # fmt: skip
+    target_sa: Annotated[
+        TargetSa | None,
+        Field(description="scale the record to a pseudo-spectral acceleration Sa(T, ζ) (a "
+              "table: period (s), value (g), damping), instead of scale or pga"),
     ] = None  # fmt: skip
     component: Annotated[
         Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")

@@ -1,12 +1,20 @@
-"""Physics objects (materials, blocks, joints, supports, loads, ground motion, damping)
-and the model."""
+"""Physics objects (materials, blocks, joints, supports, loads, ground motion, damping),
+the model, and the response spectra and intensity measures of records."""
 
 from ._frames import BodyFrames
 from ._ground import GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
+from ._spectrum import (
+    INTENSITY_MEASURES,
+    ResponseSpectrum,
+    intensity_measures,
+    response_spectrum,
+    sdof_response,
+)
 
 __all__ = [
-    "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load",
-    "Model", "Rayleigh", "Support",
+    "INTENSITY_MEASURES", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
+    "LinearSystem", "Load", "Model", "Rayleigh", "ResponseSpectrum", "Support",
+    "intensity_measures", "response_spectrum", "sdof_response",
 ]  # fmt: skip

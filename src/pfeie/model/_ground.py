@@ -17,12 +17,16 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from ..errors import ModelError
 from ..typing import FloatArray
+
+if TYPE_CHECKING:
+    from ._spectrum import ResponseSpectrum
 
 G_STANDARD = 9.80665
 G_UNITS = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
@@ -40,6 +44,8 @@ class GroundMotion:
     acceleration: FloatArray
     direction: FloatArray
     name: str = "record"
+    #: how the record was scaled, for the summary (e.g. "scaled ×1.23 to PGA 0.3 g")
+    scaling: str = ""
 
     @classmethod
     def from_samples(
@@ -113,7 +119,8 @@ class GroundMotion:
         v_end = float(np.sum(0.5 * (self.acceleration[1:] + self.acceleration[:-1])
                              * np.diff(self.time)))  # fmt: skip
         shift = v_end / self.duration
-        return GroundMotion(self.time, self.acceleration - shift, self.direction, self.name)
+        return GroundMotion(self.time, self.acceleration - shift, self.direction, self.name,
+                            self.scaling)  # fmt: skip
 
     def motion(self, t: float) -> tuple[float, float, float]:
         """Ground displacement (m), velocity (m/s) and acceleration (m/s²) at t, integrated
@@ -138,6 +145,36 @@ class GroundMotion:
         dis = d[i] + v[i] * tau + 0.5 * a[i] * tau * tau + da * tau**3 / 6
         return float(dis), float(vel), float(acc)
 
+    def spectrum(
+        self, periods: npt.ArrayLike, damping: float = 0.05, substeps: int | None = None
+    ) -> ResponseSpectrum:
+        """The elastic response spectrum at ``periods`` (s) for the damping ratio
+        ``damping``: Sd (m), PSv (m/s), PSa (m/s²), peak absolute acceleration (m/s²), by
+        the exact recurrence for the piecewise-linear record (:mod:`pfeie.model._spectrum`).
+
+        >>> gm = GroundMotion.from_samples([0.0, 1.0, 0.0, -1.0, 0.0], dt=0.1)
+        >>> s = gm.spectrum([0.0, 0.2, 1.0])
+        >>> float(s.psa[0]), bool(s.psa[1] > 1.0 > s.psa[2])   # PGA at T = 0
+        (1.0, True)
+        """
+        from ._spectrum import response_spectrum
+
+        return response_spectrum(self.time, self.acceleration, periods, damping, substeps)
+
+    def intensity_measures(self, period: float | None = None,
+                           damping: float = 0.05) -> dict[str, float]:  # fmt: skip
+        """PGA (m/s²), PGV (m/s), PGD (m), Arias intensity (m/s), CAV (m/s), t5, t95,
+        D5-95 (s) and, with ``period`` (s), Sa(T₁, ζ) = PSa (m/s²); keys ``pga``,
+        ``pgv``, ``pgd``, ``arias``, ``cav``, ``t5``, ``t95``, ``d5_95``, ``sa``
+        (see :func:`pfeie.model._spectrum.intensity_measures`)."""
+        from ._spectrum import intensity_measures
+
+        return intensity_measures(self.time, self.acceleration, period, damping)
+
+    def sa(self, period: float, damping: float = 0.05) -> float:
+        """Sa(T, ζ): the pseudo-spectral acceleration PSa = ω² Sd (m/s²) at ``period``."""
+        return float(self.spectrum([period], damping).psa[0])
+
     @property
     def pga(self) -> float:
         """Peak ground acceleration |a_g|max (m/s²)."""
@@ -154,4 +191,5 @@ class GroundMotion:
         dt = f"{dts[0]:g} s" if np.allclose(dts, dts[0]) else f"{dts.min():g}–{dts.max():g} s"
         return (f"{self.name}: PGA {abs(self.acceleration[i]) / 9.81:.3f} g "
                 f"({abs(self.acceleration[i]):.3f} m/s²) at {self.time[i]:.2f} s, "
-                f"duration {self.duration:.2f} s, dt {dt}")  # fmt: skip
+                f"duration {self.duration:.2f} s, dt {dt}"
+                + (f", {self.scaling}" if self.scaling else ""))  # fmt: skip

@@ -6,10 +6,11 @@ from ._plots import (
     plot_joint,
     plot_probe,
     plot_rigid,
+    plot_spectrum,
     plot_states,
     plot_static,
 )
 from ._report import write_report
 
-__all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_states",
-           "plot_static", "write_report"]  # fmt: skip
+__all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_spectrum",
+           "plot_states", "plot_static", "write_report"]  # fmt: skip

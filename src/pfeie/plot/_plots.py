@@ -15,6 +15,9 @@ A static-only run (``analysis.dynamic = false``) has no histories: ``plot_all`` 
 writes ``static_<name>.png``, the normal and shear stress of the static state along each
 interface, and refuses (:class:`~pfeie.errors.ResultsError`) a file with neither
 histories nor a static pair state.
+
+``plot_spectrum(spectra, path)`` draws the elastic response spectra of records
+(``pfeie spectrum``): PSa and the peak absolute acceleration, PSv and Sd against T.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ import numpy as np
 
 from ..errors import PfeieError, ResultsError
 from ..io import Results, output_folder
+from ..model import ResponseSpectrum
 
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
 STATE_LABELS = ["intact", "stick", "slide", "open"]
@@ -229,3 +233,31 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
         a.legend(loc="upper right", fontsize=8)
     ax[0].set_title(f"{title}\nstatic state of {name}", fontsize=10)
     return _finish(fig, path)
+
+
+def plot_spectrum(spectra: dict[str, ResponseSpectrum], path: str | Path,
+                  title: str = "") -> Path:  # fmt: skip
+    """The response spectra of records (name → spectrum) against the period: PSa and
+    the peak absolute acceleration (g), PSv (m/s), Sd (m)."""
+    plt = _plt()
+    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    for k, (name, s) in enumerate(spectra.items()):
+        colour = f"C{k % 10}"
+        ax[0].plot(s.periods, s.psa / 9.81, lw=1.1, color=colour, label=f"{name}: PSa")
+        ax[0].plot(s.periods, s.sa_abs / 9.81, lw=0.8, ls="--", color=colour,
+                   label=f"{name}: peak absolute")  # fmt: skip
+        ax[1].plot(s.periods, s.psv, lw=1.1, color=colour, label=name)
+        ax[2].plot(s.periods, s.sd, lw=1.1, color=colour, label=name)
+    damping = ", ".join(sorted({f"{100 * s.damping:g} %" for s in spectra.values()}))
+    ax[0].set_ylabel("acceleration (g)")
+    ax[1].set_ylabel("pseudo-velocity PSv (m/s)")
+    ax[2].set_ylabel("displacement Sd (m)")
+    ax[2].set_xlabel("period T (s)")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(loc="upper right", fontsize=8)
+        a.set_xlim(left=0.0)
+        a.set_ylim(bottom=0.0)
+    head = f"{title}\n" if title else ""
+    ax[0].set_title(f"{head}elastic response spectra, damping {damping}", fontsize=10)
+    return _finish(fig, Path(path))
