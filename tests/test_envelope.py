@@ -150,7 +150,8 @@ def test_column_under_its_own_weight(tmp_path: Path) -> None:
 def test_envelope_through_the_model_file(tmp_path: Path) -> None:
     """``pfeie run``: the envelope in results.h5 (with units), in the summary (the
     extremes, where and when) and in envelope.vtu, read back by meshio equal to the
-    results file's; ``output.envelope = false`` writes none."""
+    results file's; ``output.envelope = false`` writes none. The joint resultants in
+    results.h5 and as series of ``pfeie export``'s joints.csv."""
     import json
 
     import meshio
@@ -168,6 +169,17 @@ def test_envelope_through_the_model_file(tmp_path: Path) -> None:
     summary = json.loads((out / "summary.json").read_text())["stress"]
     assert summary["min_principal_Pa"] == np.nanmin(env["node_min"]) < 0
     assert "stress       max principal" in (out / "summary.txt").read_text()
+    # the joint resultants: in results.h5 and as series of joints.csv
+    with Results(out / "results.h5") as res:
+        jr = res.joint_resultants("joint")
+        assert res.units("history/joints/moment") == "N*m"
+        n_t = res.n_times
+    assert jr["force"].shape == (n_t, 2) and jr["moment"].shape == (n_t, 1)
+    assert main(["export", str(out / "results.h5"), "--csv", str(tmp_path / "csv")]) == 0
+    rows = [r.split(",") for r in (tmp_path / "csv" / "joints.csv").read_text().splitlines()]
+    fy = [float(r[3]) for r in rows if r[2] == "force_y"]
+    np.testing.assert_allclose(fy, jr["force"][:, 1], rtol=1e-8)  # 9 digits in the CSV
+    assert any(r[2] == "moment_z" for r in rows)
     vtu = meshio.read(out / "envelope.vtu")
     np.testing.assert_array_equal(vtu.point_data["min_principal"], env["node_min"])
     np.testing.assert_array_equal(np.concatenate(vtu.cell_data["max_principal_time"]),
@@ -180,3 +192,32 @@ def test_envelope_through_the_model_file(tmp_path: Path) -> None:
     with Results(q / "out" / "results.h5") as res:
         assert res.envelope() == {}
     assert not (q / "out" / "envelope.vtu").exists()
+
+
+def test_joint_resultants_of_a_block_on_an_incline(tmp_path: Path) -> None:
+    """A block 2 m × 1 m resting on a 20° incline (φ = 35°: it sticks), run from its
+    static state: the resultant of its joint's pair forces on the block balances its
+    weight, F = (0, ρ g A) to 1e-12 of W (measured 1.1e-13), and the moment about the
+    joint's centroid balances the weight's, M = (x_g − c)_x W to 5e-13 of W × 1 m
+    (measured 7e-14); constant over the run."""
+    rho, w, h, th = 2400.0, 2.0, 1.0, np.radians(20.0)
+    model = block_on_base(joint=pf.Joint(phi=35.0), incline_deg=20, n=4, width=w, height=h,
+                          rho=rho)  # fmt: skip
+    P = model.pairs
+    assert P is not None
+    res = pf.Dynamic(model, 0.01).run(0.2, start=pf.solve_static(model))
+    W = rho * G * w * h
+    # side b of the pairs: the block (above the joint) or the base
+    normal = P.frame[:, -1]
+    up = np.einsum("kd,kd->k", model.mesh.points[P.node_b] - model.mesh.points[P.node_a],
+                   normal)  # fmt: skip
+    rot = np.array([[np.cos(-th), -np.sin(-th)], [np.sin(-th), np.cos(-th)]])
+    x_g = rot @ np.array([w / 2, h / 2])
+    c = P.centroids[0]
+    sign = 1.0 if model.body_of_node[P.node_b[0]] == model.body_of_node[
+        model.nearest_node(x_g)] else -1.0  # fmt: skip
+    assert np.all(up == 0)  # pairs join coincident nodes
+    F, M = res.joint_force[:, 0], res.joint_moment[:, 0, 0]
+    assert np.abs(F - sign * np.array([0.0, W])).max() < 1e-12 * W
+    assert np.abs(M - sign * (x_g - c)[0] * W).max() < 5e-13 * W
+

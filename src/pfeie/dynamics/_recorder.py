@@ -84,6 +84,8 @@ class DynamicResult:
     solver: dict[str, np.ndarray] = field(default_factory=dict)
     safety_factor: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
     envelope: dict[str, FloatArray] = field(default_factory=dict)
+    joint_force: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 0)))
+    joint_moment: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 0)))
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -283,6 +285,9 @@ class Recorder:
         self.state = np.zeros((n_out, m), dtype=np.int8)
         n_joints = len(model.pair_laws.index) if m else 0
         self.fs = np.full((n_out, n_joints), np.inf)  # sliding safety factor per joint
+        # the resultant force (global axes) and moment of each joint's pair forces
+        self.jf = np.zeros((n_out, n_joints, d))
+        self.jm = np.zeros((n_out, n_joints, 1 if d == 2 else 3))
         self.broken = np.zeros((n_out, m), dtype=bool)
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
@@ -320,6 +325,8 @@ class Recorder:
                 force, st.pairs.state == OPEN, st.pairs.broken, st.pairs.path
             )
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
+            assert an.model.pairs is not None
+            self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
         E = self.E
         E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
         E["strain"][i] = an.strain_energy(k.u, R)
@@ -341,7 +348,8 @@ class Recorder:
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
                 "a": full_a.reshape(-1, d),
                 "solver": [0, 0, 0.0] if solver is None else list(solver),
-                "safety_factor": self.fs[i].copy(),
+                "safety_factor": self.fs[i].copy(), "joint_force": self.jf[i].copy(),
+                "joint_moment": self.jm[i].copy(),
             })  # fmt: skip
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
@@ -372,6 +380,7 @@ class Recorder:
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
             solver or {}, self.fs[keep],
             self.envelope.snapshot() if self.envelope is not None else {},
+            self.jf[keep], self.jm[keep],
         )  # fmt: skip
 
 

@@ -196,6 +196,8 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     energy = {k: arr(f"energy/{k}") for k in h["energy"]}
     solver = {k: arr(f"solver/{k}") for k in h["solver"]} if "solver" in h else {}
     fs = arr("joints/safety_factor") if "joints" in h else np.zeros((0, 0))
+    jf = arr("joints/force") if "joints/force" in h else np.zeros((0, 0, 0))
+    jm = arr("joints/moment") if "joints/moment" in h else np.zeros((0, 0, 0))
     env: dict[str, Any] = {}
     if "envelope" in f:
         g = f["envelope"]
@@ -208,7 +210,8 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
         probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
         X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
-        stop_reason=reason, solver=solver, safety_factor=fs, envelope=env,
+        stop_reason=reason, solver=solver, safety_factor=fs, envelope=env, joint_force=jf,
+        joint_moment=jm,
     )  # fmt: skip
 
 

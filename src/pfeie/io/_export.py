@@ -98,6 +98,14 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                     if "history/joints/safety_factor" in res.f:
                         fs = np.asarray(res.f["history/joints/safety_factor"][...])
                         series[("safety_factor", "-")] = fs[:, res.interface_names.index(name)]
+                    if "history/joints/force" in res.f:
+                        jr = res.joint_resultants(name)
+                        for i, a in enumerate("xyz"[: jr["force"].shape[1]]):
+                            series[(f"force_{a}", "N")] = jr["force"][:, i]
+                        mom = jr["moment"]
+                        for i in range(mom.shape[1]):
+                            axis = "z" if mom.shape[1] == 1 else "xyz"[i]
+                            series[(f"moment_{axis}", "N*m")] = mom[:, i]
                     for (qn, unit), arr in series.items():
                         for ti, val in zip(t, arr, strict=True):
                             w.writerow([f"{ti:.6g}", name, qn, f"{val:.9g}", unit])

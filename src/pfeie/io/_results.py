@@ -17,7 +17,11 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
   (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
   ``pairs/broken``, ``energy/<term>`` (n_t), ``solver/{iterations,fallbacks,residual}``
   (n_t: the pair problems' iterations and solves that needed a fallback since the
-  previous row, and their worst final residual);
+  previous row, and their worst final residual), ``joints/{safety_factor,force,moment}``
+  (n_t, n_joints[, d or 1 or 3]: the sliding safety factor, the resultant force on side
+  b in global axes and its moment about the joint's centroid);
+- ``/envelope``: ``{nodes,cells}/{max,min}_principal`` and their ``_time``: the stress
+  envelope;
 - ``/fields``: ``time`` (n_f) and ``u``, ``v``, ``a`` (n_f, n, d) every ``field_every``-th
   recorded step.
 
@@ -48,8 +52,9 @@ UNITS = {
 
 #: the layout's version, major.minor: a reader refuses another major version (the layout
 #: changed incompatibly); a minor version adds groups or attributes (1.1: /checkpoint,
-#: run_key; files without the attribute are 1.0)
-FORMAT_VERSION = "1.1"
+#: run_key; 1.2: /envelope, history/joints/{force,moment}; files without the attribute
+#: are 1.0)
+FORMAT_VERSION = "1.2"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
@@ -136,6 +141,8 @@ class ResultsWriter:
         if P is not None:
             hj = h.create_group("joints")
             self._grow(hj, "safety_factor", (len(P.names),), "1")
+            self._grow(hj, "force", (len(P.names), d), "N")
+            self._grow(hj, "moment", (len(P.names), 1 if d == 2 else 3), "N*m")
             hj.attrs["names"] = json.dumps(list(P.names))
         self._grow(hp, "state", (m,), "code", np.int8)
         self._grow(hp, "broken", (m,), "flag", np.bool_)
@@ -236,6 +243,9 @@ class ResultsWriter:
             if "joints" in f["history"]:
                 self._extend(f["history/joints/safety_factor"],
                              [r["safety_factor"] for r in buf])  # fmt: skip
+                if "force" in f["history/joints"]:  # (files of format 1.1 lack them)
+                    self._extend(f["history/joints/force"], [r["joint_force"] for r in buf])
+                    self._extend(f["history/joints/moment"], [r["joint_moment"] for r in buf])
             if "solver" in f["history"]:
                 for k, key in enumerate(("iterations", "fallbacks", "residual")):
                     self._extend(f[f"history/solver/{key}"],
@@ -438,6 +448,22 @@ class Results:
     def energy(self) -> dict[str, FloatArray]:
         """Energy terms (n_t,) in J."""
         return {k: np.asarray(v[...]) for k, v in self.f["history/energy"].items()}
+
+    def joint_resultants(self, interface: str) -> dict[str, FloatArray]:
+        """The resultant of a joint's pair forces over time: ``force`` (n_t, d; N, on side b
+        in global axes: for a dam–rock joint its horizontal component is the base shear)
+        and ``moment`` (n_t, 1 in 2D or 3; N·m, about the joint's area centroid
+        ``centroid`` (d,), m) (:meth:`pfeie.interface.PairGeometry.resultants`)."""
+        if "joints/force" not in self.f["history"]:
+            raise ResultsError(f"{self.path}: no joint resultants (a results file of "
+                               f"format {self.f.attrs.get('format_version', '1.0')})")  # fmt: skip
+        k = self.interface_names.index(interface)
+        g = self.f["history/joints"]
+        x, a = np.asarray(self.f["pairs/x"]), np.asarray(self.f["pairs/area"])
+        sel = np.asarray(self.f["pairs/interface"]) == k
+        c = (x[sel] * a[sel, None]).sum(axis=0) / a[sel].sum()
+        return {"force": np.asarray(g["force"][:, k]), "moment": np.asarray(g["moment"][:, k]),
+                "centroid": c}  # fmt: skip
 
     @property
     def has_envelope(self) -> bool:
