@@ -180,6 +180,11 @@ def test_envelope_through_the_model_file(tmp_path: Path) -> None:
     fy = [float(r[3]) for r in rows if r[2] == "force_y"]
     np.testing.assert_allclose(fy, jr["force"][:, 1], rtol=1e-8)  # 9 digits in the CSV
     assert any(r[2] == "moment_z" for r in rows)
+    # and in the report: the envelope's extremes, the joints' resultants and minimum FS
+    assert main(["report", str(out / "results.h5")]) == 0
+    page = (out / "report.html").read_text()
+    assert "<h2>Stress envelope</h2>" in page and "peak |F_x| (kN)" in page
+    assert f"{summary['min_principal_Pa'] / 1e6:.3g} MPa" in page and "min safety factor" in page
     vtu = meshio.read(out / "envelope.vtu")
     np.testing.assert_array_equal(vtu.point_data["min_principal"], env["node_min"])
     np.testing.assert_array_equal(np.concatenate(vtu.cell_data["max_principal_time"]),

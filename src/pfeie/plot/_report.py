@@ -32,7 +32,33 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
             "largest opening (mm)": 1e3 * float(pr["opening"].max()),
             "broken (%)": 100 * float((pr["broken"][-1] * A).sum() / A.sum()),
         })  # fmt: skip
+        if "joints/safety_factor" in res.f["history"]:
+            fs = np.asarray(res.f["history/joints/safety_factor"])[:, len(rows) - 1]
+            rows[-1]["min safety factor"] = float(fs.min())
+        if "joints/force" in res.f["history"]:
+            jr = res.joint_resultants(name)
+            rows[-1]["peak |F_x| (kN)"] = 1e-3 * float(np.abs(jr["force"][:, 0]).max())
+            rows[-1]["peak |M| (kN m)"] = 1e-3 * float(
+                np.linalg.norm(jr["moment"], axis=1).max())  # fmt: skip
     return rows
+
+
+def envelope_rows(res: Results) -> list[tuple[str, str]]:
+    """The extremes of the stress envelope: the largest σ₁ and the smallest σ₃ over the
+    nodes, where and when (empty without an envelope)."""
+    env = res.envelope()
+    if not env or not np.isfinite(env["node_max"]).any():
+        return []
+    pts = np.asarray(res.f["mesh/points"])
+    out = []
+    for key, label, pick in (("node_max", "largest principal stress σ1", np.nanargmax),
+                             ("node_min", "smallest principal stress σ3",
+                              np.nanargmin)):  # fmt: skip
+        k = int(pick(env[key]))
+        where = ", ".join(f"{x:g}" for x in pts[k])
+        out.append((label, f"{env[key][k] / 1e6:.3g} MPa at ({where}) m, "
+                           f"t = {env[key + '_time'][k]:.3f} s"))  # fmt: skip
+    return out
 
 
 def static_joint_table(res: Results) -> list[dict[str, Any]]:
@@ -63,6 +89,7 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         meta = res.meta
         summ = meta["model_summary"]
         joints = joint_table(res)
+        envelope = envelope_rows(res)
         t_end = float(res.time[-1]) if res.time.size else 0.0
         static_only = res.n_times == 0
     output_file(target)
@@ -112,6 +139,11 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         parts.append("</table>")
     else:
         parts.append("<p>No interfaces.</p>")
+    if envelope:
+        parts.append("<h2>Stress envelope</h2><table>")
+        parts += [f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in envelope]
+        parts.append("</table><p>Per node and cell in results.h5 (/envelope) and "
+                     "envelope.vtu.</p>")  # fmt: skip
     parts.append("<h2>Figures</h2>")
     for name, data in images:
         parts.append(f"<h3>{esc(name.replace('_', ' '))}</h3>"
