@@ -248,34 +248,15 @@ def test_sa_measure_and_bad_arguments() -> None:
 
 
 # -- scaling in the model file and the command ---------------------------------------------
-MODEL = """
-[mesh]
-file = "plate.msh"
-[materials.rock]
-E = 1e9
-nu = 0.25
-rho = 2000.0
-[blocks]
-all = "rock"
-[[supports]]
-group = "bottom"
-[analysis]
-dynamic = false
-[output]
-folder = "out"
-[[ground_motion]]
-file = "elcentro.csv"
-units = "g"
-"""
-
-
 def _model(tmp: Path, extra: str) -> Path:
-    from test_robustness import msh22
+    """The static plate model of test_robustness with the El Centro record (in g) and
+    ``extra`` keys in its ``[[ground_motion]]`` table."""
+    from test_robustness import model
 
-    msh22(tmp / "plate.msh")
     (tmp / "elcentro.csv").write_text(ELCENTRO.read_text())
-    p = tmp / "model.toml"
-    p.write_text(MODEL + extra)
+    p = model(tmp)
+    p.write_text(p.read_text() + '[[ground_motion]]\nfile = "elcentro.csv"\nunits = "g"\n'
+                 + extra)  # fmt: skip
     return p
 
 

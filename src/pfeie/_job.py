@@ -34,6 +34,7 @@ from .dynamics import (
     DynamicSettings,
     RunStopped,
     StepState,
+    envelope_extremes,
 )  # fmt: skip
 from .errors import InputError, ModelError, PfeieError
 from .interface import OPEN, SLIDE, SolverSettings
@@ -272,18 +273,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 joints[name]["min_safety_factor"] = float(fs[k])
                 joints[name]["min_safety_factor_time_s"] = float(res.t[k])
     s["joints"] = joints
-    env = res.envelope
-    if env and np.isfinite(env["node_max"]).any():
-        pts = model.mesh.points
-        hi, lo = int(np.nanargmax(env["node_max"])), int(np.nanargmin(env["node_min"]))
-        s["stress"] = {
-            "max_principal_Pa": float(env["node_max"][hi]),
-            "max_principal_at_m": pts[hi].round(4).tolist(),
-            "max_principal_time_s": float(env["node_max_time"][hi]),
-            "min_principal_Pa": float(env["node_min"][lo]),
-            "min_principal_at_m": pts[lo].round(4).tolist(),
-            "min_principal_time_s": float(env["node_min_time"][lo]),
-        }
+    stress = envelope_extremes(res.envelope, model.mesh.points)
+    if stress is not None:
+        s["stress"] = stress
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     if res.solver:
         fb, it = res.solver["fallbacks"], res.solver["iterations"]

@@ -168,13 +168,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     try:
         job = load_job(args.model, _overrides(args))
-    except (InputError, MeshError, RecordError) as exc:
-        for line in str(exc).splitlines():
-            print(f"pfeie: error: {line}", file=sys.stderr)
-        return EXIT_INPUT
     except PfeieError as exc:
-        print(f"pfeie: error: {args.model}: {exc}", file=sys.stderr)
-        return EXIT_INPUT
+        return _input_failure(exc, args.model)
     if args.command == "modal":
         return _modal(args, job)
     if args.command == "check":
@@ -407,14 +402,20 @@ def _spectrum(args: argparse.Namespace) -> int:
         from .plot import plot_spectrum
 
         print(plot_spectrum(spectra, out / "spectrum.png", src.name))
-    except (InputError, MeshError, RecordError) as exc:
+    except PfeieError as exc:
+        return _input_failure(exc, args.source)
+    return EXIT_OK
+
+
+def _input_failure(exc: PfeieError, source: str) -> int:
+    """Report a failure to read the inputs: the ``pfeie: error`` lines of an input error
+    (which names its file), or the error with the file it came from; exit 2."""
+    if isinstance(exc, (InputError, MeshError, RecordError)):
         for line in str(exc).splitlines():
             print(f"pfeie: error: {line}", file=sys.stderr)
-        return EXIT_INPUT
-    except PfeieError as exc:
-        print(f"pfeie: error: {args.source}: {exc}", file=sys.stderr)
-        return EXIT_INPUT
-    return EXIT_OK
+    else:
+        print(f"pfeie: error: {source}: {exc}", file=sys.stderr)
+    return EXIT_INPUT
 
 
 def _format_check(s: dict[str, object]) -> str:

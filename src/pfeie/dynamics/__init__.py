@@ -18,12 +18,19 @@ from ._excitation import Excitation
 from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._nsga import NonsmoothAlpha
-from ._recorder import ENVELOPE_KEYS, DynamicResult, EnergyAccount, Recorder, StressEnvelope
+from ._recorder import (
+    ENVELOPE_KEYS,
+    DynamicResult,
+    EnergyAccount,
+    Recorder,
+    StressEnvelope,
+    envelope_extremes,
+)
 from ._settings import DynamicSettings
 
 __all__ = [
     "ENVELOPE_KEYS", "Checkpoint", "Corotation", "Dynamic", "DynamicResult", "DynamicSettings",
     "EnergyAccount", "Excitation", "History", "MatrixSystem", "MoreauJean", "Newmark",
     "NonsmoothAlpha", "Recorder", "RunStopped", "SecondOrderSystem", "State", "StepState",
-    "StressEnvelope",
+    "StressEnvelope", "envelope_extremes",
 ]  # fmt: skip

@@ -171,6 +171,22 @@ class StressEnvelope:
         return {k: a.copy() for k, a in self.values.items()}
 
 
+def envelope_extremes(envelope: dict[str, FloatArray],
+                      points: FloatArray) -> dict[str, Any] | None:  # fmt: skip
+    """The extremes of a stress envelope over the nodes: the largest σ₁ and the smallest
+    σ₃ (Pa), where (m) and when (s); None without an envelope."""
+    if not envelope or not np.isfinite(envelope["node_max"]).any():
+        return None
+    out: dict[str, Any] = {}
+    for key, name, pick in (("node_max", "max_principal", np.nanargmax),
+                            ("node_min", "min_principal", np.nanargmin)):  # fmt: skip
+        k = int(pick(envelope[key]))
+        out[f"{name}_Pa"] = float(envelope[key][k])
+        out[f"{name}_at_m"] = points[k].round(4).tolist()
+        out[f"{name}_time_s"] = float(envelope[key + "_time"][k])
+    return out
+
+
 class EnergyAccount:
     """The running sums of the energy terms (see the module docstring)."""
 
@@ -384,4 +400,7 @@ class Recorder:
         )  # fmt: skip
 
 
-__all__ = ["ENVELOPE_KEYS", "DynamicResult", "EnergyAccount", "Recorder", "StressEnvelope"]
+__all__ = [
+    "ENVELOPE_KEYS", "DynamicResult", "EnergyAccount", "Recorder", "StressEnvelope",
+    "envelope_extremes",
+]  # fmt: skip

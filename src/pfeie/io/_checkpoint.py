@@ -32,7 +32,7 @@ import numpy as np
 from ..dynamics import Checkpoint, DynamicResult, State, StepState
 from ..errors import ResultsError
 from ..interface import PairState
-from ._results import ResultsWriter, _h5py
+from ._results import ResultsWriter, _h5py, read_envelope
 
 _KIN = ("u", "v", "a", "f")
 _PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
@@ -198,20 +198,13 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     fs = arr("joints/safety_factor") if "joints" in h else np.zeros((0, 0))
     jf = arr("joints/force") if "joints/force" in h else np.zeros((0, 0, 0))
     jm = arr("joints/moment") if "joints/moment" in h else np.zeros((0, 0, 0))
-    env: dict[str, Any] = {}
-    if "envelope" in f:
-        g = f["envelope"]
-        for where in ("node", "cell"):
-            for ext in ("max", "min"):
-                env[f"{where}_{ext}"] = np.asarray(g[f"{where}s/{ext}_principal"])
-                env[f"{where}_{ext}_time"] = np.asarray(g[f"{where}s/{ext}_principal_time"])
     return DynamicResult(
         t=arr("time"), probes=nodes, probe_u=arr("probes/u"), probe_v=arr("probes/v"),
         probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
         X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
-        stop_reason=reason, solver=solver, safety_factor=fs, envelope=env, joint_force=jf,
-        joint_moment=jm,
+        stop_reason=reason, solver=solver, safety_factor=fs, envelope=read_envelope(f),
+        joint_force=jf, joint_moment=jm,
     )  # fmt: skip
 
 

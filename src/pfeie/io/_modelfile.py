@@ -344,7 +344,7 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
                               scale=gm.scale, direction=direction,
                               baseline=gm.baseline)  # fmt: skip
-            rec = _scaled(rec, gm, base / gm.file, direction)
+            rec = _scaled(rec, gm)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
@@ -383,10 +383,10 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
 
 
-def _scaled(rec: GroundMotion, gm: Any, path: Path, direction: list[float]) -> GroundMotion:
+def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
     """The record scaled to the ``pga`` (g) or the ``target_sa`` (Sa(T, ζ) in g) of its
-    table: read again with the factor (the scale is exact, the spectrum and the baseline
-    correction being linear in the record); the factor is noted for the summary."""
+    table: its accelerations times the factor (exact: the spectrum and the baseline
+    correction are linear in the record); the factor is noted for the summary."""
     if gm.pga is not None:
         have, want, what = rec.pga, gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
     elif gm.target_sa is not None:
@@ -402,9 +402,8 @@ def _scaled(rec: GroundMotion, gm: Any, path: Path, direction: list[float]) -> G
     if not np.isfinite(factor):
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
-    out = read_record(path, fmt=gm.format, dt=gm.dt, units=gm.units, scale=factor,
-                      direction=direction, baseline=gm.baseline)  # fmt: skip
-    return dataclasses.replace(out, scaling=f"scaled ×{factor:.6g} to {what}")
+    return dataclasses.replace(rec, acceleration=rec.acceleration * factor,
+                               scaling=f"scaled ×{factor:.6g} to {what}")  # fmt: skip
 
 
 def _slip_weakening(p: Path, group: str, joint: Joint, distance: float | None) -> Any:

@@ -293,6 +293,21 @@ class ResultsWriter:
         self.f.close()
 
 
+def read_envelope(f: Any) -> dict[str, FloatArray]:
+    """The stress envelope of an open results file, keyed as
+    :data:`pfeie.dynamics.ENVELOPE_KEYS` (empty if the run kept none)."""
+    if "envelope" not in f:
+        return {}
+    g = f["envelope"]
+    out = {}
+    for where in ("node", "cell"):
+        for ext in ("max", "min"):
+            name = f"{where}s/{ext}_principal"
+            out[f"{where}_{ext}"] = np.asarray(g[name][...])
+            out[f"{where}_{ext}_time"] = np.asarray(g[name + "_time"][...])
+    return out
+
+
 class Results:
     """A results file opened for reading; arrays come with their times and units.
 
@@ -474,16 +489,7 @@ class Results:
         ``cell_max``, ``cell_min`` (n_cells, over the mesh's cells type after type) the
         largest σ₁ and the smallest σ₃ (Pa, tension positive; NaN outside the blocks),
         and the times they were reached (``…_time``, s). Empty if the run kept none."""
-        if "envelope" not in self.f:
-            return {}
-        g = self.f["envelope"]
-        out = {}
-        for where in ("node", "cell"):
-            for ext in ("max", "min"):
-                ds = g[f"{where}s/{ext}_principal"]
-                out[f"{where}_{ext}"] = np.asarray(ds[...])
-                out[f"{where}_{ext}_time"] = np.asarray(g[f"{where}s/{ext}_principal_time"][...])
-        return out
+        return read_envelope(self.f)
 
     def fields(self) -> tuple[FloatArray, dict[str, FloatArray]]:
         """Times (n_f,) and the nodal fields u, v, a (n_f, n, d)."""

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from ..dynamics import envelope_extremes
 from ..errors import InputError, ResultsError
 from ..io import Results, output_file
 from ._plots import plot_all
@@ -46,18 +47,15 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
 def envelope_rows(res: Results) -> list[tuple[str, str]]:
     """The extremes of the stress envelope: the largest σ₁ and the smallest σ₃ over the
     nodes, where and when (empty without an envelope)."""
-    env = res.envelope()
-    if not env or not np.isfinite(env["node_max"]).any():
+    ext = envelope_extremes(res.envelope(), np.asarray(res.f["mesh/points"]))
+    if ext is None:
         return []
-    pts = np.asarray(res.f["mesh/points"])
     out = []
-    for key, label, pick in (("node_max", "largest principal stress σ1", np.nanargmax),
-                             ("node_min", "smallest principal stress σ3",
-                              np.nanargmin)):  # fmt: skip
-        k = int(pick(env[key]))
-        where = ", ".join(f"{x:g}" for x in pts[k])
-        out.append((label, f"{env[key][k] / 1e6:.3g} MPa at ({where}) m, "
-                           f"t = {env[key + '_time'][k]:.3f} s"))  # fmt: skip
+    for name, label in (("max_principal", "largest principal stress σ1"),
+                        ("min_principal", "smallest principal stress σ3")):  # fmt: skip
+        where = ", ".join(f"{x:g}" for x in ext[f"{name}_at_m"])
+        out.append((label, f"{ext[f'{name}_Pa'] / 1e6:.3g} MPa at ({where}) m, "
+                           f"t = {ext[f'{name}_time_s']:.3f} s"))  # fmt: skip
     return out
 
 
