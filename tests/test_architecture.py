@@ -4,7 +4,7 @@ Subpackages depend on each other one way, from the finite element machinery up t
 command line:
 
     typing, errors → element → mesh → assembly, linalg → interface → model → coupling
-    → solvers, dynamics → io → plot → verification → _job, cli
+    → solvers, dynamics → io → plot → verification → _job → study → cli
 
 Two rules are checked on every import statement of ``src/pfeie``: no subpackage imports
 one above it (so there is no cycle), and no module imports a private module (``_name``)
@@ -32,7 +32,9 @@ LAYERS = [
     {"io"},
     {"plot"},
     {"verification"},
-    {"_job", "cli", "__main__", "__init__"},
+    {"_job"},
+    {"study"},
+    {"cli", "__main__", "__init__"},
 ]
 RANK = {name: i for i, layer in enumerate(LAYERS) for name in layer}
 

@@ -43,6 +43,7 @@ from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettin
 from .mesh import Mesh, box, graded, rectangle
 from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
 from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
+from .study import Study, StudyTable
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
@@ -51,5 +52,6 @@ __all__ = [
     "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State", "StaticResult",
+    "Study", "StudyTable",
     "__version__", "box", "factorize", "graded", "modal", "rectangle", "solve_static",
 ]  # fmt: skip

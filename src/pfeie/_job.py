@@ -262,6 +262,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             slip_mag = np.linalg.norm(slip, axis=-1)
             joints[name] = {
                 "pairs": int(idx.size),
+                "peak_slip_max_m": float(slip_mag.max()),
                 "residual_slip_max_m": float(slip_mag[-1].max()),
                 "residual_slip_mean_m": float((slip_mag[-1] * area).sum() / area.sum()),
                 "max_opening_m": float(res.opening[:, idx].max()),

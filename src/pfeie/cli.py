@@ -1,4 +1,4 @@
-"""The command line: ``pfeie run``, ``check``, ``modal``, ``spectrum``, ``plot``,
+"""The command line: ``pfeie run``, ``check``, ``modal``, ``spectrum``, ``study``, ``plot``,
 ``export``, ``report``, ``verify``, ``schema``, ``pfeie --version``.
 
 ``run`` and ``check`` take settings that override the model file's (``--duration``,
@@ -127,6 +127,30 @@ def _parser() -> argparse.ArgumentParser:
                    "model and record summaries, the figures and a table of joint results.",
                    ("--out", "HTML file (default: report.html beside the results)")),
     }  # fmt: skip
+    stu = sub.add_parser(
+        "study", help="run a model under many records and intensities (a study file)",
+        description="Run a study file: one model under many records, each at the "
+        "intensities of a ladder; the factorised system is built once per process. Writes "
+        "table.csv (and table.parquet) with one row per record and intensity: intensity "
+        "measures and demands; and, with limit states, the IDA and fragility figures. A "
+        "study run again skips the runs already done (resume).",
+    )  # fmt: skip
+    stu.add_argument("study", help="study file (TOML)")
+    stu.add_argument(
+        "--workers",
+        metavar="N",
+        help="worker processes of a local Dask "
+        "cluster (0: in this process; default: the study file's run.workers)",
+    )
+    stu.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="address of a running Dask "
+        "scheduler, e.g. tcp://host:8786 (instead of a local cluster)",
+    )
+    stu.add_argument("--restart", action="store_true", help="run every record again, "
+                     "ignoring the rows of runs already done")  # fmt: skip
+    stu.add_argument("--quiet", action="store_true", help="no progress line")
     ver = sub.add_parser("verify", help="run the verification suite and print its table",
                          description="Run the verification cases (V1-V10 of the verification "
                          "manual) and print: case, quantity, reference, pfeie, error, "
@@ -163,6 +187,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _schema(args)
     if args.command == "spectrum":
         return _spectrum(args)
+    if args.command == "study":
+        return _study(args)
     from ._job import format_summary, run_job
     from .io import load_job
 
@@ -404,6 +430,57 @@ def _spectrum(args: argparse.Namespace) -> int:
         print(plot_spectrum(spectra, out / "spectrum.png", src.name))
     except PfeieError as exc:
         return _input_failure(exc, args.source)
+    return EXIT_OK
+
+
+def _study(args: argparse.Namespace) -> int:
+    import time
+
+    from .study import Study
+
+    workers = None
+    if args.workers is not None:
+        if not (args.workers.isdigit() and int(args.workers) <= 4096):
+            print(f"pfeie: error: --workers: expected a whole number in [0, 4096], found "
+                  f"{args.workers!r}", file=sys.stderr)  # fmt: skip
+            return EXIT_INPUT
+        workers = int(args.workers)
+    try:
+        st = Study.from_file(args.study)
+        specs = st.runs()
+    except PfeieError as exc:
+        return _input_failure(exc, args.study)
+    t0 = time.perf_counter()
+
+    def progress(done: int, total: int, row: dict[str, object]) -> None:
+        if not args.quiet:
+            el = time.perf_counter() - t0
+            print(f"run {done}/{total}  {row['record']} at {row['intensity']:g}  "
+                  f"({'completed' if row['completed'] else 'STOPPED'}, {row['wall_s']:.1f} s)"
+                  f"  elapsed {el:.0f} s", file=sys.stderr)  # fmt: skip
+
+    print(f"study: {len(st.records)} records x {len(st.values)} intensities = {len(specs)} "
+          f"runs; output {st.folder}", file=sys.stderr)  # fmt: skip
+    try:
+        table = st.run(workers=workers, scheduler=args.scheduler, resume=not args.restart,
+                       progress=progress)  # fmt: skip
+    except KeyboardInterrupt:
+        print("pfeie: interrupted; the runs finished so far are kept: the same command "
+              "resumes the study", file=sys.stderr)  # fmt: skip
+        return EXIT_INTERRUPTED
+    except (InputError, MeshError, RecordError, ResultsError) as exc:
+        return _input_failure(exc, args.study)
+    except PfeieError as exc:
+        print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    stopped = [f"{r['record']}@{r['intensity']:g}" for r in table.rows if not r["completed"]]
+    print(f"{len(table)} runs in {st.folder / 'table.csv'}")
+    for f in st.outputs():
+        print(f"wrote {f}")
+    if stopped:
+        print(f"pfeie: {len(stopped)} run(s) stopped before their end (the interface step did "
+              f"not converge): {', '.join(stopped)}", file=sys.stderr)  # fmt: skip
+        return EXIT_FAILED
     return EXIT_OK
 
 

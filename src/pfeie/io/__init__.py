@@ -19,6 +19,7 @@ from ._modelfile import (
 from ._paraview import write_modes, write_paraview
 from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
+from ._studyfile import StudyFile, read_study_file
 
 __all__ = [
     "CheckpointWriter",
@@ -27,6 +28,7 @@ __all__ = [
     "Override",
     "Results",
     "ResultsWriter",
+    "StudyFile",
     "export_csv",
     "from_gmsh",
     "history",
@@ -39,6 +41,7 @@ __all__ = [
     "read_mesh",
     "read_model_file",
     "read_record",
+    "read_study_file",
     "reference_markdown",
     "reference_rows",
     "reopen_results",

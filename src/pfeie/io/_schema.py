@@ -259,10 +259,10 @@ class TargetSa(_Table):
     ] = 0.05
 
 
-class GroundMotionRecord(_Table):
-    """``[[ground_motion]]``: an acceleration record and its direction."""
+class RecordReading(_Table):
+    """How a record file is read: its format, units, time step and direction (shared by
+    a model file's ``[[ground_motion]]`` and a study file's ``[[records]]``)."""
 
-    file: Annotated[PathText, Field(description="record file")]
     format: Annotated[
         Literal["auto", "at2", "two-column", "one-column"],
         Field(description="'auto', 'at2', 'two-column' or 'one-column'"),
@@ -272,6 +272,21 @@ class GroundMotionRecord(_Table):
         Field(description="units of the record: 'g', 'm/s2' or 'cm/s2' (AT2: g)"),
     ] = None
     dt: Annotated[Positive | None, Field(description="time step of a one-column record (s)")] = None
+    component: Annotated[
+        Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")
+    ] = "x"
+    direction: Annotated[
+        Vector | None, Field(description="direction vector (instead of component)")
+    ] = None
+    baseline: Annotated[
+        bool, Field(description="remove the drift of the final velocity (absolute form)")
+    ] = False
+
+
+class GroundMotionRecord(RecordReading):
+    """``[[ground_motion]]``: an acceleration record, how it is read and scaled."""
+
+    file: Annotated[PathText, Field(description="record file")]
     scale: Annotated[
         float,
         Field(description="scale factor (not 0; negative flips the record)"),
@@ -287,15 +302,6 @@ class GroundMotionRecord(_Table):
         Field(description="scale the record to a pseudo-spectral acceleration Sa(T, ζ) (a "
               "table: period (s), value (g), damping), instead of scale or pga"),
     ] = None  # fmt: skip
-    component: Annotated[
-        Literal["x", "y", "z"], Field(description="direction of the motion: 'x', 'y' or 'z'")
-    ] = "x"
-    direction: Annotated[
-        Vector | None, Field(description="direction vector (instead of component)")
-    ] = None
-    baseline: Annotated[
-        bool, Field(description="remove the drift of the final velocity (absolute form)")
-    ] = False
 
 
 class Analysis(DynamicSettings):
@@ -435,10 +441,13 @@ def _is_model(tp: Any) -> bool:
     return isinstance(tp, type) and issubclass(tp, BaseModel)
 
 
-def _walk(loc: Sequence[int | str]) -> tuple[int, _Node | None, type[BaseModel] | None]:
-    """Follow ``loc`` from :class:`ModelFile`: how many parts name a key (the rest are
-    items of an array of values), the type there, and the table that holds it."""
-    node: _Node = _Node(ModelFile, ())
+def _walk(
+    loc: Sequence[int | str], root: type[BaseModel] | None = None
+) -> tuple[int, _Node | None, type[BaseModel] | None]:
+    """Follow ``loc`` from ``root`` (default :class:`ModelFile`): how many parts name a key
+    (the rest are items of an array of values), the type there, and the table that holds
+    it."""
+    node: _Node = _Node(ModelFile if root is None else root, ())
     parent: type[BaseModel] | None = None
     for i, part in enumerate(loc):
         origin = typing.get_origin(node.tp)
@@ -550,12 +559,13 @@ class Problem:
         return _path(self.loc) or "top level"
 
 
-def problems(exc: ValidationError, data: Any) -> list[Problem]:
-    """The errors of a validation of ``data`` (the raw TOML) as key paths and words."""
+def problems(exc: ValidationError, data: Any, root: type[BaseModel] | None = None) -> list[Problem]:
+    """The errors of a validation of ``data`` (the raw TOML) against ``root`` (default
+    :class:`ModelFile`) as key paths and words."""
     out: list[Problem] = []
     for err in exc.errors():
         typ, loc, ctx = err["type"], tuple(err["loc"]), err.get("ctx") or {}
-        n, node, parent = _walk(loc)
+        n, node, parent = _walk(loc, root)
         loc = loc[:n]
         found = _at(data, loc) if n < len(err["loc"]) else err["input"]
         if typ == "missing":

@@ -1,0 +1,80 @@
+"""The runs of a study on Dask: a local cluster of worker processes, or a scheduler.
+
+Each task is one run (:func:`pfeie.study._study.run_one`) with the small
+:class:`~pfeie.study._study.Context`; a worker builds the model, its static state and its
+factorised time stepping on its first task and keeps them for the next ones (the
+factorisation is never shipped). Only the rows come back. Every row is also written by
+the worker to ``<folder>/rows/`` as the run ends, so that a study killed at any moment
+keeps its finished runs; on a cluster, the output folder must be on a file system that
+the workers share with the client.
+
+A local cluster has ``workers`` processes of one thread each, with ``OMP_NUM_THREADS=1``
+(a run is sequential; the processes are the parallelism). With ``scheduler``, the runs
+go to a running Dask scheduler (``dask scheduler`` and ``dask worker ADDRESS`` on the
+machines, or dask-jobqueue on SLURM or PBS, see docs/study.md); its workers need pfeie
+installed.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from ..errors import InputError, PfeieError
+from ._study import Context, RunSpec, run_one
+
+log = logging.getLogger(__name__)
+
+
+def run_parallel(
+    ctx: Context,
+    specs: Sequence[RunSpec],
+    finished: Callable[[dict[str, Any]], None],
+    *,
+    workers: int = 2,
+    scheduler: str | None = None,
+) -> None:
+    """Run ``specs`` on Dask, calling ``finished(row)`` as each run ends (in the order
+    they end). An error of a run (a :class:`PfeieError`) is raised after the runs
+    already finished have been reported."""
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise InputError("running a study on workers needs Dask (pip install "
+                         "'pfeie[study]'); or run it with workers = 0") from None  # fmt: skip
+    logging.getLogger("distributed").setLevel(logging.WARNING)  # not its start-up chatter
+    cluster = None
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
+    else:
+        env = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+        cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
+                               processes=True, dashboard_address=":0",
+                               scheduler_kwargs={"dashboard": False},
+                               silence_logs=logging.ERROR, env=env)  # fmt: skip
+        client = Client(cluster)
+    log.info("study on Dask: %s (%d runs)", client.dashboard_link or scheduler, len(specs))
+    error: BaseException | None = None
+    try:
+        futures = [client.submit(run_one, ctx, s, key=f"pfeie-run-{s.key[:24]}", pure=False)
+                   for s in specs]  # fmt: skip
+        for fut in as_completed(futures):
+            try:
+                row = fut.result()
+            except PfeieError as exc:
+                error = error or exc
+                continue
+            finished(row)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    if error is not None:
+        raise error
+
+
+__all__ = ["run_parallel"]

@@ -1,0 +1,283 @@
+"""Studies: one model under many records and intensities.
+
+References: a study's row equals a separate ``pfeie run`` of the model with that record
+scaled the same way (an independent run: a new process, a new factorisation) to 1e-12
+relative; the Dask paths (a two-worker local cluster, a scheduler started here) give the
+serial table bit for bit; a study killed (SIGKILL) and started again gives the same table.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfeie.cli import main
+from pfeie.errors import InputError, ModelError
+from pfeie.study import RecordSource, Study, StudyTable
+from test_robustness import msh22
+
+# two 2 m x 1 m rows of two quadrilaterals: a fixed base and a block on a frictional joint
+NODES = [(x, y, 0) for y in (0, 1, 2) for x in (0, 1, 2)]
+NAMES = {1: (2, "base"), 2: (2, "block"), 3: (1, "bottom"), 4: (1, "joint")}
+ELEMENTS = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [4, 5]), (4, 1, 4, [5, 6]),
+            (10, 3, 1, [1, 2, 5, 4]), (11, 3, 1, [2, 3, 6, 5]),
+            (12, 3, 2, [4, 5, 8, 7]), (13, 3, 2, [5, 6, 9, 8])]  # fmt: skip
+
+MODEL = """
+[mesh]
+file = "blocks.msh"
+[materials.rock]
+E = 1e9
+nu = 0.25
+rho = 2000.0
+[blocks]
+base = "rock"
+block = "rock"
+[interfaces.joint]
+friction_angle = 20.0
+cohesion = 2000.0
+tensile_strength = 1000.0
+initial = "intact"
+[[supports]]
+group = "base"
+[loads]
+gravity = 9.81
+[analysis]
+dt = 0.01
+[output]
+folder = "out"
+probes = { top = [1.0, 2.0] }
+"""
+
+STUDY = """
+title = "three records at two intensities"
+model = "model.toml"
+[[records]]
+folder = "rec"
+pattern = "*.csv"
+units = "g"
+[intensity]
+measure = "pga"
+values = [0.2, 0.5]
+[output]
+folder = "study"
+"""
+
+
+def setup(tmp: Path, study: str = STUDY, n: int = 3, seconds: float = 2.0) -> Path:
+    """The model, ``n`` decaying sine records (two-column, g) and the study file."""
+    msh22(tmp / "blocks.msh", NODES, ELEMENTS, NAMES)
+    (tmp / "model.toml").write_text(MODEL)
+    (tmp / "rec").mkdir(exist_ok=True)
+    t = np.arange(0.0, seconds, 0.01)
+    for k in range(n):
+        a = np.sin(2 * np.pi * (1.5 + k) * t) * np.exp(-t) * (0.5 + 0.2 * k)
+        np.savetxt(tmp / "rec" / f"r{k}.csv", np.c_[t, a], delimiter=",")
+    p = tmp / "study.toml"
+    p.write_text(study)
+    return p
+
+
+def same(a: StudyTable, b: StudyTable) -> None:
+    """Tables equal bit for bit, but for the wall time and the file column's spelling."""
+    assert a.columns == b.columns
+    for c in a.columns:
+        if c in ("wall_s",):
+            continue
+        x, y = a.column(c), b.column(c)
+        if x.dtype == object:
+            assert list(x) == list(y), c
+        else:
+            np.testing.assert_array_equal(x, y, err_msg=c)
+
+
+def test_rows_equal_separate_runs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Each row equals `pfeie run` of the model with the record scaled to the same PGA
+    (a separate process state: a new model, factorisation and W) to 1e-12 relative; the
+    intensity measures are the scaled record's (PGA exactly the target)."""
+    p = setup(tmp_path)
+    table = Study.from_file(p).run()
+    assert len(table) == 6 and all(table.column("completed"))
+    np.testing.assert_allclose(table.column("im.pga_g"), [0.2, 0.5] * 3, rtol=1e-14)
+    slip = table.column("joint.joint.residual_slip_max_m")
+    assert slip[1] > 1e-3 and slip[0] < 1e-12  # 0.5 g breaks and slides; 0.2 g does not
+    for k, row in enumerate(table.rows):
+        if k % 2 == 0 and k != 0:
+            continue  # the 0.5 g runs and the first 0.2 g run
+        text = MODEL.replace("[output]", f"""[[ground_motion]]
+file = "{row['file']}"
+units = "g"
+pga = {row['intensity']!r}
+[output]""").replace('folder = "out"', f'folder = "out{k}"')  # fmt: skip
+        (tmp_path / "one.toml").write_text(text)
+        assert main(["run", str(tmp_path / "one.toml"), "--quiet"]) == 0
+        s = json.loads((tmp_path / f"out{k}" / "summary.json").read_text())
+        j, pr = s["joints"]["joint"], s["probes"]["top"]
+        ref = {
+            "joint.joint.residual_slip_max_m": j["residual_slip_max_m"],
+            "joint.joint.peak_slip_max_m": j["peak_slip_max_m"],
+            "joint.joint.max_opening_m": j["max_opening_m"],
+            "joint.joint.min_safety_factor": j["min_safety_factor"],
+            "probe.top.peak_displacement_m": pr["peak_displacement_m"],
+            "probe.top.peak_abs_acceleration_g": pr["peak_abs_acceleration_g"],
+            "stress.max_principal_Pa": s["stress"]["max_principal_Pa"],
+        }
+        for col, value in ref.items():
+            assert row[col] == pytest.approx(value, rel=1e-12, abs=1e-15), (k, col)
+    capsys.readouterr()
+
+
+def test_command_line_and_resume(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`pfeie study` writes the table (CSV and Parquet, read back to the same bits); run
+    again it reruns nothing (every row kept); --restart runs all again to the same
+    table."""
+    p = setup(tmp_path)
+    assert main(["study", str(p), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "6 runs" in out and "table.parquet" in out
+    csv = StudyTable.read(tmp_path / "study" / "table.csv")
+    same(csv, StudyTable.read(tmp_path / "study" / "table.parquet"))
+    rows = tmp_path / "study" / "rows"
+    stamp = {f.name: f.stat().st_mtime_ns for f in rows.iterdir()}
+    assert main(["study", str(p)]) == 0
+    assert {f.name: f.stat().st_mtime_ns for f in rows.iterdir()} == stamp
+    assert "run 1/6" not in capsys.readouterr().err
+    assert main(["study", str(p), "--restart", "--quiet"]) == 0
+    same(csv, StudyTable.read(tmp_path / "study" / "table.csv"))
+
+
+def test_killed_study_resumes_to_the_same_table(tmp_path: Path) -> None:
+    """SIGKILL a `pfeie study` after its second row; the same command finishes it and the
+    table equals an uninterrupted study's (the rows are written atomically, each once)."""
+    p = setup(tmp_path, n=4, seconds=6.0)
+    ref = Study.from_file(p)
+    ref.folder = tmp_path / "ref"
+    want = ref.run()
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "study", str(p), "--quiet"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    rows = tmp_path / "study" / "rows"
+    t0 = time.monotonic()
+    while not (rows.is_dir() and len(list(rows.glob("*.json"))) >= 2):
+        assert proc.poll() is None and time.monotonic() - t0 < 60
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    done = len(list(rows.glob("*.json")))
+    assert 2 <= done < 8 and not (tmp_path / "study" / "table.csv").exists()
+    assert main(["study", str(p), "--quiet"]) == 0
+    same(want, StudyTable.read(tmp_path / "study" / "table.csv"))
+
+
+def test_interrupt_keeps_finished_runs(tmp_path: Path) -> None:
+    """An interrupt after two runs keeps their rows; the next run of the study does the
+    other four only."""
+    p = setup(tmp_path)
+    st = Study.from_file(p)
+
+    def stop(done: int, total: int, row: dict[str, object]) -> None:
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        st.run(progress=stop)
+    seen: list[int] = []
+    Study.from_file(p).run(progress=lambda d, n, r: seen.append(d))
+    assert seen == [3, 4, 5, 6]
+
+
+def test_dask_local_cluster_and_scheduler(tmp_path: Path) -> None:
+    """Two worker processes, and a scheduler started here (its address given as a
+    `pfeie study --scheduler` would): the same table as the serial study, bit for bit."""
+    distributed = pytest.importorskip("distributed")
+    p = setup(tmp_path)
+    serial = Study.from_file(p).run()
+    st = Study.from_file(p)
+    st.folder = tmp_path / "dask"
+    same(serial, st.run(workers=2))
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:  # fmt: skip
+        st = Study.from_file(p)
+        st.folder = tmp_path / "scheduler"
+        same(serial, st.run(scheduler=cluster.scheduler_address))
+
+
+def test_sa_ladder_and_intensity_measures(tmp_path: Path) -> None:
+    """An Sa(T1) ladder: T1 is the model's first period (joints bonded) unless given; the
+    Sa column equals the target; Arias intensity scales with the factor squared, PGV and
+    CAV with the factor (checked against the record's own measures)."""
+    p = setup(tmp_path, STUDY.replace('measure = "pga"', 'measure = "sa"'), n=1)
+    st = Study.from_file(p)
+    t = st.run()
+    assert st.period is not None and 0.0 < st.period < 1.0
+    np.testing.assert_allclose(t.column("im.sa_t1_g"), [0.2, 0.5], rtol=1e-12)
+    f = t.column("scale_factor")
+    rec = st.records[0].read(2)
+    ims = rec.intensity_measures(st.period)
+    np.testing.assert_allclose(t.column("im.arias_m_s"), ims["arias"] * f**2, rtol=1e-12)
+    np.testing.assert_allclose(t.column("im.pgv_m_s"), ims["pgv"] * f, rtol=1e-12)
+    np.testing.assert_allclose(t.column("im.cav_m_s"), ims["cav"] * f, rtol=1e-12)
+
+
+def test_histories_kept_on_request(tmp_path: Path) -> None:
+    """With output.histories, each run leaves its results file, which names its record
+    and scale factor and holds the same residual slip as the table."""
+    from pfeie.io import Results
+
+    p = setup(tmp_path, STUDY.replace('folder = "study"', 'folder = "study"\nhistories = true'),
+              n=1)  # fmt: skip
+    t = Study.from_file(p).run()
+    f = tmp_path / "study" / "runs" / "r0_001" / "results.h5"
+    with Results(f) as res:
+        assert res.completed
+        slip = np.linalg.norm(res.pairs("joint")["s"][-1], axis=-1).max()
+    assert slip == t.column("joint.joint.residual_slip_max_m")[1]
+
+
+@pytest.mark.parametrize("edit, words", [
+    ('model = "model.toml"', ["model", "required"]),
+    ('pattern = "*.csv"', ["no file", "*.txt"]),
+    ("values = [0.2, 0.5]", ["intensity.values", "numbers > 0"]),
+    ('measure = "pga"', ["intensity.measure", "one of 'scale', 'pga', 'sa'"]),
+    ('units = "g"', ["records[0]", "rainbow"]),
+    ('folder = "rec"', ["records[0]", "either file or folder"]),
+])  # fmt: skip
+def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str,
+                         words: list[str]) -> None:  # fmt: skip
+    """Each wrong study file ends in exit 2 with `pfeie: error` lines that name the file
+    and the key."""
+    bad = {
+        'model = "model.toml"': "",
+        'pattern = "*.csv"': 'pattern = "*.txt"',
+        "values = [0.2, 0.5]": "values = [0.2, -0.5]",
+        'measure = "pga"': 'measure = "pgv"',
+        'units = "g"': 'units = "g"\nrainbow = 1',
+        'folder = "rec"': 'folder = "rec"\nfile = "rec/r0.csv"',
+    }[edit]
+    p = setup(tmp_path, STUDY.replace(edit, bad))
+    assert main(["study", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pfeie: error: ") and str(p) in err
+    for w in words:
+        assert w in err, err
+
+
+def test_bad_arguments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    p = setup(tmp_path)
+    assert main(["study", str(p), "--workers", "two"]) == 2
+    assert "--workers" in capsys.readouterr().err
+    assert main(["study", str(tmp_path / "none.toml")]) == 2
+    assert "study file not found" in capsys.readouterr().err
+    with pytest.raises(ModelError, match="finite and > 0"):
+        Study(tmp_path / "model.toml", [tmp_path / "rec" / "r0.csv"], values=[math.inf])
+    with pytest.raises(ModelError, match="same name"):
+        Study(tmp_path / "model.toml", [RecordSource("a", p), RecordSource("a", p)])
+    with pytest.raises(InputError, match="no column"):
+        StudyTable([{"a": 1}]).column("b")
