@@ -307,6 +307,93 @@ def _in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)  # --out and -o with relative paths write here
 
 
+STUDY_KEYS = [
+    "title", "model", "records", "records[0].file", "records[0].folder", "records[0].pattern",
+    "records[0].format", "records[0].units", "records[0].dt", "records[0].component",
+    "records[0].direction", "records[0].baseline", "records[1].file", "intensity",
+    "intensity.measure", "intensity.values", "intensity.period", "intensity.damping",
+    "analysis.duration", "analysis.set", "output.folder", "output.histories",
+    "output.parquet", "run.workers", "run.scheduler", "limit_states[0].name",
+    "limit_states[0].demand", "limit_states[0].threshold", "limit_states[0].exceed", "bogus",
+]  # fmt: skip
+STUDY_VALUES = st.one_of(VALUE, st.sampled_from([
+    "model.toml", "pulse.csv", ".", "*.csv", "sa", "pga", "scale", [0.1, 0.2], [1e308],
+    ["analysis.dt=0.02"], ["analysis.dt=-1"], ["x"], ["analysis.dt"],
+]))  # fmt: skip
+
+
+def _dump(d: dict[str, Any]) -> str:
+    """A study file's data as TOML: scalars, then tables, then arrays of tables."""
+    out = [f"{k} = {toml_value(v)}" for k, v in d.items()
+           if not isinstance(v, dict) and not (isinstance(v, list) and v
+                                               and all(isinstance(x, dict) for x in v))]
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out += [f"[{k}]"] + [f"{a} = {toml_value(b)}" for a, b in v.items()]
+        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+            for x in v:
+                out += [f"[[{k}]]"] + [f"{a} = {toml_value(b)}" for a, b in x.items()]
+    return "\n".join(out) + "\n"
+
+
+def _set(d: dict[str, Any], key: str, value: Any) -> None:
+    """Set ``records[0].file``-like keys in nested data (skipped where a part is not a
+    table or an array of tables)."""
+    node: Any = d
+    parts = [p for part in key.split(".") for p in part.replace("]", "").split("[")]
+    for i, part in enumerate(parts):
+        last = i == len(parts) - 1
+        if part.isdigit():
+            if not isinstance(node, list):
+                return
+            k = int(part)
+            while len(node) <= k:
+                node.append({})
+            if last:
+                node[k] = value
+            node = node[k]
+        else:
+            if not isinstance(node, dict):
+                return
+            if last:
+                node[part] = value
+            else:
+                node = node.setdefault(part, [] if parts[i + 1].isdigit() else {})
+
+
+def _study_case(budget: settings) -> Callable[[Path], None]:
+    @budget
+    @given(pairs=st.lists(st.tuples(st.sampled_from(STUDY_KEYS), STUDY_VALUES), min_size=1,
+                          max_size=3))  # fmt: skip
+    @example(pairs=[("records[0].folder", ".")])  # a folder and a file
+    @example(pairs=[("analysis.set", ["analysis.dt"])])
+    @example(pairs=[("intensity.measure", "sa"), ("intensity.period", 1e308)])
+    def case(base: Path, pairs: list[tuple[str, Any]]) -> None:
+        """A study file with random keys and values: its runs are set up (model, records,
+        T1, scale factors, keys), or a PfeieError names the file; never another error."""
+        from pfeie.study import Study
+
+        data: dict[str, Any] = {
+            "model": "model.toml", "records": [{"file": "pulse.csv", "units": "g"}],
+            "intensity": {"measure": "pga", "values": [0.1, 0.2]},
+            "analysis": {"duration": 0.1}, "output": {"folder": "study"},
+        }  # fmt: skip
+        for k, v in pairs:
+            _set(data, k, v)
+        p = base.parent / "study.toml"
+        p.write_text(_dump(data))
+        try:
+            runs = Study.from_file(p).runs()
+        except PfeieError as exc:
+            assert str(exc).strip()
+        else:
+            assert runs and all(math.isfinite(r.factor) and r.factor > 0 for r in runs)
+
+    return case  # type: ignore[no-any-return]
+
+
+test_study_fuzz = _study_case(settings(FAST, max_examples=30))
+test_study_fuzz_long = pytest.mark.slow(_study_case(settings(LONG, max_examples=400)))
 test_cli_fuzz = _cli_case(settings(FAST, max_examples=25))
 test_cli_fuzz_long = pytest.mark.slow(_cli_case(settings(LONG, max_examples=400)))
 test_model_file_fuzz = _model_file_case(FAST)

@@ -23,9 +23,10 @@ RECORDS = [(1, 2.5, 0.6, 1.5, 6.0, 0.35), (2, 1.2, 0.4, 2.0, 7.0, 0.25),
            (3, 4.0, 0.6, 1.0, 5.0, 0.45), (4, 1.8, 0.5, 1.5, 8.0, 0.30)]  # fmt: skip
 
 
-def record(seed: int, fg: float, zg: float, t1: float, t2: float, c: float) -> np.ndarray:
-    """The acceleration (g) at t = 0, DT, ... DURATION: filtered noise times the envelope."""
-    t = np.arange(0.0, DURATION + DT / 2, DT)
+def record(seed: int, fg: float, zg: float, t1: float, t2: float, c: float,
+           duration: float = DURATION) -> np.ndarray:  # fmt: skip
+    """The acceleration (g) at t = 0, DT, ... duration: filtered noise times the envelope."""
+    t = np.arange(0.0, duration + DT / 2, DT)
     w = np.random.default_rng(seed).standard_normal(t.size)
     wg = 2 * np.pi * fg
     kt = signal.lti([2 * zg * wg, wg * wg], [1.0, 2 * zg * wg, wg * wg])
