@@ -6,3 +6,26 @@ dynamic analysis (IDA) curves and fragility functions are fitted from it.
 """
 
 __all__: list[str] = []
+
+from ._fragility import (
+    Fragility,
+    fit_censored,
+    fit_ida,
+    fit_limit_states,
+    fit_moments,
+    fit_stripes,
+)
+from ._ida import (
+    Exceedance,
+    IDACurves,
+    IDASummary,
+    LimitState,
+    Stripes,
+    first_exceedance,
+    ida_curves,
+    ida_summary,
+)
+
+__all__ += ["Exceedance", "Fragility", "IDACurves", "IDASummary", "LimitState", "Stripes",
+            "first_exceedance", "fit_censored", "fit_ida", "fit_limit_states", "fit_moments",
+            "fit_stripes", "ida_curves", "ida_summary"]  # fmt: skip
