@@ -14,3 +14,6 @@ from ._report import write_report
 
 __all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_spectrum",
            "plot_states", "plot_static", "write_report"]  # fmt: skip
+from ._study import plot_fragility, plot_ida, save_figure
+
+__all__ += ["plot_fragility", "plot_ida", "save_figure"]
