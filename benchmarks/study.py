@@ -86,12 +86,13 @@ def write_mesh(path: Path, nx: int) -> None:
     q = np.stack([ids[:-1, :-1], ids[:-1, 1:], ids[1:, 1:], ids[1:, :-1]], -1).reshape(-1, 4)
     yc = 0.5 * (y[:-1] + y[1:])
     phys_q = np.repeat(np.where(yc < 20.0, 1, 2), nx)
-    rows = {3: 0, 4: int(round(20.0 / 60.0 * ny)), 5: int(round(40.0 / 60.0 * ny))}
+    rows = {3: 0, 4: round(20.0 / 60.0 * ny), 5: round(40.0 / 60.0 * ny)}
     lines = [(tag, np.stack([ids[j, :-1], ids[j, 1:]], -1)) for tag, j in rows.items()]
     out = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "5",
            '2 1 "rock"', '2 2 "dam"', '1 3 "bottom"', '1 4 "base"', '1 5 "lift"',
            "$EndPhysicalNames", "$Nodes", str(X.size)]  # fmt: skip
-    out += [f"{i} {a:.12g} {b:.12g} 0" for i, a, b in zip(ids.ravel(), X.ravel(), Y.ravel())]
+    nodes = zip(ids.ravel(), X.ravel(), Y.ravel(), strict=True)
+    out += [f"{i} {a:.12g} {b:.12g} 0" for i, a, b in nodes]
     n_el = len(q) + sum(len(c) for _, c in lines)
     out += ["$EndNodes", "$Elements", str(n_el)]
     k = 0
@@ -99,7 +100,7 @@ def write_mesh(path: Path, nx: int) -> None:
         for c in conn:
             k += 1
             out.append(f"{k} 1 2 {tag} {tag} {c[0]} {c[1]}")
-    for tag, c in zip(phys_q, q):
+    for tag, c in zip(phys_q, q, strict=True):
         k += 1
         out.append(f"{k} 3 2 {tag} {tag} {c[0]} {c[1]} {c[2]} {c[3]}")
     out.append("$EndElements")

@@ -281,3 +281,34 @@ def test_bad_arguments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
         Study(tmp_path / "model.toml", [RecordSource("a", p), RecordSource("a", p)])
     with pytest.raises(InputError, match="no column"):
         StudyTable([{"a": 1}]).column("b")
+
+
+def test_limit_states_give_ida_fragility_and_report(tmp_path: Path) -> None:
+    """With limit states the study writes fragility.csv (equal to fitting the table
+    afresh with pfeie.study.fit_limit_states), the IDA and fragility figures and a report
+    that embeds them; a limit state on a missing column is an input error naming it."""
+    from pfeie.study import LimitState, fit_limit_states
+
+    text = STUDY.replace("values = [0.2, 0.5]", "values = [0.2, 0.35, 0.5, 0.65]") + """
+[[limit_states]]
+name = "slides 2 mm"
+demand = "joint.joint.residual_slip_max_m"
+threshold = 0.002
+"""
+    p = setup(tmp_path, text)
+    st = Study.from_file(p)
+    table = st.run()
+    out = {f.name for f in st.outputs()}
+    assert {"fragility.csv", "fragility.png", "report.html",
+            "ida_joint_joint_residual_slip_max_m.png"} <= out  # fmt: skip
+    fit = fit_limit_states(table, [LimitState("slides 2 mm", "joint.joint.residual_slip_max_m",
+                                              0.002)], intensity="intensity")["slides 2 mm"]
+    row = StudyTable.read(tmp_path / "study" / "fragility.csv").rows[0]
+    assert row["theta"] == fit.theta and row["beta"] == fit.beta
+    assert 0.2 < fit.theta < 0.65 and row["n_records"] == 3
+    page = (tmp_path / "study" / "report.html").read_text()
+    assert page.count("data:image/png;base64,") == 2 and "slides 2 mm" in page
+    p.write_text(text.replace('demand = "joint.joint.residual_slip_max_m"',
+                              'demand = "joint.neck.slip"'))  # fmt: skip
+    with pytest.raises(InputError, match=r"joint\.neck\.slip"):
+        Study.from_file(p).run()

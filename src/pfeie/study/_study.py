@@ -511,6 +511,12 @@ class Study:
         (ctx.folder / "study.json").write_text(json.dumps(meta, indent=2) + "\n")
         self._outputs = [ctx.folder / "table.csv"] + (
             [ctx.folder / "table.parquet"] if self.parquet else [])  # fmt: skip
+        from ._report import write_study_outputs
+
+        try:
+            self._outputs += write_study_outputs(self, table, ctx.folder)
+        except ModelError as exc:  # a limit state on a column the table does not have
+            raise InputError(f"{self.model}: study: {exc} (the table is written)") from None
         return table
 
     def outputs(self) -> list[Path]:

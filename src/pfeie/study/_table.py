@@ -42,6 +42,9 @@ class StudyTable:
             seen.update(dict.fromkeys(r))
         return list(seen)
 
+    def __getitem__(self, name: str) -> npt.NDArray[Any]:
+        return self.column(name)
+
     def column(self, name: str) -> npt.NDArray[Any]:
         """A column as an array: floats (NaN where a row lacks it) for numbers and
         booleans, objects for strings."""

@@ -1,0 +1,195 @@
+"""What a study writes besides its table: IDA curves, fragility fits, one HTML report.
+
+With limit states (``[[limit_states]]`` of the study file): per demand column its IDA
+curves with the 16/50/84 % fractiles (``ida_<column>.png``); the fragility fit of each
+limit state (``fragility.csv``: θ, β, their standard errors and 95 % intervals, the counts
+and the method; ``fragility.png`` with the 95 % pointwise bands and the empirical
+fractions). Always: ``report.html``, one self-contained page with the study (model,
+records, ladder), the median and 16/84 % fractiles of the main demands per intensity,
+and the figures. The intensity measure of the curves is the ladder's (PGA or Sa(T1) in
+g); for a ladder of scale factors, Sa(T1) of the scaled records.
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import html
+import logging
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+from ._fragility import Fragility, fit_limit_states
+from ._ida import LimitState, ida_curves, ida_summary
+from ._table import StudyTable
+
+if TYPE_CHECKING:
+    from ._study import Study
+
+log = logging.getLogger(__name__)
+
+
+def intensity_column(study: Study) -> tuple[str, str]:
+    """The table column of the curves' intensity measure, and its label."""
+    if study.measure == "pga":
+        return "intensity", "PGA (g)"
+    period = f"{study.period:.3g} s" if study.period is not None else "T1"
+    return (("intensity" if study.measure == "sa" else "im.sa_t1_g"),
+            f"Sa({period}, {100 * study.damping:g} %) (g)")  # fmt: skip
+
+
+def limit_states(study: Study) -> list[LimitState]:
+    """The study's limit states as :class:`LimitState` objects."""
+    return [LimitState(ls["name"], ls["demand"], float(ls["threshold"]),
+                       ">=" if ls.get("exceed", "above") == "above" else "<=")
+            for ls in study.limit_states]  # fmt: skip
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_") or "x"
+
+
+def write_study_outputs(study: Study, table: StudyTable, folder: Path) -> list[Path]:
+    """Write the IDA and fragility outputs and ``report.html`` into ``folder``; returns
+    the files written."""
+    states = limit_states(study)
+    for ls in states:
+        if ls.column not in table.columns:
+            raise ModelError(f"limit state {ls.name!r}: the table has no column "
+                             f"{ls.column!r}; its demand columns are "
+                             f"{', '.join(c for c in table.columns if '.' in c)}")  # fmt: skip
+    imcol, imlabel = intensity_column(study)
+    out: list[Path] = []
+    fits: dict[str, Fragility] = {}
+    failed: dict[str, str] = {}
+    for ls in states:
+        try:
+            fits.update(fit_limit_states(table, [ls], intensity=imcol))
+        except ModelError as exc:
+            failed[ls.name] = str(exc)
+            log.warning("fragility of %r not fitted: %s", ls.name, exc)
+    if states:
+        out.append(_write_fits(folder / "fragility.csv", states, fits, failed))
+    figures: list[tuple[str, Path]] = []
+    try:
+        from ..plot import plot_fragility, plot_ida, save_figure
+    except ImportError:  # pragma: no cover - matplotlib is the plot extra
+        log.warning("no figures: matplotlib is not installed (pip install 'pfeie[plot]')")
+    else:
+        for column in dict.fromkeys(ls.column for ls in states):
+            curves = ida_curves(table, column, intensity=imcol, nan_policy="omit")
+            thr = [ls.threshold for ls in states if ls.column == column]
+            fig = plot_ida(curves, ida_summary(curves), threshold=thr[0], im_label=imlabel,
+                           demand_label=column, title=f"IDA: {column}")  # fmt: skip
+            p = save_figure(fig, folder / f"ida_{_slug(column)}.png")
+            figures.append((f"IDA curves: {column}", p))
+        if fits:
+            fig = plot_fragility(list(fits.values()), im_label=imlabel,
+                                 title="Fragility (95 % pointwise bands)")  # fmt: skip
+            figures.append(("Fragility curves", save_figure(fig, folder / "fragility.png")))
+    out += [p for _, p in figures]
+    out.append(_write_html(folder / "report.html", study, table, imcol, imlabel, fits,
+                           failed, figures))  # fmt: skip
+    return out
+
+
+def _write_fits(path: Path, states: list[LimitState], fits: dict[str, Fragility],
+                failed: dict[str, str]) -> Path:  # fmt: skip
+    cols = ["limit_state", "demand", "threshold", "exceeded_when", "theta", "beta",
+            "se_theta", "se_beta", "theta_lo95", "theta_hi95", "beta_lo95", "beta_hi95",
+            "n_records", "n_exceeded", "n_censored", "method", "note"]  # fmt: skip
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for ls in states:
+            head = [ls.name, ls.column, repr(ls.threshold), ls.direction]
+            f = fits.get(ls.name)
+            if f is None:
+                w.writerow(head + [""] * 12 + [failed.get(ls.name, "")])
+                continue
+            (tl, th), (bl, bh) = f.interval(0.95)
+            w.writerow(head + [repr(x) for x in (f.theta, f.beta, f.se_theta, f.se_beta,
+                                                 tl, th, bl, bh)]
+                       + [f.n_records, f.n_exceeded, f.n_censored, f.method, ""])  # fmt: skip
+    return path
+
+
+def _demand_columns(table: StudyTable) -> list[str]:
+    keep = ("peak_displacement_m", "residual_slip_max_m", "max_opening_m",
+            "min_safety_factor", "max_principal_Pa")  # fmt: skip
+    return [c for c in table.columns if c.endswith(keep)]
+
+
+def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel: str,
+                fits: dict[str, Fragility], failed: dict[str, str],
+                figures: list[tuple[str, Path]]) -> Path:  # fmt: skip
+    esc = html.escape
+    title = study.title or f"Study of {study.model.name}"
+    completed = table.column("completed")
+    rows = [("model file", str(study.model)), ("records", str(len(study.records))),
+            ("intensity measure", study.measure), ("intensities", ", ".join(
+                f"{v:g}" for v in study.values)), ("runs", f"{len(table)} "
+            f"({int(np.sum(completed))} completed)"),
+            ("T1 of Sa", f"{study.period:.4g} s" if study.period else "")]  # fmt: skip
+    parts = [
+        "<!DOCTYPE html><html><head><meta charset='utf-8'>", f"<title>{esc(title)}</title>",
+        "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+        "table{border-collapse:collapse;margin:1em 0;font-size:90%}td,th{border:1px solid "
+        "#ccc;padding:3px 6px;text-align:right}th{background:#f3f3f3}img{max-width:100%}"
+        "</style></head><body>", f"<h1>{esc(title)}</h1>", "<h2>Study</h2><table>",
+        *[f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in rows], "</table>",
+        "<h2>Records</h2><table><tr><th>record</th><th>file</th></tr>",
+        *[f"<tr><td>{esc(r.name)}</td><td>{esc(str(r.path))}</td></tr>"
+          for r in study.records],
+        "</table>",
+    ]  # fmt: skip
+    demands = _demand_columns(table)
+    if demands:
+        im = table.column(imcol)
+        levels = table.column("level")
+        parts.append(f"<h2>Demands per intensity</h2><p>Median [16 %, 84 %] over the records "
+                     f"at each intensity ({esc(imlabel)} of the first record shown).</p>"
+                     "<table><tr><th>level</th><th>IM</th>"
+                     + "".join(f"<th>{esc(c)}</th>" for c in demands) + "</tr>")  # fmt: skip
+        for lv in np.unique(levels):
+            sel = levels == lv
+            cells = []
+            for c in demands:
+                v = table.column(c)[sel]
+                v = v[np.isfinite(v)]
+                if v.size:
+                    p16, p50, p84 = np.percentile(v, [16, 50, 84])
+                    cells.append(f"<td>{p50:.4g} [{p16:.3g}, {p84:.3g}]</td>")
+                else:
+                    cells.append("<td></td>")
+            parts.append(f"<tr><td>{int(lv)}</td><td>{im[sel][0]:.4g}</td>{''.join(cells)}"
+                         "</tr>")  # fmt: skip
+        parts.append("</table>")
+    if fits or failed:
+        parts.append("<h2>Fragility</h2><table><tr><th>limit state</th><th>θ (g)</th>"
+                     "<th>β</th><th>θ 95 %</th><th>β 95 %</th><th>records</th>"
+                     "<th>exceeded</th><th>censored</th><th>method</th></tr>")  # fmt: skip
+        for name, f in fits.items():
+            (tl, th), (bl, bh) = f.interval(0.95)
+            parts.append(f"<tr><td>{esc(name)}</td><td>{f.theta:.4g}</td><td>{f.beta:.3g}"
+                         f"</td><td>[{tl:.3g}, {th:.3g}]</td><td>[{bl:.3g}, {bh:.3g}]</td>"
+                         f"<td>{f.n_records}</td><td>{f.n_exceeded}</td><td>{f.n_censored}"
+                         f"</td><td>{esc(f.method)}</td></tr>")  # fmt: skip
+        for name, why in failed.items():
+            parts.append(f"<tr><td>{esc(name)}</td><td colspan='8'>not fitted: {esc(why)}"
+                         "</td></tr>")  # fmt: skip
+        parts.append("</table>")
+    for caption, p in figures:
+        data = base64.b64encode(p.read_bytes()).decode()
+        parts.append(f"<h3>{esc(caption)}</h3><img alt='{esc(caption)}' "
+                     f"src='data:image/png;base64,{data}'>")  # fmt: skip
+    parts.append("</body></html>")
+    path.write_text("\n".join(parts))
+    return path
+
+
+__all__ = ["intensity_column", "limit_states", "write_study_outputs"]
