@@ -41,7 +41,7 @@ from .errors import (
 )  # fmt: skip
 from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings
 from .mesh import Mesh, box, graded, rectangle
-from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
+from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh, Reservoir
 from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
 from .study import Study, StudyTable
 
@@ -51,7 +51,7 @@ __all__ = [
     "Block", "Dynamic", "DynamicResult", "DynamicSettings", "Elastic", "GroundMotion", "History",
     "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
-    "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State", "StaticResult",
-    "Study", "StudyTable",
-    "__version__", "box", "factorize", "graded", "modal", "rectangle", "solve_static",
+    "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
+    "StaticResult", "Study", "StudyTable", "__version__", "box", "factorize", "graded", "modal",
+    "rectangle", "solve_static",
 ]  # fmt: skip

@@ -317,8 +317,12 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 raise InputError(_group_msg(p, f"loads.westergaard[{i}].groups", g, model.mesh,
                                             mesh.dim - 1))  # fmt: skip
         try:
-            model.add_westergaard(wg.groups, wg.water_level, bottom=wg.bottom,
-                                  density=wg.density)  # fmt: skip
+            if wg.model == "fe":
+                model.add_reservoir(wg.groups, wg.water_level, density=wg.density,
+                                    length=wg.length, refine=wg.refine or 1)  # fmt: skip
+            else:
+                model.add_westergaard(wg.groups, wg.water_level, bottom=wg.bottom,
+                                      density=wg.density)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: loads.westergaard[{i}]: {exc}") from None
     records = []

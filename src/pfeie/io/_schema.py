@@ -213,17 +213,47 @@ class Hydrostatic(_Table):
 
 
 class Westergaard(_Table):
-    """``[[loads.westergaard]]``: the reservoir's added mass on wet faces."""
+    """``[[loads.westergaard]]``: the reservoir's added mass on wet faces, by Westergaard's
+    closed form or by an incompressible finite-element reservoir."""
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       Field(description="physical groups of the wet faces of the dam")]  # fmt: skip
     water_level: Annotated[float, Field(description="water level (m, on the vertical axis)")]
+    model: Annotated[
+        Literal["westergaard", "fe"],
+        Field(description="'westergaard': the closed form 7/8 ρ_w √(H (level − z)) along the "
+              "faces' normal, lumped; 'fe': an incompressible finite-element reservoir on a "
+              "mesh of the water drawn from the wet face (2D only), its full added-mass "
+              "matrix in the modal analysis and its row sums in the time stepping"),
+    ] = "westergaard"  # fmt: skip
     bottom: Annotated[
         float | None,
         Field(description="elevation of the reservoir bottom (m); default the lowest point "
-              "of the wet faces"),
+              "of the wet faces (model = 'westergaard' only: the finite-element reservoir's "
+              "bottom is the lowest point of its wet faces)"),
     ] = None  # fmt: skip
     density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
+    length: Annotated[
+        Positive | None,
+        Field(description="model = 'fe': the reservoir length (m) from the most upstream "
+              "point of the wet face to the far end, where p = 0; default 3 × the depth"),
+    ] = None  # fmt: skip
+    refine: Annotated[
+        int | None, Field(ge=1),
+        Field(description="model = 'fe': pieces of the water mesh per wet facet (default 1: "
+              "the water mesh's nodes on the face are the facets' nodes)"),
+    ] = None  # fmt: skip
+
+    @model_validator(mode="after")
+    def _fe_options(self) -> Westergaard:
+        if self.model == "westergaard":
+            for key in ("length", "refine"):
+                if getattr(self, key) is not None:
+                    raise _check(key, "only with model = 'fe'")
+        elif self.bottom is not None:
+            raise _check("bottom", "not with model = 'fe': the finite-element reservoir's "
+                         "bottom is the lowest point of its wet faces")  # fmt: skip
+        return self
 
 
 class Loads(_Table):
@@ -241,8 +271,9 @@ class Loads(_Table):
     ] = []
     westergaard: Annotated[
         list[Westergaard],
-        Field(description="Westergaard's added mass 7/8 ρ_w √(H (level − z)) of the reservoir "
-              "on the wet faces, along their normal"),
+        Field(description="the reservoir's added mass on the wet faces: Westergaard's "
+              "7/8 ρ_w √(H (level − z)) along their normal, or a finite-element reservoir "
+              "(model = 'fe')"),
     ] = []  # fmt: skip
 
 

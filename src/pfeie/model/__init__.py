@@ -5,6 +5,7 @@ from ._frames import BodyFrames
 from ._ground import GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
+from ._reservoir import Reservoir
 from ._spectrum import (
     INTENSITY_MEASURES,
     ResponseSpectrum,
@@ -15,6 +16,6 @@ from ._spectrum import (
 
 __all__ = [
     "INTENSITY_MEASURES", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
-    "LinearSystem", "Load", "Model", "Rayleigh", "ResponseSpectrum", "Support",
+    "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum", "Support",
     "intensity_measures", "response_spectrum", "sdof_response",
 ]  # fmt: skip

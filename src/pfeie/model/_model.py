@@ -28,6 +28,7 @@ from ..interface import PairGeometry, PairLaws, SplitMesh, split
 from ..mesh import Mesh
 from ..typing import FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
+from ._reservoir import Reservoir
 
 log = logging.getLogger(__name__)
 
@@ -169,6 +170,7 @@ class Model:
         self.supports: list[Support] = []
         self.loads: list[Load] = []
         self.reservoirs: list[tuple[tuple[str, ...], float, float, float]] = []
+        self.fe_reservoirs: list[Reservoir] = []
         self._cellsets = self._collect_cells()
 
     # -- topology -------------------------------------------------------------------------
@@ -370,9 +372,74 @@ class Model:
             raise ModelError(f"westergaard: the water density must be > 0, got {density}")
         self.reservoirs.append((names, float(water_level), zb, float(density)))
 
+    def add_reservoir(
+        self,
+        groups: str | Sequence[str],
+        water_level: float,
+        *,
+        density: float = 1000.0,
+        length: float | None = None,
+        refine: int = 1,
+    ) -> Reservoir:
+        """An incompressible finite-element reservoir on the wet faces ``groups`` (2D; Kuo
+        1982): Laplace's equation for the hydrodynamic pressure on a mesh of the water
+        drawn from the wet face (its nodes on the face are the facets' points, each facet
+        cut into ``refine`` pieces) up to the ``water_level`` h, with p = 0 on the surface
+        and at the far end, a distance ``length`` upstream (default 3 H), a rigid bottom at
+        the lowest point of the wet faces, and ∂p/∂n = −ρ_w ü·n on the face; condensed onto
+        the face as the full added-mass matrix M_a = ρ_w t Qᵀ H⁻¹ Q
+        (:class:`~pfeie.model.Reservoir`, which has the equations, signs and units).
+
+        M_a enters the consistent mass (modal analysis, ``mass()``,
+        :meth:`added_mass_matrix`) as it is, and the lumped mass of the time stepping
+        (``mass(lumped=True)``, :meth:`added_mass`) as its row sums per component
+        (:meth:`Reservoir.lumped`). Returns the reservoir (its mesh, pressures).
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(1.0, 10.0, 1, 4)
+        >>> m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+        >>> res = m.add_reservoir("xmin", water_level=10.0)
+        >>> res.depth, res.length, res.dofs.size     # the x DOFs of the face's 5 nodes
+        (10.0, 30.0, 5)
+        """
+        names = (groups,) if isinstance(groups, str) else tuple(groups)
+        if not names:
+            raise ModelError("reservoir: no wet face groups given")
+        if self.dim != 2:
+            raise ModelError("reservoir: the finite-element reservoir is 2D only; in 3D use "
+                             "Westergaard's added mass (add_westergaard; model = 'westergaard' "
+                             "in a model file)")  # fmt: skip
+        facets = []
+        for g in names:
+            self._boundary_group(g, "finite-element reservoir")
+            for ftype, conn in self.mesh.facet_group(g).items():
+                fv = asm.facet_values(self.mesh.points, ftype, conn, 2, self.thickness)
+                facets.append((ftype, conn, self._outward(ftype, conn, fv)))
+        res = Reservoir(self.mesh.points, facets, water_level, n_dof=self.n_dof,
+                        density=density, thickness=self.thickness, length=length,
+                        refine=refine)  # fmt: skip
+        self.fe_reservoirs.append(res)
+        return res
+
     def added_mass(self) -> FloatArray:
-        """The lumped added mass of the reservoirs on every DOF (n_dof,), kg
-        (:meth:`add_westergaard`)."""
+        """The lumped added mass of the reservoirs on every DOF (n_dof,), kg: Westergaard's
+        (:meth:`add_westergaard`) and the finite-element reservoirs' row sums
+        (:meth:`add_reservoir`, :meth:`Reservoir.lumped`)."""
+        out = self._westergaard_mass()
+        for res in self.fe_reservoirs:
+            out += res.lumped()
+        return out
+
+    def added_mass_matrix(self) -> sp.csr_matrix:
+        """The added mass of the reservoirs as a matrix (n_dof × n_dof, kg): Westergaard's
+        on the diagonal, the finite-element reservoirs' full M_a on their wet DOFs."""
+        total = sp.diags(self._westergaard_mass(), format="csr")
+        for res in self.fe_reservoirs:
+            total = total + res.full()
+        return sp.csr_matrix(total)
+
+    def _westergaard_mass(self) -> FloatArray:
+        """Westergaard's lumped added mass (n_dof,), kg (:meth:`add_westergaard`)."""
         d = self.dim
         out = np.zeros(self.n_dof)
         for names, level, zb, rho_w in self.reservoirs:
@@ -421,9 +488,12 @@ class Model:
 
     def mass(self, lumped: bool = False, added: bool = True) -> sp.csr_matrix:
         """Global mass M (kg): consistent, or HRZ-lumped (diagonal) when ``lumped``; with
-        the reservoirs' added mass unless ``added`` is False (:meth:`add_westergaard`)."""
+        the reservoirs' added mass unless ``added`` is False (:meth:`add_westergaard`,
+        :meth:`add_reservoir`): lumped, :meth:`added_mass`; consistent,
+        :meth:`added_mass_matrix` (a finite-element reservoir's full M_a)."""
         n = self.n_dof
-        extra = self.added_mass() if added and self.reservoirs else None
+        wet = added and bool(self.reservoirs or self.fe_reservoirs)
+        extra = self.added_mass() if wet and lumped else None
         if lumped:
             diag = np.zeros(n)
             for cs in self._cellsets:
@@ -434,8 +504,8 @@ class Model:
             if extra is not None:
                 diag += extra
             return sp.diags(diag, format="csr")
-        if extra is not None:
-            return (self._consistent_mass + sp.diags(extra)).tocsr()
+        if wet:
+            return (self._consistent_mass + self.added_mass_matrix()).tocsr()
         return self._consistent_mass
 
     @cached_property
