@@ -160,6 +160,8 @@ def _run(
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
+        elif a.static and model.uplifts:  # resumed: the uplift of the static state again
+            static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
         raise

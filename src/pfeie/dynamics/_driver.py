@@ -246,9 +246,15 @@ class Dynamic:
         return None if self.corot is None else self.corot.frames
 
     # -- operators of the current configuration ------------------------------------------------
-    def excitation(self, ground: Sequence[GroundMotion] = (), form: str = "relative") -> Excitation:
-        """The excitation of a run by the records ``ground`` in the given form."""
-        return Excitation(self.model, self.system, ground, form)
+    def excitation(self, ground: Sequence[GroundMotion] = (), form: str = "relative",
+                   start: object | None = None) -> Excitation:  # fmt: skip
+        """The excitation of a run by the records ``ground`` in the given form; the uplift
+        in joints, if any, is the pre-earthquake one of the static state ``start`` (its
+        pressures and open pairs; default the uncracked joints')."""
+        pairs = getattr(start, "pairs", None)
+        open0 = None if pairs is None else pairs.state == OPEN
+        return Excitation(self.model, self.system, ground, form,
+                          getattr(start, "uplift", None), open0)  # fmt: skip
 
     def w_pres(self, t: float, ex: Excitation) -> FloatArray:
         """G_p u_p(t) (M,): the relative motion the prescribed DOFs give the pairs."""
@@ -699,11 +705,13 @@ class Dynamic:
             raise ModelError(f"n_steps must be >= 0, got {n}")
         if not every >= 1:
             raise ModelError(f"every must be >= 1, got {every}")
-        ex = self.excitation(ground, form)
+        ex = self.excitation(ground, form, None if isinstance(start, StepState) else start)
         if resume is not None:
             cur, row0 = resume.state, resume.row
             if self.corot is not None:
                 self._corotate(cur.kin.u)
+            if self.m and ex.follows_pairs:  # the uplift of the pairs open at the checkpoint
+                ex.follow(cur.pairs.state == OPEN)
         else:
             cur = start if isinstance(start, StepState) else self._initial(ex, start)
             row0 = 0
@@ -748,6 +756,8 @@ class Dynamic:
                     checkpoint()
                 break
             rec.account.add_step(cur, nxt)
+            if m and ex.follows_pairs:
+                ex.follow(nxt.pairs.state == OPEN)
             if stats is not None:
                 iters[i], falls[i], resid[i] = stats.iterations, stats.fallbacks, stats.residual
                 since = [since[0] + stats.iterations, since[1] + stats.fallbacks,

@@ -9,6 +9,11 @@
   the loads −K_fp u_p − C_fp v_p (the mass is lumped, so M_fp = 0), and the pairs on the
   base the prescribed relative motion; the outputs are absolute.
 
+Uplift in joints (:class:`~pfeie.model.Uplift`) is a load of the excitation: the
+pre-earthquake pressures (of the static state, given as ``uplift``) stay, or, for the
+``"full"`` and ``"zero"`` policies, the pressures of the pairs that open follow their
+state (:meth:`Excitation.follow`, called by the analysis after every step: one step late).
+
 An :class:`Excitation` belongs to one run: the same factorised analysis takes any number
 of records, one run each.
 """
@@ -22,7 +27,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model import GroundMotion, LinearSystem, Model
-from ..typing import FloatArray
+from ..typing import BoolArray, FloatArray
 
 Form = Literal["relative", "absolute"]
 
@@ -35,6 +40,10 @@ class Excitation:
     model: the model; ``system`` its free-DOF operators with a lumped mass.
     ground: the records (several components act together).
     form: "relative" or "absolute".
+    uplift: the uplift pressure at every pair before the shaking (Pa; the static
+        state's, :attr:`pfeie.StaticResult.uplift`); default the uncracked joints'.
+    open0: the pairs open before the shaking (the static state's): they keep their
+        pre-earthquake uplift under every policy.
     """
 
     def __init__(
@@ -43,8 +52,18 @@ class Excitation:
         system: LinearSystem,
         ground: Sequence[GroundMotion] = (),
         form: str = "relative",
+        uplift: FloatArray | None = None,
+        open0: BoolArray | None = None,
     ) -> None:
         d = model.dim
+        self.model = model
+        self._f_up: FloatArray | None = None
+        self._open: bytes = b""
+        if model.uplifts:
+            self._p0 = model.uplift_pressure()[0] if uplift is None else np.asarray(uplift)
+            self._f_up = model.uplift_load(self._p0)[system.free]
+            m = 0 if model.pairs is None else model.pairs.n
+            self._open0 = np.zeros(m, dtype=bool) if open0 is None else np.asarray(open0)
         self.ground = list(ground)
         for g in self.ground:
             if g.direction.size != d:
@@ -71,6 +90,32 @@ class Excitation:
                 self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip)))
 
     @property
+    def follows_pairs(self) -> bool:
+        """True when an uplift follows the pairs' state during the shaking."""
+        return any(u.shaking != "keep" for u in self.model.uplifts)
+
+    def follow(self, open_: BoolArray) -> None:
+        """Set the uplift of the ``"full"`` and ``"zero"`` policies from the pairs open
+        now: full headwater pressure ρ_w g (H_w − z), or none, where a pair of the joint
+        has opened during the shaking; the pre-earthquake pressure elsewhere (closed pairs,
+        and the crack open before the shaking)."""
+        key = np.packbits(open_).tobytes()
+        if key == self._open or self._f_up is None:
+            return
+        self._open = key
+        P = self.model.pairs
+        assert P is not None
+        p = self._p0.copy()
+        for up in self.model.uplifts:
+            if up.shaking == "keep":
+                continue
+            idx = P.of(up.interface)
+            o = idx[open_[idx] & ~self._open0[idx]]
+            p[o] = (up.density * up.g * np.maximum(up.headwater - P.x[o, -1], 0.0)
+                    if up.shaking == "full" else 0.0)  # fmt: skip
+        self._f_up = self.model.uplift_load(p)[self.system.free]
+
+    @property
     def moves_supports(self) -> bool:
         """True when the prescribed DOFs move with the ground (absolute form with records)."""
         return bool(self._iota_p)
@@ -78,6 +123,8 @@ class Excitation:
     def load(self, t: float) -> FloatArray:
         """External load on the free DOFs at t (N): model loads and ground inertia or drive."""
         f = self.system.load(t)
+        if self._f_up is not None:
+            f = f + self._f_up
         for g, mi in zip(self.ground, self._iota_M, strict=False):
             f = f - mi * g(t)
         for g, (kg, cg) in zip(self.ground, self._drive, strict=False):

@@ -325,6 +325,18 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                                       density=wg.density)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: loads.westergaard[{i}]: {exc}") from None
+    for i, ut in enumerate(loads.uplift):
+        if ut.interface not in [it.group for it in interfaces]:
+            raise InputError(f"{p}: loads.uplift[{i}].interface: {ut.interface!r} is not an "
+                             "interface of the model (its [interfaces] tables: "
+                             f"{', '.join(it.group for it in interfaces) or 'none'})")  # fmt: skip
+        try:
+            model.add_uplift(ut.interface, ut.headwater, tailwater=ut.tailwater,
+                             drains=ut.drains, efficiency=ut.drain_efficiency,
+                             upstream=ut.upstream, shaking=ut.shaking, density=ut.density,
+                             g=loads.gravity or 9.81)  # fmt: skip
+        except ModelError as exc:
+            raise InputError(f"{p}: loads.uplift[{i}]: {exc}") from None
     records = []
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:

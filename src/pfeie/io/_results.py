@@ -211,6 +211,9 @@ class ResultsWriter:
                 self._ds(g, key, getattr(static.pairs, key), UNITS[key])
             self._ds(g, "state", static.pairs.state, UNITS["state"])
             self._ds(g, "broken", static.pairs.broken, UNITS["broken"])
+        if getattr(static, "uplift", None) is not None:
+            self._ds(g, "uplift", static.uplift, "Pa")
+            g.attrs["cracks"] = json.dumps(list(static.cracks))
         self.f.flush()
 
     def append(self, row: dict[str, Any]) -> None:

@@ -256,6 +256,34 @@ class Westergaard(_Table):
         return self
 
 
+class UpliftTable(_Table):
+    """``[[loads.uplift]]``: the pore pressure in a joint (pfeie.model.Uplift)."""
+
+    interface: Annotated[str, Field(description="the interface (a group of [interfaces])")]
+    headwater: Annotated[float, Field(description="headwater level (m, vertical axis)")]
+    tailwater: Annotated[
+        float | None, Field(description="tailwater level (m); default none (the toe's level)")
+    ] = None
+    drains: Annotated[
+        NonNegative | None,
+        Field(description="distance of the line of drains from the heel (m); default none"),
+    ] = None
+    drain_efficiency: Annotated[
+        float, Field(ge=0.0, le=1.0, description="drain efficiency E in [0, 1]")
+    ] = 0.0
+    upstream: Annotated[
+        Literal["-x", "+x", "-y", "+y"],
+        Field(description="where the reservoir is: '-x' (the heel is the joint's end of least "
+              "x), '+x', or in 3D '-y', '+y'"),
+    ] = "-x"  # fmt: skip
+    shaking: Annotated[
+        Literal["keep", "full", "zero"],
+        Field(description="uplift during the shaking: 'keep' the pre-earthquake uplift; "
+              "'full' headwater pressure where a pair opens; 'zero' where it opens"),
+    ] = "keep"  # fmt: skip
+    density: Annotated[Positive, Field(description="water density ρ_w (kg/m³)")] = 1000.0
+
+
 class Loads(_Table):
     """``[loads]``: gravity, pressures, water."""
 
@@ -274,6 +302,11 @@ class Loads(_Table):
         Field(description="the reservoir's added mass on the wet faces: Westergaard's "
               "7/8 ρ_w √(H (level − z)) along their normal, or a finite-element reservoir "
               "(model = 'fe')"),
+    ] = []  # fmt: skip
+    uplift: Annotated[
+        list[UpliftTable],
+        Field(description="uplift in joints: linear from headwater at the heel to tailwater "
+              "at the toe, drains, full headwater in the part cracked from the heel"),
     ] = []  # fmt: skip
 
 

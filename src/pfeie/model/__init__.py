@@ -13,9 +13,10 @@ from ._spectrum import (
     response_spectrum,
     sdof_response,
 )
+from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
-    "INTENSITY_MEASURES", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
+    "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
     "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum", "Support",
-    "intensity_measures", "response_spectrum", "sdof_response",
+    "Uplift", "intensity_measures", "response_spectrum", "sdof_response", "uplift_force",
 ]  # fmt: skip

@@ -26,9 +26,10 @@ from ..element import quadrature, reference
 from ..errors import MeshError, ModelError
 from ..interface import PairGeometry, PairLaws, SplitMesh, split
 from ..mesh import Mesh
-from ..typing import FloatArray, IntArray
+from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
 from ._reservoir import Reservoir
+from ._uplift import Uplift, uplift_force
 
 log = logging.getLogger(__name__)
 
@@ -171,6 +172,7 @@ class Model:
         self.loads: list[Load] = []
         self.reservoirs: list[tuple[tuple[str, ...], float, float, float]] = []
         self.fe_reservoirs: list[Reservoir] = []
+        self.uplifts: list[Uplift] = []
         self._cellsets = self._collect_cells()
 
     # -- topology -------------------------------------------------------------------------
@@ -420,6 +422,59 @@ class Model:
                         refine=refine)  # fmt: skip
         self.fe_reservoirs.append(res)
         return res
+
+    def add_uplift(self, interface: str, headwater: float, **options: Any) -> Uplift:
+        """Uplift in the joint ``interface``: the pore pressure of the reservoir, linear
+        from the headwater level at the heel to the tailwater level at the toe, with
+        drains and full headwater in the part cracked from the heel (options and
+        equations: :class:`~pfeie.model.Uplift`). The static analysis finds the crack and
+        its uplift together (:func:`pfeie.solve_static`); the dynamic analysis keeps the
+        pre-earthquake uplift or follows the pairs' state (``shaking``).
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(4.0, 2.0, 4, 2)
+        >>> _ = mesh.add_cell_group("rock", lambda x: x[:, 1] < 1.0)
+        >>> _ = mesh.add_cell_group("dam", lambda x: x[:, 1] > 1.0)
+        >>> _ = mesh.add_facet_group("base", lambda x: abs(x[:, 1] - 1.0) < 1e-9, False)
+        >>> mat = pf.Elastic(30e9, 0.2, 2400)
+        >>> m = pf.Model(mesh, [pf.Block("rock", mat), pf.Block("dam", mat)],
+        ...              interfaces=[pf.Interface("base", pf.Joint(phi=45.0))])
+        >>> up = m.add_uplift("base", headwater=11.0)      # 10 m of water at the heel
+        >>> p, _ = m.uplift_pressure()
+        >>> [round(float(v) / 9810, 3) for v in p[m.pairs.of("base")][::4]]  # head (m)
+        [10.0, 0.0]
+        """
+        if self.pairs is None or interface not in self.pairs.names:
+            have = ", ".join(self.pairs.names) if self.pairs is not None else "none"
+            raise ModelError(f"uplift: {interface!r} is not an interface of the model "
+                             f"(interfaces: {have})")  # fmt: skip
+        up = Uplift(interface, float(headwater), **options)
+        up.abscissa(self.pairs, self.pairs.of(interface))  # the upstream axis exists
+        self.uplifts.append(up)
+        return up
+
+    def uplift_pressure(
+        self, open_: BoolArray | None = None, cracks: Sequence[float] | None = None
+    ) -> tuple[FloatArray, list[float]]:
+        """The uplift pressure at every pair (Pa) and the crack length of each uplift (m):
+        from the open pairs ``open_`` (a crack from the heel through open pairs), or the
+        given ``cracks``; without either, uncracked joints."""
+        P = self.pairs
+        if P is None or not self.uplifts:
+            return np.zeros(0 if P is None else P.n), []
+        p = np.zeros(P.n)
+        out = []
+        for i, up in enumerate(self.uplifts):
+            pi, c = up.pressure(P, open_, None if cracks is None else cracks[i])
+            p += pi
+            out.append(c)
+        return p, out
+
+    def uplift_load(self, p: FloatArray) -> FloatArray:
+        """The nodal load (n_dof,) of the pair pressures ``p`` (Pa; :func:`uplift_force`)."""
+        if self.pairs is None or not p.size:
+            return np.zeros(self.n_dof)
+        return uplift_force(self.pairs, p, self.n_dof)
 
     def added_mass(self) -> FloatArray:
         """The lumped added mass of the reservoirs on every DOF (n_dof,), kg: Westergaard's

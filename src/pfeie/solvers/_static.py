@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
-from ..errors import MechanismError
-from ..interface import PairState, SolverSettings
+from ..errors import MechanismError, SolverError
+from ..interface import OPEN, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
 from ..typing import FloatArray
@@ -28,6 +28,8 @@ class StaticResult:
     u: FloatArray
     reactions: FloatArray
     pairs: PairState | None = None
+    uplift: FloatArray | None = None  # the uplift pressure at every pair (Pa), if any
+    cracks: tuple[float, ...] = ()  # the crack length of each uplift (m), from its heel
 
     def stress(self) -> FloatArray:
         """Nodal stresses (n_points, 3, 3), Pa."""
@@ -71,12 +73,34 @@ def solve_static(
         reactions[system.prescribed] = r[system.prescribed]
         return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d))
     problem = StaticInterfaceProblem(model, system, backend=backend, settings=settings)
-    u_free, st = problem.solve(f_free)
+    p, cracks = model.uplift_pressure()
+    f_up = model.uplift_load(p)
+    u_free, st = problem.solve(f_free + f_up[system.free])
+    for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
+        # the uplift follows the crack and the crack the uplift: full headwater in the part
+        # open from the heel, until the crack settles
+        p_new, new = model.uplift_pressure(st.state == OPEN)
+        if new == cracks:
+            break
+        p, cracks, f_up = p_new, new, model.uplift_load(p_new)
+        u_free, st = problem.solve(f_free + f_up[system.free])
+    else:
+        if model.uplifts:
+            raise SolverError(
+                f"uplift: the crack from the heel did not settle in {_CRACK_ITERATIONS} "
+                f"static solves (crack lengths {', '.join(f'{c:.4g}' for c in cracks)} m): "
+                "the joint may be on the verge of opening through"
+            )
     G = relative_operator(model.pairs, model.n_dof)
     pres = system.prescribed
     u = system.expand(u_free)
     st.w = (G @ u).reshape(-1, d)
-    r = model.stiffness() @ u - model.load_vector(t) - G.T @ st.X.ravel()
+    r = model.stiffness() @ u - model.load_vector(t) - f_up - G.T @ st.X.ravel()
     reactions = np.zeros_like(r)
     reactions[pres] = r[pres]
-    return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d), st)
+    return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d), st,
+                        p if model.uplifts else None, tuple(cracks))  # fmt: skip
+
+
+#: static solves at most to settle the crack and its uplift together
+_CRACK_ITERATIONS = 50

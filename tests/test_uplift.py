@@ -1,0 +1,232 @@
+"""Uplift in joints: the distribution of USACE EM 1110-2-2200 §3-3 (linear from headwater
+to tailwater, drains, full headwater in the crack), the static crack found with its
+uplift, the policies during shaking, the model file.
+
+References: the levels by hand from the guideline's formulas; the static state against
+the equilibrium of the dam block (closed forms of the hydrostatic thrust and the uplift
+force and moment: the pair forces are effective forces, N' = W − U)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.cli import main
+from pfeie.errors import ModelError
+from pfeie.interface import OPEN
+from pfeie.model import Uplift
+
+RHO_W, G = 1000.0, 9.81
+B, H, Z0 = 10.0, 20.0, 2.0  # dam width and height (m), base joint elevation (m)
+
+
+def test_levels_by_the_guideline() -> None:
+    """h(s) by hand: linear H_w → H_t; drains at s_d with E: h_d = H_t + (1 − E)(H_w −
+    H_t)(L − s_d)/L; a crack short of the drains: H_w to the tip, then to h_d; a crack past
+    them: H_w to the tip, then linear to H_t (drains no longer work)."""
+    s = np.array([0.0, 2.0, 5.0, 10.0])
+    up = Uplift("base", headwater=30.0, tailwater=5.0)
+    np.testing.assert_allclose(up.level(s, 10.0, 0.0, 0.0), [30.0, 25.0, 17.5, 5.0])
+    dr = Uplift("base", headwater=30.0, tailwater=5.0, drains=2.0, efficiency=0.5)
+    hd = 5.0 + 0.5 * 25.0 * 8.0 / 10.0  # 15 m
+    np.testing.assert_allclose(dr.level(s, 10.0, 0.0, 0.0),
+                               [30.0, hd, hd + (5.0 - hd) * 3.0 / 8.0, 5.0])  # fmt: skip
+    np.testing.assert_allclose(dr.level(s, 10.0, 1.0, 0.0),
+                               [30.0, hd, hd + (5.0 - hd) * 3.0 / 8.0, 5.0])  # fmt: skip
+    np.testing.assert_allclose(dr.level(np.array([0.0, 1.0, 1.5, 2.0]), 10.0, 1.0, 0.0),
+                               [30.0, 30.0, 30.0 + (hd - 30.0) * 0.5, hd])  # fmt: skip
+    np.testing.assert_allclose(dr.level(s, 10.0, 5.0, 0.0), [30.0, 30.0, 30.0, 5.0])
+    # no tailwater: the level of the toe (zero pressure there)
+    np.testing.assert_allclose(Uplift("b", 30.0).level(s, 10.0, 0.0, 2.0)[-1], 2.0)
+    for bad in ({"efficiency": 1.5}, {"shaking": "half"}, {"upstream": "north"},
+                {"tailwater": 40.0}, {"drains": -1.0}):  # fmt: skip
+        with pytest.raises(ModelError):
+            Uplift("base", 30.0, **bad)  # type: ignore[arg-type]
+
+
+def dam(hw: float, joint: pf.Joint, **uplift: object) -> tuple[pf.Model, float]:
+    """A 10 m x 20 m concrete block (Q8) on a rock block on a base joint at y = 2 m, the
+    reservoir at hw (m above the base) on its upstream face x = 0, uplift in the joint."""
+    mesh = pf.rectangle(B, H + Z0, 10, 22, cell="quad8")
+    mesh.add_cell_group("rock", lambda x: x[:, 1] < Z0)
+    mesh.add_cell_group("dam", lambda x: x[:, 1] > Z0)
+    mesh.add_facet_group("base", lambda x: np.abs(x[:, 1] - Z0) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("upstream", lambda x: (x[:, 0] < 1e-9) & (x[:, 1] > Z0 - 1e-9))
+    concrete = pf.Elastic(30e9, 0.2, 2400.0)
+    model = pf.Model(mesh, [pf.Block("rock", concrete), pf.Block("dam", concrete)],
+                     interfaces=[pf.Interface("base", joint)])  # fmt: skip
+    model.fix("ymin")
+    model.add_gravity()
+    level = Z0 + hw
+    model.add_pressure("upstream", lambda x: RHO_W * G * np.maximum(level - x[..., 1], 0.0))
+    model.add_uplift("base", headwater=level, **uplift)  # type: ignore[arg-type]
+    return model, level
+
+
+def base_resultant(model: pf.Model, st: pf.StaticResult) -> tuple[float, float, float]:
+    """The contact force on the dam (F_x, F_y) and its moment about the base centroid."""
+    P = model.pairs
+    assert P is not None and st.pairs is not None
+    F, M = P.resultants(st.pairs.X)
+    sign = 1.0 if P.frame[P.of("base")[0], -1, 1] > 0 else -1.0  # side b the dam?
+    return sign * F[0, 0], sign * F[0, 1], sign * M[0, 0]
+
+
+def test_static_uplift_equilibrium() -> None:
+    """Uncracked (resultant inside the kern: e = 0.92 m < B/6), no tailwater, 12 m of
+    water: the base carries F_x = −ρ g h²/2, F_y = W − U with U = ρ g h B/2, and the
+    moment T h/3 + U B/6 about its centroid (the uplift triangle's centroid at B/3 from
+    the heel); to 1e-12 (Simpson's rule on the Q8 base is exact for the linear uplift:
+    round-off, measured 3.5e-14; the margin is for other BLAS builds). Without uplift
+    F_y = W."""
+    hw = 12.0
+    model, _ = dam(hw, pf.Joint(phi=45.0))
+    st = pf.solve_static(model)
+    W = 2400.0 * G * B * H
+    T, U = RHO_W * G * hw**2 / 2, RHO_W * G * hw * B / 2
+    fx, fy, mz = base_resultant(model, st)
+    assert st.cracks == (0.0,)
+    assert fx == pytest.approx(-T, rel=1e-12)
+    assert fy == pytest.approx(W - U, rel=1e-12)
+    assert mz == pytest.approx(T * hw / 3 + U * B / 6, rel=1e-12)
+    assert st.uplift is not None
+    assert st.uplift.max() == pytest.approx(RHO_W * G * hw, rel=1e-12)
+    plain, _ = dam(hw, pf.Joint(phi=45.0))
+    plain.uplifts.clear()
+    assert base_resultant(plain, pf.solve_static(plain))[1] == pytest.approx(W, rel=1e-12)
+
+
+def test_drains_and_tailwater() -> None:
+    """Drains 2 m from the heel at E = 0.5 and 3 m of tailwater: U is the area under the
+    piecewise linear head (closed form) times ρ g, to 1e-12 (the kink at the drains is a
+    corner node: exact but for round-off)."""
+    hw, tw, sd, E = 12.0, 3.0, 2.0, 0.5
+    model, _ = dam(hw, pf.Joint(phi=45.0), tailwater=Z0 + tw, drains=sd, efficiency=E)
+    st = pf.solve_static(model)
+    hd = tw + (1 - E) * (hw - tw) * (B - sd) / B
+    U = RHO_W * G * (0.5 * (hw + hd) * sd + 0.5 * (hd + tw) * (B - sd))
+    W = 2400.0 * G * B * H
+    fy = base_resultant(model, st)[1]
+    # the tailwater's pressure on the downstream face is not applied here: only the uplift
+    assert fy == pytest.approx(W - U, rel=1e-12)
+
+
+def test_cracked_base_gets_full_headwater() -> None:
+    """A joint without tensile strength under a high reservoir (19 m on a 10 m wide
+    block): the heel opens; the static analysis settles the crack and its uplift together.
+    Every open pair from the heel carries full headwater; the crack equals the open part;
+    the vertical equilibrium holds with U = ρ g h (c + (B − c)/2) to 1e-12 when the crack
+    tip is a corner node (kink integrated exactly by Simpson's rule; measured: c = 7 m, a
+    corner, error 0)."""
+    hw = 19.0
+    model, _ = dam(hw, pf.Joint(phi=45.0, initial="broken"))
+    st = pf.solve_static(model)
+    P = model.pairs
+    assert P is not None and st.pairs is not None and st.uplift is not None
+    c = st.cracks[0]
+    assert 0.5 < c < B  # measured 7 m
+    idx = P.of("base")
+    s = P.x[idx, 0]
+    open_ = st.pairs.state[idx] == OPEN
+    assert np.all(open_[s < c - 1e-9]) and np.all(s[open_] <= c + 1e-9)
+    np.testing.assert_allclose(st.uplift[idx][s <= c], RHO_W * G * hw, rtol=1e-12)
+    U = RHO_W * G * hw * (c + (B - c) / 2)
+    W = 2400.0 * G * B * H
+    on_corner = abs(c / 1.0 - round(c / 1.0)) < 1e-9  # Q8 corner nodes every 1 m
+    fy = base_resultant(model, st)[1]
+    assert fy == pytest.approx(W - U, rel=1e-12 if on_corner else 2e-3)
+    assert model.uplift_pressure(st.pairs.state == OPEN)[1] == [c]  # settled
+
+
+def test_policies_follow_the_opening_pairs() -> None:
+    """The excitation's uplift load: 'keep' stays pre-earthquake; 'full' gives a pair
+    that opens during the shaking ρ g (H_w − z), 'zero' none; the crack open before the
+    shaking keeps its uplift; a closed pair its pre-earthquake value."""
+    from pfeie.dynamics import Excitation
+
+    for policy in ("keep", "full", "zero"):
+        model, level = dam(19.0, pf.Joint(phi=45.0, initial="broken"), shaking=policy)
+        st = pf.solve_static(model)
+        P = model.pairs
+        assert P is not None and st.pairs is not None and st.uplift is not None
+        system = model.system(lumped_mass=True)
+        ex = Excitation(model, system, uplift=st.uplift, open0=st.pairs.state == OPEN)
+        base = ex.load(0.0)
+        now = st.pairs.state == OPEN
+        new = np.zeros_like(now)
+        idx = P.of("base")
+        k = idx[np.argsort(P.x[idx, 0])][-1]  # the toe opens
+        new[k] = True
+        ex.follow(now | new)
+        p = st.uplift.copy()
+        if policy != "keep":
+            p[k] = RHO_W * G * (level - P.x[k, 1]) if policy == "full" else 0.0
+        want = base - model.uplift_load(st.uplift)[system.free] + \
+            model.uplift_load(p)[system.free]  # fmt: skip
+        np.testing.assert_allclose(ex.load(0.0), want, rtol=0, atol=1e-9 * np.abs(base).max())
+
+
+def test_dynamic_keep_holds_the_static_state() -> None:
+    """Without shaking, a run from the cracked static state stays there (the excitation
+    carries the same uplift as the static solve): u within 1e-9 of the static u."""
+    model, _ = dam(19.0, pf.Joint(phi=45.0, initial="broken"))
+    st = pf.solve_static(model)
+    res = pf.Dynamic(model, 0.01).run(n_steps=20, start=st)
+    assert res.final is not None
+    drift = np.abs(res.final.kin.u - st.u.ravel()[model.system().free]).max()
+    assert drift < 1e-9 * np.abs(st.u).max()
+
+
+def test_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """[[loads.uplift]] through the command line: the results file holds the static
+    uplift and the crack; a wrong interface name is an input error naming the key."""
+    from test_robustness import msh22
+
+    nodes = [(x, y, 0) for y in (0, 1, 2) for x in (0, 1, 2)]
+    names = {1: (2, "rock"), 2: (2, "dam"), 3: (1, "bottom"), 4: (1, "base")}
+    els = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [4, 5]), (4, 1, 4, [5, 6]),
+           (10, 3, 1, [1, 2, 5, 4]), (11, 3, 1, [2, 3, 6, 5]),
+           (12, 3, 2, [4, 5, 8, 7]), (13, 3, 2, [5, 6, 9, 8])]  # fmt: skip
+    msh22(tmp_path / "m.msh", nodes, els, names)
+    text = """
+[mesh]
+file = "m.msh"
+[materials.c]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+rock = "c"
+dam = "c"
+[interfaces.base]
+friction_angle = 45.0
+[[supports]]
+group = "bottom"
+[loads]
+gravity = 9.81
+[[loads.uplift]]
+interface = "INTERFACE"
+headwater = 3.0
+drains = 0.5
+drain_efficiency = 0.4
+[analysis]
+dynamic = false
+[output]
+folder = "out"
+"""
+    p = tmp_path / "model.toml"
+    p.write_text(text.replace("INTERFACE", "base"))
+    assert main(["run", str(p), "--quiet"]) == 0
+    from pfeie.io import Results
+
+    with Results(tmp_path / "out" / "results.h5") as res:
+        up = np.asarray(res.f["static/uplift"])
+        assert up.max() == pytest.approx(RHO_W * 9.81 * 2.0)
+        assert res.units("static/uplift") == "Pa"
+    p.write_text(text.replace("INTERFACE", "neck"))
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "loads.uplift[0].interface" in err and "'neck'" in err
