@@ -180,9 +180,12 @@ def test_dynamic_keep_holds_the_static_state() -> None:
     assert drift < 1e-9 * np.abs(st.u).max()
 
 
-def test_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_model_file_and_report(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """[[loads.uplift]] through the command line: the results file holds the static
-    uplift and the crack; a wrong interface name is an input error naming the key."""
+    uplift and the crack; the report shows the analysis, the record's intensity measures
+    (PGA as in the record), the static state with the uplift force Σ p A and the figures
+    of the mesh and the input motion; a wrong interface name is an input error naming
+    the key."""
     from test_robustness import msh22
 
     nodes = [(x, y, 0) for y in (0, 1, 2) for x in (0, 1, 2)]
@@ -212,11 +215,16 @@ interface = "INTERFACE"
 headwater = 3.0
 drains = 0.5
 drain_efficiency = 0.4
+[[ground_motion]]
+file = "pulse.csv"
+units = "g"
 [analysis]
-dynamic = false
+dt = 0.01
+duration = 0.2
 [output]
 folder = "out"
 """
+    (tmp_path / "pulse.csv").write_text("time,acc\n0,0\n0.1,0.25\n0.2,-0.1\n0.3,0\n")
     p = tmp_path / "model.toml"
     p.write_text(text.replace("INTERFACE", "base"))
     assert main(["run", str(p), "--quiet"]) == 0
@@ -226,6 +234,13 @@ folder = "out"
         up = np.asarray(res.f["static/uplift"])
         assert up.max() == pytest.approx(RHO_W * 9.81 * 2.0)
         assert res.units("static/uplift") == "Pa"
+        U = float((up * np.asarray(res.f["pairs/area"])).sum())
+    assert main(["report", str(tmp_path / "out" / "results.h5")]) == 0
+    page = (tmp_path / "out" / "report.html").read_text()
+    for words in ("<h2>Analysis</h2>", "nonsmooth-alpha", "<h2>Static state",
+                  f"<td>{1e-3 * U:.4g}</td>", "crack from the heel (m)", "<td>0.25</td>",
+                  "alt='mesh'", "alt='input_motion'"):  # fmt: skip
+        assert words in page, words
     p.write_text(text.replace("INTERFACE", "neck"))
     assert main(["check", str(p)]) == 2
     err = capsys.readouterr().err

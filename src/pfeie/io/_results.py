@@ -213,7 +213,8 @@ class ResultsWriter:
             self._ds(g, "broken", static.pairs.broken, UNITS["broken"])
         if getattr(static, "uplift", None) is not None:
             self._ds(g, "uplift", static.uplift, "Pa")
-            g.attrs["cracks"] = json.dumps(list(static.cracks))
+            names = [u.interface for u in static.model.uplifts]
+            g.attrs["cracks"] = json.dumps(dict(zip(names, static.cracks, strict=True)))
         self.f.flush()
 
     def append(self, row: dict[str, Any]) -> None:

@@ -22,6 +22,7 @@ histories nor a static pair state.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -60,9 +61,16 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
                     "a results file of a dynamic run or of a static run with interfaces"
                 )
             out = output_folder(folder)
-            return [plot_static(res, name, out / f"static_{name}.png", title)
-                    for name in res.interface_names]  # fmt: skip
+            files = [plot_static(res, name, out / f"static_{name}.png", title)
+                     for name in res.interface_names]  # fmt: skip
+            if res.f["mesh/points"].shape[1] == 2:
+                files.insert(0, plot_mesh(res, out / "mesh.png", title))
+            return files
         out = output_folder(folder)
+        if res.f["mesh/points"].shape[1] == 2:
+            files.append(plot_mesh(res, out / "mesh.png", title))
+        if "records" in res.f and len(res.f["records"]):
+            files.append(plot_input(res, out / "input_motion.png", title))
         for name in res.probe_names:
             files.append(plot_probe(res, name, out / f"probe_{name}.png", title))
         for name in res.interface_names:
@@ -71,6 +79,73 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
         files.append(plot_rigid(res, out / "rigid_motion.png", title))
         files.append(plot_energy(res, out / "energy.png", title))
     return files
+
+
+def plot_mesh(res: Results, path: Path, title: str = "") -> Path:
+    """The 2D mesh (cell outlines through the corner nodes) coloured by body, the
+    interface pairs (red) and the probes (labelled): the geometry of the model."""
+    plt = _plt()
+    from matplotlib.collections import PolyCollection
+
+    x = np.asarray(res.f["mesh/points"])[:, :2]
+    body = np.asarray(res.f["mesh/body"])
+    corners = {"triangle": 3, "triangle6": 3, "quad": 4, "quad8": 4, "quad9": 4}
+    fig, ax = plt.subplots(figsize=(8, 6))
+    for ctype in res.f["mesh/cells"]:
+        k = corners.get(ctype)
+        if k is None:
+            continue
+        conn = np.asarray(res.f[f"mesh/cells/{ctype}"])[:, :k]
+        colours = plt.get_cmap("tab10")(body[conn[:, 0]] % 10)
+        colours[:, 3] = 0.35
+        ax.add_collection(PolyCollection(x[conn], facecolors=colours, edgecolors="0.35",
+                                         linewidths=0.3))  # fmt: skip
+    if "pairs/x" in res.f:
+        xp = np.asarray(res.f["pairs/x"])
+        ax.plot(xp[:, 0], xp[:, 1], ".", color="tab:red", ms=3, label="interface pairs")
+    probes = res.probe_names
+    if probes:
+        nodes = json.loads(res.f["history/probes"].attrs.get("nodes", "[]"))
+        for name, n in zip(probes, nodes, strict=False):
+            ax.plot(*x[n], "k^", ms=6)
+            ax.annotate(name, x[n], textcoords="offset points", xytext=(4, 4), fontsize=8)
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    names = res.body_names
+    ax.set_title((f"{title}\n" if title else "") + f"mesh: {len(names)} bodies "
+                 f"({', '.join(names)}), {x.shape[0]} nodes", fontsize=10)  # fmt: skip
+    if "pairs/x" in res.f:
+        ax.legend(loc="best", fontsize=8)
+    return _finish(fig, path)
+
+
+def plot_input(res: Results, path: Path, title: str = "") -> Path:
+    """The input motion: each record's acceleration (g) over time and its elastic
+    response spectrum PSa (5 %, g) over the period."""
+    plt = _plt()
+    from ..model import response_spectrum
+
+    fig, ax = plt.subplots(2, 1, figsize=(8, 6.5))
+    periods = np.geomspace(0.02, 4.0, 150)
+    for k, key in enumerate(sorted(res.f["records"], key=int)):
+        g = res.f[f"records/{key}"]
+        t, a = np.asarray(g["time"]), np.asarray(g["acceleration"])
+        name = g.attrs.get("name", f"record {key}")
+        ax[0].plot(t, a / 9.81, lw=0.7, color=f"C{k % 10}", label=str(name))
+        s = response_spectrum(t, a, periods, 0.05)
+        ax[1].plot(s.periods, s.psa / 9.81, lw=1.1, color=f"C{k % 10}", label=str(name))
+    ax[0].set_xlabel("time (s)")
+    ax[0].set_ylabel("ground acceleration (g)")
+    ax[1].set_xlabel("period T (s)")
+    ax[1].set_ylabel("PSa, 5 % damping (g)")
+    for a_ in ax:
+        a_.grid(alpha=0.3)
+        a_.legend(loc="upper right", fontsize=8)
+    ax[1].set_xlim(left=0.0)
+    ax[0].set_title((f"{title}\n" if title else "") + "input motion", fontsize=10)
+    return _finish(fig, path)
 
 
 def _finish(fig: Any, path: Path) -> Path:

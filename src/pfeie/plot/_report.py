@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import base64
 import html
+import json
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -76,7 +77,78 @@ def static_joint_table(res: Results) -> list[dict[str, Any]]:
             "open (%)": 100 * float(((pr["state"] == 3) * A).sum() / A.sum()),
             "broken (%)": 100 * float((pr["broken"] * A).sum() / A.sum()),
         })  # fmt: skip
+        k = len(rows) - 1
+        if "history/joints/safety_factor" in res.f and res.n_times:
+            rows[-1]["sliding safety factor"] = float(res.f["history/joints/safety_factor"][0, k])
+        if "static/uplift" in res.f:
+            idx = np.flatnonzero(np.asarray(res.f["pairs/interface"]) == k)
+            p = np.asarray(res.f["static/uplift"])[idx]
+            if p.any():
+                U = float((p * np.asarray(res.f["pairs/area"])[idx]).sum())
+                rows[-1]["uplift force (kN)"] = 1e-3 * U
+                rows[-1]["uplift at heel (kPa)"] = 1e-3 * float(p.max())
+            cracks = json.loads(res.f["static"].attrs.get("cracks", "{}"))
+            if name in cracks:
+                rows[-1]["crack from the heel (m)"] = float(cracks[name])
     return rows
+
+
+def analysis_rows(res: Results) -> list[tuple[str, str]]:
+    """The analysis as run: scheme, Δt, ρ∞, form, duration and steps, the pair solver's
+    statistics, the wall time."""
+    meta = res.meta
+    a = meta.get("analysis", {})
+    out = [("scheme", str(a.get("scheme", ""))), ("time step Δt", f"{a.get('dt')} s")]
+    if a.get("scheme") == "nonsmooth-alpha":
+        rho = a.get("rho_inf")
+        out.append(("ρ∞ (numerical dissipation)", "0 (default)" if rho is None else str(rho)))
+    out.append(("ground motion form", str(meta.get("form", ""))))
+    summ = meta.get("results_summary") or {}
+    if "steps" in summ:
+        out.append(("steps", f"{summ['steps']} to t = {summ.get('time_reached_s', 0):.3f} s"))
+    sv = summ.get("solver")
+    if sv:
+        out.append(("pair solver", f"{sv['iterations_mean']} iterations a step; "
+                    f"{sv['fallback_steps']} step(s) needed a fallback; worst residual "
+                    f"{sv['worst_residual']:.1e}"))  # fmt: skip
+    if "wall_time_s" in summ:
+        out.append(("wall time", f"{summ['wall_time_s']:.1f} s"))
+    return out
+
+
+def record_rows(res: Results) -> list[dict[str, Any]]:
+    """Intensity measures of the records of the run (as scaled)."""
+    if "records" not in res.f:
+        return []
+    from ..model import intensity_measures
+
+    rows = []
+    for key in sorted(res.f["records"], key=int):
+        g = res.f[f"records/{key}"]
+        im = intensity_measures(np.asarray(g["time"]), np.asarray(g["acceleration"]))
+        rows.append({
+            "record": str(g.attrs.get("name", key)), "PGA (g)": im["pga"] / 9.81,
+            "PGV (m/s)": im["pgv"], "PGD (m)": im["pgd"], "Arias (m/s)": im["arias"],
+            "CAV (m/s)": im["cav"], "D5-95 (s)": im["d5_95"],
+        })  # fmt: skip
+    return rows
+
+
+def _table(rows: list[dict[str, Any]]) -> list[str]:
+    """An HTML table of rows of equal keys (floats with 3 significant digits)."""
+    esc = html.escape
+    if not rows:
+        return []
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    out = ["<table><tr>" + "".join(f"<th>{esc(k)}</th>" for k in keys) + "</tr>"]
+    for row in rows:
+        cells = "".join(
+            f"<td>{row[k]:.4g}</td>" if isinstance(row.get(k), float)
+            else f"<td>{esc(str(row.get(k, '')))}</td>" for k in keys
+        )  # fmt: skip
+        out.append(f"<tr>{cells}</tr>")
+    out.append("</table>")
+    return out
 
 
 def write_report(results: str | Path, out: str | Path | None = None) -> Path:
@@ -87,6 +159,9 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         meta = res.meta
         summ = meta["model_summary"]
         joints = joint_table(res)
+        static = static_joint_table(res) if res.n_times else []
+        analysis = analysis_rows(res)
+        recs = record_rows(res)
         envelope = envelope_rows(res)
         t_end = float(res.time[-1]) if res.time.size else 0.0
         static_only = res.n_times == 0
@@ -121,20 +196,19 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         f"<h1>{esc(title)}</h1>",
         "<h2>Model</h2><table>",
         *[f"<tr><th>{esc(k)}</th><td>{esc(str(v))}</td></tr>" for k, v in model_rows],
+        "</table><h2>Analysis</h2><table>",
+        *[f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in analysis],
         "</table><h2>Ground motion</h2><ul>",
         *[f"<li>{esc(r)}</li>" for r in summ.get("records", [])],
-        "</ul><h2>Joints</h2>",
+        "</ul>",
+        *_table(recs),
     ]
+    if static:
+        parts.append("<h2>Static state (before the shaking)</h2>")
+        parts += _table(static)
+    parts.append("<h2>Joints</h2>")
     if joints:
-        keys = list(joints[0])
-        parts.append("<table><tr>" + "".join(f"<th>{esc(k)}</th>" for k in keys) + "</tr>")
-        for row in joints:
-            cells = "".join(
-                f"<td>{v:.2f}</td>" if isinstance(v, float) else f"<td>{esc(str(v))}</td>"
-                for v in row.values()
-            )
-            parts.append(f"<tr>{cells}</tr>")
-        parts.append("</table>")
+        parts += _table(joints)
     else:
         parts.append("<p>No interfaces.</p>")
     if envelope:
