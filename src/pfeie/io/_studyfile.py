@@ -69,7 +69,7 @@ class StudyIntensity(_Table):
               "increasing)"),
     ] = [1.0]  # fmt: skip  # noqa: RUF012 (pydantic copies defaults)
     period: Annotated[
-        Positive | None,
+        Annotated[float, Field(gt=0.0, le=100.0)] | None,
         Field(description="period T1 (s) of Sa: of the 'sa' measure, and of the Sa(T1) column "
               "(default: the model's first period, joints bonded)"),
     ] = None  # fmt: skip
