@@ -39,6 +39,12 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(PY) benchmarks/run.py
 	$(PY) benchmarks/interfaces.py
+	$(PY) benchmarks/study.py
+	@$(PY) -c "import openseespy.opensees" 2>/dev/null || { \
+	  $(PY) -m pip install -q -e ".[bench]"; \
+	  [ -e /usr/lib/x86_64-linux-gnu/libblas.so.3 ] || { apt-get update -qq && \
+	    apt-get install -y -qq libblas3 liblapack3; }; }
+	$(PY) benchmarks/opensees.py
 
 bench-quick: $(STAMP)
 	$(PY) benchmarks/run.py --quick
