@@ -541,13 +541,20 @@ class Model:
             )
         )
 
-    def mass(self, lumped: bool = False, added: bool = True) -> sp.csr_matrix:
+    def mass(self, lumped: bool = False, added: bool = True,
+             full_reservoir: bool = False) -> sp.csr_matrix:  # fmt: skip
         """Global mass M (kg): consistent, or HRZ-lumped (diagonal) when ``lumped``; with
         the reservoirs' added mass unless ``added`` is False (:meth:`add_westergaard`,
         :meth:`add_reservoir`): lumped, :meth:`added_mass`; consistent,
-        :meth:`added_mass_matrix` (a finite-element reservoir's full M_a)."""
+        :meth:`added_mass_matrix` (a finite-element reservoir's full M_a).
+        ``full_reservoir`` with ``lumped``: the blocks' mass lumped, a finite-element
+        reservoir's M_a full (what the time integrators use: the dam's mass diagonal, the
+        water's coupling kept)."""
         n = self.n_dof
         wet = added and bool(self.reservoirs or self.fe_reservoirs)
+        if wet and lumped and full_reservoir and self.fe_reservoirs:
+            dry = self.mass(lumped=True, added=False)
+            return (dry + self.added_mass_matrix()).tocsr()
         extra = self.added_mass() if wet and lumped else None
         if lumped:
             diag = np.zeros(n)
@@ -651,11 +658,12 @@ class Model:
         free = np.flatnonzero(np.isnan(values))
         return free, prescribed, values[prescribed]
 
-    def system(self, lumped_mass: bool = False) -> LinearSystem:
-        """The operators restricted to the free DOFs, for solvers and integrators."""
+    def system(self, lumped_mass: bool = False, full_reservoir: bool = False) -> LinearSystem:
+        """The operators restricted to the free DOFs, for solvers and integrators
+        (``full_reservoir``: see :meth:`mass`)."""
         free, pres, pval = self._dofmap
         K = self.stiffness()
-        M = self.mass(lumped=lumped_mass)
+        M = self.mass(lumped=lumped_mass, full_reservoir=full_reservoir)
         pats, amps = self.load_patterns()
         Kf, pf_ = K[free], pats[free]
         Kff = Kf[:, free].tocsr()
