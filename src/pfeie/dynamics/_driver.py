@@ -177,7 +177,8 @@ class Dynamic:
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.velocity_corrections = 0  # steps whose velocity correction was solved
-        self._last_strain: tuple[FloatArray, float] | None = None
+        self._last_strain: list[tuple[FloatArray, float]] = []
+        self._last_vmv: list[tuple[FloatArray, float]] = []
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.factor,
@@ -293,15 +294,28 @@ class Dynamic:
         C = self.system.C
         return np.zeros_like(v) if C is None else np.asarray(C @ v)
 
+    def mass_product(self, v: FloatArray) -> float:
+        """vᵀ M v (M lumped; twice the kinetic energy, J), kept for the last two vectors
+        asked (the energy account and the recorder ask for the same ones)."""
+        for vec, value in self._last_vmv:
+            if vec is v:
+                return value
+        value = float(v @ (self.mass * v))
+        self._last_vmv = [(v, value), *self._last_vmv[:1]]
+        return value
+
     def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
         """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
         if self.corot is not None:
             return self.corot.strain_energy(u, R)
-        last = self._last_strain
-        if last is not None and last[0] is u:  # the recorder and the energy account ask twice
-            return last[1]
+        # the step (position correction), the energy account and the recorder ask for the
+        # same vectors: the last three answers are kept (by identity: the states' vectors
+        # are never modified in place)
+        for vec, value in self._last_strain:
+            if vec is u:
+                return value
         value = 0.5 * float(u @ (self.system.K @ u))
-        self._last_strain = (u, value)
+        self._last_strain = [(u, value), *self._last_strain[:2]]
         return value
 
     def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
@@ -588,7 +602,7 @@ class Dynamic:
         if pen.any():
             nu = np.zeros((m, d))
             nu[pen, -1] = -gap[pen] / self._gmg[pen]
-            dq = self.minv * (G.T @ nu.ravel())
+            dq = self.minv * (self.op.Gt @ nu.ravel())
             u1 = u1 + dq
         # the energy the impulses beyond hλ take, −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing), and
         # the strain energy the position correction stores
