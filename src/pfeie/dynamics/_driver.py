@@ -179,6 +179,9 @@ class Dynamic:
         self.velocity_corrections = 0  # steps whose velocity correction was solved
         self._last_strain: list[tuple[FloatArray, float]] = []
         self._last_vmv: list[tuple[FloatArray, float]] = []
+        # the next step's free acceleration, computed ahead (nonsmooth-α): (state, excitation,
+        # t_{n+1}, load, q̈_free)
+        self._ahead: tuple[State, Excitation, float, FloatArray, FloatArray] | None = None
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.factor,
@@ -391,7 +394,7 @@ class Dynamic:
             # start costs one local O(Δt²) error and the scheme stays second order). Models
             # without pairs start the same way, so that intact joints give the monolithic
             # response to round-off.
-            a = self._step_nonsmooth_alpha(first, ex, self.ga).kin.a
+            a = self._step_nonsmooth_alpha(first, ex, self.ga, ahead_next=False).kin.a
             return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
         return StepState(State(t0, u, v, a, f), ps, 0)
 
@@ -491,7 +494,7 @@ class Dynamic:
         return StepState(new, trial.committed(prev), cur.step + 1)
 
     def _step_nonsmooth_alpha(
-        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha
+        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha, ahead_next: bool = True
     ) -> StepState:
         """One nonsmooth generalised-α step (method.md §3.1):
 
@@ -509,10 +512,16 @@ class Dynamic:
         relative motion at q_{n+1}; the recorded acceleration is the smooth q̈."""
         kin, h = cur.kin, self.dt
         t1 = kin.t + h
-        f1 = ex.load(t1)
-        if self.corot is None:
+        ahead = self._ahead
+        if ahead is not None and ahead[0] is kin and ahead[1] is ex and ahead[2] == t1:
+            # computed at the end of the previous step, right after its block solve (see
+            # below): the same numbers, from a factor still in the cache
+            f1, acc_free = ahead[3], ahead[4]
+        elif self.corot is None:
+            f1 = ex.load(t1)
             acc_free = ga.free_acceleration(kin, f1)
         else:
+            f1 = ex.load(t1)
             # the frames of the configuration predicted for t_{n+1} (q̂ + β h²/s q̈_n), in
             # which the elastic force at q̃ is linear: F(q̂) + Q K₀ Qᵀ (β h²/s) q̈
             _, q_hat, v_hat = ga.known(kin)
@@ -613,6 +622,13 @@ class Dynamic:
         if dq is not None:
             correction = self.strain_energy(u1) - self.strain_energy(smooth.u)
         new = State(t1, u1, v1, acc, f1, smooth.aux)
+        if ahead_next and self.corot is None:
+            # the next step's free acceleration (it depends on this step's state and the
+            # load at t_{n+2} only) now, while the factor is in the processor's cache from
+            # the block solve above: after the recorder's sweeps it would be read from
+            # memory again (a back-substitution costs up to twice as much there)
+            f2 = ex.load(t1 + h)
+            self._ahead = (new, ex, t1 + h, f2, ga.free_acceleration(new, f2))
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
         X = P.X / h
         s = w + laws.compliance * X
