@@ -104,11 +104,14 @@ class DenseDelassus(_StoredW):
     Z: FloatArray | None
     factor: Factorization
     G: sp.csr_matrix
+    _Gt: sp.csr_matrix | None = field(default=None, repr=False)
 
     def correct(self, X: FloatArray) -> FloatArray:
         if self.Z is not None:
             return np.asarray(self.Z @ X)
-        return self.factor.solve(self.G.T @ X)
+        if self._Gt is None:  # Gᵀ formed once (the same sums as G.T @ X)
+            self._Gt = sp.csr_matrix(self.G.T.tocsr())
+        return self.factor.solve(self._Gt @ X)
 
 
 @dataclass

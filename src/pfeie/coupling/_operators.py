@@ -22,6 +22,7 @@ of rotation R are T_k Rᵀ, so gaps and slips are measured in the turned frames
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -101,6 +102,12 @@ class PairOperator:
         T = self.pairs.frame.copy()
         T[turns] = np.einsum("kij,klj->kil", T[turns], R)
         return PairOperator.build(self.pairs, self.n_dof, self.free, self.prescribed, T)
+
+    @cached_property
+    def Gt(self) -> sp.csr_matrix:
+        """G_fᵀ (n_free × M), formed once: pair forces → nodal forces on the free DOFs
+        (the same sums, in the same order, as ``G.T @ X``)."""
+        return sp.csr_matrix(self.G.T.tocsr())
 
     def relative(self, u: FloatArray, u_pres: FloatArray | None = None) -> FloatArray:
         """w (m, d) = G_f u (+ G_p u_p) of free-DOF displacements u."""

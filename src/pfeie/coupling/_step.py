@@ -159,6 +159,8 @@ class InterfaceStep:
         start = prev
         for _ in range(self.op.m + 1):
             sol = self._solve(w_free, start, label, inactive, fixed, False, correct)
+            if sol.pairs.broken.all():  # nothing left to break
+                return sol
             X, laws = sol.pairs.X, self.laws
             tol = 1e-10 * max(float(np.abs(X).max(initial=0.0)), 1e-300)
             over = ~sol.pairs.broken & laws.overstressed(X, prev.path, tol)

@@ -177,7 +177,11 @@ class Dynamic:
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.velocity_corrections = 0  # steps whose velocity correction was solved
-        self._last_strain: tuple[FloatArray, float] | None = None
+        self._last_strain: list[tuple[FloatArray, float]] = []
+        self._last_vmv: list[tuple[FloatArray, float]] = []
+        # the next step's free acceleration, computed ahead (nonsmooth-α): (state, excitation,
+        # t_{n+1}, load, q̈_free)
+        self._ahead: tuple[State, Excitation, float, FloatArray, FloatArray] | None = None
         self.corot: Corotation | None = None
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.factor,
@@ -299,15 +303,28 @@ class Dynamic:
         C = self.system.C
         return np.zeros_like(v) if C is None else np.asarray(C @ v)
 
+    def mass_product(self, v: FloatArray) -> float:
+        """vᵀ M v (M lumped; twice the kinetic energy, J), kept for the last two vectors
+        asked (the energy account and the recorder ask for the same ones)."""
+        for vec, value in self._last_vmv:
+            if vec is v:
+                return value
+        value = float(v @ (self.mass * v))
+        self._last_vmv = [(v, value), *self._last_vmv[:1]]
+        return value
+
     def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
         """½ uᵀ K u, or ½ ũᵀ K₀ ũ in the body frames (J)."""
         if self.corot is not None:
             return self.corot.strain_energy(u, R)
-        last = self._last_strain
-        if last is not None and last[0] is u:  # the recorder and the energy account ask twice
-            return last[1]
+        # the step (position correction), the energy account and the recorder ask for the
+        # same vectors: the last three answers are kept (by identity: the states' vectors
+        # are never modified in place)
+        for vec, value in self._last_strain:
+            if vec is u:
+                return value
         value = 0.5 * float(u @ (self.system.K @ u))
-        self._last_strain = (u, value)
+        self._last_strain = [(u, value), *self._last_strain[:2]]
         return value
 
     def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
@@ -383,7 +400,7 @@ class Dynamic:
             # start costs one local O(Δt²) error and the scheme stays second order). Models
             # without pairs start the same way, so that intact joints give the monolithic
             # response to round-off.
-            a = self._step_nonsmooth_alpha(first, ex, self.ga).kin.a
+            a = self._step_nonsmooth_alpha(first, ex, self.ga, ahead_next=False).kin.a
             return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
         return StepState(State(t0, u, v, a, f), ps, 0)
 
@@ -483,7 +500,7 @@ class Dynamic:
         return StepState(new, trial.committed(prev), cur.step + 1)
 
     def _step_nonsmooth_alpha(
-        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha
+        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha, ahead_next: bool = True
     ) -> StepState:
         """One nonsmooth generalised-α step (method.md §3.1):
 
@@ -501,10 +518,16 @@ class Dynamic:
         relative motion at q_{n+1}; the recorded acceleration is the smooth q̈."""
         kin, h = cur.kin, self.dt
         t1 = kin.t + h
-        f1 = ex.load(t1)
-        if self.corot is None:
+        ahead = self._ahead
+        if ahead is not None and ahead[0] is kin and ahead[1] is ex and ahead[2] == t1:
+            # computed at the end of the previous step, right after its block solve (see
+            # below): the same numbers, from a factor still in the cache
+            f1, acc_free = ahead[3], ahead[4]
+        elif self.corot is None:
+            f1 = ex.load(t1)
             acc_free = ga.free_acceleration(kin, f1)
         else:
+            f1 = ex.load(t1)
             # the frames of the configuration predicted for t_{n+1} (q̂ + β h²/s q̈_n), in
             # which the elastic force at q̃ is linear: F(q̂) + Q K₀ Qᵀ (β h²/s) q̈
             _, q_hat, v_hat = ga.known(kin)
@@ -594,7 +617,7 @@ class Dynamic:
         if pen.any():
             nu = np.zeros((m, d))
             nu[pen, -1] = -gap[pen] / self._gmg[pen]
-            dq = self.minv * (G.T @ nu.ravel())
+            dq = self.minv * (self.op.Gt @ nu.ravel())
             u1 = u1 + dq
         # the energy the impulses beyond hλ take, −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing), and
         # the strain energy the position correction stores
@@ -605,6 +628,13 @@ class Dynamic:
         if dq is not None:
             correction = self.strain_energy(u1) - self.strain_energy(smooth.u)
         new = State(t1, u1, v1, acc, f1, smooth.aux)
+        if ahead_next and self.corot is None:
+            # the next step's free acceleration (it depends on this step's state and the
+            # load at t_{n+2} only) now, while the factor is in the processor's cache from
+            # the block solve above: after the recorder's sweeps it would be read from
+            # memory again (a back-substitution costs up to twice as much there)
+            f2 = ex.load(t1 + h)
+            self._ahead = (new, ex, t1 + h, f2, ga.free_acceleration(new, f2))
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
         X = P.X / h
         s = w + laws.compliance * X

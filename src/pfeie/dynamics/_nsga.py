@@ -130,9 +130,9 @@ class NonsmoothAlpha:
         """The smooth state at t_{n+1} (q̃, ṽ, q̈, a) from the accepted acceleration."""
         h, b, g = self.dt, self.beta, self.gamma
         a_star, q_hat, v_hat = self.known(state)
-        aux = acc / self.s + a_star
-        return State(state.t + h, q_hat + b * h * h * (acc / self.s),
-                     v_hat + g * h * (acc / self.s), acc, f_next, aux)  # fmt: skip
+        a_s = acc / self.s
+        return State(state.t + h, q_hat + b * h * h * a_s, v_hat + g * h * a_s, acc, f_next,
+                     a_s + a_star)  # fmt: skip
 
 
 __all__ = ["NonsmoothAlpha"]

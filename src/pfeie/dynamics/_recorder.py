@@ -139,6 +139,22 @@ class StressEnvelope:
         n_cells = sum(len(c) for c in model.mesh.cells.values())
         n_nodes = model.mesh.n_points
         self._nodes = np.asarray(model.active_nodes)
+        # the per-row cost: cells of one number of points fold by a reshape, and when every
+        # node and cell is in a block the extremes update in place (views, not gathers)
+        n_pts = cell.size
+        nq = n_pts // max(self._starts.size, 1)
+        self._nq = nq if nq * self._starts.size == n_pts and np.array_equal(
+            self._starts, np.arange(0, n_pts, max(nq, 1))) else 0  # fmt: skip
+        self._node_idx: np.ndarray | slice = (
+            slice(None) if np.array_equal(self._nodes, np.arange(n_nodes)) else self._nodes
+        )
+        self._cell_idx: np.ndarray | slice = (
+            slice(None) if np.array_equal(self._cells, np.arange(n_cells)) else self._cells
+        )
+        # plane states: the yz and xz rows of the operators are empty (σ₁, σ₃ in closed form)
+        self._plane = all(
+            not np.diff(A.indptr)[k::6].any() for A in (self.op.nodes, self.op.points)
+            for k in (3, 4))  # fmt: skip
         if values is not None:
             self.values = {k: np.array(values[k], dtype=float) for k in ENVELOPE_KEYS}
             return
@@ -150,17 +166,42 @@ class StressEnvelope:
         for k in ("node_min", "cell_min"):
             self.values[k][self._nodes if k == "node_min" else self._cells] = np.inf
 
+    def _extremes(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """σ₁ and σ₃ of the Voigt rows ``s`` (N, 6) (:func:`principal_extremes`; in plane
+        states its closed form, to the bit)."""
+        if not self._plane:
+            return principal_extremes(s)
+        xx, yy, zz, xy = s[:, 0], s[:, 1], s[:, 2], s[:, 5]
+        c = 0.5 * (xx + yy)
+        R = np.hypot(0.5 * (xx - yy), xy)
+        return np.maximum(c + R, zz), np.minimum(c - R, zz)
+
     def update(self, t: float, u: FloatArray) -> None:
         """Fold in the stress of the full displacement vector ``u`` at time ``t``."""
         v = self.values
-        hi_n, lo_n = principal_extremes((self.op.nodes @ u).reshape(-1, 6)[self._nodes])
-        hi_q, lo_q = principal_extremes((self.op.points @ u).reshape(-1, 6))
-        hi_c = np.maximum.reduceat(hi_q, self._starts)
-        lo_c = np.minimum.reduceat(lo_q, self._starts)
-        for key, idx, new, up in (("node_max", self._nodes, hi_n, True),
-                                  ("node_min", self._nodes, lo_n, False),
-                                  ("cell_max", self._cells, hi_c, True),
-                                  ("cell_min", self._cells, lo_c, False)):  # fmt: skip
+        sn = (self.op.nodes @ u).reshape(-1, 6)
+        if not isinstance(self._node_idx, slice):
+            sn = sn[self._nodes]
+        hi_n, lo_n = self._extremes(sn)
+        hi_q, lo_q = self._extremes((self.op.points @ u).reshape(-1, 6))
+        if self._nq:  # point by point, in the order of reduceat (the same bits)
+            hi_c, lo_c = hi_q[:: self._nq].copy(), lo_q[:: self._nq].copy()
+            for j in range(1, self._nq):
+                np.maximum(hi_c, hi_q[j :: self._nq], out=hi_c)
+                np.minimum(lo_c, lo_q[j :: self._nq], out=lo_c)
+        else:
+            hi_c = np.maximum.reduceat(hi_q, self._starts)
+            lo_c = np.minimum.reduceat(lo_q, self._starts)
+        for key, idx, new, up in (("node_max", self._node_idx, hi_n, True),
+                                  ("node_min", self._node_idx, lo_n, False),
+                                  ("cell_max", self._cell_idx, hi_c, True),
+                                  ("cell_min", self._cell_idx, lo_c, False)):  # fmt: skip
+            if isinstance(idx, slice):  # every node (cell): in place
+                old = v[key]
+                better = new > old if up else new < old
+                np.copyto(old, new, where=better)
+                v[key + "_time"][better] = t
+                continue
             old = v[key][idx]
             better = new > old if up else new < old
             v[key][idx[better]] = new[better]
@@ -242,8 +283,7 @@ class EnergyAccount:
                 ext -= float(np.sum(nxt.pairs.X * dwp))
                 dw = dw + dwp
             pair = -float(np.sum(lam * dw))
-        mass = an.mass
-        dT = 0.5 * float(k1.v @ (mass * k1.v) - k0.v @ (mass * k0.v))
+        dT = 0.5 * (an.mass_product(k1.v) - an.mass_product(k0.v))
         U0 = an.strain_energy(k0.u)  # first: the recorder has just asked for it
         dU = an.strain_energy(k1.u) - U0
         acc["external_work"] += ext
@@ -344,7 +384,7 @@ class Recorder:
             assert an.model.pairs is not None
             self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
         E = self.E
-        E["kinetic"][i] = 0.5 * float(k.v @ (an.mass * k.v))
+        E["kinetic"][i] = 0.5 * an.mass_product(k.v)
         E["strain"][i] = an.strain_energy(k.u, R)
         if self.origin is None:
             self.origin = (float(E["kinetic"][i]), float(E["strain"][i]))

@@ -45,6 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
+from scipy.linalg.lapack import dgetrf as _getrf
+from scipy.linalg.lapack import dgetrs as _getrs
 
 from ..errors import InterfaceError, MechanismError
 from ..typing import FloatArray
@@ -53,6 +55,37 @@ from ._settings import SolverSettings
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 log = logging.getLogger(__name__)
+
+
+def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """LAPACK's getrf, as :func:`scipy.linalg.lu_factor` calls it (the same bits), without
+    its per-call wrappers (the state systems are small and many)."""
+    if not a.size:
+        return sla.lu_factor(a, check_finite=False)
+    lu, piv, info = _getrf(a)
+    if info < 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal getrf (lu_factor)")
+    if info > 0:
+        warnings.warn(f"Diagonal number {info} is exactly zero. Singular matrix.",
+                      sla.LinAlgWarning, stacklevel=2)  # fmt: skip
+    return lu, piv
+
+
+def _lu_solve(lu: tuple[FloatArray, np.ndarray], b: FloatArray) -> FloatArray:
+    """LAPACK's getrs, as :func:`scipy.linalg.lu_solve` calls it (the same bits); ``b``
+    is overwritten."""
+    if not b.size:
+        return sla.lu_solve(lu, b, check_finite=False)
+    x, info = _getrs(lu[0], lu[1], b, overwrite_b=True)
+    if info != 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal gesv|posv")
+    return x
+
+
+def _rownorm(a: FloatArray) -> FloatArray:
+    """The Euclidean norm of each row of ``a`` (what ``np.linalg.norm(a, axis=1)``
+    computes, to the bit, without its argument handling)."""
+    return np.sqrt(np.add.reduce(a * a, axis=1))
 
 
 @dataclass
@@ -109,10 +142,15 @@ class InterfaceSolver:
         if self.m:
             self._gapv[:, -1] = props.gap
         self._cache: dict[bytes, tuple[object, ...]] = {}
+        self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
         self._fixed = np.zeros(self.m, dtype=bool)
         self._inactive = np.zeros(self.m, dtype=bool)
         self._breaking = True
+        self._all_broken: np.ndarray | None = None
+        self._wref: FloatArray | None = None
+        self._wscale = 0.0
+        self._eye: FloatArray | None = None
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
@@ -156,33 +194,58 @@ class InterfaceSolver:
         return other
 
     # -- reduced linear system for given states ---------------------------------------------
+    def _pattern(self, state: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The index arrays of a state pattern (cached): the components ``flat`` (0 kin, 1
+        zero, 2 friction), ``kin``, ``fr`` (sliding tangential), their pairs, the column of
+        each sliding pair's normal among ``kin``, the rows of the capacitance system
+        (open and sliding components) with the position of ``fr`` among them and the
+        normal component of each sliding pair, the open components, the sliding pairs,
+        and the key prefix of the state systems."""
+        skey = state.tobytes()
+        hit = self._patterns.get(skey)
+        if hit is not None:
+            return hit
+        m, d = self.m, self.d
+        comp = np.zeros((m, d), dtype=np.int8)  # 0 kin, 1 zero, 2 friction
+        comp[state == OPEN] = 1
+        sl = state == SLIDE
+        comp[sl, :-1] = 2
+        flat = comp.ravel()
+        kin = np.flatnonzero(flat == 0)
+        fr = np.flatnonzero(flat == 2)
+        pair_fr = fr // d
+        pos = np.full(m * d, -1)
+        pos[kin] = np.arange(kin.size)
+        ncol = pos[pair_fr * d + d - 1]
+        oth = np.flatnonzero(flat != 0)
+        rows_fr = np.searchsorted(oth, fr)
+        nidx = pair_fr * d + d - 1
+        zero = flat == 1
+        prefix = np.frombuffer(kin.tobytes() + ncol.tobytes(), dtype=np.uint8)
+        out = (flat, kin, fr, pair_fr, ncol, oth, rows_fr, nidx, zero, sl, prefix)
+        if len(self._patterns) >= 256:
+            self._patterns.clear()
+        self._patterns[skey] = out
+        return out
+
+    # -- reduced linear system for given states ---------------------------------------------
     def _linear(
         self, st: PairState, prev: PairState, w_free: FloatArray, e: FloatArray | None
     ) -> tuple[FloatArray, FloatArray]:
         m, d = self.m, self.d
         state = st.state
         c, mu, _ = self.props.strength(st.broken, prev.path)
-        comp = np.zeros((m, d), dtype=np.int8)  # 0 kin, 1 zero, 2 friction
-        comp[state == OPEN] = 1
-        sl = state == SLIDE
-        comp[sl, :-1] = 2
+        _, kin, fr, pair_fr, ncol, oth, rows_fr, nidx, zero, sl, prefix = self._pattern(state)
         target = prev.s.copy()
         closed_broken = st.broken | (state != INTACT)
         target[closed_broken, -1] = 0.0
-        flat = comp.ravel()
-        kin = np.flatnonzero(flat == 0)
-        fr = np.flatnonzero(flat == 2)
-        pair_fr = fr // d
         tdir = st.slip_dir[sl].ravel() if d > 1 else np.zeros(0)
         coef = -mu[pair_fr] * tdir  # X_t = coef · X_n + x0
         x0 = -c[pair_fr] * tdir
-        pos = np.full(m * d, -1)
-        pos[kin] = np.arange(kin.size)
-        ncol = pos[pair_fr * d + d - 1]
-        key = kin.tobytes() + ncol.tobytes() + np.round(coef, 14).tobytes()
+        key = prefix.tobytes() + np.round(coef, 14).tobytes()
         if self._winv is not None:
-            X = self._woodbury(key, flat, kin, fr, coef, x0, target, w_free)
-            X.reshape(-1)[flat == 1] = 0.0  # open: zero, not the round-off of the update
+            X = self._woodbury(key, kin, fr, coef, x0, target, w_free, oth, rows_fr, nidx)
+            X.reshape(-1)[zero] = 0.0  # open: zero, not the round-off of the update
             return X, np.zeros(0)
         r = 0 if self.E is None else self.E.shape[1]
         cached = self._cache.get(key)
@@ -229,39 +292,37 @@ class InterfaceSolver:
         return X.reshape(m, d), q
 
     def _woodbury(
-        self, key: bytes, flat: np.ndarray, kin: np.ndarray, fr: np.ndarray,
-        coef: FloatArray, x0: FloatArray, target: FloatArray, w_free: FloatArray,
+        self, key: bytes, kin: np.ndarray, fr: np.ndarray, coef: FloatArray, x0: FloatArray,
+        target: FloatArray, w_free: FloatArray, oth: np.ndarray, rows_fr: np.ndarray,
+        nidx: np.ndarray,
     ) -> FloatArray:  # fmt: skip
         """The state system A X = b with A = W_c + U V (U V replaces the rows of the open
-        and sliding-tangential components): X = y − W_c⁻¹U Cap⁻¹ (C y − b_o), y = W_c⁻¹ b,
-        Cap = C W_c⁻¹ U (the rows C: X_j = 0 or X_t − coef X_n = x₀)."""
+        and sliding-tangential components ``oth``): X = y − W_c⁻¹U Cap⁻¹ (C y − b_o),
+        y = W_c⁻¹ b, Cap = C W_c⁻¹ U (the rows C: X_j = 0 or X_t − coef X_n = x₀)."""
         Winv = self._winv
         assert Winv is not None
         d = self.d
-        b = np.zeros(flat.size)
-        b[kin] = target.ravel()[kin] - w_free.ravel()[kin]
+        b = target.ravel() - w_free.ravel()
+        b[oth] = 0.0
         b[fr] = x0
         y = Winv @ b
-        oth = np.flatnonzero(flat != 0)
         if oth.size == 0:
             return y.reshape(self.m, d)
-        rows_fr = np.searchsorted(oth, fr)
-        nidx = (fr // d) * d + d - 1
         cached = self._cache.get(b"w" + key)
         if cached is None:
-            cap = Winv[np.ix_(oth, oth)].copy()
+            cap = Winv[np.ix_(oth, oth)]
             if fr.size:
                 cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
-            lu = sla.lu_factor(cap, check_finite=False)
+            lu = _lu_factor(cap)
             if len(self._cache) > 64:
                 self._cache.clear()
             self._cache[b"w" + key] = (lu,)
         else:
-            (lu,) = cached
-        cy = y[oth].copy()
+            lu = cached[0]  # type: ignore[assignment]
+        cy = y[oth]
         if fr.size:
             cy[rows_fr] -= coef * y[nidx]
-        corr = sla.lu_solve(lu, cy - b[oth], check_finite=False)
+        corr = _lu_solve(lu, cy - b[oth])
         return (y - Winv[:, oth] @ corr).reshape(self.m, d)
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
@@ -273,57 +334,76 @@ class InterfaceSolver:
 
     # -- the law ------------------------------------------------------------------------------
     def _scale(self, X: FloatArray, w_free: FloatArray) -> float:
-        return max(float(np.abs(X).max(initial=0.0)),
-                   self.rho * float(np.abs(w_free).max(initial=0.0)), 1e-300)  # fmt: skip
+        if w_free is self._wref:  # the problem being solved: its scale is known
+            ws = self._wscale
+        else:
+            ws = self.rho * float(np.abs(w_free).max(initial=0.0))
+        return max(float(np.abs(X).max(initial=0.0)), ws, 1e-300)
 
     def _update(self, st: PairState, prev: PairState, fscale: float) -> PairState:
-        """New states from a solution (X, s) under the current states."""
-        new = st.copy()
+        """New states from a solution (X, s) under the current states. The new state
+        shares X, w, s and path with ``st`` (the iteration replaces them) and, when they
+        do not change, its broken flags and slip directions."""
         X, s = st.X, st.s
         Xn, Xt = X[:, -1], X[:, :-1]
-        nt = np.linalg.norm(Xt, axis=1)
+        nt = _rownorm(Xt)
         tolF = 1e-10 * fscale
         tolD = tolF / self.rho
         c, mu, t = self.props.strength(st.broken, prev.path)
         tau = c + mu * Xn
-        ds = s[:, :-1] - prev.s[:, :-1]
         state = st.state
+        new_state = state.copy()
+        broken, sdir = st.broken, st.slip_dir
         # intact → broken
-        it = (state == INTACT) & self._breaking
-        ten = it & (Xn < -t - tolF)
-        she = it & ~ten & (nt > tau + tolF)
-        new.broken = st.broken | ten | she
-        new.state[ten] = OPEN
-        new.state[she] = SLIDE
-        with np.errstate(invalid="ignore", divide="ignore"):
-            dir_from_force = -Xt / nt[:, None]
-        new.slip_dir[she] = dir_from_force[she]
-        cr, mur, tr = self.props.strength(np.ones(self.m, dtype=bool), prev.path)
+        if self._breaking:
+            it = state == INTACT
+            ten = it & (Xn < -t - tolF)
+            she = it & ~ten & (nt > tau + tolF)
+            if ten.any() or she.any():
+                broken = broken | ten | she
+                new_state[ten] = OPEN
+                new_state[she] = SLIDE
+                sdir = sdir.copy()
+                sdir[she] = -Xt[she] / nt[she, None]
+        cr, mur, tr = self._residual_strength(prev.path)
         tau_r = np.where(st.broken, tau, cr + mur * Xn)
         t_r = np.where(st.broken, t, tr)
         # stick
         sk = state == STICK
         op = sk & (Xn < -t_r - tolF)
         sd = sk & ~op & (nt > tau_r + tolF)
-        new.state[op] = OPEN
-        new.state[sd] = SLIDE
-        new.slip_dir[sd] = dir_from_force[sd]
+        new_state[op] = OPEN
+        if sd.any():
+            new_state[sd] = SLIDE
+            sdir = sdir.copy() if sdir is st.slip_dir else sdir
+            sdir[sd] = -Xt[sd] / nt[sd, None]
         # slide
         sl = state == SLIDE
-        op = sl & (Xn < -t_r - tolF)
-        proj = np.einsum("mj,mj->m", ds, st.slip_dir)
-        fixed = self._fixed
-        back = sl & ~op & (proj < -tolD) & ~fixed
-        new.state[op] = OPEN
-        new.state[back] = STICK
-        if self.d == 3:
-            nds = np.linalg.norm(ds, axis=1)
-            upd = sl & ~op & ~back & (nds > tolD) & ~fixed
-            new.slip_dir[upd] = ds[upd] / nds[upd, None]
+        if sl.any():
+            ds = s[:, :-1] - prev.s[:, :-1]
+            op = sl & (Xn < -t_r - tolF)
+            proj = np.einsum("mj,mj->m", ds, st.slip_dir)
+            fixed = self._fixed
+            back = sl & ~op & (proj < -tolD) & ~fixed
+            new_state[op] = OPEN
+            new_state[back] = STICK
+            if self.d == 3:
+                nds = _rownorm(ds)
+                upd = sl & ~op & ~back & (nds > tolD) & ~fixed
+                if upd.any():
+                    sdir = sdir.copy() if sdir is st.slip_dir else sdir
+                    sdir[upd] = ds[upd] / nds[upd, None]
         # open
         cl = (state == OPEN) & (s[:, -1] < -tolD) & ~self._inactive
-        new.state[cl] = np.where(fixed[cl], SLIDE, STICK)
-        return new
+        if cl.any():
+            new_state[cl] = np.where(self._fixed[cl], SLIDE, STICK)
+        return PairState(new_state, broken, st.X, st.w, st.s, sdir, st.path)
+
+    def _residual_strength(self, path: FloatArray) -> tuple[FloatArray, ...]:
+        """(c A, μ, σ_t A) of every pair once broken, for the slip paths ``path``."""
+        if self._all_broken is None:
+            self._all_broken = np.ones(self.m, dtype=bool)
+        return self.props.strength(self._all_broken, path)
 
     def residual(self, st: PairState, prev: PairState, w_free: FloatArray) -> FloatArray:
         """Scaled complementarity residual per pair (see module doc)."""
@@ -335,24 +415,31 @@ class InterfaceSolver:
         tau = np.maximum(c + mu * Xn, 0.0)
         ds = s - prev.s
         r = np.zeros(self.m)
-        it = st.state == INTACT
-        r[it] = rho * np.linalg.norm(ds[it], axis=1)
-        if self._breaking:
-            r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
-                0.0, np.linalg.norm(Xt[it], axis=1) - tau[it]
-            )
-        op = st.state == OPEN
-        r[op] = np.maximum(0.0, -rho * s[op, -1]) + np.linalg.norm(X[op], axis=1)
-        cl = ~it & ~op
+        state = st.state
+        it = state == INTACT
+        any_it = bool(it.any())
+        if any_it:
+            r[it] = rho * _rownorm(ds[it])
+            if self._breaking:
+                r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
+                    0.0, _rownorm(Xt[it]) - tau[it]
+                )
+        op = state == OPEN
+        any_op = bool(op.any())
+        if any_op:
+            r[op] = np.maximum(0.0, -rho * s[op, -1]) + _rownorm(X[op])
+        cl = ~it & ~op if any_it or any_op else np.ones(self.m, dtype=bool)
         z = Xt[cl] - rho * ds[cl, :-1]
-        nz = np.linalg.norm(z, axis=1)
+        nz = _rownorm(z)
         proj = z * np.minimum(1.0, tau[cl] / np.maximum(nz, 1e-300))[:, None]
         fx = cl & self._fixed
-        proj[fx[cl]] = -tau[fx, None] * st.slip_dir[fx]  # sliding along the given ŝ
-        r[cl] = np.linalg.norm(Xt[cl] - proj, axis=1) + rho * np.abs(s[cl, -1])
+        if fx.any():
+            proj[fx[cl]] = -tau[fx, None] * st.slip_dir[fx]  # sliding along the given ŝ
+        r[cl] = _rownorm(Xt[cl] - proj) + rho * np.abs(s[cl, -1])
         r[cl] += np.maximum(0.0, -(Xn[cl] + t[cl]))
         off = self._inactive
-        r[off] = np.linalg.norm(X[off], axis=1)
+        if off.any():
+            r[off] = _rownorm(X[off])
         return r / fscale
 
     # -- driver -------------------------------------------------------------------------------
@@ -381,6 +468,7 @@ class InterfaceSolver:
         self._fixed &= ~self._inactive
         self._breaking = bool(breaking)
         w_free = w_free + self._gapv  # the internal routines work with s_free
+        self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
         st = prev.copy()
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
         st.state[reopen] = STICK
@@ -403,8 +491,11 @@ class InterfaceSolver:
             st.s = self.relative(X, q, w_free) + self.props.compliance * X
             st.w = st.s - self.props.compliance * X - self._gapv
             new = self._update(st, prev, self._scale(X, w_free))
-            same = np.array_equal(new.state, st.state) and np.array_equal(new.broken, st.broken)
-            if same and np.allclose(new.slip_dir, st.slip_dir, rtol=0, atol=1e-9):
+            same = bool((new.state == st.state).all()) and (
+                new.broken is st.broken or bool((new.broken == st.broken).all())
+            )
+            # the directions settled: as np.allclose(rtol=0, atol=1e-9), NaN never settled
+            if same and bool((np.abs(new.slip_dir - st.slip_dir) <= 1e-9).all()):
                 res = float(self.residual(st, prev, w_free).max(initial=0.0))
                 if res <= self.tol:
                     self.last = SolveInfo(it, res, "state iteration")
@@ -562,7 +653,8 @@ class InterfaceSolver:
         M = m * d
         Wc = self.Wc if self.E is None else np.hstack([self.Wc, self.E])
         N = Wc.shape[1]
-        I = np.eye(M, N)
+        I = self._eye if self._eye is not None and self._eye.shape == (M, N) else np.eye(M, N)
+        self._eye = I  # read only: kept for the next call
         Xv = zv[:M]
         c, mu, t = self.props.strength(broken, prev.path)
         Xm = Xv.reshape(m, d)
@@ -600,19 +692,24 @@ class InterfaceSolver:
         # fixed slide: X_t = −τ ŝ with the given direction
         F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
         if jac:
-            for k in np.flatnonzero(fixed):
-                J[k, :-1] = Ir[k, :-1]
-                if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
-                    J[k, :-1, k * d + d - 1] += mu[k] * prev.slip_dir[k]
-        if jac:
+            # the cone radius τ grows with X_n where c + μ X_n⁺ > 0 and X_n > 0
+            grows = (c + mu * np.maximum(Xm[:, -1], 0.0) > 0) & (Xm[:, -1] > 0)
+            nrm = np.arange(m) * d + d - 1  # the column of each pair's normal force
+            fk = np.flatnonzero(fixed)
+            J[fk, :-1] = Ir[fk, :-1]
+            kk = fk[grows[fk]]
+            J[kk, :-1, nrm[kk]] += mu[kk, None] * prev.slip_dir[kk]
             J[stick, :-1] = r * Wr[stick, :-1]
-            for k in np.flatnonzero(slide):
-                dz = Ir[k, :-1] - r * Wr[k, :-1]  # (d-1, M)
-                P = (np.eye(d - 1) - np.outer(zh[k], zh[k])) * (tau[k] / nz[k])
-                dtau = np.zeros(N)
-                if c[k] + mu[k] * max(Xm[k, -1], 0.0) > 0 and Xm[k, -1] > 0:
-                    dtau[k * d + d - 1] = mu[k]
-                J[k, :-1] = Ir[k, :-1] - np.outer(zh[k], dtau) - P @ dz
+            # sliding: F_t = X_t − τ ẑ, dF_t = dX_t − ẑ dτ − (τ/|z|)(I − ẑẑᵀ) dz
+            sk = np.flatnonzero(slide)
+            dz = Ir[sk, :-1] - r * Wr[sk, :-1]  # (k, d-1, N)
+            zk = zh[sk]
+            P = (np.eye(d - 1)[None] - zk[:, :, None] * zk[:, None, :]) * (
+                tau[sk] / nz[sk])[:, None, None]  # fmt: skip
+            A = Ir[sk, :-1]
+            gk = np.flatnonzero(grows[sk])
+            A[gk, :, nrm[sk[gk]]] -= zk[gk] * mu[sk[gk], None]
+            J[sk, :-1] = A - P @ dz
         off = self._inactive
         F[off] = Xm[off]
         if jac:

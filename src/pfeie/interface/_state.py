@@ -62,9 +62,8 @@ class PairState:
         return int(self.state.size)
 
     def copy(self) -> PairState:
-        return replace(self, state=self.state.copy(), broken=self.broken.copy(), X=self.X.copy(),
-                       w=self.w.copy(), s=self.s.copy(), slip_dir=self.slip_dir.copy(),
-                       path=self.path.copy())  # fmt: skip
+        return type(self)(self.state.copy(), self.broken.copy(), self.X.copy(), self.w.copy(),
+                          self.s.copy(), self.slip_dir.copy(), self.path.copy())  # fmt: skip
 
     def select(self, idx: np.ndarray) -> PairState:
         """The state of the pairs ``idx`` only (copies)."""
