@@ -148,7 +148,10 @@ class Dynamic:
         assert settings is not None
         self.settings = settings
         self.model = model
-        self.system = model.system(lumped_mass=True)
+        # the blocks' mass lumped; a finite-element reservoir's added mass kept full (its
+        # coupling of the wet face's DOFs: the integrators factorise a general M)
+        self.system = model.system(lumped_mass=True, full_reservoir=True)
+        self._full_mass = bool(model.fe_reservoirs)
         beta, gamma, alpha = settings.newmark()
         self.dt = settings.dt
         self.mj: MoreauJean | None = None
@@ -166,7 +169,11 @@ class Dynamic:
         self.d = model.dim
         # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
         # their nodes take no part in the position correction (M⁻¹ = 0 there)
-        self.mass = np.asarray(self.system.M.diagonal(), dtype=float)
+        # M lumped on its diagonal: the metric of the position correction (M⁻¹) and the
+        # products M x, unless a reservoir's M_a is full (then the products use M itself)
+        self.mass = np.asarray((model.mass(lumped=True).diagonal()[self.system.free]
+                                if self._full_mass else self.system.M.diagonal()),
+                               dtype=float)  # fmt: skip
         self.minv = np.divide(1.0, self.mass, out=np.zeros_like(self.mass),
                               where=self.mass > 0)  # fmt: skip
         free, pres = self.system.free, self.system.prescribed
@@ -304,12 +311,13 @@ class Dynamic:
         return np.zeros_like(v) if C is None else np.asarray(C @ v)
 
     def mass_product(self, v: FloatArray) -> float:
-        """vᵀ M v (M lumped; twice the kinetic energy, J), kept for the last two vectors
-        asked (the energy account and the recorder ask for the same ones)."""
+        """vᵀ M v (twice the kinetic energy, J; M lumped, with a finite-element
+        reservoir's full M_a), kept for the last two vectors asked (the energy account and
+        the recorder ask for the same ones)."""
         for vec, value in self._last_vmv:
             if vec is v:
                 return value
-        value = float(v @ (self.mass * v))
+        value = float(v @ (self.system.M @ v if self._full_mass else self.mass * v))
         self._last_vmv = [(v, value), *self._last_vmv[:1]]
         return value
 
@@ -681,7 +689,9 @@ class Dynamic:
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
         """Right-hand side of the corotational step (see :mod:`._corotation`)."""
         _, _, a2, a3, a4, a5 = self.nm.c
-        r = f_ext - self.elastic_force(kin.u, R) + self.mass * (a2 * kin.v + a3 * kin.a)
+        w = a2 * kin.v + a3 * kin.a
+        r = f_ext - self.elastic_force(kin.u, R) + (self.system.M @ w if self._full_mass
+                                                     else self.mass * w)  # fmt: skip
         if self.system.C is not None:
             r = r + self.damping_force(a4 * kin.v + a5 * kin.a, kin.u, R)
         return r
