@@ -471,7 +471,9 @@ class Study:
         ``[run]`` values by default. ``progress(done, total, row)`` is called after each
         run."""
         specs = self.runs()
-        ctx = self.context()
+        # the output options as they are now (they may be changed after the set-up)
+        ctx = dataclasses.replace(self.context(), folder=Path(self.folder).resolve(),
+                                  histories=self.histories)  # fmt: skip
         ctx.folder.mkdir(parents=True, exist_ok=True)
         workers = self.workers if workers is None else workers
         scheduler = self.scheduler if scheduler is None else scheduler
