@@ -66,7 +66,7 @@ def error(t: np.ndarray, x: np.ndarray) -> float:
 
 def grid(n_dof: int) -> tuple[int, int]:
     """nx × ny cells (nx = 2 ny) of the block for about ``n_dof`` DOF."""
-    ny = max(int(round(math.sqrt(n_dof / 4.0))), 2)
+    ny = max(round(math.sqrt(n_dof / 4.0)), 2)
     return 2 * ny, ny
 
 

@@ -186,12 +186,13 @@ def test_full_demo(tmp_path: Path) -> None:
     """The whole demo (31.2 s of record at Δt = 5 ms, about 35 s): it completes; the
     joints' springs take no impulse and no position correction, so the `impact` and
     `correction` energies are zero and the scheme's own dissipation stays below 1.5 % of
-    the earthquake's work (measured 0.57 %; 1.8 % at 10 ms, 0.18 % at 2.5 ms); the
+    the earthquake's work (measured 0.54 %; 1.77 % at 10 ms, 0.16 % at 2.5 ms); the
     balance closes to 5e-12 of the dissipated energy. Both joints break; the residual
-    slips are a range, not a number (README.md: 142.7, 149.1 and 151.5 mm for the base
-    and 78.7, 101.7 and 100.0 mm for the lift joint at Δt = 10, 5, 2.5 ms): asserted
-    within ±15 % of the 2.5 ms values, the openings (40.8 to 41.1 and 103.7 to 108.0 mm)
-    within ±5 %."""
+    slips are a range, not a number (README.md: 172.5, 176.6 and 185.3 mm for the base
+    and 131.5, 136.1 and 122.6 mm for the lift joint at Δt = 10, 5, 2.5 ms): asserted
+    within ±15 % of the 2.5 ms values; the base's opening (36.8 to 36.9 mm) within ±5 %;
+    the rocking upper block's peak opening is sensitive (88.1, 109.9 and 89.3 mm):
+    within ±25 %."""
     from pfeie._job import run_job
 
     jb = job()
@@ -202,10 +203,11 @@ def test_full_demo(tmp_path: Path) -> None:
     e = s["energy_J"]
     assert abs(e["balance"]) < 5e-12 * (e["damping"] + e["interface"] + 1.0)
     assert e["impact"] == 0.0 and e["correction"] == 0.0
-    assert 0.0 < e["algorithmic"] < 0.015 * e["external_work"]
+    assert 0.0 < e["algorithmic"] < 0.015 * e["external_work"]  # measured 0.54 %
     joints = s["joints"]
-    for name, slip, opening in (("dam_rock", 0.1515, 0.0409), ("lift", 0.1000, 0.1080)):
+    for name, slip, opening, rel in (("dam_rock", 0.1853, 0.0368, 0.05),
+                                     ("lift", 0.1226, 0.0893, 0.25)):  # fmt: skip
         j = joints[name]
         assert j["broken_share"] == 1.0
         assert j["residual_slip_max_m"] == pytest.approx(slip, rel=0.15)
-        assert j["max_opening_m"] == pytest.approx(opening, rel=0.05)
+        assert j["max_opening_m"] == pytest.approx(opening, rel=rel)
