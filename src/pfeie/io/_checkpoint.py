@@ -45,9 +45,18 @@ _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state":
 
 def run_key(job: Any) -> str:
     """The SHA-256 of what a run's results depend on, except its duration: the validated
-    model file with its overrides, and the bytes of the mesh and record files."""
+    model file with its overrides, and the bytes of the mesh and record files. The keys
+    of the storage that change no value are left out: ``output.compression`` and
+    ``compression_level`` (a resumed run keeps the file's own), and ``field_precision``
+    when it is "float64", the precision of every file written before these keys (so
+    their run keys stay the same: they resume)."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
+    out = spec.get("output", {})
+    for key in ("compression", "compression_level"):
+        out.pop(key, None)
+    if out.get("field_precision") == "float64":
+        out.pop("field_precision")
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]
@@ -109,9 +118,11 @@ class CheckpointWriter:
         if w._last is not None:  # the row's fields, when it is off the field grid
             g.attrs["last_t"] = w._last[0]
             data.update({f"last/{k}": v for k, v in w._last[1].items()})
-        for name, value in data.items():
-            g.create_dataset(name, data=value)
-            g[name].attrs["units"] = _UNITS[name.split("/")[1]]
+        for name, value in data.items():  # float64 whatever the field precision, compressed
+            # as the results file (lossless: the resumed run continues from the same bits)
+            w.storage.create(g, name, value, _UNITS[name.split("/")[1]])
+        # on disk before the old checkpoint's space is freed (and may be reused)
+        f.flush()
         if "checkpoint" in f:
             del f["checkpoint"]
         f.move("checkpoint_new", "checkpoint")
