@@ -2,9 +2,10 @@
 ``compression_level``, ``field_precision``): every setting reads back to the same arrays
 (float64 bit for bit; float32 fields the float32 rounding of the float64 run), the
 settings are recorded in the file, the files shrink, the same inputs give the same data,
-a resumed run keeps the file's storage and gives the same bits, files written before these
-keys still read and resume, and a bad value is refused with the key path, what was
-expected and what was found."""
+a resumed run keeps the file's storage and gives the same bits (a last chunk damaged by a
+kill rewritten from the checkpoint), files written before these keys still read and
+resume, and a bad value is refused with the key path, what was expected and what was
+found."""
 
 from __future__ import annotations
 
@@ -94,12 +95,16 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 def test_every_storage_reads_back_the_same_arrays(runs: dict[str, Path]) -> None:
     """gzip, lzf and none store the same arrays (float64 bit for bit, the checkpoint
-    included); float32 fields are the float32 rounding of the float64 run's; each file
-    records its storage and is of format 1.3; the filters and chunks are as set."""
+    included, which holds the last chunk of each compressed history besides); float32
+    fields are the float32 rounding of the float64 run's; each file records its storage
+    and is of format 1.3; the filters and chunks are as set."""
     ref = _datasets(runs["none"] / "results.h5")
+    assert not any(k.startswith("checkpoint/tail/") for k in ref)  # uncompressed: no tails
     for name in ("gzip", "lzf32"):
         got = _datasets(runs[name] / "results.h5")
-        assert got.keys() == ref.keys()
+        tails = {k for k in got if k.startswith("checkpoint/tail/")}
+        assert "checkpoint/tail/history/pairs/X" in tails  # the last chunks (compressed)
+        assert got.keys() - tails == ref.keys()
         for key, value in ref.items():
             if name == "lzf32" and key in ("fields/u", "fields/v", "fields/a"):
                 assert got[key].dtype == np.float32
@@ -194,12 +199,30 @@ def test_same_inputs_same_data(runs: dict[str, Path]) -> None:
 
 
 def test_resume_keeps_the_files_storage(runs: dict[str, Path], tmp_path: Path) -> None:
-    """A run with lzf and float32 fields stopped at 0.25 s and resumed (with another
-    compression in the model file: the file's own is kept) gives the same bits as the
-    uninterrupted run; the storage keys but field_precision = "float32" leave the run key
-    as it was before they existed (older files resume)."""
+    """A run with lzf and float32 fields stopped at 0.25 s, the last chunk of four of its
+    histories then damaged (as a kill while a block is written can leave them: HDF5 may
+    reuse the place of a compressed chunk that grew before its index is on disk), and
+    resumed with another compression in the model file: the file's own storage is kept,
+    the damaged chunks are rewritten from the checkpoint, and the file holds the same bits
+    as the uninterrupted run. The storage keys but field_precision = "float32" leave the
+    run key as it was before they existed (older files resume)."""
+    import h5py
+
     out = _run(tmp_path / "part", 'compression = "lzf"\nfield_precision = "float32"',
                "--duration", "0.25")  # fmt: skip
+    damaged = ("history/probes/u", "history/pairs/broken", "history/energy/kinetic",
+               "fields/time")  # fmt: skip
+    with h5py.File(out / "results.h5", "r") as f:
+        assert all(f"checkpoint/tail/{k}" in f for k in damaged)
+        spans = [f[k].id.get_chunk_info(f[k].id.get_num_chunks() - 1) for k in damaged]
+    with open(out / "results.h5", "r+b") as fh:
+        for info in spans:
+            fh.seek(info.byte_offset)
+            fh.write(b"\xa5" * info.size)
+    with h5py.File(out / "results.h5", "r") as f:
+        for k in damaged:
+            with pytest.raises(OSError):
+                f[k][...]
     p = out.parent / "model.toml"
     p.write_text(p.read_text().replace('compression = "lzf"', 'compression = "none"'))
     assert main(["run", str(p), "--quiet", "--resume"]) == 0
