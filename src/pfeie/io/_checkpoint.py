@@ -6,9 +6,10 @@ scheme's auxiliary acceleration on the free DOFs; every pair's state, forces, re
 motion, slip direction and path; the smooth pair forces), the stress envelope so far,
 the fields of the row when it is off the field grid (they become the final frame if the
 run ends there), the running sums of the energy account, the energy the balance is
-measured from, and the row index. It is replaced at most every ``interval`` seconds of
-wall time and at the end of the run (completed, stopped by Ctrl-C or SIGTERM, or by a
-step that failed).
+measured from, the row index, and the rows of the last chunk of every compressed history
+(:func:`_tails`: a kill can damage that chunk, and resuming rewrites it). It is replaced
+at most every ``interval`` seconds of wall time and at the end of the run (completed,
+stopped by Ctrl-C or SIGTERM, or by a step that failed).
 
 ``pfeie run --resume`` (:func:`pfeie._job.run_job` with ``resume=True``) opens the results
 file of a stopped run, checks that the inputs are the same (the *run key*: the validated
@@ -45,9 +46,18 @@ _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state":
 
 def run_key(job: Any) -> str:
     """The SHA-256 of what a run's results depend on, except its duration: the validated
-    model file with its overrides, and the bytes of the mesh and record files."""
+    model file with its overrides, and the bytes of the mesh and record files. The keys
+    of the storage that change no value are left out: ``output.compression`` and
+    ``compression_level`` (a resumed run keeps the file's own), and ``field_precision``
+    when it is "float64", the precision of every file written before these keys (so
+    their run keys stay the same: they resume)."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
+    out = spec.get("output", {})
+    for key in ("compression", "compression_level"):
+        out.pop(key, None)
+    if out.get("field_precision") == "float64":
+        out.pop("field_precision")
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]
@@ -109,15 +119,58 @@ class CheckpointWriter:
         if w._last is not None:  # the row's fields, when it is off the field grid
             g.attrs["last_t"] = w._last[0]
             data.update({f"last/{k}": v for k, v in w._last[1].items()})
-        for name, value in data.items():
-            g.create_dataset(name, data=value)
-            g[name].attrs["units"] = _UNITS[name.split("/")[1]]
+        for name, value in data.items():  # float64 whatever the field precision, compressed
+            # as the results file (lossless: the resumed run continues from the same bits)
+            w.storage.create(g, name, value, _UNITS[name.split("/")[1]])
+        for name, (value, units) in _tails(f).items():
+            w.storage.create(g, f"tail/{name}", value, units)
+        # on disk before the old checkpoint's space is freed (and may be reused)
+        f.flush()
         if "checkpoint" in f:
             del f["checkpoint"]
         f.move("checkpoint_new", "checkpoint")
         f.flush()
         self._pending = None
         self._last = time.perf_counter()
+
+
+def _grows(obj: Any) -> bool:
+    """Whether an HDF5 object is a dataset that grows along time (a history, the fields)."""
+    return hasattr(obj, "resize") and bool(obj.maxshape) and obj.maxshape[0] is None
+
+
+def _tails(f: Any) -> dict[str, tuple[Any, str]]:
+    """The rows in the last chunk of every compressed history (and of ``fields/time``),
+    from the chunk's first row to the last row on disk, with their units: a checkpoint
+    keeps them. A compressed chunk that gains rows is written elsewhere in the file and
+    its old place freed, and HDF5 may reuse that place before the file's index is
+    flushed: a run killed then leaves a file whose index points the last chunk at other
+    data. Resuming rewrites that chunk from these rows (:func:`reopen_results`); every
+    earlier chunk was complete at the checkpoint and is never written again."""
+    out: dict[str, tuple[Any, str]] = {}
+
+    def visit(name: str, obj: Any) -> None:
+        if _grows(obj) and obj.compression and obj.chunks[0] > 1 and obj.size:
+            start = (obj.shape[0] - 1) // obj.chunks[0] * obj.chunks[0]
+            out[name] = (np.asarray(obj[start:]), str(obj.attrs.get("units", "")))
+
+    for top in ("history", "fields"):
+        f[top].visititems(lambda n, o, top=top: visit(f"{top}/{n}", o))
+    return out
+
+
+def _restore_tail(ds: Any, keep: int, tail: Any) -> None:
+    """Rewrite the chunk of ``ds`` that holds its row ``keep - 1`` from ``tail`` (its rows
+    from the chunk's first, :func:`_tails`), written whole so that HDF5 does not read the
+    chunk on disk (which a kill may have left pointing at other data)."""
+    r = ds.chunks[0]
+    start = (keep - 1) // r * r
+    if keep < 1 or tail.shape[0] != keep - start or tail.shape[1:] != ds.shape[1:]:
+        return
+    ds.resize(max(ds.shape[0], start + r), axis=0)
+    block = np.zeros((r, *ds.shape[1:]), dtype=ds.dtype)
+    block[: tail.shape[0]] = tail
+    ds[start : start + r] = block
 
 
 def read_checkpoint(f: Any) -> Checkpoint:
@@ -148,6 +201,10 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
     except OSError as exc:
         raise ResultsError(f"{p}: cannot open the results file to resume it ({exc})") from None
     try:
+        if "checkpoint" not in f and "checkpoint_new" in f and "compression" in f.attrs:
+            # killed while the new checkpoint replaced the old: it was on disk, complete,
+            # before the old one was deleted (format 1.3 on)
+            f.move("checkpoint_new", "checkpoint")
         if "checkpoint" not in f:
             raise ResultsError(f"{p}: nothing to resume: the file has no checkpoint (a "
                                "run of an older pfeie, or one stopped before its first "
@@ -160,10 +217,14 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
             )
         ck = read_checkpoint(f)
         rows, frows = ck.row + 1, int(f["checkpoint"].attrs["fields_rows"])
+        tails = f["checkpoint"].get("tail")
 
         def cut(name: str, obj: Any) -> None:
-            if hasattr(obj, "resize") and obj.maxshape and obj.maxshape[0] is None:
-                obj.resize(frows if name.startswith("fields") else rows, axis=0)
+            if _grows(obj):
+                keep = frows if name.startswith("fields") else rows
+                if tails is not None and name in tails:  # the last chunk, as checkpointed
+                    _restore_tail(obj, keep, np.asarray(tails[name]))
+                obj.resize(keep, axis=0)
 
         for top in ("history", "fields"):
             f[top].visititems(lambda n, o, top=top: cut(f"{top}/{n}", o))

@@ -23,17 +23,26 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
 - ``/envelope``: ``{nodes,cells}/{max,min}_principal`` and their ``_time``: the stress
   envelope;
 - ``/fields``: ``time`` (n_f) and ``u``, ``v``, ``a`` (n_f, n, d) every ``field_every``-th
-  recorded step.
+  recorded step (float64, or float32 with ``output.field_precision = "float32"``).
 
 The writer extends its datasets row by row and flushes at least every ``flush_s``
 seconds, so a run that is killed leaves a readable file with every completed output row
 (and ``completed`` false).
+
+Storage (:class:`Storage`, the keys ``output.compression``, ``compression_level`` and
+``field_precision``, recorded as root attributes of the same names): arrays above
+:data:`SMALL` bytes are chunked and compressed (gzip with the byte shuffle by default; any
+HDF5 reader reads them, h5py transparently). Histories are chunked along time,
+:data:`HISTORY_ROWS` rows a chunk (fewer for wide rows: at most :data:`CHUNK_BYTES`), the
+fields one row (one time) a chunk.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -52,12 +61,112 @@ UNITS = {
 
 #: the layout's version, major.minor: a reader refuses another major version (the layout
 #: changed incompatibly); a minor version adds groups or attributes (1.1: /checkpoint,
-#: run_key; 1.2: /envelope, history/joints/{force,moment}; files without the attribute
-#: are 1.0)
-FORMAT_VERSION = "1.2"
+#: run_key; 1.2: /envelope, history/joints/{force,moment}; 1.3: the attributes
+#: compression, compression_level, field_precision, and fields that may be float32;
+#: files without the attribute are 1.0)
+FORMAT_VERSION = "1.3"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
+
+
+#: arrays of at most this many bytes are stored as they are (a filter costs more than it
+#: saves on them)
+SMALL = 8192
+#: the largest chunk (bytes) of an array that is not one row of fields: h5py caches 1 MiB
+#: of chunks per dataset
+CHUNK_BYTES = 1 << 20
+#: rows (times) per chunk of a history
+HISTORY_ROWS = 256
+
+
+@dataclass(frozen=True)
+class Storage:
+    """How the arrays of a results file and of its ParaView series are stored.
+
+    ``compression``: "gzip" (deflate at ``level`` 1 to 9, with the byte shuffle, which
+    groups the bytes of equal significance of the floats), "lzf" (with the shuffle; an
+    h5py filter) or "none"; ``field_precision``: "float64" or "float32", of the nodal
+    fields u, v, a (m, m/s, m/s²) and of the ParaView point data. Compression is lossless
+    and deterministic: the same arrays give the same bytes. The defaults are those of the
+    model file's ``[output]`` table (:meth:`of`)."""
+
+    compression: str
+    level: int
+    field_precision: str
+
+    @classmethod
+    def of(cls, output: Any = None) -> Storage:
+        """The storage of an ``[output]`` table (:class:`pfeie.io.ModelFile`'s ``output``;
+        None: its defaults)."""
+        if output is None:
+            from ._schema import Output
+
+            output = Output()
+        return cls(output.compression, int(output.compression_level), output.field_precision)
+
+    @classmethod
+    def of_file(cls, f: Any) -> Storage:
+        """The storage recorded in an open results file (the defaults for a file of format
+        1.2 or older, which records none)."""
+        a, default = f.attrs, cls.of()
+        if "compression" not in a:
+            return default
+        return cls(_text(a["compression"]), int(a.get("compression_level", default.level)),
+                   _text(a.get("field_precision", default.field_precision)))  # fmt: skip
+
+    @property
+    def field_dtype(self) -> Any:
+        """The dtype of the nodal fields."""
+        return np.dtype(self.field_precision)
+
+    @property
+    def attrs(self) -> dict[str, Any]:
+        """The root attributes that record it (``compression_level`` 0 without gzip)."""
+        return {"compression": self.compression, "field_precision": self.field_precision,
+                "compression_level": self.level if self.compression == "gzip" else 0}  # fmt: skip
+
+    def for_paraview(self) -> Storage:
+        """The storage of the ParaView series: ParaView's HDF5 has no LZF filter, so "lzf"
+        becomes gzip at level 1 (the fastest)."""
+        return Storage("gzip", 1, self.field_precision) if self.compression == "lzf" else self
+
+    def filters(self, nbytes: int | None = None) -> dict[str, Any]:
+        """The ``create_dataset`` keywords of the filters for an array of ``nbytes`` bytes
+        (none for a small one, of at most :data:`SMALL` bytes, or without compression;
+        None: an array that grows)."""
+        if self.compression == "none" or (nbytes is not None and nbytes <= SMALL):
+            return {}
+        out: dict[str, Any] = {"compression": self.compression, "shuffle": True}
+        if self.compression == "gzip":
+            out["compression_opts"] = self.level
+        return out
+
+    def create(self, g: Any, name: str, data: Any, units: str | None = None,
+               chunks: tuple[int, ...] | None = None) -> Any:  # fmt: skip
+        """A fixed dataset ``g[name]`` of ``data``, compressed if it is not small; chunked
+        as ``chunks``, by default whole trailing axes and as many leading rows as fit in
+        :data:`CHUNK_BYTES`; the attribute ``units`` if given."""
+        data = np.asarray(data)
+        kw = self.filters(data.nbytes)
+        if kw and data.ndim:
+            kw["chunks"] = chunks or _guess_chunks(data.shape, data.itemsize)
+        ds = g.create_dataset(name, data=data, **kw)
+        if units is not None:
+            ds.attrs["units"] = units
+        return ds
+
+
+def _text(v: Any) -> str:
+    """An HDF5 string attribute as str."""
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def _guess_chunks(shape: tuple[int, ...], itemsize: int) -> tuple[int, ...]:
+    """Whole trailing axes, as many leading rows as fit in :data:`CHUNK_BYTES` (at least
+    one)."""
+    row = itemsize * math.prod(max(s, 1) for s in shape[1:])
+    return (max(1, min(shape[0], CHUNK_BYTES // row)), *[max(s, 1) for s in shape[1:]])
 
 
 def _h5py() -> Any:
@@ -72,10 +181,14 @@ class ResultsWriter:
     """Streams a run into an HDF5 results file (see the module doc)."""
 
     def __init__(
-        self, path: str | Path, job: Any, *, field_every: int = 10, flush_s: float = 2.0
-    ) -> None:
+        self, path: str | Path, job: Any, *, field_every: int = 10, flush_s: float = 2.0,
+        storage: Storage | None = None,
+    ) -> None:  # fmt: skip
+        """Create the results file ``path`` of ``job`` (a :class:`pfeie.io.Job`), its
+        arrays stored as ``storage`` (default: the job's ``[output]`` keys)."""
         h5py = _h5py()
         self.path = Path(path)
+        self.storage = Storage.of(job.output) if storage is None else storage
         try:
             self.f = h5py.File(self.path, "w")
         except OSError as exc:
@@ -99,7 +212,7 @@ class ResultsWriter:
             model_file=str(job.path), model_sha256=job.digest,
             form=an.form, completed=False, stop_reason="",
             model_summary=json.dumps(job.summary(), default=str),
-            analysis=json.dumps(settings), units=json.dumps(UNITS),
+            analysis=json.dumps(settings), units=json.dumps(UNITS), **self.storage.attrs,
         )  # fmt: skip
         g = f.create_group("mesh")
         self._ds(g, "points", model.mesh.points, "m")
@@ -157,7 +270,7 @@ class ResultsWriter:
         fg = f.create_group("fields")
         self._grow(fg, "time", (), "s")
         for key in ("u", "v", "a"):
-            self._grow(fg, key, (n, d), UNITS[key], chunk_rows=1)
+            self._grow(fg, key, (n, d), UNITS[key], self.storage.field_dtype, chunk_rows=1)
         f.flush()
 
     @classmethod
@@ -166,6 +279,9 @@ class ResultsWriter:
         run resumed from its checkpoint, :mod:`pfeie.io._checkpoint`)."""
         self = cls.__new__(cls)
         self.path, self.f = Path(f.filename), f
+        # the file's own storage (a file of format 1.2 or older: the job's, for its new
+        # datasets: the checkpoint, the envelope)
+        self.storage = Storage.of_file(f) if "compression" in f.attrs else Storage.of(job.output)
         self.field_every, self.flush_s = max(int(job.output.field_every), 1), flush_s
         self.rows = int(rows)
         self._buf = []
@@ -173,25 +289,24 @@ class ResultsWriter:
         self._last_flush = time.perf_counter()
         return self
 
-    @staticmethod
-    def _ds(g: Any, name: str, data: Any, units: str) -> None:
-        g.create_dataset(name, data=data)
-        g[name].attrs["units"] = units
+    def _ds(self, g: Any, name: str, data: Any, units: str) -> None:
+        self.storage.create(g, name, data, units)
 
-    @staticmethod
     def _grow(
-        g: Any, name: str, shape: tuple[int, ...], units: str, dtype: Any = np.float64,
-        chunk_rows: int = 64,
+        self, g: Any, name: str, shape: tuple[int, ...], units: str, dtype: Any = np.float64,
+        chunk_rows: int = HISTORY_ROWS,
     ) -> None:  # fmt: skip
-        chunk = (chunk_rows, *[max(s, 1) for s in shape])
+        """A dataset of shape (0, *shape) that grows along its first axis (time), chunked
+        ``chunk_rows`` rows at a time, or fewer if such a chunk would exceed
+        :data:`CHUNK_BYTES` (a row of fields is one chunk whatever its size)."""
+        row = [max(s, 1) for s in shape]
+        nbytes = np.dtype(dtype).itemsize * math.prod(row)
+        chunk = (max(1, min(chunk_rows, CHUNK_BYTES // nbytes)), *row)
         # an empty axis (a model without probes or pairs) is left resizable: a chunk may
         # not exceed a fixed axis
         maxshape = (None, *[s if s else None for s in shape])
-        # gzip (level 4) with the byte shuffle: lossless, readable by any HDF5 reader
-        # (ParaView, h5py, MATLAB); the histories and fields shrink several-fold
         g.create_dataset(name, shape=(0, *shape), maxshape=maxshape, dtype=dtype,
-                         chunks=chunk, compression="gzip", compression_opts=4,
-                         shuffle=True)  # fmt: skip
+                         chunks=chunk, **self.storage.filters())  # fmt: skip
         g[name].attrs["units"] = units
 
     @staticmethod
@@ -200,7 +315,8 @@ class ResultsWriter:
             return
         n = ds.shape[0]
         ds.resize(n + len(values), axis=0)
-        ds[n:] = np.stack([np.asarray(v) for v in values])
+        # converted here (float64 fields to float32: rounded to nearest, as numpy does)
+        ds[n:] = np.stack([np.asarray(v) for v in values]).astype(ds.dtype, copy=False)
 
     def write_static(self, static: Any) -> None:
         """The static state: displacements and pair state."""
@@ -496,6 +612,7 @@ class Results:
         return read_envelope(self.f)
 
     def fields(self) -> tuple[FloatArray, dict[str, FloatArray]]:
-        """Times (n_f,) and the nodal fields u, v, a (n_f, n, d)."""
+        """Times (n_f,) and the nodal fields u, v, a (n_f, n, d), in the precision they
+        were stored in (float64, or float32 with ``output.field_precision``)."""
         g = self.f["fields"]
         return np.asarray(g["time"][...]), {k: np.asarray(g[k][...]) for k in ("u", "v", "a")}

@@ -423,6 +423,24 @@ class Output(_Table):
         Field(description="wall time between two checkpoints of the run in results.h5 (s; "
               "0: at every recorded row); `pfeie run --resume` continues from the last"),
     ] = 30.0  # fmt: skip
+    compression: Annotated[
+        Literal["gzip", "lzf", "none"],
+        Field(description="compression of the arrays of results.h5 and of the ParaView "
+              "series (lossless): 'gzip' (deflate with the byte shuffle; every HDF5 reader, "
+              "ParaView and MATLAB included), 'lzf' (faster, a little larger; h5py only, so "
+              "the ParaView series then use gzip at level 1) or 'none'"),
+    ] = "gzip"  # fmt: skip
+    compression_level: Annotated[
+        int, Field(ge=1, le=9), Expect("an integer from 1 to 9"),
+        Field(description="level of 'gzip' compression: 1 fastest to 9 smallest "
+              "(not used by 'lzf' and 'none')"),
+    ] = 4  # fmt: skip
+    field_precision: Annotated[
+        Literal["float64", "float32"],
+        Field(description="precision of the nodal fields u, v, a in results.h5 and of the "
+              "point data of the ParaView series: 'float32' halves them (7 significant "
+              "digits); the histories, the mesh and the checkpoint stay float64"),
+    ] = "float64"  # fmt: skip
     probes: Annotated[
         dict[str, Vector],
         Field(description="probe point coordinates (m); the nearest node is used"),
