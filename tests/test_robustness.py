@@ -496,3 +496,17 @@ def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFix
     p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n')
     assert main(["check", str(p)]) == 2
     assert "the record is all zeros" in capsys.readouterr().err
+
+
+def test_output_file_with_a_nul_character(tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """`pfeie report RESULTS --out 'a\\x00b'` (found by the long CLI fuzzing): exit 2 with
+    an error naming the path, not a ValueError."""
+    text = MODEL.replace('all = "rock"', 'all = "rock"\n[interfaces.mid]\nfriction_angle = 30.0')
+    msh22(tmp_path / "plate.msh")
+    p = tmp_path / "model.toml"
+    p.write_text(text.replace("EXTRA", "dynamic = false"))
+    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", "a\x00b"],
+          "NUL character")  # fmt: skip

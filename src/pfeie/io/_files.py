@@ -32,6 +32,9 @@ def output_file(path: str | Path, where: str = "") -> Path:
     """The folder of an output file, created and checked by :func:`output_folder`."""
     p = Path(path)
     head = f"{where}: " if where else ""
+    if "\x00" in str(p):
+        raise InputError(f"{head}{str(p)!r}: a path with a NUL character (expected the path "
+                         "of a file to write)")  # fmt: skip
     if p.is_dir():
         raise InputError(f"{head}{p}: is a folder (expected the path of a file to write)")
     output_folder(p.parent, where)
