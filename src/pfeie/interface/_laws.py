@@ -288,8 +288,10 @@ class PairLaws:
 
         over its pairs, with each pair's current strength (intact or residual, the slip
         path for slip-dependent laws), N its normal force (compression +) and T its shear
-        force (vector sum: the joint slides as a whole); open pairs carry nothing. ∞ when
-        the joint carries no shear.
+        force (vector sum: the joint slides as a whole); open pairs carry nothing, in the
+        capacity and in the shear (a force recorded on a pair that ends its step open is an
+        impact impulse over the step, not a shear the joint carries). ∞ when the joint
+        carries no shear.
 
         >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
         ...                                [MohrCoulomb(phi=45.0)], 2)
@@ -297,12 +299,16 @@ class PairLaws:
         >>> no = np.zeros(2, dtype=bool)
         >>> round(float(law.safety_factor(X, no, ~no, np.zeros(2))[0]), 6)  # 200/40
         5.0
+        >>> op = np.array([False, True])                   # the second pair open
+        >>> round(float(law.safety_factor(X, op, ~no, np.zeros(2))[0]), 6)  # 100/30
+        3.333333
         """
         c, mu, _ = self.strength(broken, path)
         cap = np.where(open_, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
+        T = np.where(open_[:, None], 0.0, X[:, :-1])
         out = np.full(len(self.index), np.inf)
         for k, idx in enumerate(self.index):
-            shear = float(np.linalg.norm(X[idx, :-1].sum(axis=0)))
+            shear = float(np.linalg.norm(T[idx].sum(axis=0)))
             if shear > 0:
                 out[k] = float(cap[idx].sum()) / shear
         return out
