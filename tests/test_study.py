@@ -132,6 +132,9 @@ pga = {row['intensity']!r}
         }
         for col, value in ref.items():
             assert row[col] == pytest.approx(value, rel=1e-12, abs=1e-15), (k, col)
+        # the cracked length is the broken share of the 2 m joint (unit thickness)
+        assert row["joint.joint.cracked_length_m"] == pytest.approx(
+            2.0 * row["joint.joint.broken_share"], rel=1e-12, abs=1e-15)
     capsys.readouterr()
 
 

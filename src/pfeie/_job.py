@@ -270,6 +270,13 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "max_opening_m": float(res.opening[:, idx].max()),
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
             }
+            # the cracked extent at the end: the broken pairs' length (2D: their areas per
+            # unit thickness) or area (3D)
+            cracked = float((res.broken[-1, idx] * area).sum())
+            if model.dim == 2:
+                joints[name]["cracked_length_m"] = cracked / model.thickness
+            else:
+                joints[name]["cracked_area_m2"] = cracked
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
                 k = int(np.argmin(fs))

@@ -242,7 +242,8 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
         row[f"probe.{name}.peak_abs_acceleration_g"] = p["peak_abs_acceleration_g"]
     for name, j in s.get("joints", {}).items():
         for k in ("peak_slip_max_m", "residual_slip_max_m", "residual_slip_mean_m",
-                  "max_opening_m", "broken_share", "min_safety_factor"):  # fmt: skip
+                  "max_opening_m", "broken_share", "cracked_length_m", "cracked_area_m2",
+                  "min_safety_factor"):  # fmt: skip
             if k in j:
                 row[f"joint.{name}.{k}"] = j[k]
     if "stress" in s:
