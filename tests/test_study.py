@@ -146,6 +146,10 @@ def test_command_line_and_resume(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert main(["study", str(p), "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "6 runs" in out and "table.parquet" in out
+    # the medians over the three records per intensity, as the table gives them
+    table = StudyTable.read(tmp_path / "study" / "table.csv")
+    med = np.median(table.column("probe.top.peak_displacement_m")[1::2])
+    assert "median over the records:" in out and f"{med:.4g}" in out
     csv = StudyTable.read(tmp_path / "study" / "table.csv")
     same(csv, StudyTable.read(tmp_path / "study" / "table.parquet"))
     rows = tmp_path / "study" / "rows"

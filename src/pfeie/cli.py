@@ -473,7 +473,11 @@ def _study(args: argparse.Namespace) -> int:
     except PfeieError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
         return EXIT_FAILED
+    from .study import median_lines
+
     stopped = [f"{r['record']}@{r['intensity']:g}" for r in table.rows if not r["completed"]]
+    for line in median_lines(table):
+        print(line)
     print(f"{len(table)} runs in {st.folder / 'table.csv'}")
     for f in st.outputs():
         print(f"wrote {f}")

@@ -118,6 +118,26 @@ def _write_fits(path: Path, states: list[LimitState], fits: dict[str, Fragility]
     return path
 
 
+def median_lines(table: StudyTable, columns: int = 4) -> list[str]:
+    """Text lines: the median over the records of the main demands at each intensity
+    (the first ``columns`` demand columns), for a summary on the terminal."""
+    demands = _demand_columns(table)[:columns]
+    if not demands or not len(table):
+        return []
+    levels, value = table.column("level"), table.column("intensity")
+    head = f"{'level':>5} {'intensity':>10} " + " ".join(f"{c[-34:]:>34}" for c in demands)
+    out = ["median over the records:", head]
+    for lv in np.unique(levels):
+        sel = levels == lv
+        cells = []
+        for c in demands:
+            v = table.column(c)[sel]
+            v = v[np.isfinite(v)]
+            cells.append(f"{np.median(v):>34.4g}" if v.size else f"{'':>34}")
+        out.append(f"{int(lv):>5} {value[sel][0]:>10.4g} " + " ".join(cells))
+    return out
+
+
 def _demand_columns(table: StudyTable) -> list[str]:
     keep = ("peak_displacement_m", "residual_slip_max_m", "max_opening_m",
             "min_safety_factor", "max_principal_Pa")  # fmt: skip
@@ -192,4 +212,4 @@ def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel
     return path
 
 
-__all__ = ["intensity_column", "limit_states", "write_study_outputs"]
+__all__ = ["intensity_column", "limit_states", "median_lines", "write_study_outputs"]
