@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
+from ..typing import FloatArray
 from ._fragility import Fragility, fit_limit_states
 from ._ida import LimitState, ida_curves, ida_summary
 from ._table import StudyTable
@@ -118,23 +119,36 @@ def _write_fits(path: Path, states: list[LimitState], fits: dict[str, Fragility]
     return path
 
 
+def per_intensity(
+    table: StudyTable, columns: list[str], percentiles: tuple[float, ...]
+) -> list[tuple[int, float, list[FloatArray | None]]]:
+    """For each level of the ladder: the level, the intensity of its first row, and per
+    column the ``percentiles`` over the records (None where no record has a value)."""
+    levels, value = table.column("level"), table.column("intensity")
+    data = [table.column(c) for c in columns]
+    out = []
+    for lv in np.unique(levels):
+        sel = levels == lv
+        stats: list[FloatArray | None] = []
+        for col in data:
+            v = col[sel]
+            v = v[np.isfinite(v)]
+            stats.append(np.percentile(v, percentiles) if v.size else None)
+        out.append((int(lv), float(value[sel][0]), stats))
+    return out
+
+
 def median_lines(table: StudyTable, columns: int = 4) -> list[str]:
     """Text lines: the median over the records of the main demands at each intensity
     (the first ``columns`` demand columns), for a summary on the terminal."""
     demands = _demand_columns(table)[:columns]
     if not demands or not len(table):
         return []
-    levels, value = table.column("level"), table.column("intensity")
     head = f"{'level':>5} {'intensity':>10} " + " ".join(f"{c[-34:]:>34}" for c in demands)
     out = ["median over the records:", head]
-    for lv in np.unique(levels):
-        sel = levels == lv
-        cells = []
-        for c in demands:
-            v = table.column(c)[sel]
-            v = v[np.isfinite(v)]
-            cells.append(f"{np.median(v):>34.4g}" if v.size else f"{'':>34}")
-        out.append(f"{int(lv):>5} {value[sel][0]:>10.4g} " + " ".join(cells))
+    for lv, im, stats in per_intensity(table, demands, (50.0,)):
+        cells = [f"{p[0]:>34.4g}" if p is not None else f"{'':>34}" for p in stats]
+        out.append(f"{lv:>5} {im:>10.4g} " + " ".join(cells))
     return out
 
 
@@ -169,25 +183,16 @@ def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel
     ]  # fmt: skip
     demands = _demand_columns(table)
     if demands:
-        im = table.column(imcol)
-        levels = table.column("level")
         parts.append(f"<h2>Demands per intensity</h2><p>Median [16 %, 84 %] over the records "
                      f"at each intensity ({esc(imlabel)} of the first record shown).</p>"
                      "<table><tr><th>level</th><th>IM</th>"
                      + "".join(f"<th>{esc(c)}</th>" for c in demands) + "</tr>")  # fmt: skip
-        for lv in np.unique(levels):
-            sel = levels == lv
-            cells = []
-            for c in demands:
-                v = table.column(c)[sel]
-                v = v[np.isfinite(v)]
-                if v.size:
-                    p16, p50, p84 = np.percentile(v, [16, 50, 84])
-                    cells.append(f"<td>{p50:.4g} [{p16:.3g}, {p84:.3g}]</td>")
-                else:
-                    cells.append("<td></td>")
-            parts.append(f"<tr><td>{int(lv)}</td><td>{im[sel][0]:.4g}</td>{''.join(cells)}"
-                         "</tr>")  # fmt: skip
+        im = table.column(imcol)
+        levels = table.column("level")
+        for lv, _, stats in per_intensity(table, demands, (16.0, 50.0, 84.0)):
+            cells = "".join(f"<td>{p[1]:.4g} [{p[0]:.3g}, {p[2]:.3g}]</td>" if p is not None
+                            else "<td></td>" for p in stats)  # fmt: skip
+            parts.append(f"<tr><td>{lv}</td><td>{im[levels == lv][0]:.4g}</td>{cells}</tr>")
         parts.append("</table>")
     if fits or failed:
         parts.append("<h2>Fragility</h2><table><tr><th>limit state</th><th>θ (g)</th>"

@@ -78,21 +78,23 @@ class RecordSource:
     def __post_init__(self) -> None:
         object.__setattr__(self, "path", Path(self.path))
 
-    def read(self, dim: int) -> GroundMotion:
-        """The record as a :class:`~pfeie.model.GroundMotion` along its direction."""
-        from ..io import read_record
-
+    def direction_in(self, dim: int) -> list[float]:
+        """The record's direction vector in a ``dim``-D model (checked against it)."""
         if self.direction is not None:
             if len(self.direction) != dim:
                 raise RecordError(f"{self.path}: direction has {len(self.direction)} "
                                   f"components; the model is {dim}D")  # fmt: skip
-            direction = list(self.direction)
-        else:
-            k = "xyz".index(self.component)
-            if k >= dim:
-                raise RecordError(f"{self.path}: component {self.component!r} in a {dim}D model")
-            direction = [0.0] * dim
-            direction[k] = 1.0
+            return list(self.direction)
+        k = "xyz".index(self.component)
+        if k >= dim:
+            raise RecordError(f"{self.path}: component {self.component!r} in a {dim}D model")
+        return [float(i == k) for i in range(dim)]
+
+    def read(self, dim: int) -> GroundMotion:
+        """The record as a :class:`~pfeie.model.GroundMotion` along its direction."""
+        from ..io import read_record
+
+        direction = self.direction_in(dim)
         return read_record(self.path, fmt=self.format, dt=self.dt, units=self.units,
                            direction=direction, baseline=self.baseline,
                            name=self.name)  # fmt: skip
@@ -338,6 +340,7 @@ class Study:
             raise ModelError(f"study: two records have the same name: {names}")
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
+        self._read: dict[RecordSource, GroundMotion] = {}
 
     @classmethod
     def from_file(cls, path: str | Path) -> Study:
@@ -410,10 +413,13 @@ class Study:
         return self._context
 
     def _record(self, r: RecordSource) -> GroundMotion:
-        # before the model is read (the longest record's duration), any dimension that
-        # takes the record's direction will do
-        dim = self._job.model.dim if hasattr(self, "_job") else len(r.direction or "xyz")
-        return r.read(dim)
+        """The record, read once: its time and accelerations (its duration, its intensity
+        measures) do not depend on the model's dimension, which the direction is checked
+        against in :meth:`runs`."""
+        hit = self._read.get(r)
+        if hit is None:
+            hit = self._read[r] = r.read(len(r.direction or "xyz"))
+        return hit
 
     def t1(self) -> float:
         """T1 (s): the given period, or the model's first period with its joints bonded."""
@@ -435,6 +441,7 @@ class Study:
         t1 = self.t1()
         specs = []
         for r in self.records:
+            r.direction_in(self._job.model.dim)
             rec = self._record(r)
             ims = rec.intensity_measures(t1, self.damping)
             ref = {"scale": 1.0, "pga": ims["pga"] / G, "sa": ims["sa"] / G}[self.measure]
