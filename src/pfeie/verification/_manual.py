@@ -185,6 +185,10 @@ _WHY: dict[str, tuple[float, float, str]] = {
            "the stick-slip switching instants limit the rate, and the errors are irregular."),
     "V7b": (1.5, 2.5, "The error is that of the lumped mass's moment of inertia, which the "
             "rocking period depends on (order h²); Δt (1 ms) contributes less."),
+    "V4m": (1.5, 2.5, "Q4 cells converge at second order in the displacements, and so in "
+            "the accelerations, where the motion is smooth; the slip starts and stops, where "
+            "the base shear jumps and the largest changes fall, and the corner nodes, where "
+            "the base traction ends abruptly, converge more slowly."),
     "V6": (0.5, 1.0, "The landing and the release of the contact node are perfectly inelastic "
            "at the node (the velocity correction, e = 0): the momentum lost vanishes with the "
            "mesh, here more slowly than h; the plateau force is exact on every mesh."),

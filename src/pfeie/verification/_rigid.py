@@ -140,6 +140,16 @@ class RigidBlock:
             out[j] = x + float(np.sum(0.5 * (vel[1:] + vel[:-1]) * np.diff(s)))
         return out
 
+    def acceleration(self, times: npt.ArrayLike) -> np.ndarray:
+        """ẍ at the given times (exact): p(t) − σ q while sliding, 0 while stuck; at a
+        knot, the value just after it."""
+        tk = np.asarray(self.knots)
+        t, p = self.p
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        i = np.maximum(np.searchsorted(tk, times, side="right") - 1, 0)
+        sig = np.array([s for _, _, s in self.state], dtype=float)[i]
+        return np.where(sig == 0, 0.0, np.interp(times, t, p, right=0.0) - sig * self.q)
+
 
 def sampled(fn: Callable[[np.ndarray], np.ndarray], t_end: float, dt: float) -> tuple:
     """(t, a) samples of a function on [0, t_end] at step dt."""
