@@ -1048,8 +1048,8 @@ class Model:
     def cell_tensile_strength(self) -> FloatArray:
         """The tensile strength f_t of every cell's material (n_cells, mesh order; Pa),
         NaN where the material gives none or the cell is in no block."""
-        ft = np.array([np.nan if b.material.tensile_strength is None
-                       else b.material.tensile_strength for b in self.blocks])  # fmt: skip
+        given = [getattr(b.material, "tensile_strength", None) for b in self.blocks]
+        ft = np.array([np.nan if v is None else float(v) for v in given])
         return self._per_cell(lambda cs: ft[cs.block])
 
     def total_mass(self) -> float:
