@@ -34,6 +34,7 @@ from .dynamics import (
     DynamicSettings,
     RunStopped,
     StepState,
+    demand_capacity,
     envelope_extremes,
 )  # fmt: skip
 from .errors import InputError, ModelError, PfeieError
@@ -270,13 +271,19 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "max_opening_m": float(res.opening[:, idx].max()),
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
             }
-            # the cracked extent at the end: the broken pairs' length (2D: their areas per
-            # unit thickness) or area (3D)
-            cracked = float((res.broken[-1, idx] * area).sum())
-            if model.dim == 2:
-                joints[name]["cracked_length_m"] = cracked / model.thickness
-            else:
-                joints[name]["cracked_area_m2"] = cracked
+            # the cracked extent at the end: the broken pairs' length (2D) or area (3D);
+            # the largest open crack (broken and open pairs) and when
+            jk = model.pairs.names.index(name)
+            if res.joint_cracked.size:
+                cracked, opened = res.joint_cracked[:, jk], res.joint_open[:, jk]
+            else:  # a result without the series
+                cracked, opened = model.joint_extent(
+                    np.stack([res.broken, res.broken & (res.state == OPEN)]))[..., jk]  # fmt: skip
+            kind = "length_m" if model.dim == 2 else "area_m2"
+            joints[name][f"cracked_{kind}"] = float(cracked[-1])
+            k_open = int(np.argmax(opened))
+            joints[name][f"max_open_{kind}"] = float(opened[k_open])
+            joints[name]["max_open_time_s"] = float(res.t[k_open])
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
                 k = int(np.argmin(fs))
@@ -286,6 +293,11 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     stress = envelope_extremes(res.envelope, model.mesh.points)
     if stress is not None:
         s["stress"] = stress
+        centres = np.concatenate([model.mesh.points[c].mean(axis=1)
+                                  for c in model.mesh.cells.values()])  # fmt: skip
+        dc = demand_capacity(res.envelope, model.cell_volumes, centres)
+        if dc is not None:
+            s["stress"]["demand_capacity"] = dc
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     if res.solver:
         fb, it = res.solver["fallbacks"], res.solver["iterations"]
@@ -320,6 +332,10 @@ def format_summary(s: dict[str, Any]) -> str:
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "
             f"(mean {1e3 * j['residual_slip_mean_m']:.2f}), max opening "
             f"{1e3 * j['max_opening_m']:.2f} mm, broken {100 * j['broken_share']:.0f} %"
+            + (f", open crack up to {j['max_open_length_m']:.2f} m"
+               if "max_open_length_m" in j else "")
+            + (f", open crack up to {j['max_open_area_m2']:.3g} m²"
+               if "max_open_area_m2" in j else "")
             + (f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
@@ -335,6 +351,15 @@ def format_summary(s: dict[str, Any]) -> str:
             f"{st['min_principal_Pa'] / 1e6:.3g} MPa at {where('min_principal')}, "
             f"t = {st['min_principal_time_s']:.2f} s"
         )
+        if "demand_capacity" in st:
+            dc = st["demand_capacity"]
+            lines.append(
+                f"  DCR          max {dc['max_dcr']:.2f} (σ1/f_t) at "
+                f"({', '.join(f'{x:g}' for x in dc['max_dcr_at_m'])}) m, "
+                f"t = {dc['max_dcr_time_s']:.2f} s; max CID {dc['max_cid_s']:.3f} s; "
+                f"overstressed {100 * dc['overstressed_share']:.1f} %: {dc['verdict']} "
+                "(EM 1110-2-6053)"
+            )
     if "energy_J" in s:
         e = s["energy_J"]
         lines.append(

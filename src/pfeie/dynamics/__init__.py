@@ -19,18 +19,24 @@ from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._nsga import NonsmoothAlpha
 from ._recorder import (
+    CID_LIMIT,
+    DCR_KEYS,
+    DCR_LIMIT,
     ENVELOPE_KEYS,
+    OVERSTRESSED_LIMIT,
     DynamicResult,
     EnergyAccount,
     Recorder,
     StressEnvelope,
+    demand_capacity,
     envelope_extremes,
 )
 from ._settings import DynamicSettings
 
 __all__ = [
-    "ENVELOPE_KEYS", "Checkpoint", "Corotation", "Dynamic", "DynamicResult", "DynamicSettings",
-    "EnergyAccount", "Excitation", "History", "MatrixSystem", "MoreauJean", "Newmark",
-    "NonsmoothAlpha", "Recorder", "RunStopped", "SecondOrderSystem", "State", "StepState",
-    "StressEnvelope", "envelope_extremes",
+    "CID_LIMIT", "DCR_KEYS", "DCR_LIMIT", "ENVELOPE_KEYS", "OVERSTRESSED_LIMIT", "Checkpoint",
+    "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
+    "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
+    "SecondOrderSystem", "State", "StepState", "StressEnvelope", "demand_capacity",
+    "envelope_extremes",
 ]  # fmt: skip

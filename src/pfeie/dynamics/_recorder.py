@@ -57,7 +57,11 @@ class DynamicResult:
     (rad) of every body. Pair histories (n_t, m, d) in the local frames (t…, n):
     ``X`` forces on side b (N, normal + in compression), ``w`` relative displacements
     (m, normal + opening), ``s`` slip and gap; ``state`` (n_t, m) codes 0 intact,
-    1 stick, 2 slide, 3 open; ``broken`` (n_t, m). ``energy``: kinetic, strain,
+    1 stick, 2 slide, 3 open; ``broken`` (n_t, m). Per joint (n_t, n_joints):
+    ``safety_factor``, ``joint_force`` and ``joint_moment`` (…, d and 1 or 3; N, N·m), the
+    cracked extent ``joint_cracked`` (the broken pairs) and the open crack ``joint_open``
+    (the broken pairs that are open), lengths in 2D (m), areas in 3D (m²;
+    :meth:`pfeie.Model.joint_extent`). ``energy``: kinetic, strain,
     external_work, damping, interface, impact, algorithmic, correction (J) and ``balance`` (their
     residual).
     """
@@ -86,6 +90,8 @@ class DynamicResult:
     envelope: dict[str, FloatArray] = field(default_factory=dict)
     joint_force: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 0)))
     joint_moment: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 0)))
+    joint_cracked: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
+    joint_open: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -110,6 +116,14 @@ class DynamicResult:
 
 ENVELOPE_KEYS = ("node_max", "node_max_time", "node_min", "node_min_time",
                  "cell_max", "cell_max_time", "cell_min", "cell_min_time")  # fmt: skip
+#: the keys of an envelope with tensile strengths: the demand-capacity ratio and the
+#: cumulative inelastic duration per cell, and the last time folded in (for a resume)
+DCR_KEYS = ("cell_dcr", "cell_cid", "cid_last_time")
+
+#: the acceptance of a linear time-history analysis of a gravity dam by USACE EM
+#: 1110-2-6053 (2007): largest DCR, cumulative inelastic duration (s) and overstressed
+#: share of the section
+DCR_LIMIT, CID_LIMIT, OVERSTRESSED_LIMIT = 2.0, 0.3, 0.15
 
 
 class StressEnvelope:
@@ -119,6 +133,15 @@ class StressEnvelope:
     with the time it was reached (Pa, tension positive; s). The stress is the small-strain
     stress of the total displacement (the static state included), one sparse product a
     row (:attr:`pfeie.Model.stress_operators`); cells of no block and their nodes hold NaN.
+
+    Where the cells' materials have a tensile strength f_t
+    (:attr:`pfeie.Model.cell_tensile_strength`), the envelope also keeps the measures of
+    USACE EM 1110-2-6053 per cell: the demand-capacity ratio DCR = max σ₁ / f_t
+    (``cell_dcr``, σ₁ the largest over the cell's quadrature points; negative if the cell
+    never is in tension) and the cumulative inelastic duration (``cell_cid``, s): the sum
+    of the intervals h = t − t_prev between recorded rows at whose end σ₁ > f_t (one row's
+    comparison on the σ₁ the envelope has just found; within h of the exact time above
+    f_t per excursion). NaN for cells without f_t.
 
     >>> import pfeie as pf
     >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
@@ -155,12 +178,21 @@ class StressEnvelope:
         self._plane = all(
             not np.diff(A.indptr)[k::6].any() for A in (self.op.nodes, self.op.points)
             for k in (3, 4))  # fmt: skip
+        ft = np.asarray(model.cell_tensile_strength)
+        self._ft = ft[self._cells] if np.isfinite(ft).any() else None
+        self.tensile = ft
+        self._last_t = np.nan
         if values is not None:
             self.values = {k: np.array(values[k], dtype=float) for k in ENVELOPE_KEYS}
+            if self._ft is not None:
+                self.values["cell_cid"] = np.array(values["cell_cid"], dtype=float)
+                self._last_t = float(np.asarray(values["cid_last_time"]).ravel()[0])
             return
         nan_n, nan_c = np.full(n_nodes, np.nan), np.full(n_cells, np.nan)
         self.values = {k: (nan_n if k.startswith("node") else nan_c).copy()
                        for k in ENVELOPE_KEYS}  # fmt: skip
+        if self._ft is not None:
+            self.values["cell_cid"] = np.where(np.isfinite(ft), 0.0, np.nan)
         for k in ("node_max", "cell_max"):
             self.values[k][self._nodes if k == "node_max" else self._cells] = -np.inf
         for k in ("node_min", "cell_min"):
@@ -206,10 +238,24 @@ class StressEnvelope:
             better = new > old if up else new < old
             v[key][idx[better]] = new[better]
             v[key + "_time"][idx[better]] = t
+        if self._ft is not None:  # the time above f_t: the interval since the last row
+            h = t - self._last_t if np.isfinite(self._last_t) else 0.0
+            if h > 0:
+                above = hi_c > self._ft
+                if isinstance(self._cell_idx, slice):
+                    v["cell_cid"][above] += h
+                else:
+                    v["cell_cid"][self._cells[above]] += h
+            self._last_t = t
 
     def snapshot(self) -> dict[str, FloatArray]:
-        """A copy of the current envelope (for a checkpoint or a result)."""
-        return {k: a.copy() for k, a in self.values.items()}
+        """A copy of the current envelope (for a checkpoint or a result); with tensile
+        strengths also ``cell_dcr`` and ``cid_last_time`` (:data:`DCR_KEYS`)."""
+        out = {k: a.copy() for k, a in self.values.items()}
+        if self._ft is not None:
+            out["cell_dcr"] = self.values["cell_max"] / self.tensile
+            out["cid_last_time"] = np.array([self._last_t])
+        return out
 
 
 def envelope_extremes(envelope: dict[str, FloatArray],
@@ -225,6 +271,47 @@ def envelope_extremes(envelope: dict[str, FloatArray],
         out[f"{name}_Pa"] = float(envelope[key][k])
         out[f"{name}_at_m"] = points[k].round(4).tolist()
         out[f"{name}_time_s"] = float(envelope[key + "_time"][k])
+    return out
+
+
+def demand_capacity(envelope: dict[str, FloatArray], volumes: FloatArray,
+                    centres: FloatArray) -> dict[str, Any] | None:  # fmt: skip
+    """The EM 1110-2-6053 measures of a stress envelope with tensile strengths (None
+    without): the largest demand-capacity ratio DCR = σ₁/f_t over the cells, where (the
+    cell's centre ``centres``, m) and when; the largest cumulative inelastic duration
+    (s) and where; the overstressed share, the volume (2D: area) of the cells with
+    DCR > 1 over that of the cells with a tensile strength (``volumes`` per cell); and
+    the verdict of a linear time-history evaluation of a gravity dam: "linear" (DCR ≤ 1),
+    "acceptable" (DCR ≤ 2, CID ≤ 0.3 s and at most 15 % overstressed), else "nonlinear
+    analysis required".
+
+    >>> env = {"cell_dcr": np.array([0.5, 1.5, np.nan]), "cell_cid": np.array([0, .1, np.nan]),
+    ...        "cell_max_time": np.array([1.0, 2.0, 0.0])}
+    >>> d = demand_capacity(env, np.array([3.0, 1.0, 5.0]), np.zeros((3, 2)))
+    >>> d["max_dcr"], d["max_cid_s"], d["overstressed_share"], d["verdict"]
+    (1.5, 0.1, 0.25, 'nonlinear analysis required')
+    """
+    dcr = envelope.get("cell_dcr")
+    if dcr is None or not np.isfinite(dcr).any():
+        return None
+    cid = envelope["cell_cid"]
+    have = np.isfinite(dcr)
+    k, j = int(np.nanargmax(dcr)), int(np.nanargmax(cid))
+    over = have & (dcr > 1.0)
+    share = float(volumes[over].sum() / volumes[have].sum())
+    out: dict[str, Any] = {
+        "max_dcr": float(dcr[k]), "max_dcr_at_m": centres[k].round(4).tolist(),
+        "max_dcr_time_s": float(envelope["cell_max_time"][k]),
+        "max_cid_s": float(cid[j]), "max_cid_at_m": centres[j].round(4).tolist(),
+        "overstressed_share": share,
+    }  # fmt: skip
+    if out["max_dcr"] <= 1.0:
+        out["verdict"] = "linear"
+    elif (out["max_dcr"] <= DCR_LIMIT and out["max_cid_s"] <= CID_LIMIT
+          and share <= OVERSTRESSED_LIMIT):  # fmt: skip
+        out["verdict"] = "acceptable"
+    else:
+        out["verdict"] = "nonlinear analysis required"
     return out
 
 
@@ -344,6 +431,8 @@ class Recorder:
         # the resultant force (global axes) and moment of each joint's pair forces
         self.jf = np.zeros((n_out, n_joints, d))
         self.jm = np.zeros((n_out, n_joints, 1 if d == 2 else 3))
+        # the cracked extent (broken pairs) and the open crack (broken and open) per joint
+        self.jc, self.jo = np.zeros((n_out, n_joints)), np.zeros((n_out, n_joints))
         self.broken = np.zeros((n_out, m), dtype=bool)
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
@@ -383,6 +472,9 @@ class Recorder:
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
             assert an.model.pairs is not None
             self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
+            broken = st.pairs.broken
+            self.jc[i], self.jo[i] = an.model.joint_extent(
+                np.stack([broken, broken & (st.pairs.state == OPEN)]))  # fmt: skip
         E = self.E
         E["kinetic"][i] = 0.5 * an.mass_product(k.v)
         E["strain"][i] = an.strain_energy(k.u, R)
@@ -405,7 +497,8 @@ class Recorder:
                 "a": full_a.reshape(-1, d),
                 "solver": [0, 0, 0.0] if solver is None else list(solver),
                 "safety_factor": self.fs[i].copy(), "joint_force": self.jf[i].copy(),
-                "joint_moment": self.jm[i].copy(),
+                "joint_moment": self.jm[i].copy(), "joint_cracked": self.jc[i].copy(),
+                "joint_open": self.jo[i].copy(),
             })  # fmt: skip
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
@@ -436,11 +529,11 @@ class Recorder:
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
             solver or {}, self.fs[keep],
             self.envelope.snapshot() if self.envelope is not None else {},
-            self.jf[keep], self.jm[keep],
+            self.jf[keep], self.jm[keep], self.jc[keep], self.jo[keep],
         )  # fmt: skip
 
 
 __all__ = [
-    "ENVELOPE_KEYS", "DynamicResult", "EnergyAccount", "Recorder", "StressEnvelope",
-    "envelope_extremes",
+    "CID_LIMIT", "DCR_KEYS", "DCR_LIMIT", "ENVELOPE_KEYS", "OVERSTRESSED_LIMIT", "DynamicResult",
+    "EnergyAccount", "Recorder", "StressEnvelope", "demand_capacity", "envelope_extremes",
 ]  # fmt: skip

@@ -41,7 +41,8 @@ _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state":
           "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
           "lam": "N", "node_max": "Pa", "node_min": "Pa", "cell_max": "Pa", "cell_min": "Pa",
           "node_max_time": "s", "node_min_time": "s", "cell_max_time": "s",
-          "cell_min_time": "s"}  # fmt: skip
+          "cell_min_time": "s", "cell_dcr": "1", "cell_cid": "s",
+          "cid_last_time": "s"}  # fmt: skip
 
 
 def run_key(job: Any) -> str:
@@ -259,13 +260,15 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     fs = arr("joints/safety_factor") if "joints" in h else np.zeros((0, 0))
     jf = arr("joints/force") if "joints/force" in h else np.zeros((0, 0, 0))
     jm = arr("joints/moment") if "joints/moment" in h else np.zeros((0, 0, 0))
+    jc = arr("joints/cracked") if "joints/cracked" in h else np.zeros((0, 0))
+    jo = arr("joints/open") if "joints/open" in h else np.zeros((0, 0))
     return DynamicResult(
         t=arr("time"), probes=nodes, probe_u=arr("probes/u"), probe_v=arr("probes/v"),
         probe_a=arr("probes/a"), probe_a_abs=arr("probes/a_abs"), rigid=arr("rigid"),
         X=arr("pairs/X"), w=arr("pairs/w"), s=arr("pairs/s"), state=arr("pairs/state"),
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
         stop_reason=reason, solver=solver, safety_factor=fs, envelope=read_envelope(f),
-        joint_force=jf, joint_moment=jm,
+        joint_force=jf, joint_moment=jm, joint_cracked=jc, joint_open=jo,
     )  # fmt: skip
 
 

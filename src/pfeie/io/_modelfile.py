@@ -233,7 +233,7 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                                  f"(volumes); remove {key}")  # fmt: skip
     mats = {}
     for name, mt in cfg.materials.items():
-        mats[name] = Elastic(mt.E, mt.nu, mt.rho)
+        mats[name] = Elastic(mt.E, mt.nu, mt.rho, mt.tensile_strength)
     blocks = []
     for group, mat in cfg.blocks.items():
         if mat not in mats:
@@ -311,6 +311,16 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
             except ModelError as exc:
                 raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
+    for i, sl in enumerate(loads.silt):
+        for g in sl.groups:
+            if g not in model.mesh.facet_groups:
+                raise InputError(_group_msg(p, f"loads.silt[{i}].groups", g, model.mesh,
+                                            mesh.dim - 1))  # fmt: skip
+        try:
+            model.add_silt(sl.groups, sl.level, sl.submerged_unit_weight, k=sl.k,
+                           friction_angle=sl.friction_angle)  # fmt: skip
+        except ModelError as exc:
+            raise InputError(f"{p}: loads.silt[{i}]: {exc}") from None
     for i, wg in enumerate(loads.westergaard):
         for g in wg.groups:
             if g not in model.mesh.facet_groups:

@@ -133,7 +133,8 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
 def _write_envelope(env: dict[str, np.ndarray], mesh: Any, cells: list[Any], out: Path) -> Path:
     """``envelope.vtu``: the stress envelope of the run on the mesh (point data from the
     nodal stress, cell data over each cell's quadrature points): ``max_principal`` and
-    ``min_principal`` (Pa, tension positive) and the times they were reached (s)."""
+    ``min_principal`` (Pa, tension positive) and the times they were reached (s); with
+    tensile strengths the cell data ``dcr`` and ``cid`` (1, s)."""
     import meshio
 
     sizes = np.cumsum([len(c) for _, c in cells])[:-1]
@@ -143,6 +144,9 @@ def _write_envelope(env: dict[str, np.ndarray], mesh: Any, cells: list[Any], out
             name = f"{ext}_principal{suffix}"
             point_data[name] = env[f"node_{ext}{suffix}"]
             cell_data[name] = np.split(env[f"cell_{ext}{suffix}"], sizes)
+    for key in ("dcr", "cid"):  # with tensile strengths (EM 1110-2-6053)
+        if f"cell_{key}" in env:
+            cell_data[key] = np.split(env[f"cell_{key}"], sizes)
     path = out / "envelope.vtu"
     meshio.write(path, meshio.Mesh(_pad3(mesh.points), cells, point_data=point_data,
                                    cell_data=cell_data), binary=True)  # fmt: skip

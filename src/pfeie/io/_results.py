@@ -19,9 +19,12 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
   (n_t: the pair problems' iterations and solves that needed a fallback since the
   previous row, and their worst final residual), ``joints/{safety_factor,force,moment}``
   (n_t, n_joints[, d or 1 or 3]: the sliding safety factor, the resultant force on side
-  b in global axes and its moment about the joint's centroid);
+  b in global axes and its moment about the joint's centroid), ``joints/{cracked,open}``
+  (n_t, n_joints: the length in 2D, area in 3D, of the broken pairs and of the broken
+  pairs that are open);
 - ``/envelope``: ``{nodes,cells}/{max,min}_principal`` and their ``_time``: the stress
-  envelope;
+  envelope; ``cells/{dcr,cid}``: the demand-capacity ratio and the cumulative inelastic
+  duration (s) of the cells whose material has a tensile strength (NaN elsewhere);
 - ``/fields``: ``time`` (n_f) and ``u``, ``v``, ``a`` (n_f, n, d) every ``field_every``-th
   recorded step (float64, or float32 with ``output.field_precision = "float32"``).
 
@@ -63,8 +66,9 @@ UNITS = {
 #: changed incompatibly); a minor version adds groups or attributes (1.1: /checkpoint,
 #: run_key; 1.2: /envelope, history/joints/{force,moment}; 1.3: the attributes
 #: compression, compression_level, field_precision, and fields that may be float32;
-#: files without the attribute are 1.0)
-FORMAT_VERSION = "1.3"
+#: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; files without the
+#: attribute are 1.0)
+FORMAT_VERSION = "1.4"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
@@ -256,6 +260,8 @@ class ResultsWriter:
             self._grow(hj, "safety_factor", (len(P.names),), "1")
             self._grow(hj, "force", (len(P.names), d), "N")
             self._grow(hj, "moment", (len(P.names), 1 if d == 2 else 3), "N*m")
+            for key in ("cracked", "open"):
+                self._grow(hj, key, (len(P.names),), "m" if d == 2 else "m^2")
             hj.attrs["names"] = json.dumps(list(P.names))
         self._grow(hp, "state", (m,), "code", np.int8)
         self._grow(hp, "broken", (m,), "flag", np.bool_)
@@ -366,6 +372,9 @@ class ResultsWriter:
                 if "force" in f["history/joints"]:  # (files of format 1.1 lack them)
                     self._extend(f["history/joints/force"], [r["joint_force"] for r in buf])
                     self._extend(f["history/joints/moment"], [r["joint_moment"] for r in buf])
+                if "cracked" in f["history/joints"]:  # (files of format 1.3 and older lack them)
+                    self._extend(f["history/joints/cracked"], [r["joint_cracked"] for r in buf])
+                    self._extend(f["history/joints/open"], [r["joint_open"] for r in buf])
             if "solver" in f["history"]:
                 for k, key in enumerate(("iterations", "fallbacks", "residual")):
                     self._extend(f[f"history/solver/{key}"],
@@ -393,6 +402,9 @@ class ResultsWriter:
             for ext, name in (("max", "max_principal"), ("min", "min_principal")):
                 self._ds(g, f"{where}s/{name}", envelope[f"{where}_{ext}"], "Pa")
                 self._ds(g, f"{where}s/{name}_time", envelope[f"{where}_{ext}_time"], "s")
+        if "cell_dcr" in envelope:
+            self._ds(g, "cells/dcr", envelope["cell_dcr"], "1")
+            self._ds(g, "cells/cid", envelope["cell_cid"], "s")
 
     def close(self, completed: bool, reason: str | None = None,
               summary: dict[str, Any] | None = None) -> None:  # fmt: skip
@@ -425,6 +437,8 @@ def read_envelope(f: Any) -> dict[str, FloatArray]:
             name = f"{where}s/{ext}_principal"
             out[f"{where}_{ext}"] = np.asarray(g[name][...])
             out[f"{where}_{ext}_time"] = np.asarray(g[name + "_time"][...])
+    if "cells/dcr" in g:
+        out["cell_dcr"], out["cell_cid"] = np.asarray(g["cells/dcr"]), np.asarray(g["cells/cid"])
     return out
 
 
@@ -600,6 +614,17 @@ class Results:
         return {"force": np.asarray(g["force"][:, k]), "moment": np.asarray(g["moment"][:, k]),
                 "centroid": c}  # fmt: skip
 
+    def joint_cracks(self, interface: str) -> dict[str, FloatArray]:
+        """The cracked extent of a joint over time: ``cracked`` (n_t; its broken pairs) and
+        ``open`` (n_t; its broken pairs that are open), lengths in 2D (m), areas in 3D (m²)
+        (:meth:`pfeie.Model.joint_extent`)."""
+        if "joints/cracked" not in self.f["history"]:
+            raise ResultsError(f"{self.path}: no cracked-length histories (a results file of "
+                               f"format {self.f.attrs.get('format_version', '1.0')})")  # fmt: skip
+        k = self.interface_names.index(interface)
+        g = self.f["history/joints"]
+        return {key: np.asarray(g[key][:, k]) for key in ("cracked", "open")}
+
     @property
     def has_envelope(self) -> bool:
         return "envelope" in self.f
@@ -608,7 +633,9 @@ class Results:
         """The stress envelope of the run: ``node_max``, ``node_min`` (n_points,) and
         ``cell_max``, ``cell_min`` (n_cells, over the mesh's cells type after type) the
         largest σ₁ and the smallest σ₃ (Pa, tension positive; NaN outside the blocks),
-        and the times they were reached (``…_time``, s). Empty if the run kept none."""
+        and the times they were reached (``…_time``, s); with tensile strengths
+        ``cell_dcr`` and ``cell_cid`` (1, s; NaN for cells without). Empty if the run kept
+        none."""
         return read_envelope(self.f)
 
     def fields(self) -> tuple[FloatArray, dict[str, FloatArray]]:

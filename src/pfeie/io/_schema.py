@@ -100,6 +100,13 @@ class Material(_Table):
     E: Annotated[Positive, Field(description="Young's modulus (Pa)")]
     nu: Annotated[float, Field(gt=-1.0, lt=0.5, description="Poisson's ratio")]
     rho: Annotated[NonNegative, Field(description="density (kg/m³)")]
+    tensile_strength: Annotated[
+        Positive | None,
+        Field(description="tensile strength f_t (Pa) for the demand-capacity ratio σ₁/f_t "
+              "and the cumulative inelastic duration of USACE EM 1110-2-6053 (for an "
+              "earthquake the dynamic strength, about 1.5 × the static); changes no "
+              "stiffness; default none: not evaluated"),
+    ] = None  # fmt: skip
 
 
 class Damping(_Table):
@@ -212,6 +219,39 @@ class Hydrostatic(_Table):
     density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
 
 
+class Silt(_Table):
+    """``[[loads.silt]]``: silt against faces (pfeie.Model.add_silt)."""
+
+    groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      Field(description="physical groups of the faces the silt lies "
+                            "against (the upstream face, the reservoir floor)")]  # fmt: skip
+    level: Annotated[float, Field(description="elevation of the silt surface (m, on the "
+                                  "vertical axis)")]  # fmt: skip
+    submerged_unit_weight: Annotated[
+        Positive, Field(description="submerged unit weight γ' of the silt (N/m³): its "
+                        "saturated unit weight less the water's")
+    ]  # fmt: skip
+    k: Annotated[
+        Positive | None,
+        Field(description="lateral pressure coefficient K (e.g. the active Ka): horizontal "
+              "pressure K γ' (level − z); instead of friction_angle"),
+    ] = None  # fmt: skip
+    friction_angle: Annotated[
+        Angle | None,
+        Field(description="friction angle φ of the silt (degrees): K at rest, "
+              "K0 = 1 − sin φ; instead of k"),
+    ] = None  # fmt: skip
+
+    @model_validator(mode="after")
+    def _one_coefficient(self) -> Silt:
+        if self.k is None and self.friction_angle is None:
+            raise _check("k", "missing: give k (e.g. Ka) or friction_angle (at rest: "
+                         "K0 = 1 − sin φ)")  # fmt: skip
+        if self.k is not None and self.friction_angle is not None:
+            raise _check("", "give either k or friction_angle, not both")
+        return self
+
+
 class Westergaard(_Table):
     """``[[loads.westergaard]]``: the reservoir's added mass on wet faces, by Westergaard's
     closed form or by an incompressible finite-element reservoir."""
@@ -285,7 +325,7 @@ class UpliftTable(_Table):
 
 
 class Loads(_Table):
-    """``[loads]``: gravity, pressures, water."""
+    """``[loads]``: gravity, pressures, water, silt."""
 
     gravity: Annotated[
         NonNegative, Field(description="gravitational acceleration (m/s²); 0 for none")
@@ -297,6 +337,11 @@ class Loads(_Table):
     hydrostatic: Annotated[
         list[Hydrostatic], Field(description="hydrostatic pressure ρ_w g (level − z)⁺ on faces")
     ] = []
+    silt: Annotated[
+        list[Silt],
+        Field(description="silt against faces: horizontal pressure K γ' (level − z)⁺ and "
+              "the vertical silt weight γ' (level − z)⁺ on inclined faces and floors"),
+    ] = []  # fmt: skip
     westergaard: Annotated[
         list[Westergaard],
         Field(description="the reservoir's added mass on the wet faces: Westergaard's "

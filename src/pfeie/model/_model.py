@@ -313,6 +313,73 @@ class Model:
         self._boundary_group(group, "pressure")
         self.loads.append(Load("pressure", group, value, amplitude))
 
+    def add_silt(
+        self,
+        groups: str | Sequence[str],
+        level: float,
+        submerged_unit_weight: float,
+        *,
+        k: float | None = None,
+        friction_angle: float | None = None,
+        amplitude: Amplitude | None = None,
+    ) -> float:
+        """Silt deposited against the faces ``groups`` up to the silt surface z_s =
+        ``level`` (USACE EM 1110-2-2200 §3-4, EM 1110-2-2100): a saturated cohesionless
+        soil whose effective stress at depth z_s − z is geostatic,
+
+            σ_v = γ' (z_s − z)⁺  (vertical),   σ_h = K σ_v  (horizontal),
+
+        with γ' the ``submerged_unit_weight`` (N/m³: the saturated unit weight less the
+        water's; the water's own pressure is the hydrostatic load, applied over the whole
+        depth) and K the lateral coefficient: ``k`` given (e.g. the active Ka), or at rest
+        K0 = 1 − sin φ from the silt's ``friction_angle`` φ (degrees; Jaky). The traction
+        on a face of outward normal n is t = −diag(K, [K,] 1) σ_v n: on a vertical face the
+        horizontal pressure K γ' (z_s − z); on an inclined face the same horizontal pressure
+        on its vertical projection and the vertical silt weight γ' (z_s − z) on its
+        horizontal projection (the weight of the silt above the face, as the guidelines
+        take it); on the reservoir floor, the silt's weight. z is the vertical axis (y in
+        2D, z in 3D). Returns K.
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(2.0, 10.0, 1, 5)
+        >>> m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+        >>> m.add_silt("xmin", level=6.0, submerged_unit_weight=9000.0, friction_angle=30.0)
+        0.5
+        >>> round(float(m.load_vector()[0::2].sum()), 6)   # K γ' H²/2 (N per m), downstream
+        81000.0
+        """
+        names = (groups,) if isinstance(groups, str) else tuple(groups)
+        if not names:
+            raise ModelError("silt: no face groups given")
+        if not (np.isfinite(level) and np.isfinite(submerged_unit_weight)
+                and submerged_unit_weight > 0):  # fmt: skip
+            raise ModelError(f"silt: expected a finite level and a submerged unit weight > 0 "
+                             f"N/m³, got {level} m and {submerged_unit_weight}")  # fmt: skip
+        if (k is None) == (friction_angle is None):
+            raise ModelError("silt: give either k (the lateral coefficient, e.g. Ka) or the "
+                             "friction_angle φ (at rest: K0 = 1 − sin φ), not both")  # fmt: skip
+        if friction_angle is not None:
+            if not (np.isfinite(friction_angle) and 0 <= friction_angle < 90):
+                raise ModelError(f"silt: the friction angle must lie in [0, 90) degrees, got "
+                                 f"{friction_angle}")  # fmt: skip
+            k = 1.0 - float(np.sin(np.radians(friction_angle)))
+        assert k is not None
+        if not (np.isfinite(k) and k > 0):
+            raise ModelError(f"silt: the lateral coefficient k must be a finite number > 0, "
+                             f"got {k}")  # fmt: skip
+        for g in names:
+            self._boundary_group(g, "silt")
+        up, zs, gam, kk = self.dim - 1, float(level), float(submerged_unit_weight), float(k)
+        ratio = np.full(self.dim, kk)
+        ratio[up] = 1.0
+
+        def stress(x: FloatArray) -> FloatArray:
+            return gam * np.maximum(zs - x[..., up], 0.0)[..., None] * ratio
+
+        for g in names:
+            self.loads.append(Load("silt", g, stress, amplitude))
+        return kk
+
     def _boundary_group(self, group: str, what: str) -> None:
         """Refuse a surface load on facets that are not on the boundary of a block (after
         the interfaces are split, a joint's faces are on the boundary of its blocks)."""
@@ -617,13 +684,16 @@ class Model:
                     vals = vals * mask[:, None, None]
                 fe = asm.load(cv, vals).reshape(cs.conn.shape[0], -1)
                 f += asm.assemble_vector(asm.element_dofs(cs.conn, d), fe, n)
-        elif ld.kind in ("traction", "pressure"):
+        elif ld.kind in ("traction", "pressure", "silt"):
             assert ld.target is not None
             for ftype, conn in self.mesh.facet_group(ld.target).items():
                 fv = asm.facet_values(self.mesh.points, ftype, conn,
                                       2 * reference(ftype).degree + 2, self.thickness)  # fmt: skip
                 if ld.kind == "traction":
                     tr = _field(ld.value, fv.x)
+                elif ld.kind == "silt":  # t = −diag(σ) n, n the outward normal
+                    outward = self._outward(ftype, conn, fv)
+                    tr = -_field(ld.value, fv.x) * fv.normal * outward[:, None, None]
                 else:
                     outward = self._outward(ftype, conn, fv)
                     p = _scalar_field(ld.value, fv.x)
@@ -693,6 +763,19 @@ class Model:
         P = self.split.pairs
         return PairLaws.from_interfaces(P.area, P.interface, [i.joint for i in self.interfaces],
                                         P.dim)  # fmt: skip
+
+    def joint_extent(self, mask: BoolArray) -> FloatArray:
+        """The extent of the pairs where ``mask`` (..., m) per interface (..., n_joints):
+        the length in 2D (m: the pairs' areas over the thickness), the area in 3D (m²).
+        The cracked extent of a joint is that of its broken pairs; the open crack that of
+        its broken pairs that are open."""
+        P = self.pairs
+        if P is None:
+            raise ModelError("the model has no interfaces")
+        mask = np.asarray(mask, dtype=bool)
+        out = np.stack([(mask[..., idx] * P.area[idx]).sum(axis=-1)
+                        for idx in (P.of(name) for name in P.names)], axis=-1)  # fmt: skip
+        return out / self.thickness if self.dim == 2 else out
 
     @cached_property
     def body_of_node(self) -> IntArray:
@@ -940,6 +1023,34 @@ class Model:
         for k, (i, j) in enumerate(asm.VOIGT):
             out[:, i, j] = out[:, j, i] = v[:, k]
         return out
+
+    def _per_cell(self, values: Callable[[_CellSet], FloatArray]) -> FloatArray:
+        """A value per cell of the mesh (n_cells, numbered type after type in
+        ``mesh.cells`` order), NaN for cells of no block."""
+        offset, run = {}, 0
+        for t, conn in self.mesh.cells.items():
+            offset[t] = run
+            run += len(conn)
+        out = np.full(run, np.nan)
+        for cs in self._cellsets:
+            out[offset[cs.cell_type] + cs.index] = values(cs)
+        return out
+
+    @cached_property
+    def cell_volumes(self) -> FloatArray:
+        """The volume of every cell (n_cells, mesh order; m³, in 2D its area × the
+        thickness), NaN for cells of no block."""
+        return self._per_cell(
+            lambda cs: self._values(cs, asm.mass_degree(cs.cell_type)).dV.sum(axis=1)
+        )
+
+    @cached_property
+    def cell_tensile_strength(self) -> FloatArray:
+        """The tensile strength f_t of every cell's material (n_cells, mesh order; Pa),
+        NaN where the material gives none or the cell is in no block."""
+        given = [getattr(b.material, "tensile_strength", None) for b in self.blocks]
+        ft = np.array([np.nan if v is None else float(v) for v in given])
+        return self._per_cell(lambda cs: ft[cs.block])
 
     def total_mass(self) -> float:
         """Mass of all blocks (kg; per unit thickness × thickness in 2D)."""

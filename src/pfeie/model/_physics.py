@@ -25,7 +25,11 @@ class Elastic:
     """Isotropic linear elastic material.
 
     Parameters: Young's modulus ``E`` (Pa), Poisson's ratio ``nu``, density ``rho``
-    (kg/m³).
+    (kg/m³), and optionally the ``tensile_strength`` f_t (Pa) that the demand-capacity
+    ratio σ₁/f_t and the cumulative inelastic duration of a run are measured against
+    (:class:`pfeie.dynamics.StressEnvelope`; for an earthquake, the dynamic tensile
+    strength, about 1.5 × the static one in USACE EM 1110-2-6053). It changes no
+    stiffness: the material stays linear elastic.
 
     >>> [round(x / 1e9, 6) for x in Elastic(E=30e9, nu=0.2, rho=2400).lame(3)]  # GPa
     [8.333333, 12.5]
@@ -34,6 +38,7 @@ class Elastic:
     E: float
     nu: float
     rho: float = 0.0
+    tensile_strength: float | None = None
 
     def __post_init__(self) -> None:
         if not self.E > 0:
@@ -42,6 +47,9 @@ class Elastic:
             raise ModelError(f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
         if not self.rho >= 0:
             raise ModelError(f"density rho must be >= 0 kg/m³, got {self.rho}")
+        ft = self.tensile_strength
+        if ft is not None and not (np.isfinite(ft) and ft > 0):
+            raise ModelError(f"tensile strength must be a finite number > 0 Pa, got {ft}")
 
     def lame(self, dim: int, plane: str = "strain") -> tuple[float, float]:
         """Lamé constants (λ, μ); in 2D plane stress λ is the reduced λ* = 2λμ/(λ + 2μ)."""
@@ -118,7 +126,9 @@ class Load:
     """A spatial load pattern times a time amplitude (1 when ``amplitude`` is None).
 
     ``kind`` is "body" (force per volume, N/m³), "traction" (N/m² on a facet group),
-    "pressure" (N/m², positive pushing into the body) or "nodal" (N).
+    "pressure" (N/m², positive pushing into the body), "nodal" (N) or "silt" (a
+    geostatic stress on a facet group: ``value`` gives its principal pressures along the
+    axes, (..., d) in Pa, and the traction is −diag(value) n with n the outward normal).
     """
 
     kind: str

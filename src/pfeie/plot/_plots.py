@@ -5,7 +5,8 @@
 - ``probe_<name>.png``: displacement (relative to the ground) and absolute acceleration
   histories of each probe;
 - ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest)
-  histories of each interface, with the broken share;
+  histories of each interface, with the broken share, and its cracked length (2D; area
+  in 3D: the broken pairs) and open crack (the broken pairs that are open) over time;
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
 - ``rigid_motion.png``: translation and rotation histories of the bodies that move;
@@ -185,7 +186,8 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     pr = res.pairs(name)
     A = pr["area"]
     slip = np.linalg.norm(pr["slip"], axis=-1)
-    fig, ax = plt.subplots(3, 1, figsize=(8, 7), sharex=True)
+    cracks = "joints/cracked" in res.f["history"]
+    fig, ax = plt.subplots(4 if cracks else 3, 1, figsize=(8, 9 if cracks else 7), sharex=True)
     ax[0].plot(t, 1e3 * slip.max(axis=1), lw=1.0, label="largest")
     ax[0].plot(t, 1e3 * (slip * A).sum(axis=1) / A.sum(), lw=1.0, label="area mean")
     ax[0].set_ylabel("slip (mm)")
@@ -197,6 +199,12 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
         ax[2].plot(t, 100 * ((pr["state"] == k) * A).sum(axis=1) / A.sum(), lw=0.8,
                    color=STATE_COLOURS[k], label=lab)  # fmt: skip
     ax[2].set_ylabel("share of the joint (%)")
+    if cracks:  # the cracked extent over time
+        cr = res.joint_cracks(name)
+        two_d = res.f["mesh/points"].shape[1] == 2
+        ax[3].plot(t, cr["cracked"], lw=1.0, color="k", label="cracked (broken)")
+        ax[3].plot(t, cr["open"], lw=0.8, color=STATE_COLOURS[3], label="open crack")
+        ax[3].set_ylabel("crack length (m)" if two_d else "crack area (m²)")
     return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
 
 

@@ -37,6 +37,11 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
         if "joints/safety_factor" in res.f["history"]:
             fs = np.asarray(res.f["history/joints/safety_factor"])[:, len(rows) - 1]
             rows[-1]["min safety factor"] = float(fs.min())
+        if "joints/cracked" in res.f["history"]:
+            cr = res.joint_cracks(name)
+            unit = "m" if res.f["mesh/points"].shape[1] == 2 else "m²"
+            rows[-1][f"cracked at the end ({unit})"] = float(cr["cracked"][-1])
+            rows[-1][f"largest open crack ({unit})"] = float(cr["open"].max())
         if "joints/force" in res.f["history"]:
             jr = res.joint_resultants(name)
             rows[-1]["peak |F_x| (kN)"] = 1e-3 * float(np.abs(jr["force"][:, 0]).max())
@@ -58,6 +63,39 @@ def envelope_rows(res: Results) -> list[tuple[str, str]]:
         out.append((label, f"{ext[f'{name}_Pa'] / 1e6:.3g} MPa at ({where}) m, "
                            f"t = {ext[f'{name}_time_s']:.3f} s"))  # fmt: skip
     return out
+
+
+def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
+    """The EM 1110-2-6053 evaluation of the run's stresses (the results summary's
+    ``stress.demand_capacity``, :func:`pfeie.dynamics.demand_capacity`): the largest
+    demand-capacity ratio, the largest cumulative inelastic duration, the overstressed
+    share and the verdict against the manual's acceptance (empty without tensile
+    strengths)."""
+    dc = (res.meta.get("results_summary") or {}).get("stress", {}).get("demand_capacity")
+    if not dc:
+        return []
+    from ..dynamics import CID_LIMIT, DCR_LIMIT, OVERSTRESSED_LIMIT
+
+    def at(key: str) -> str:
+        return "(" + ", ".join(f"{x:g}" for x in dc[key]) + ") m"
+
+    words = {
+        "linear": "linear: the stresses stay below the tensile strength (DCR ≤ 1)",
+        "acceptable": f"acceptable by the linear analysis: DCR ≤ {DCR_LIMIT:g}, CID ≤ "
+                      f"{CID_LIMIT:g} s, overstressed ≤ {100 * OVERSTRESSED_LIMIT:g} %",
+        "nonlinear analysis required": f"beyond the linear criteria (DCR ≤ {DCR_LIMIT:g}, "
+                      f"CID ≤ {CID_LIMIT:g} s, overstressed ≤ {100 * OVERSTRESSED_LIMIT:g} "
+                      "%): a nonlinear analysis is required",
+    }  # fmt: skip
+    return [
+        ("largest demand-capacity ratio σ1/f_t",
+         f"{dc['max_dcr']:.3g} at {at('max_dcr_at_m')}, t = {dc['max_dcr_time_s']:.3f} s"),
+        ("largest cumulative inelastic duration",
+         f"{dc['max_cid_s']:.3g} s at {at('max_cid_at_m')}"),
+        ("overstressed share (DCR > 1)",
+         f"{100 * dc['overstressed_share']:.3g} % of the cells with a tensile strength"),
+        ("EM 1110-2-6053", words.get(dc["verdict"], dc["verdict"])),
+    ]  # fmt: skip
 
 
 def static_joint_table(res: Results) -> list[dict[str, Any]]:
@@ -163,6 +201,7 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         analysis = analysis_rows(res)
         recs = record_rows(res)
         envelope = envelope_rows(res)
+        dcr = demand_capacity_rows(res)
         t_end = float(res.time[-1]) if res.time.size else 0.0
         static_only = res.n_times == 0
     output_file(target)
@@ -215,6 +254,14 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         parts.append("<h2>Stress envelope</h2><table>")
         parts += [f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in envelope]
         parts.append("</table><p>Per node and cell in results.h5 (/envelope) and "
+                     "envelope.vtu.</p>")  # fmt: skip
+    if dcr:
+        parts.append("<h2>Demand-capacity ratio and cumulative inelastic duration</h2><table>")
+        parts += [f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in dcr]
+        parts.append("</table><p>USACE EM 1110-2-6053, linear time-history evaluation of a "
+                     "gravity dam: DCR = σ1/f_t per cell (the total stress, static state "
+                     "included; f_t the materials' tensile_strength); CID the time during "
+                     "which σ1 > f_t. Per cell in results.h5 (/envelope/cells/dcr, cid) and "
                      "envelope.vtu.</p>")  # fmt: skip
     parts.append("<h2>Figures</h2>")
     for name, data in images:

@@ -245,12 +245,16 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
     for name, j in s.get("joints", {}).items():
         for k in ("peak_slip_max_m", "residual_slip_max_m", "residual_slip_mean_m",
                   "max_opening_m", "broken_share", "cracked_length_m", "cracked_area_m2",
-                  "min_safety_factor"):  # fmt: skip
+                  "max_open_length_m", "max_open_area_m2", "min_safety_factor"):  # fmt: skip
             if k in j:
                 row[f"joint.{name}.{k}"] = j[k]
     if "stress" in s:
         row["stress.max_principal_Pa"] = s["stress"]["max_principal_Pa"]
         row["stress.min_principal_Pa"] = s["stress"]["min_principal_Pa"]
+        if "demand_capacity" in s["stress"]:
+            dc = s["stress"]["demand_capacity"]
+            row["stress.max_dcr"], row["stress.max_cid_s"] = dc["max_dcr"], dc["max_cid_s"]
+            row["stress.overstressed_share"] = dc["overstressed_share"]
     if "solver" in s:
         row["solver.fallback_steps"] = s["solver"]["fallback_steps"]
         row["solver.worst_residual"] = s["solver"]["worst_residual"]
