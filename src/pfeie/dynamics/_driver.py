@@ -634,7 +634,10 @@ class Dynamic:
             U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
             impact = -0.5 * float(np.sum(Lam * (U_minus.reshape(m, d) + U_plus)))
         if dq is not None:
-            correction = self.strain_energy(u1) - self.strain_energy(smooth.u)
+            # the potential energy it adds: strain, and the loads' (the step-average load
+            # over Δq, as the external work counts it)
+            correction = (self.strain_energy(u1) - self.strain_energy(smooth.u)
+                          - 0.5 * float(dq @ (kin.f + f1)))  # fmt: skip
         new = State(t1, u1, v1, acc, f1, smooth.aux)
         if ahead_next and self.corot is None:
             # the next step's free acceleration (it depends on this step's state and the

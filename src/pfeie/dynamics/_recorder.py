@@ -19,8 +19,9 @@ Energy (J), accumulated over the run (method.md §8):
   holds exactly; for the default nonsmooth generalised-α, which has no exact discrete
   identity, the residual that closes the balance: the energy of the high modes the
   scheme damps);
-- ``correction``: the strain energy that the position correction of the nonsmooth
-  generalised-α stores when it moves penetrating pair nodes apart (an input: it is then
+- ``correction``: the potential energy that the position correction of the nonsmooth
+  generalised-α adds when it moves penetrating pair nodes apart by Δq: the strain energy
+  it stores less the work of the step-average load over Δq (an input: it is then
   radiated or dissipated by the scheme; ∝ Δt² as the penetrations are O(Δt));
 - ``balance``: the residual of the equation above (zero to round-off with the average
   acceleration rule).
