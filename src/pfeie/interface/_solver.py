@@ -31,9 +31,22 @@ The answer is accepted only when the complementarity residual
           max(0, −ρ s_n) (open), plus any strength violation,
 
 scaled by max(|X|, ρ |w_free|), is below ``tol`` (ρ = 1/mean diag W). When the states
-cycle or the iteration limit is hit, a projected Gauss-Seidel sweep over the pairs with
-exact local solutions takes over from the last iterate; if that also fails,
-:class:`InterfaceError` names the pairs that kept changing and the residual.
+cycle or the iteration limit is hit, a semismooth Newton on the Alart-Curnier map takes
+over from the last iterate, then from X = 0. If both fail (redundant pairs: a singular
+or badly scaled W on which the Newton stalls on round-off), the proximal-point Newton of
+:mod:`._proximal` (the law for W + σ I and the proximal term, σ lowered as the residual
+falls: regular, well-conditioned Newton systems whatever the rank of W) starts from the
+best iterate, then from X = 0; then a projected Gauss-Seidel sweep over the pairs with
+exact local solutions; if all fail, :class:`InterfaceError` names the pairs that kept
+changing and the residual. Each answer is judged by the residual above. When the
+state iteration or the first Newton succeeds, nothing of this path changes: the
+fallbacks only run after them.
+
+A large sparse W (at least :data:`SPARSE_MIN` rows and at most :data:`SPARSE_FILL`
+nonzeros, e.g. granular media: many blocks, each with a few pairs) is kept sparse: the
+state systems are factorised by a sparse LU, W is not inverted, and a failed state
+iteration goes to the proximal-point Newton with sparse LU at once (the dense Newton
+would cost a dense factorisation per iteration). A dense W takes the path above.
 """
 
 from __future__ import annotations
@@ -45,16 +58,24 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgetrf as _getrf
 from scipy.linalg.lapack import dgetrs as _getrs
 
 from ..errors import InterfaceError, MechanismError
 from ..typing import FloatArray
 from ._laws import PairLaws
+from ._proximal import PairLaw, ShiftedOperator, proximal_newton
 from ._settings import SolverSettings
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 log = logging.getLogger(__name__)
+
+SPARSE_MIN = 1000
+"""Smallest W (rows) kept sparse when it is sparse enough (:data:`SPARSE_FILL`)."""
+SPARSE_FILL = 0.05
+"""Largest fraction of nonzeros of a W kept sparse."""
 
 
 def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -154,7 +175,15 @@ class InterfaceSolver:
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
-        if border is None and regularize == 0.0 and self.m:
+        # a large and sparse W (many blocks, each with few pairs: granular media) is kept
+        # sparse: sparse LU for the state systems and the robust fallback, no inverse
+        M = self.Wc.shape[0]
+        self._sparse: sp.csr_array | None = None
+        if border is None and M >= SPARSE_MIN and np.count_nonzero(self.Wc) <= SPARSE_FILL * M * M:
+            self._sparse = sp.csr_array(self.Wc)
+            self._cdiag = np.diag(self.Wc) - diag
+            log.info("W is sparse (%d × %d, %d nonzeros)", M, M, self._sparse.nnz)
+        if border is None and regularize == 0.0 and self.m and self._sparse is None:
             try:
                 cf = sla.cho_factor(self.Wc, check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
@@ -247,6 +276,8 @@ class InterfaceSolver:
             X = self._woodbury(key, kin, fr, coef, x0, target, w_free, oth, rows_fr, nidx)
             X.reshape(-1)[zero] = 0.0  # open: zero, not the round-off of the update
             return X, np.zeros(0)
+        if self._sparse is not None:
+            return self._linear_sparse(key, kin, fr, ncol, coef, x0, target, w_free, zero)
         r = 0 if self.E is None else self.E.shape[1]
         cached = self._cache.get(key)
         Wk = self.Wc[kin]
@@ -291,6 +322,52 @@ class InterfaceSolver:
         q = y[kin.size :] * self._escale
         return X.reshape(m, d), q
 
+    def _linear_sparse(
+        self, key: bytes, kin: np.ndarray, fr: np.ndarray, ncol: np.ndarray,
+        coef: FloatArray, x0: FloatArray, target: FloatArray, w_free: FloatArray,
+        zero: np.ndarray,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        """The state system of :meth:`_linear` with a sparse W: (W_kk + W_kf C) y = b,
+        C (f × k) the sliding pairs' X_t = coef X_n, factorised by a sparse LU."""
+        Ws = self._sparse
+        assert Ws is not None
+        Wk = Ws[kin]
+        cached = self._cache.get(b"s" + key)
+        if cached is None:
+            A = sp.csc_array(Wk[:, kin])
+            if fr.size:
+                C = sp.csr_array((coef, (np.arange(fr.size), ncol)), shape=(fr.size, kin.size))
+                A = sp.csc_array(A + Wk[:, fr] @ C)
+            lu = None
+            if kin.size:
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore", spla.MatrixRankWarning)
+                        lu = spla.splu(A)
+                except RuntimeError as exc:
+                    raise MechanismError(
+                        "the interface system is singular: with the current pair states some "
+                        "block is not restrained (a mechanism)"
+                    ) from exc
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[b"s" + key] = (lu,)
+            cached = (lu,)
+        lu = cached[0]
+        rhs = target.ravel()[kin] - w_free.ravel()[kin]
+        if fr.size:
+            rhs -= Wk[:, fr] @ x0
+        X = np.zeros(self.m * self.d)
+        if isinstance(lu, spla.SuperLU):
+            y = lu.solve(rhs)
+            if not np.all(np.isfinite(y)):
+                raise MechanismError("the interface system is singular (a mechanism)")
+            X[kin] = y
+        if fr.size:
+            X[fr] = coef * X[kin[ncol]] + x0
+        X[zero] = 0.0
+        return X.reshape(self.m, self.d), np.zeros(0)
+
     def _woodbury(
         self, key: bytes, kin: np.ndarray, fr: np.ndarray, coef: FloatArray, x0: FloatArray,
         target: FloatArray, w_free: FloatArray, oth: np.ndarray, rows_fr: np.ndarray,
@@ -327,6 +404,9 @@ class InterfaceSolver:
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
         """w = w_free + W X (+ E q)."""
+        if self._sparse is not None:  # the same W (no compliance: W_c − W is diagonal)
+            return (w_free.ravel() + self._sparse @ X.ravel()
+                    - self._cdiag * X.ravel()).reshape(self.m, self.d)  # fmt: skip
         w = w_free.ravel() + self.W @ X.ravel()
         if self.E is not None and q.size:
             w = w + self.E @ (q / self._escale)
@@ -514,6 +594,10 @@ class InterfaceSolver:
             seen[key] = it
             new.X, new.w, new.s = st.X, st.w, st.s
             st = new
+        if self._sparse is not None:
+            # a large sparse W: no dense Newton; the sparse proximal Newton at once
+            res_si = float(self.residual(st, prev, w_free).max(initial=0.0))
+            return self._fallback(label, history, [(res_si, st)], prev, w_free, it)
         st2, q2, n_it = self._newton(st, q, prev, w_free, e)
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
         if res <= self.tol:
@@ -528,18 +612,83 @@ class InterfaceSolver:
         if res4 <= self.tol:
             self.last = SolveInfo(it + n_it + n4, res4, "semismooth Newton (cold start)")
             return st4, q4
+        if self.E is None:
+            return self._fallback(label, history, [(res, st2), (res4, st4)], prev, w_free,
+                                  it + n_it + n4)  # fmt: skip
         if res4 < res:
             st2, q2, res = st4, q4, res4
-        if self.E is not None:
+        raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
+
+    def _fallback(
+        self, label: str, history: list[np.ndarray], tried: list[tuple[float, PairState]],
+        prev: PairState, w_free: FloatArray, n_before: int,
+    ) -> tuple[PairState, FloatArray]:  # fmt: skip
+        """After the state iteration and the Newton: the proximal-point Newton
+        (:mod:`._proximal`) from the best iterate so far, then from X = 0, then projected
+        Gauss-Seidel (dense W only) from the best answer; :class:`InterfaceError` if none
+        reaches the tolerance."""
+        res, st2 = min(tried, key=lambda t: t[0])
+        n_total = n_before
+        starts = [st2.copy()] if np.all(np.isfinite(st2.X)) else []
+        cold = prev.copy()
+        cold.X[:] = 0.0
+        starts.append(cold)
+        for start in starts:
+            st5, n5 = self._proximal(start, prev, w_free)
+            n_total += n5
+            res5 = float(self.residual(st5, prev, w_free).max(initial=0.0))
+            if res5 <= self.tol:
+                self.last = SolveInfo(n_total, res5, "proximal Newton")
+                log.debug("%s: solved by the proximal Newton, residual %.2e", label, res5)
+                return st5, np.zeros(0)
+            if res5 < res:
+                st2, res = st5, res5
+        if self._sparse is not None:
             raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
         st3 = self._gauss_seidel(st2, prev, w_free)
         res3 = float(self.residual(st3, prev, w_free).max(initial=0.0))
         if res3 <= self.tol:
-            self.last = SolveInfo(self.max_iter, res3, "projected Gauss-Seidel")
+            self.last = SolveInfo(n_total, res3, "projected Gauss-Seidel")
             log.debug("%s: solved by projected Gauss-Seidel, residual %.2e", label, res3)
-            return st3, q
+            return st3, np.zeros(0)
         raise InterfaceError(self._diagnose(label, history, st3 if res3 < res else st2, prev,
                                             w_free))  # fmt: skip
+
+    def _proximal(
+        self, st: PairState, prev: PairState, w_free: FloatArray
+    ) -> tuple[PairState, int]:
+        """The proximal-point Newton (:func:`._proximal.proximal_newton`) from ``st``, with
+        intact pairs breaking where the answer exceeds their strength (then solved again);
+        returns the trial state and the Newton iterations."""
+        m = self.m
+        op = ShiftedOperator(self.Wc, self._sparse)
+        X = np.where(np.isfinite(st.X), st.X, 0.0)
+        X[self._inactive] = 0.0
+        broken = st.broken.copy()
+        sdir = st.slip_dir.copy()
+        total = 0
+        s_ = w_free
+        for _ in range(m + 1):
+            c, mu, t = self.props.strength(broken, prev.path)
+            law = PairLaw(c, mu, t, broken, self._fixed, self._inactive, prev.s,
+                          prev.slip_dir)  # fmt: skip
+            # the measure of :meth:`residual`: relative to the larger of the forces and
+            # ρ |s_free|; the forces at the start stand for those of the answer
+            fscale = self._scale(X, w_free)
+            out = proximal_newton(op, w_free, X, law, self.rho, 0.1 * self.tol, fscale)
+            total += out.iterations
+            X, s_ = out.X, out.s
+            if not self._breaking:
+                break
+            Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
+            tolF = 1e-10 * self._scale(X, w_free)
+            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
+            fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
+            if not fail.any():
+                break
+            broken = broken | fail
+        # s = s_free + W_c X: the relative displacement w adds no compliance term
+        return self._classify(st, X, broken, s_, prev, sdir), total
 
     def _newton(
         self,
@@ -600,6 +749,15 @@ class InterfaceSolver:
             if not (fail.any() and self._breaking):
                 break
             broken = broken | fail
+        return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
+
+    def _classify(
+        self, st: PairState, X: FloatArray, broken: np.ndarray, s_: FloatArray,
+        prev: PairState, sdir: FloatArray,
+    ) -> PairState:  # fmt: skip
+        """The trial state of the forces X and relative displacements s (states and slip
+        directions from the law, ``sdir`` updated in place)."""
+        m = self.m
         out = st.copy()
         out.X, out.broken = X, broken
         out.w = s_ - self.props.compliance * X - self._gapv
@@ -618,7 +776,7 @@ class InterfaceSolver:
         with np.errstate(invalid="ignore", divide="ignore"):
             sdir[sliding] = -X[sliding, :-1] / nt[sliding, None]
         out.state, out.slip_dir = state, sdir
-        return out, z_q * self._escale, total
+        return out
 
     def _diagnose(
         self,
