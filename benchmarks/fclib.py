@@ -29,49 +29,22 @@ from pathlib import Path
 import numpy as np
 
 from pfeie.errors import PfeieError
-from pfeie.interface import InterfaceSolver, Joint, PairLaws, PairState
+from pfeie.interface import (
+    InterfaceSolver,
+    PairState,
+    coulomb_laws,
+    load_fclib,
+    natural_map_residual,
+)
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "fclib"
 SOLVED = 1e-8
 
 
-def load(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """W, q, μ and d of a problem, permuted to pfeie's order (tangential first)."""
-    pb = np.load(path)
-    W, q, mu, d = pb["W"], pb["q"], pb["mu"], int(pb["dim"])
-    nc = mu.size
-    perm = (np.arange(nc)[:, None] * d + np.r_[np.arange(1, d), 0][None, :]).ravel()
-    return W[np.ix_(perm, perm)], q[perm], mu, d
-
-
-def natural_map_residual(W: np.ndarray, q: np.ndarray, r: np.ndarray, mu: np.ndarray,
-                         d: int) -> float:  # fmt: skip
-    """The README's relative residual, in pfeie's order (normal last)."""
-    u = W @ r + q
-    R, U = r.reshape(-1, d), u.reshape(-1, d)
-    Uh = U.copy()
-    Uh[:, -1] += mu * np.linalg.norm(U[:, :-1], axis=1)
-    z = R - Uh
-    zn, zt = z[:, -1], z[:, :-1]
-    nt = np.linalg.norm(zt, axis=1)
-    P = np.zeros_like(z)  # projection on the cone |r_T| ≤ μ r_N
-    inside = nt <= mu * zn
-    P[inside] = z[inside]
-    mid = ~inside & (mu * nt > -zn)
-    a = (mu[mid] * nt[mid] + zn[mid]) / (1 + mu[mid] ** 2)
-    P[mid, -1] = a
-    P[mid, :-1] = (mu[mid] * a / np.maximum(nt[mid], 1e-300))[:, None] * zt[mid]
-    scale = max(float(np.linalg.norm(q)), float(np.linalg.norm(r)), float(np.linalg.norm(u)),
-                1e-300)  # fmt: skip
-    return float(np.linalg.norm(R - P)) / scale
-
-
 def solve(W: np.ndarray, q: np.ndarray, mu: np.ndarray, d: int) -> dict[str, object]:
     """One problem through :class:`InterfaceSolver`: residual, iterations, time, status."""
     nc = mu.size
-    values, interface = np.unique(mu, return_inverse=True)
-    laws = [Joint(phi=float(np.degrees(np.arctan(m)))) for m in values]
-    props = PairLaws.from_interfaces(np.ones(nc), interface.astype(np.int64), laws, d)
+    props = coulomb_laws(mu, d)
     prev = PairState.initial(np.ones(nc, dtype=bool), np.zeros(nc), d)
     t0 = time.perf_counter()
     try:
@@ -100,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
         print("|---|---|---|---|---|---|---|---|")
     solved = 0
     for p in files:
-        W, q, mu, d = load(p)
+        W, q, mu, d = load_fclib(p)
         out = solve(W, q, mu, d)
         solved += out["status"] == "solved"
         row = [p.stem, str(d), str(mu.size), f"{out['err']:.1e}", str(out["iterations"]),

@@ -15,7 +15,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pfeie.interface import InterfaceSolver, Joint, PairLaws, PairState
+from pfeie.interface import (
+    InterfaceSolver,
+    Joint,
+    PairLaws,
+    PairState,
+    coulomb_laws,
+    load_fclib,
+    natural_map_residual,
+)
 from pfeie.interface._proximal import PairLaw, ShiftedOperator, proximal_newton
 
 DATA = Path(__file__).parent / "data" / "fclib"
@@ -25,43 +33,13 @@ FAST = sorted(p.stem for p in DATA.glob("*.npz") if p.stem not in SLOW)
 
 def _load(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """W, q, μ, d of a problem in pfeie's order (normal last)."""
-    pb = np.load(DATA / f"{name}.npz")
-    W, q, mu, d = pb["W"], pb["q"], pb["mu"], int(pb["dim"])
-    perm = (np.arange(mu.size)[:, None] * d + np.r_[np.arange(1, d), 0][None, :]).ravel()
-    return W[np.ix_(perm, perm)], q[perm], mu, d
-
-
-def _laws(mu: np.ndarray, d: int) -> PairLaws:
-    values, interface = np.unique(mu, return_inverse=True)
-    laws = [Joint(phi=float(np.degrees(np.arctan(m)))) for m in values]
-    return PairLaws.from_interfaces(np.ones(mu.size), interface.astype(np.int64), laws, d)
-
-
-def natural_map_residual(W: np.ndarray, q: np.ndarray, r: np.ndarray, mu: np.ndarray,
-                         d: int) -> float:  # fmt: skip
-    """Siconos' relative natural-map residual (ρ = 1), normal last."""
-    u = W @ r + q
-    R, U = r.reshape(-1, d), u.reshape(-1, d)
-    Uh = U.copy()
-    Uh[:, -1] += mu * np.linalg.norm(U[:, :-1], axis=1)
-    z = R - Uh
-    zn, zt = z[:, -1], z[:, :-1]
-    nt = np.linalg.norm(zt, axis=1)
-    P = np.zeros_like(z)
-    inside = nt <= mu * zn
-    P[inside] = z[inside]
-    mid = ~inside & (mu * nt > -zn)
-    a = (mu[mid] * nt[mid] + zn[mid]) / (1 + mu[mid] ** 2)
-    P[mid, -1] = a
-    P[mid, :-1] = (mu[mid] * a / np.maximum(nt[mid], 1e-300))[:, None] * zt[mid]
-    scale = max(float(np.linalg.norm(q)), float(np.linalg.norm(r)), float(np.linalg.norm(u)))
-    return float(np.linalg.norm(R - P)) / scale
+    return load_fclib(DATA / f"{name}.npz")
 
 
 def _solve_fclib(name: str) -> tuple[float, str]:
     W, q, mu, d = _load(name)
     nc = mu.size
-    solver = InterfaceSolver(W, _laws(mu, d))
+    solver = InterfaceSolver(W, coulomb_laws(mu, d))
     prev = PairState.initial(np.ones(nc, dtype=bool), np.zeros(nc), d)
     st, _ = solver.solve(q.reshape(nc, d), prev)
     return natural_map_residual(W, q, st.X.ravel(), mu, d), solver.last.method

@@ -43,12 +43,13 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from pydantic import ValidationError
 
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
 from ..interface import INTACT, OPEN, SLIDE, STICK, PairState
-from ..linalg import Factorization
+from ..linalg import Factorization, factorize
 from ..model import GroundMotion, Model
 from ..typing import BoolArray, FloatArray, IntArray
 from ._corotation import Corotation
@@ -190,6 +191,7 @@ class Dynamic:
         # t_{n+1}, load, q̈_free)
         self._ahead: tuple[State, Excitation, float, FloatArray, FloatArray] | None = None
         self.corot: Corotation | None = None
+        self._mass_factor: tuple[IntArray, Factorization] | None = None  # full M (M_a)
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.factor,
                                     self.op if self.m else None)  # fmt: skip
@@ -393,7 +395,7 @@ class Dynamic:
         v = np.zeros(n) if v0 is None else np.asarray(v0, dtype=float).ravel()[free]
         if self.system.C is not None:
             f = f - self.damping_force(v, u)
-        a = self.minv * (f - self.elastic_force(u))
+        a = self._mass_solve(f - self.elastic_force(u))
         if self.mj is not None:
             # Moreau-Jean's load is the external load only: pair impulses and damping are
             # the step's own (the acceleration above is the total one, for the output)
@@ -427,22 +429,25 @@ class Dynamic:
             r = r - self.damping_force(v, u)
         m, d = self.m, self.d
         if not m:
-            return self.minv * r
+            return self._mass_solve(r)
         G = self.op.G
         spring = self._spring  # a spring's force is known from the state: X
         closed = (ps.state != OPEN) & ~spring
         at_rest = not np.any(ex.ground_acceleration(t0)) and not ex.moves_supports
         if (static and at_rest) or not closed.any():
             X = ps.X if static else np.where(spring[:, None], ps.X, 0.0)
-            return self.minv * (r + G.T @ X.ravel())
+            return self._mass_solve(r + G.T @ X.ravel())
         from ..interface import InterfaceSolver
 
         idx = np.flatnonzero(closed)
         comps = (idx[:, None] * d + np.arange(d)).ravel()
         Gc = G[comps]
-        Wm = (Gc @ (Gc.multiply(self.minv[None, :]).T)).toarray()
+        if self._full_mass:
+            Wm = np.asarray(Gc @ self._mass_solve(Gc.T.toarray()))
+        else:
+            Wm = (Gc @ (Gc.multiply(self.minv[None, :]).T)).toarray()
         a_pres = self.op.Gp @ ex.prescribed(t0)[2] if ex.moves_supports else np.zeros(m * d)
-        w_free = (Gc @ (self.minv * r) + a_pres[comps]).reshape(-1, d)
+        w_free = (Gc @ self._mass_solve(r) + a_pres[comps]).reshape(-1, d)
         zero = np.zeros((idx.size, d))
         start = PairState(ps.state[idx], ps.broken[idx], zero, zero, zero,
                           ps.slip_dir[idx], ps.path[idx])  # fmt: skip
@@ -450,7 +455,22 @@ class Dynamic:
         sol, _ = InterfaceSolver(Wm, laws).solve(w_free, start, label=f"t = {t0:g} s")
         X = np.where(spring[:, None], ps.X, 0.0)
         X[idx] = sol.X
-        return self.minv * (r + G.T @ X.ravel())
+        return self._mass_solve(r + G.T @ X.ravel())
+
+    def _mass_solve(self, r: FloatArray) -> FloatArray:
+        """M⁻¹ r on the DOFs with mass (zero on massless ones): the lumped diagonal, or,
+        with a reservoir's full added mass, M itself (factorised once, on its DOFs with
+        mass). ``r`` (n,) or (n, k)."""
+        if not self._full_mass:
+            return self.minv * r if r.ndim == 1 else self.minv[:, None] * r
+        if self._mass_factor is None:
+            M = sp.csc_matrix(self.system.M)
+            keep = np.flatnonzero(M.diagonal() > 0)
+            self._mass_factor = (keep, factorize(sp.csc_matrix(M[keep][:, keep]), spd=True))
+        keep, fac = self._mass_factor
+        out = np.zeros_like(r, dtype=float)
+        out[keep] = fac.solve(r[keep])
+        return out
 
     # -- one step ------------------------------------------------------------------------------
     def step(self, cur: StepState, ex: Excitation | None = None) -> StepState:

@@ -6,6 +6,8 @@
   :class:`Joint`; :class:`SlipWeakening`), gathered per pair by :class:`PairLaws`;
 - :class:`PairState`: the pair states with explicit trial and commit (the solver returns
   a trial state; the analysis commits it when the step is accepted);
+- :func:`load_fclib`, :func:`coulomb_laws`, :func:`natural_map_residual`: frictional-
+  contact problems in the FCLIB form and Siconos' measure of an answer;
 - :class:`InterfaceSolver`: the interface problem of one step for a given Delassus
   operator W (method.md §5.3), with its :class:`SolverSettings`.
 
@@ -13,6 +15,7 @@ The operators that couple blocks and pairs (G, W, the static and one-step interf
 problems) live in :mod:`pfeie.coupling`.
 """
 
+from ._fclib import coulomb_laws, load_fclib, natural_map_residual
 from ._laws import Joint, JointLaw, MohrCoulomb, PairLaws, SlipWeakening, Strength
 from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
@@ -22,5 +25,6 @@ from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 __all__ = [
     "INTACT", "OPEN", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver", "Joint", "JointLaw",
     "MohrCoulomb", "PairGeometry", "PairLaws", "PairState", "SlipWeakening", "SolveInfo",
-    "SolverSettings", "SplitMesh", "Strength", "split",
+    "SolverSettings", "SplitMesh", "Strength", "coulomb_laws", "load_fclib",
+    "natural_map_residual", "split",
 ]  # fmt: skip
