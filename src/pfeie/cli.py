@@ -452,12 +452,31 @@ def _study(args: argparse.Namespace) -> int:
         return _input_failure(exc, args.study)
     t0 = time.perf_counter()
 
+    tty = sys.stderr.isatty()
+    first: list[int] = []  # the runs already done when this command started (resumed)
+
     def progress(done: int, total: int, row: dict[str, object]) -> None:
-        if not args.quiet:
-            el = time.perf_counter() - t0
-            print(f"run {done}/{total}  {row['record']} at {row['intensity']:g}  "
-                  f"({'completed' if row['completed'] else 'STOPPED'}, {row['wall_s']:.1f} s)"
-                  f"  elapsed {el:.0f} s", file=sys.stderr)  # fmt: skip
+        """A bar over the runs on a terminal (one line rewritten), a line a run else:
+        runs done, elapsed time, the ETA from this command's pace, the last run."""
+        if args.quiet:
+            return
+        if not first:
+            first.append(done - 1)
+        el = time.perf_counter() - t0
+        eta = el / max(done - first[0], 1) * (total - done)
+        width = 24
+        fill = width * done // max(total, 1)
+        last = (
+            f"{row['record']} at {row['intensity']:g} "
+            f"({'completed' if row['completed'] else 'STOPPED'}, {row['wall_s']:.1f} s)"
+        )
+        line = (f"[{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs  elapsed "
+                f"{el:.0f} s  ETA {eta:.0f} s  last: {last}")  # fmt: skip
+        if tty:
+            sys.stderr.write("\r" + line.ljust(110) + ("\n" if done >= total else ""))
+        else:
+            sys.stderr.write(line + "\n")
+        sys.stderr.flush()
 
     print(f"study: {len(st.records)} records x {len(st.values)} intensities = {len(specs)} "
           f"runs; output {st.folder}", file=sys.stderr)  # fmt: skip
