@@ -341,10 +341,10 @@ class ResultsWriter:
     def append(self, row: dict[str, Any]) -> None:
         """One recorded time (the ``on_record`` rows of :meth:`Dynamic.run`); rows are
         buffered and written in blocks, at least every ``flush_s`` seconds, and when the
-        rows fill a chunk of the histories (:data:`HISTORY_ROWS`): a compressed chunk
-        written part-full is written again, larger, when it fills, and the file keeps the
-        room of the first (on the demo, a run slowed so that its blocks of 256 rows fell
-        across chunks wrote a results file 5 % larger)."""
+        rows fill a chunk of the histories (:data:`HISTORY_ROWS`; after a timed write the
+        blocks come back to the chunks' ends): a compressed chunk written part-full is
+        written again, larger, when it fills, and the file may keep the room of the
+        first."""
         keep = {k: (np.array(v, copy=True) if isinstance(v, np.ndarray) else v)
                 for k, v in row.items() if k not in ("u", "v", "a")}  # fmt: skip
         if self.rows % self.field_every == 0:
