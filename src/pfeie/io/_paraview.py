@@ -164,10 +164,8 @@ class _Series:
         layout = h5py.VirtualLayout(shape=(n, 3), dtype=ds.dtype)
         layout[:, :d] = h5py.VirtualSource(self._relative(results), f"fields/{key}",
                                            shape=ds.shape, dtype=ds.dtype)[i]  # fmt: skip
-        if d < 3:
-            zero = f"zero_{ds.dtype.name}"
-            if zero not in self._shapes:
-                self.store(zero, np.zeros(n, dtype=ds.dtype))
+        if d < 3:  # (the name of the zeros as stored: an equal array may have been first)
+            zero = self.store(f"zero_{ds.dtype.name}", np.zeros(n, dtype=ds.dtype))
             for c in range(d, 3):
                 layout[:, c] = h5py.VirtualSource(".", zero, shape=(n,), dtype=ds.dtype)
         self.g.create_virtual_dataset(name, layout, fillvalue=np.nan)
@@ -188,7 +186,7 @@ class _Series:
 
         grid = ET.SubElement(self.series, "Grid", GridType="Uniform")
         grid.extend(copy.deepcopy(e) for e in self.mesh)
-        ET.SubElement(grid, "Time", Value=repr(t))
+        ET.SubElement(grid, "Time", Value=repr(float(t)))
         for center, data in (("Node", point_data), ("Cell", cell_data)):
             for attr, name in data.items():
                 shape = self._shapes[name][0]
