@@ -3,13 +3,14 @@
 ``blocks.xdmf`` (with ``blocks.h5``): the split mesh with, at every field output time,
 ``displacement``, ``velocity``, ``acceleration`` (point data, m, m/s, m/s², 3 components,
 z = 0 in 2D) and the stress (point data, Pa): in 3D ``stress``, the symmetric tensor as
-its 6 independent components (XDMF's ``Tensor6``: xx, xy, xz, yy, yz, zz; ParaView reads
-it as the full tensor), in 2D the scalars ``stress_xx``, ``stress_yy``, ``stress_xy``,
-and ``stress_zz`` in plane strain (zero in plane stress: not written); plus the cell data
-``body``. The displacement, velocity and acceleration are not copied: each frame's is an
-HDF5 virtual dataset of ``blocks.h5`` that maps one row of the results file's
-``/fields/u``, ``v``, ``a`` (:meth:`_Series.link`), so the series needs the results file
-at the same relative path (beside it, as ``pfeie run`` writes them).
+its 6 independent components (XDMF's ``Tensor6``: xx, xy, xz, yy, yz, zz; VTK's XDMF
+reader, ParaView's, expands it to the full tensor), in 2D the scalars ``stress_xx``,
+``stress_yy``, ``stress_xy``, and ``stress_zz`` in plane strain (zero in plane stress: not
+written); plus the cell data ``body``. The displacement, velocity and acceleration are
+not copied: each frame's is an HDF5 virtual dataset of ``blocks.h5`` that maps one row of
+the results file's ``/fields/u``, ``v``, ``a`` (:meth:`_Series.link`), so the series
+needs the results file at the same relative path (beside it, as ``pfeie run`` writes
+them).
 
 ``interfaces.xdmf``: the interfaces as their own mesh (the side-a faces of each joint,
 whose nodes are the pairs) with, at every field output time, point data ``opening`` (m),
