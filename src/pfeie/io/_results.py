@@ -37,7 +37,9 @@ Storage (:class:`Storage`, the keys ``output.compression``, ``compression_level`
 :data:`SMALL` bytes are chunked and compressed (gzip with the byte shuffle by default; any
 HDF5 reader reads them, h5py transparently). Histories are chunked along time,
 :data:`HISTORY_ROWS` rows a chunk (fewer for wide rows: at most :data:`CHUNK_BYTES`), the
-fields one row (one time) a chunk.
+fields one row (one time) a chunk. The ParaView series reads the fields where they are
+(:mod:`pfeie.io._paraview`), so they are stored as :meth:`Storage.for_paraview` says:
+with "lzf", which ParaView cannot read, they are gzip at level 1.
 """
 
 from __future__ import annotations
@@ -131,15 +133,15 @@ class Storage:
                 "compression_level": self.level if self.compression == "gzip" else 0}  # fmt: skip
 
     def for_paraview(self) -> Storage:
-        """The storage of the ParaView series: ParaView's HDF5 has no LZF filter, so "lzf"
-        becomes gzip at level 1 (the fastest)."""
+        """The storage of the ParaView series and of the fields it links: ParaView's HDF5
+        has no LZF filter, so "lzf" becomes gzip at level 1 (the fastest)."""
         return Storage("gzip", 1, self.field_precision) if self.compression == "lzf" else self
 
-    def filters(self, nbytes: int | None = None) -> dict[str, Any]:
+    def filters(self, nbytes: int | None = None, small: int = SMALL) -> dict[str, Any]:
         """The ``create_dataset`` keywords of the filters for an array of ``nbytes`` bytes
-        (none for a small one, of at most :data:`SMALL` bytes, or without compression;
+        (none for a small one, of at most ``small`` bytes, or without compression;
         None: an array that grows)."""
-        if self.compression == "none" or (nbytes is not None and nbytes <= SMALL):
+        if self.compression == "none" or (nbytes is not None and nbytes <= small):
             return {}
         out: dict[str, Any] = {"compression": self.compression, "shuffle": True}
         if self.compression == "gzip":
@@ -147,12 +149,12 @@ class Storage:
         return out
 
     def create(self, g: Any, name: str, data: Any, units: str | None = None,
-               chunks: tuple[int, ...] | None = None) -> Any:  # fmt: skip
-        """A fixed dataset ``g[name]`` of ``data``, compressed if it is not small; chunked
-        as ``chunks``, by default whole trailing axes and as many leading rows as fit in
-        :data:`CHUNK_BYTES`; the attribute ``units`` if given."""
+               chunks: tuple[int, ...] | None = None, small: int = SMALL) -> Any:  # fmt: skip
+        """A fixed dataset ``g[name]`` of ``data``, compressed if it has more than
+        ``small`` bytes; chunked as ``chunks``, by default whole trailing axes and as many
+        leading rows as fit in :data:`CHUNK_BYTES`; the attribute ``units`` if given."""
         data = np.asarray(data)
-        kw = self.filters(data.nbytes)
+        kw = self.filters(data.nbytes, small)
         if kw and data.ndim:
             kw["chunks"] = chunks or _guess_chunks(data.shape, data.itemsize)
         ds = g.create_dataset(name, data=data, **kw)
@@ -275,8 +277,10 @@ class ResultsWriter:
             self._grow(he, key, (), "J")
         fg = f.create_group("fields")
         self._grow(fg, "time", (), "s")
-        for key in ("u", "v", "a"):
-            self._grow(fg, key, (n, d), UNITS[key], self.storage.field_dtype, chunk_rows=1)
+        for key in ("u", "v", "a"):  # (lzf: gzip at level 1, for the ParaView series that
+            # links them, pfeie.io._paraview)
+            self._grow(fg, key, (n, d), UNITS[key], self.storage.field_dtype, chunk_rows=1,
+                       storage=self.storage.for_paraview())  # fmt: skip
         f.flush()
 
     @classmethod
@@ -300,11 +304,12 @@ class ResultsWriter:
 
     def _grow(
         self, g: Any, name: str, shape: tuple[int, ...], units: str, dtype: Any = np.float64,
-        chunk_rows: int = HISTORY_ROWS,
+        chunk_rows: int = HISTORY_ROWS, storage: Storage | None = None,
     ) -> None:  # fmt: skip
         """A dataset of shape (0, *shape) that grows along its first axis (time), chunked
         ``chunk_rows`` rows at a time, or fewer if such a chunk would exceed
-        :data:`CHUNK_BYTES` (a row of fields is one chunk whatever its size)."""
+        :data:`CHUNK_BYTES` (a row of fields is one chunk whatever its size); filtered as
+        ``storage`` (default: the file's)."""
         row = [max(s, 1) for s in shape]
         nbytes = np.dtype(dtype).itemsize * math.prod(row)
         chunk = (max(1, min(chunk_rows, CHUNK_BYTES // nbytes)), *row)
@@ -312,7 +317,7 @@ class ResultsWriter:
         # not exceed a fixed axis
         maxshape = (None, *[s if s else None for s in shape])
         g.create_dataset(name, shape=(0, *shape), maxshape=maxshape, dtype=dtype,
-                         chunks=chunk, **self.storage.filters())  # fmt: skip
+                         chunks=chunk, **(storage or self.storage).filters())  # fmt: skip
         g[name].attrs["units"] = units
 
     @staticmethod
@@ -341,7 +346,11 @@ class ResultsWriter:
 
     def append(self, row: dict[str, Any]) -> None:
         """One recorded time (the ``on_record`` rows of :meth:`Dynamic.run`); rows are
-        buffered and written in blocks, at least every ``flush_s`` seconds."""
+        buffered and written in blocks, at least every ``flush_s`` seconds, and when the
+        rows fill a chunk of the histories (:data:`HISTORY_ROWS`; after a timed write the
+        blocks come back to the chunks' ends): a compressed chunk written part-full is
+        written again, larger, when it fills, and the file may keep the room of the
+        first."""
         keep = {k: (np.array(v, copy=True) if isinstance(v, np.ndarray) else v)
                 for k, v in row.items() if k not in ("u", "v", "a")}  # fmt: skip
         if self.rows % self.field_every == 0:
@@ -352,7 +361,7 @@ class ResultsWriter:
         self._buf.append(keep)
         self.rows += 1
         now = time.perf_counter()
-        if len(self._buf) >= 256 or now - self._last_flush > self.flush_s:
+        if self.rows % HISTORY_ROWS == 0 or now - self._last_flush > self.flush_s:
             self.flush()
 
     def flush(self) -> None:

@@ -473,7 +473,8 @@ class Output(_Table):
         Field(description="compression of the arrays of results.h5 and of the ParaView "
               "series (lossless): 'gzip' (deflate with the byte shuffle; every HDF5 reader, "
               "ParaView and MATLAB included), 'lzf' (faster, a little larger; h5py only, so "
-              "the ParaView series then use gzip at level 1) or 'none'"),
+              "the nodal fields, which the ParaView series reads in results.h5, and the "
+              "series' own files then use gzip at level 1) or 'none'"),
     ] = "gzip"  # fmt: skip
     compression_level: Annotated[
         int, Field(ge=1, le=9), Expect("an integer from 1 to 9"),
