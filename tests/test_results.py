@@ -86,8 +86,9 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
     path, _, _ = small_run
     assert main(["plot", str(path), "--out", str(tmp_path / "fig")]) == 0
     pngs = sorted(p.name for p in (tmp_path / "fig").iterdir())
-    assert pngs == ["energy.png", "input_motion.png", "joint_joint.png", "mesh.png",
-                    "probe_top.png", "rigid_motion.png", "states_joint.png"]  # fmt: skip
+    assert pngs == ["energy.png", "input_motion.png", "joint_joint.png", "joint_map.png",
+                    "mesh.png", "probe_top.png", "rigid_motion.png",
+                    "states_joint.png"]  # fmt: skip
     assert all((tmp_path / "fig" / p).stat().st_size > 10_000 for p in pngs)
     assert main(["export", str(path), "--csv", str(tmp_path / "csv")]) == 0
     probes = (tmp_path / "csv" / "probes.csv").read_text().splitlines()
@@ -110,7 +111,9 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
                                                             abs=1e-15)  # fmt: skip
     assert main(["report", str(path), "--out", str(tmp_path / "r.html")]) == 0
     html = (tmp_path / "r.html").read_text()
-    assert "<h2>Joints</h2>" in html and html.count("data:image/png;base64") == 7
+    # the figures of `pfeie plot` and those that need the model: the loads, the static
+    # principal stresses, the static stresses along the joint
+    assert "<h2>Joints</h2>" in html and html.count("data:image/png;base64") == 8 + 3
     assert main(["plot", str(tmp_path / "none.h5")]) == 2
     capsys.readouterr()
 

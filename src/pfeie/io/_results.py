@@ -4,7 +4,8 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
 
 - ``/`` attributes: ``pfeie_version``, ``model_file``, ``model_sha256``, ``form``,
   ``completed`` (false until the run ends normally), ``stop_reason``, and JSON strings
-  ``model_summary``, ``analysis``, ``units``;
+  ``model_summary``, ``model_spec`` (the validated model file as run, with its ``--set``
+  overrides), ``analysis``, ``units``; ``model_path``, the model file's absolute path;
 - ``/mesh``: ``points`` (n, d), ``cells/<type>``, ``body`` (n,), ``body_names``;
   connectivities and indices have units ``index``, codes ``code``, flags ``flag``,
   unit vectors and frames ``1``;
@@ -218,6 +219,8 @@ class ResultsWriter:
             model_file=str(job.path), model_sha256=job.digest,
             form=an.form, completed=False, stop_reason="",
             model_summary=json.dumps(job.summary(), default=str),
+            model_spec=json.dumps(job.spec, default=str),
+            model_path=str(Path(job.path).resolve()),
             analysis=json.dumps(settings), units=json.dumps(UNITS), **self.storage.attrs,
         )  # fmt: skip
         g = f.create_group("mesh")

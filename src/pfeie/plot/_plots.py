@@ -9,8 +9,16 @@
   in 3D: the broken pairs) and open crack (the broken pairs that are open) over time;
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
+- ``joint_map.png``: along each interface, the largest opening and slip of the run, the
+  residual slip, and the pair states of the static state and at the end;
+- ``envelope.png`` (2D, with an envelope): the largest σ₁ and the smallest σ₃ of the run
+  at every node, on the mesh;
 - ``rigid_motion.png``: translation and rotation histories of the bodies that move;
 - ``energy.png``: the energy terms and the balance residual.
+
+The report (:func:`pfeie.plot.write_report`) adds figures that need the model:
+``plot_loads`` (the loads on the mesh) and ``plot_fields`` (the static principal
+stresses).
 
 A static-only run (``analysis.dynamic = false``) has no histories: ``plot_all`` then
 writes ``static_<name>.png``, the normal and shear stress of the static state along each
@@ -24,6 +32,7 @@ histories nor a static pair state.
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -77,6 +86,10 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
         for name in res.interface_names:
             files.append(plot_joint(res, name, out / f"joint_{name}.png", title))
             files.append(plot_states(res, name, out / f"states_{name}.png", title))
+        if res.interface_names:
+            files.append(plot_joint_map(res, out / "joint_map.png", title))
+        if res.f["mesh/points"].shape[1] == 2 and res.has_envelope:
+            files.append(plot_envelope(res, out / "envelope.png", title))
         files.append(plot_rigid(res, out / "rigid_motion.png", title))
         files.append(plot_energy(res, out / "energy.png", title))
     return files
@@ -344,3 +357,273 @@ def plot_spectrum(spectra: dict[str, ResponseSpectrum], path: str | Path,
     head = f"{title}\n" if title else ""
     ax[0].set_title(f"{head}elastic response spectra, damping {damping}", fontsize=10)
     return _finish(fig, Path(path))
+
+
+# -- figures of the report: the loads, stress fields on the mesh, joint maps ---------------
+CORNERS = {"triangle": 3, "triangle6": 3, "quad": 4, "quad8": 4, "quad9": 4}
+
+
+def _cells2d(res: Results) -> list[np.ndarray]:
+    """The corner connectivities of the 2D cells of a results file, one array per type."""
+    return [np.asarray(res.f[f"mesh/cells/{ctype}"])[:, : CORNERS[ctype]]
+            for ctype in res.f["mesh/cells"] if ctype in CORNERS]  # fmt: skip
+
+
+def _outline(ax: Any, res: Results, alpha: float = 0.35, edges: str = "0.35") -> None:
+    """The 2D mesh drawn as cell outlines coloured by body."""
+    plt = _plt()
+    from matplotlib.collections import PolyCollection
+
+    x = np.asarray(res.f["mesh/points"])[:, :2]
+    body = np.asarray(res.f["mesh/body"])
+    for conn in _cells2d(res):
+        colours = plt.get_cmap("tab10")(body[conn[:, 0]] % 10)
+        colours[:, 3] = alpha
+        ax.add_collection(PolyCollection(x[conn], facecolors=colours, edgecolors=edges,
+                                         linewidths=0.3))  # fmt: skip
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+
+
+def _triangles(res: Results) -> np.ndarray:
+    """The 2D cells cut into triangles through their corners (for nodal colour fields)."""
+    tris = []
+    for conn in _cells2d(res):
+        tris.append(conn[:, :3])
+        if conn.shape[1] == 4:
+            tris.append(conn[:, [0, 2, 3]])
+    return np.concatenate(tris) if tris else np.zeros((0, 3), dtype=np.int64)
+
+
+def plot_fields(
+    res: Results, fields: list[tuple[str, np.ndarray]], path: Path, title: str = "",
+    marks: Sequence[Sequence[float] | None] | None = None,
+) -> Path:  # fmt: skip
+    """Nodal scalar fields (label, values (n_points,) in MPa) on the 2D mesh, one panel
+    each, interpolated linearly over the cells' corners; ``marks``: a point to mark per
+    panel (the extreme)."""
+    plt = _plt()
+    import matplotlib.tri as mtri
+
+    x = np.asarray(res.f["mesh/points"])[:, :2]
+    tri = _triangles(res)
+    fig, axes = plt.subplots(1, len(fields), figsize=(5.2 * len(fields), 5.0), squeeze=False)
+    for k, (label, v) in enumerate(fields):
+        ax = axes[0, k]
+        ok = np.all(np.isfinite(v[tri]), axis=1)
+        tr = mtri.Triangulation(x[:, 0], x[:, 1], tri[ok])
+        vv = np.where(np.isfinite(v), v, 0.0)
+        lim = float(np.abs(vv[tri[ok]]).max()) if ok.any() else 1.0
+        im = ax.tripcolor(tr, vv, shading="gouraud", cmap="RdBu_r", vmin=-lim, vmax=lim)
+        fig.colorbar(im, ax=ax, shrink=0.8, label="MPa")
+        at = None if marks is None else marks[k]
+        if at is not None:
+            ax.plot(at[0], at[1], "k*", ms=10, mec="w")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.set_title(label, fontsize=9)
+    fig.suptitle(title, fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_envelope(res: Results, path: Path, title: str = "") -> Path:
+    """The stress envelope on the 2D mesh: the largest σ₁ and the smallest σ₃ of the run
+    at every node (MPa, tension positive; the total stress, static state included), the
+    extremes starred."""
+    env = res.envelope()
+    fields, marks = [], []
+    x = np.asarray(res.f["mesh/points"])
+    for key, label in (("node_max", "largest σ1 over the run"),
+                       ("node_min", "smallest σ3 over the run")):  # fmt: skip
+        v = 1e-6 * env[key]
+        fields.append((label, v))
+        fin = np.where(np.isfinite(v), v, 0.0)
+        marks.append(tuple(x[int(np.argmax(fin) if key == "node_max" else np.argmin(fin))]))
+    return plot_fields(res, fields, path, (f"{title}\n" if title else "") + "stress envelope "
+                       "(tension +)", marks)  # fmt: skip
+
+
+def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
+    """Per joint, along the joint: the largest opening and slip of the run, the residual
+    slip, and strips of the pair states at the start (the static state) and at the end
+    (broken pairs crossed)."""
+    plt = _plt()
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    names = res.interface_names
+    fig, axes = plt.subplots(2 * len(names), 1, figsize=(8, 3.6 * len(names)), squeeze=False,
+                             gridspec_kw={"height_ratios": [4, 1] * len(names)})  # fmt: skip
+    cmap = ListedColormap(STATE_COLOURS)
+    norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
+    for j, name in enumerate(names):
+        ax, strip = axes[2 * j, 0], axes[2 * j + 1, 0]
+        pr = res.pairs(name)
+        order, s = _arc(pr["x"])
+        slip = np.linalg.norm(pr["slip"], axis=-1)[:, order]
+        ax.plot(s, 1e3 * pr["opening"][:, order].max(axis=0), ".-", lw=1.0, color="C3",
+                label="largest opening")  # fmt: skip
+        ax.plot(s, 1e3 * slip.max(axis=0), ".-", lw=1.0, color="C0", label="largest slip")
+        ax.plot(s, 1e3 * slip[-1], "--", lw=1.0, color="C0", label="residual slip")
+        ax.set_ylabel("mm")
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper right", fontsize=8)
+        ax.set_title(f"joint {name}", fontsize=9)
+        first = (res.static_pairs(name)["state"][order] if "static/state" in res.f
+                 else pr["state"][0, order])  # fmt: skip
+        st = np.stack([first, pr["state"][-1, order]])
+        edges = (np.concatenate([[s[0]], 0.5 * (s[1:] + s[:-1]), [s[-1]]]) if s.size > 1
+                 else np.r_[-0.5, 0.5])  # fmt: skip
+        strip.pcolormesh(edges, [0, 1, 2], st, cmap=cmap, norm=norm, shading="flat")
+        broken = pr["broken"][-1, order]
+        strip.plot(s[broken], np.full(int(broken.sum()), 1.5), "kx", ms=4)
+        strip.set_yticks([0.5, 1.5], ["static", "end"], fontsize=8)
+        strip.set_xlim(ax.get_xlim())
+        strip.set_xlabel("position along the joint (m)")
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
+    handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
+    fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
+    fig.suptitle((f"{title}\n" if title else "") + "joint maps", fontsize=10)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _facet_polylines(model: Any, group: str) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The facets of a 2D group as (points (5, 2) along the facet, outward normal (2,))."""
+    mesh = model.mesh
+    out = []
+    for ftype, conn in mesh.facet_group(group).items():
+        conn = np.asarray(conn)
+        ctype, cell = mesh.facet_cells(ftype, conn)
+        centre = mesh.points[mesh.cells[ctype][cell]].mean(axis=1)[:, :2]
+        a, b = mesh.points[conn[:, 0], :2], mesh.points[conn[:, 1], :2]
+        t = b - a
+        n = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.linalg.norm(t, axis=1)[:, None]
+        n *= np.where(np.einsum("fd,fd->f", 0.5 * (a + b) - centre, n) >= 0, 1.0, -1.0)[:, None]
+        r = np.linspace(0.0, 1.0, 5)
+        for k in range(conn.shape[0]):
+            out.append((a[k] + r[:, None] * t[k], n[k]))
+    return out
+
+
+def _diagram(ax: Any, lines: list[tuple[np.ndarray, np.ndarray, np.ndarray]], scale: float,
+             colour: str, label: str) -> None:  # fmt: skip
+    """A pressure diagram: on each polyline (points, normal, values) the values drawn
+    along the normal ``scale`` m per Pa, filled; arrows towards the face."""
+    from matplotlib.patches import Polygon
+
+    first = True
+    for pts, n, v in lines:
+        if not np.any(v > 0):
+            continue
+        tip = pts + scale * v[:, None] * n[None, :]
+        ax.add_patch(Polygon(np.concatenate([pts, tip[::-1]]), closed=True, fc=colour,
+                             ec=colour, alpha=0.35, lw=0.6,
+                             label=label if first else None))  # fmt: skip
+        first = False
+        k = len(pts) // 2
+        if v[k] > 0:
+            ax.annotate("", pts[k], tip[k], arrowprops={"arrowstyle": "->", "color": colour,
+                                                        "lw": 0.7})  # fmt: skip
+
+
+def plot_loads(res: Results, model: Any, spec: dict[str, Any], path: Path,
+               title: str = "") -> Path:  # fmt: skip
+    """The loads of a 2D model on its mesh: gravity (an arrow at the centre of mass),
+    the pressure diagrams of the hydrostatic and other pressures and of the silt (its
+    normal pressure), drawn outside the faces they push on, the water levels, the faces
+    that carry the reservoir's added mass, the static uplift along the joints (drawn
+    below them) and the supports."""
+    plt = _plt()
+    from ..model import Load
+
+    x = np.asarray(res.f["mesh/points"])[:, :2]
+    size = float(np.ptp(x, axis=0).max()) or 1.0
+    fig, ax = plt.subplots(figsize=(9, 6.5))
+    _outline(ax, res, alpha=0.12, edges="0.7")
+    pressure: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    silt: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    loads: list[Load] = list(model.loads)
+    gravity = None
+    for ld in loads:
+        if ld.kind == "gravity":
+            gravity = np.asarray(ld.value, dtype=float)
+        elif ld.kind == "pressure" and ld.target is not None:
+            for pts, n in _facet_polylines(model, ld.target):
+                v = (np.asarray(ld.value(pts), dtype=float) if callable(ld.value)
+                     else np.full(len(pts), np.asarray(ld.value, dtype=float)))  # fmt: skip
+                pressure.append((pts, n, v))
+        elif ld.kind == "silt" and ld.target is not None and callable(ld.value):
+            for pts, n in _facet_polylines(model, ld.target):
+                sig = np.asarray(ld.value(pts), dtype=float)  # (5, 2) principal pressures
+                silt.append((pts, n, (sig * n**2).sum(axis=1)))
+    uplift = []
+    if "static/uplift" in res.f and "pairs/x" in res.f:
+        p = np.asarray(res.f["static/uplift"])
+        xp = np.asarray(res.f["pairs/x"])[:, :2]
+        frame = np.asarray(res.f["pairs/frame"])
+        iface = np.asarray(res.f["pairs/interface"])
+        for k in np.unique(iface):
+            idx = np.flatnonzero((iface == k) & (p > 0))
+            if idx.size < 1:
+                continue
+            order, _ = _arc(xp[idx]) if idx.size > 1 else (np.zeros(1, dtype=int), None)
+            idx = idx[order]
+            n = frame[idx[0], -1, :2]
+            n = -n if n[1] > 0 else n  # drawn below the joint
+            uplift.append((xp[idx], n, p[idx]))
+    peak = max([float(v.max()) for _, _, v in pressure + silt + uplift] or [1.0])
+    scale = 0.15 * size / peak if peak > 0 else 0.0
+    _diagram(ax, pressure, scale, "tab:blue", f"pressure (hydrostatic), up to "
+             f"{1e-3 * max([float(v.max()) for *_, v in pressure] or [0.0]):.4g} kPa")  # fmt: skip
+    _diagram(ax, silt, scale, "saddlebrown", "silt (normal pressure), up to "
+             f"{1e-3 * max([float(v.max()) for *_, v in silt] or [0.0]):.4g} kPa")  # fmt: skip
+    _diagram(ax, uplift, scale, "tab:purple", "uplift (static), up to "
+             f"{1e-3 * max([float(v.max()) for *_, v in uplift] or [0.0]):.4g} kPa")  # fmt: skip
+    loads_spec = spec.get("loads", {})
+    first = True
+    for wg in loads_spec.get("westergaard", []):
+        what = "FE reservoir" if wg.get("model") == "fe" else "Westergaard"
+        for g in wg["groups"]:
+            for pts, _n in _facet_polylines(model, g):
+                ax.plot(pts[:, 0], pts[:, 1], "-", color="c", lw=4, alpha=0.7,
+                        solid_capstyle="butt",
+                        label=f"added mass ({what})" if first else None)  # fmt: skip
+                first = False
+    levels = [(hy["water_level"], hy["groups"]) for hy in loads_spec.get("hydrostatic", [])]
+    for level, groups in levels:
+        pts = np.concatenate([p for g in groups for p, _ in _facet_polylines(model, g)])
+        lo, hi = float(pts[:, 0].min()), float(pts[:, 0].max())
+        ax.plot([lo - 0.2 * size, hi], [level, level], "--", color="tab:blue", lw=0.8)
+        ax.plot(lo - 0.1 * size, level, "v", color="tab:blue", ms=7)
+        ax.annotate(f"water {level:g} m", (lo - 0.2 * size, level), xytext=(0, 4),
+                    textcoords="offset points", fontsize=8, color="tab:blue")  # fmt: skip
+    for sl in loads_spec.get("silt", []):
+        pts = np.concatenate([p for g in sl["groups"] for p, _ in _facet_polylines(model, g)])
+        lo, hi = float(pts[:, 0].min()), float(pts[:, 0].max())
+        ax.plot([lo - 0.2 * size, hi], [sl["level"]] * 2, ":", color="saddlebrown", lw=0.9)
+        ax.annotate(f"silt {sl['level']:g} m", (lo - 0.2 * size, sl["level"]), xytext=(0, -10),
+                    textcoords="offset points", fontsize=8, color="saddlebrown")  # fmt: skip
+    fixed = np.unique(np.concatenate([s.nodes for s in model.supports] or [np.zeros(0, int)]))
+    if fixed.size:
+        ax.plot(x[fixed, 0], x[fixed, 1], "^", color="k", ms=3, label="supports")
+    if gravity is not None and np.any(gravity):
+        w = np.asarray(model.body_weights)
+        c = (w[:, None] * x).sum(axis=0) / w.sum() if w.sum() > 0 else x.mean(axis=0)
+        g = gravity[:2] / np.linalg.norm(gravity[:2])
+        ax.annotate("", c + 0.12 * size * g, c, arrowprops={"arrowstyle": "-|>", "color": "k",
+                                                            "lw": 1.5})  # fmt: skip
+        ax.annotate(f"g = {np.linalg.norm(gravity):g} m/s²", c, xytext=(6, 0),
+                    textcoords="offset points", fontsize=8)  # fmt: skip
+    ax.autoscale_view()
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(
+        (f"{title}\n" if title else "") + "loads (the pressure diagrams to one "
+        "scale, drawn on the side of the water; uplift below its joint)",
+        fontsize=10,
+    )
+    return _finish(fig, path)

@@ -1,20 +1,31 @@
-"""A single self-contained HTML page: model, records, figures, joint results."""
+"""A single self-contained HTML page that an engineer attaches to a review: the geometry
+and mesh, materials, loads, the static state, the input motion and its spectrum, the modal
+table, the histories, the joints' results and maps, the stress envelope, the solver's
+statistics and the time step (:func:`write_report`)."""
 
 from __future__ import annotations
 
 import base64
+import copy
+import hashlib
 import html
 import json
+import logging
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..dynamics import envelope_extremes
-from ..errors import InputError, ResultsError
+from ..errors import InputError, PfeieError, ResultsError
 from ..io import Results, output_file
-from ._plots import plot_all
+from ._plots import plot_all, plot_fields, plot_loads, plot_static
+
+if TYPE_CHECKING:
+    from ..io import Job
+
+log = logging.getLogger(__name__)
 
 
 def joint_table(res: Results) -> list[dict[str, Any]]:
@@ -98,11 +109,21 @@ def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
     ]  # fmt: skip
 
 
-def static_joint_table(res: Results) -> list[dict[str, Any]]:
+def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, Any]]:
     """Per joint, the static state: pairs, mean normal stress, largest opening, shares
-    sliding, open and broken (empty without a static pair state)."""
+    sliding, open and broken, the sliding safety factor (of the first recorded row, or
+    from the static pair forces and the model's joint laws, ``job``), the uplift (empty
+    without a static pair state)."""
     if "static/X" not in res.f:
         return []
+    fs_static = None
+    if job is not None and job.model.pairs is not None:
+        from ..interface import OPEN
+
+        X = np.asarray(res.f["static/X"])
+        fs_static = job.model.pair_laws.safety_factor(
+            X, np.asarray(res.f["static/state"]) == OPEN, np.asarray(res.f["static/broken"]),
+            np.zeros(X.shape[0]))  # fmt: skip
     rows = []
     for name in res.interface_names:
         pr = res.static_pairs(name)
@@ -118,6 +139,8 @@ def static_joint_table(res: Results) -> list[dict[str, Any]]:
         k = len(rows) - 1
         if "history/joints/safety_factor" in res.f and res.n_times:
             rows[-1]["sliding safety factor"] = float(res.f["history/joints/safety_factor"][0, k])
+        elif fs_static is not None:
+            rows[-1]["sliding safety factor"] = float(fs_static[k])
         if "static/uplift" in res.f:
             idx = np.flatnonzero(np.asarray(res.f["pairs/interface"]) == k)
             p = np.asarray(res.f["static/uplift"])[idx]
@@ -144,6 +167,8 @@ def analysis_rows(res: Results) -> list[tuple[str, str]]:
     summ = meta.get("results_summary") or {}
     if "steps" in summ:
         out.append(("steps", f"{summ['steps']} to t = {summ.get('time_reached_s', 0):.3f} s"))
+    if a.get("tolerance") is not None:
+        out.append(("pair solver tolerance", f"{a['tolerance']:g}"))
     sv = summ.get("solver")
     if sv:
         out.append(("pair solver", f"{sv['iterations_mean']} iterations a step; "
@@ -172,6 +197,308 @@ def record_rows(res: Results) -> list[dict[str, Any]]:
     return rows
 
 
+#: the parts of a model file that build the model (not the analysis, records or output)
+STRUCTURE = ("mesh", "plane", "thickness", "materials", "blocks", "interfaces", "supports",
+             "loads", "damping")  # fmt: skip
+
+
+def model_of_run(res: Results) -> tuple[Job | None, str]:
+    """The model of a run rebuilt from its model file, or None and why not.
+
+    The file is looked for where the results file records it (its absolute path, then
+    the path given to ``pfeie run``, relative to the current folder) and then, by its
+    name, in the folders above the results file (the output folder is usually beside the
+    model file).
+    It is taken only if its SHA-256 equals the recorded one and the run key
+    (:func:`pfeie.io.run_key`: the model file with its ``--set`` overrides, the bytes of
+    the mesh and the records) of the validated model file the results file records
+    (``model_spec``) equals the recorded one: the mesh and records are those of the run.
+    The run's overrides of the parts that build the model (:data:`STRUCTURE`) are then
+    applied again, so the model is the one that was run. A results file without
+    ``model_spec`` (older) needs the model file's own run key to match."""
+    from types import SimpleNamespace
+
+    from ..io import Override, load_job, run_key
+
+    meta = res.meta
+    given = Path(str(meta.get("model_file", "")))
+    here = res.path.resolve().parent
+    candidates = [
+        Path(str(meta.get("model_path", given))),
+        given,
+        *[d / given.name for d in (here, *list(here.parents)[:3])],
+    ]
+    seen = set()
+    for path in candidates:
+        if not path.name or not path.is_file() or str(path.resolve()) in seen:
+            continue
+        seen.add(str(path.resolve()))
+        if hashlib.sha256(path.read_bytes()).hexdigest() != meta.get("model_sha256"):
+            continue
+        spec = json.loads(meta["model_spec"]) if "model_spec" in meta else None
+        key = meta.get("run_key")
+        ran = SimpleNamespace(spec=spec, path=path)
+        if key is not None and spec is not None and run_key(ran) != key:
+            return None, (f"the mesh or a record file of the model file {path} changed since "
+                          "the run")  # fmt: skip
+        try:
+            job = load_job(path)
+            if spec is not None:
+                plain = json.loads(json.dumps(job.spec, default=str))
+                changed = [k for k in STRUCTURE if plain.get(k) != spec.get(k)]
+                if changed:
+                    job = load_job(path, [Override(k, spec[k], "the results file")
+                                          for k in changed])  # fmt: skip
+                    plain = json.loads(json.dumps(job.spec, default=str))
+                    if any(plain.get(k) != spec.get(k) for k in STRUCTURE):
+                        return None, (f"the model of {path} with the run's overrides does "
+                                      "not rebuild as run")  # fmt: skip
+        except PfeieError as exc:
+            return None, f"the model file {path} does not build: {exc}"
+        if spec is None and key is not None and run_key(job) != key:
+            return None, (f"the model file {path} differs from the run's model: the run had "
+                          "--set overrides, or its mesh or a record file changed")  # fmt: skip
+        return job, str(path)
+    return None, (f"the model file {given} (SHA-256 {str(meta.get('model_sha256'))[:12]}) "
+                  "is not found beside the results file, or it changed since the run")  # fmt: skip
+
+
+def model_rows(res: Results, job: Job | None) -> list[tuple[str, str]]:
+    """The geometry and mesh: model file, dimension, blocks, bodies, cells, DOF, pairs,
+    the 2D hypothesis and thickness, the damping."""
+    meta = res.meta
+    summ = meta["model_summary"]
+    x = np.asarray(res.f["mesh/points"])
+    lo, hi = x.min(axis=0), x.max(axis=0)
+    extent = " × ".join(f"{h - l_:.4g}" for l_, h in zip(lo, hi, strict=True))
+    rows = [
+        ("model file", str(meta["model_file"])), ("SHA-256", str(meta["model_sha256"])),
+        ("pfeie", str(meta["pfeie_version"])), ("dimension", f"{summ['dimension']}D"),
+        ("extent", f"{extent} m (x from {lo[0]:.4g} to {hi[0]:.4g} m, "
+                   f"{'yz'[len(lo) - 2]} from {lo[-1]:.4g} to {hi[-1]:.4g} m)"),
+        ("blocks", ", ".join(summ["blocks"])), ("bodies", str(summ["bodies"])),
+        ("cells", ", ".join(f"{v} {k}" for k, v in summ["cells"].items())),
+        ("nodes", str(summ.get("nodes", x.shape[0]))),
+        ("DOF", f"{summ['dof']} ({summ['free_dof']} free)"),
+        ("pairs", ", ".join(f"{k}: {v}" for k, v in summ["pairs"].items()) or "none"),
+    ]  # fmt: skip
+    if job is not None:
+        spec = job.spec
+        if summ["dimension"] == 2:
+            rows.append(("2D hypothesis", f"plane {spec['plane']}, thickness "
+                         f"{spec['thickness']:g} m (forces and masses per this "
+                         "thickness)"))  # fmt: skip
+        d = spec.get("damping", {})
+        if d.get("ratio") is not None and d.get("frequencies") is not None:
+            f1, f2 = d["frequencies"]
+            rows.append(("damping", f"Rayleigh, {100 * d['ratio']:g} % at {f1:g} and "
+                         f"{f2:g} Hz"))  # fmt: skip
+        elif d.get("alpha") or d.get("beta"):
+            rows.append(("damping", f"Rayleigh, α = {d['alpha']:g} 1/s, β = {d['beta']:g} s"))
+        else:
+            rows.append(("damping", "none"))
+    return rows
+
+
+def material_rows(res: Results, job: Job | None) -> list[dict[str, Any]]:
+    """The materials of the blocks: E, ν, ρ and the tensile strength, and the blocks that
+    use each (from the recorded model summary when the model file is not available)."""
+    if job is None:
+        blocks = res.meta["model_summary"]["blocks"]
+        return [{"block": b, "material": str(m)} for b, m in blocks.items()]
+    spec = job.spec
+    rows = []
+    for name, m in spec["materials"].items():
+        ft = m.get("tensile_strength")
+        rows.append({
+            "material": name,
+            "blocks": ", ".join(b for b, mat in spec["blocks"].items() if mat == name),
+            "E (GPa)": 1e-9 * m["E"], "ν": float(m["nu"]), "ρ (kg/m³)": float(m["rho"]),
+            "tensile strength f_t (MPa)": "none" if ft is None else f"{1e-6 * ft:.4g}",
+        })  # fmt: skip
+    return rows
+
+
+def joint_property_rows(job: Job | None) -> list[dict[str, Any]]:
+    """The joints' laws: strengths intact and residual, initial state, stiffnesses."""
+    if job is None:
+        return []
+    rows = []
+    for name, js in job.spec["interfaces"].items():
+
+        def mpa(v: Any) -> str:
+            return "none" if v is None else f"{1e-6 * v:.4g}"
+
+        def stiff(v: Any) -> str:
+            return "rigid" if v is None else f"{v:.4g}"
+
+        rows.append({
+            "joint": name, "law": str(js.get("law", "")), "initial": str(js["initial"]),
+            "c (MPa)": mpa(js["cohesion"]), "φ (°)": float(js["friction_angle"]),
+            "f_t (MPa)": mpa(js["tensile_strength"]),
+            "residual c (MPa)": mpa(js["residual_cohesion"]),
+            "residual φ (°)": "as intact" if js["residual_friction_angle"] is None
+                              else f"{js['residual_friction_angle']:.4g}",
+            "k_n (Pa/m)": stiff(js["normal_stiffness"]),
+            "k_s (Pa/m)": stiff(js["shear_stiffness"]),
+        })  # fmt: skip
+    return rows
+
+
+def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
+    """The loads of the model file, one row per table of ``[loads]``: what, where, its
+    parameters and its resultant force (kN; in 2D per the model's thickness): the loads
+    of the static state from the model's load patterns (gravity, pressures, hydrostatic
+    pressure, silt; in the order the model file builds them), the uplift from the static
+    state of the results file, the reservoir's added mass (kg)."""
+    model = job.model
+    d = model.dim
+    spec = job.spec["loads"]
+    pats, _ = model.load_patterns()
+    cols = iter(range(pats.shape[1]))
+    axes = "xyz"[:d]
+
+    def force(n_cols: int) -> dict[str, Any]:
+        f = sum((pats[:, next(cols)] for _ in range(n_cols)), np.zeros(pats.shape[0]))
+        F = np.asarray(f).reshape(-1, d).sum(axis=0)
+        return {f"F_{a} (kN)": 1e-3 * float(F[i]) for i, a in enumerate(axes)}
+
+    def groups(g: list[str]) -> str:
+        return ", ".join(g)
+
+    rows: list[dict[str, Any]] = []
+    consistent = len(model.loads) == (int(bool(spec["gravity"])) + len(spec["pressure"])
+                                      + sum(len(h["groups"]) for h in spec["hydrostatic"])
+                                      + sum(len(s_["groups"]) for s_ in spec["silt"]))  # fmt: skip
+    if not consistent:  # not built by a model file as known here: the resultants omitted
+        cols = iter([])
+
+    def resultant(n: int) -> dict[str, Any]:
+        return force(n) if consistent else {}
+
+    if spec["gravity"]:
+        where = "-" + axes[-1] if spec["gravity_direction"] is None else str(
+            spec["gravity_direction"])  # fmt: skip
+        rows.append({"load": "gravity", "where": "all blocks",
+                     "parameters": f"g = {spec['gravity']:g} m/s² along {where}",
+                     **resultant(1)})  # fmt: skip
+    for pr in spec["pressure"]:
+        rows.append({"load": "pressure", "where": pr["group"],
+                     "parameters": f"{pr['value']:g} Pa", **resultant(1)})  # fmt: skip
+    for hy in spec["hydrostatic"]:
+        rows.append({"load": "hydrostatic", "where": groups(hy["groups"]),
+                     "parameters": f"water level {hy['water_level']:g} m, ρ_w = "
+                                   f"{hy['density']:g} kg/m³",
+                     **resultant(len(hy["groups"]))})  # fmt: skip
+    for sl in spec["silt"]:
+        coef = (f"K = {sl['k']:g}" if sl["k"] is not None else
+                f"K0 = 1 − sin {sl['friction_angle']:g}° = "
+                f"{1 - np.sin(np.radians(sl['friction_angle'])):.4g}")  # fmt: skip
+        rows.append({"load": "silt", "where": groups(sl["groups"]),
+                     "parameters": f"silt level {sl['level']:g} m, γ' = "
+                                   f"{sl['submerged_unit_weight']:g} N/m³, {coef}",
+                     **resultant(len(sl["groups"]))})  # fmt: skip
+    if "static/uplift" in res.f and spec["uplift"]:
+        p = np.asarray(res.f["static/uplift"])
+        A = np.asarray(res.f["pairs/area"])
+        normal = np.asarray(res.f["pairs/frame"])[:, -1, :]
+        iface = np.asarray(res.f["pairs/interface"])
+        cracks = json.loads(res.f["static"].attrs.get("cracks", "{}"))
+    for ut in spec["uplift"]:
+        text = f"headwater {ut['headwater']:g} m, " + (
+            "no tailwater" if ut["tailwater"] is None else f"tailwater {ut['tailwater']:g} m"
+        )
+        if ut["drains"] is not None:
+            text += (f", drains {ut['drains']:g} m from the heel, efficiency "
+                     f"{100 * ut['drain_efficiency']:g} %")  # fmt: skip
+        text += f"; during the shaking: {ut['shaking']}"
+        row: dict[str, Any] = {"load": "uplift", "where": ut["interface"], "parameters": text}
+        if "static/uplift" in res.f and ut["interface"] in res.interface_names:
+            sel = iface == res.interface_names.index(ut["interface"])
+            n = normal[sel]
+            n = np.where((n[:, -1] < 0)[:, None], -n, n)  # the force on the upper side
+            F = ((p[sel] * A[sel])[:, None] * n).sum(axis=0)
+            row.update({f"F_{a} (kN)": 1e-3 * float(F[i]) for i, a in enumerate(axes)})
+            if ut["interface"] in cracks:
+                row["parameters"] += f"; static crack {cracks[ut['interface']]:.4g} m"
+        rows.append(row)
+    dry = copy.copy(model)
+    wet = iter(model.reservoirs)
+    fe = iter(model.fe_reservoirs)
+    for wg in spec["westergaard"]:
+        if wg["model"] == "fe":
+            r = next(fe)
+            mass = r.lumped().reshape(-1, d).sum(axis=0)
+            what = "finite-element reservoir (incompressible)"
+        else:
+            dry.reservoirs, dry.fe_reservoirs = [next(wet)], []
+            mass = dry.added_mass().reshape(-1, d).sum(axis=0)
+            what = "Westergaard"
+        rows.append({"load": "reservoir added mass", "where": groups(wg["groups"]),
+                     "parameters": f"{what}, water level {wg['water_level']:g} m; added mass "
+                                   + ", ".join(f"{1e-3 * mass[i]:.4g} t along {a}"
+                                               for i, a in enumerate(axes))})  # fmt: skip
+    return rows
+
+
+#: modes of the report's modal table
+N_MODES = 6
+
+
+def modal_tables(
+    job: Job, n_modes: int = N_MODES
+) -> tuple[list[tuple[str, list[dict[str, Any]]]], str]:
+    """The modal table of the model with its joints bonded (:func:`pfeie.modal`): per
+    mode its frequency, period and effective modal mass along each axis (share of the
+    free mass, and cumulative); with and without the reservoir's added mass when the
+    model has one (titles and rows), and why there is none when the modal analysis is
+    not possible (a model of fewer DOFs than modes, joints with one stiffness only)."""
+    from ..solvers import modal
+
+    model = job.model
+    variants = [("", model)]
+    if model.reservoirs or model.fe_reservoirs:
+        dry = copy.copy(model)
+        dry.reservoirs, dry.fe_reservoirs = [], []
+        variants = [("with the reservoir's added mass", model),
+                    ("without the added mass (empty reservoir)", dry)]  # fmt: skip
+    out = []
+    axes = "xyz"[: model.dim]
+    for label, m in variants:
+        try:
+            r = modal(m, n_modes, interfaces="bonded")
+        except (PfeieError, RuntimeError, ValueError) as exc:  # (ARPACK's: RuntimeError)
+            log.info("report: no modal table: %s", exc)
+            return [], str(exc)
+        cum = np.cumsum(r.effective_mass, axis=0)
+        total = np.maximum(r.total_mass, 1e-300)
+        rows = []
+        for k, f in enumerate(r.frequencies):
+            row: dict[str, Any] = {"mode": k + 1, "f (Hz)": f"{f:.4f}",
+                                   "T (s)": f"{1 / f:.4f}" if f > 0 else "∞"}  # fmt: skip
+            for i, a in enumerate(axes):
+                row[f"m_{a} (%)"] = f"{100 * r.effective_mass[k, i] / total[i]:.2f}"
+                row[f"cumulative {a} (%)"] = f"{100 * cum[k, i] / total[i]:.2f}"
+            rows.append(row)
+        out.append((label, rows))
+    return out, ""
+
+
+def static_stress(res: Results, job: Job) -> list[tuple[str, np.ndarray]]:
+    """The principal stresses of the static state at the nodes (σ₁ and σ₃, MPa, tension
+    positive; :meth:`pfeie.Model.nodal_stress` of the static displacements)."""
+    from ..assembly import VOIGT, principal_extremes
+
+    u = np.asarray(res.f["static/u"])
+    S = job.model.nodal_stress(u)
+    voigt = np.stack([S[:, i, j] for i, j in VOIGT], axis=1)
+    hi, lo = principal_extremes(voigt)
+    return [
+        ("static σ1 (largest principal stress)", 1e-6 * hi),
+        ("static σ3 (smallest principal stress)", 1e-6 * lo),
+    ]
+
+
 def _table(rows: list[dict[str, Any]]) -> list[str]:
     """An HTML table of rows of equal keys (floats with 3 significant digits)."""
     esc = html.escape
@@ -189,84 +516,229 @@ def _table(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _heading(level: int, text: str, anchor: str) -> str:
+    return f"<a id='{anchor}'></a><h{level}>{html.escape(text)}</h{level}>"
+
+
+def _pairs_table(rows: list[tuple[str, str]]) -> list[str]:
+    esc = html.escape
+    return ["<table>", *[f"<tr><th>{esc(k)}</th><td>{esc(str(v))}</td></tr>" for k, v in rows],
+            "</table>"]  # fmt: skip
+
+
+def _image(name: str, data: str, caption: str = "") -> str:
+    esc = html.escape
+    cap = f"<figcaption>{esc(caption)}</figcaption>" if caption else ""
+    return f"<figure><img alt='{esc(name)}' src='data:image/png;base64,{data}'>{cap}</figure>"
+
+
+#: the sections of the report, in order: anchor and heading
+SECTIONS = (
+    ("mesh", "Geometry and mesh"), ("materials", "Materials"), ("loads", "Loads"),
+    ("static", "Static state (before the shaking)"), ("input", "Input motion"),
+    ("modal", "Modal analysis"), ("analysis", "Analysis"), ("histories", "Histories"),
+    ("joints", "Joints"), ("joint-maps", "Joint maps"), ("envelope", "Stress envelope"),
+    ("dcr", "Demand-capacity ratio and cumulative inelastic duration"),
+)  # fmt: skip
+
+
 def write_report(results: str | Path, out: str | Path | None = None) -> Path:
-    """Write ``report.html`` beside the results file (or at ``out``); figures embedded."""
+    """Write ``report.html`` beside the results file (or at ``out``): one self-contained
+    page (figures embedded as PNG) with the sections of :data:`SECTIONS`: the geometry and
+    mesh, the materials and joint laws, the loads (table and figure), the static state
+    (joint states, safety factors, principal stresses), the input motion and its
+    spectrum, the modal table, the analysis (Δt, scheme, solver statistics), the
+    histories, the joints' results and maps, the stress envelope and the EM 1110-2-6053
+    evaluation. The sections that need the model (the materials' values, the loads, the
+    modal table, the static stresses) rebuild it from the model file of the run
+    (:func:`model_of_run`); without it the page says why they are missing."""
     rpath = Path(results)
     target = Path(out) if out is not None else rpath.parent / "report.html"
     with Results(rpath) as res:  # a file that is not a results file is refused first
         meta = res.meta
         summ = meta["model_summary"]
+        job, source = model_of_run(res)
+        two_d = res.f["mesh/points"].shape[1] == 2
+        has_static = "static/u" in res.f
         joints = joint_table(res)
-        static = static_joint_table(res) if res.n_times else []
+        static = static_joint_table(res, job) if res.n_times else []
+        if not res.n_times:
+            joints = static_joint_table(res, job)
         analysis = analysis_rows(res)
         recs = record_rows(res)
         envelope = envelope_rows(res)
         dcr = demand_capacity_rows(res)
         t_end = float(res.time[-1]) if res.time.size else 0.0
         static_only = res.n_times == 0
+        mesh_rows = model_rows(res, job)
+        materials = material_rows(res, job)
+        joint_laws = joint_property_rows(job)
+        loads = load_rows(res, job) if job is not None else []
+        modes, why = modal_tables(job) if job is not None else ([], "")
+        title = summ.get("title") or Path(meta["model_file"]).stem
+        extra: dict[str, Path] = {}
+        with tempfile.TemporaryDirectory() as tmp:
+            folder = Path(tmp)
+            if job is not None and two_d:
+                extra["loads"] = plot_loads(res, job.model, job.spec, folder / "loads.png",
+                                            title)  # fmt: skip
+                if "static/u" in res.f:
+                    extra["static_stress"] = plot_fields(
+                        res,
+                        static_stress(res, job),
+                        folder / "static_stress.png",
+                        f"{title}\nprincipal stresses of the static state (tension +)",
+                    )
+            if not static_only:
+                for name in res.interface_names if "static/X" in res.f else []:
+                    extra[f"static_{name}"] = plot_static(res, name, folder / f"static_{name}.png",
+                                                          title)  # fmt: skip
+            try:
+                figs = plot_all(rpath, folder / "all")
+            except ResultsError:  # nothing to plot (static run without interfaces)
+                figs = []
+            images = {f.stem: base64.b64encode(f.read_bytes()).decode()
+                      for f in [*extra.values(), *figs]}  # fmt: skip
     output_file(target)
-    with tempfile.TemporaryDirectory() as tmp:
-        try:
-            figs = plot_all(rpath, tmp)
-        except ResultsError:  # nothing to plot (static run without interfaces)
-            figs = []
-        images = [(f.stem, base64.b64encode(f.read_bytes()).decode()) for f in figs]
     esc = html.escape
-    title = summ.get("title") or Path(meta["model_file"]).stem
     status = ("completed" if meta["completed"] else
               f"<b>stopped</b>: {esc(str(meta.get('stop_reason', '')))}")  # fmt: skip
-    model_rows = [
-        ("model file", meta["model_file"]), ("SHA-256", meta["model_sha256"]),
-        ("pfeie", meta["pfeie_version"]), ("dimension", f"{summ['dimension']}D"),
-        ("blocks", ", ".join(summ["blocks"])), ("bodies", summ["bodies"]),
-        ("cells", summ["cells"]), ("DOF", f"{summ['dof']} ({summ['free_dof']} free)"),
-        ("pairs", ", ".join(f"{k}: {v}" for k, v in summ["pairs"].items()) or "none"),
-        ("time step", f"{summ['dt']} s"),
-        ("run", "static state only" if static_only else f"{status} at t = {t_end:.3f} s"),
-        ("ground motion form", meta.get("form", "")),
-    ]  # fmt: skip
+    run = "static state only" if static_only else f"{status} at t = {t_end:.3f} s"
+    used: set[str] = set()
+
+    def figure(name: str, caption: str = "") -> list[str]:
+        if name not in images:
+            return []
+        used.add(name)
+        return [_image(name, images[name], caption)]
+
+    def missing(what: str) -> list[str]:
+        return [f"<p class='note'>{esc(what)}: not available: {esc(source)}.</p>"]
+
     parts = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'>",
         f"<title>{esc(title)}</title>",
-        "<style>body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}"
+        "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
         "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;"
         "padding:4px 8px;text-align:left}th{background:#f3f3f3}img{max-width:100%}"
-        "</style></head><body>",
+        "figure{margin:1em 0}figcaption{font-size:90%;color:#555}.note{color:#a33}"
+        "h2{border-bottom:1px solid #ccc;margin-top:2em}</style></head><body>",
         f"<h1>{esc(title)}</h1>",
-        "<h2>Model</h2><table>",
-        *[f"<tr><th>{esc(k)}</th><td>{esc(str(v))}</td></tr>" for k, v in model_rows],
-        "</table><h2>Analysis</h2><table>",
-        *[f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in analysis],
-        "</table><h2>Ground motion</h2><ul>",
+        f"<p>pfeie {esc(str(meta['pfeie_version']))}; run {run}; Δt = "
+        f"{esc(str(summ['dt']))} s; model file {esc(str(meta['model_file']))}.</p>",
+        "<nav><ol>",
+        *[f"<li><a href='#{a}'>{esc(h)}</a></li>" for a, h in SECTIONS],
+        "</ol></nav>",
+        # -- geometry and mesh
+        _heading(2, "Geometry and mesh", "mesh"),
+        *_pairs_table([*mesh_rows, ("time step Δt", f"{summ['dt']} s"), ("run", run)]),
+        *figure("mesh", "The mesh coloured by body, the interface pairs and the probes."),
+        # -- materials
+        _heading(2, "Materials", "materials"),
+        *_table(materials),
+    ]
+    if job is None:
+        parts += missing("the materials' table from the model file")
+    if joint_laws:
+        parts += ["<h3>Joints</h3>", *_table(joint_laws)]
+    parts.append(_heading(2, "Loads", "loads"))
+    if job is None:
+        parts += missing("the loads")
+    else:
+        parts += _table(loads)
+        if summ["dimension"] == 2:
+            t = job.spec["thickness"]
+            parts.append(f"<p>Resultants of the loads on the model (in 2D per the thickness "
+                         f"{t:g} m); the uplift's on the upper side of its joint, from the "
+                         "static state.</p>")  # fmt: skip
+        parts += figure("loads", "The loads: the pressure diagrams (hydrostatic, silt) on the "
+                        "faces they push on, drawn on the side of the water, to one scale; the "
+                        "faces with the reservoir's added mass; the static uplift along its "
+                        "joint; gravity at the centre of mass; the supports.")  # fmt: skip
+    parts.append(_heading(2, "Static state (before the shaking)", "static"))
+    if static:
+        parts += _table(static)
+    elif static_only and joints:
+        parts += _table(joints)
+    elif not has_static:
+        parts.append("<p>No static state (analysis.static = false).</p>")
+    parts += figure("static_stress", "Principal stresses of the static state at the nodes "
+                    "(MPa, tension positive).")  # fmt: skip
+    for name in [k for k in images if k.startswith("static_") and k != "static_stress"]:
+        parts += figure(name, f"Normal and shear stress of the static state along "
+                        f"{name[len('static_'):]}, with the pair states.")  # fmt: skip
+    parts += [
+        _heading(2, "Input motion", "input"),
+        "<ul>",
         *[f"<li>{esc(r)}</li>" for r in summ.get("records", [])],
         "</ul>",
         *_table(recs),
     ]
-    if static:
-        parts.append("<h2>Static state (before the shaking)</h2>")
-        parts += _table(static)
-    parts.append("<h2>Joints</h2>")
+    if not summ.get("records"):
+        parts.append("<p>No ground motion.</p>")
+    parts += figure("input_motion", "Ground acceleration and its elastic response spectrum "
+                    "(PSa, 5 % damping).")  # fmt: skip
+    parts.append(_heading(2, "Modal analysis", "modal"))
+    if job is None:
+        parts += missing("the modal table")
+    elif not modes:
+        parts.append(f"<p>No modal analysis: {esc(why)}.</p>")
+    for label, rows in modes:
+        if label:
+            parts.append(f"<h3>{esc(label[0].upper() + label[1:])}</h3>")
+        parts += _table(rows)
+    if modes:
+        parts.append("<p>The joints bonded (rigid joints tie their faces, joints with "
+                     "stiffnesses act as springs); effective modal masses as shares of the "
+                     "free mass (<code>pfeie modal</code> gives more modes and their "
+                     "shapes).</p>")  # fmt: skip
+    parts += [_heading(2, "Analysis", "analysis"), *_pairs_table(analysis)]
+    parts.append(_heading(2, "Histories", "histories"))
+    hist = [k for k in images if k.startswith(("probe_", "joint_")) and k != "joint_map"]
+    hist += [k for k in ("rigid_motion", "energy") if k in images]
+    if not hist:
+        parts.append("<p>No histories (a static-only run).</p>")
+    for name in hist:
+        parts += figure(name)
+    parts.append(_heading(2, "Joints", "joints"))
     if joints:
         parts += _table(joints)
     else:
         parts.append("<p>No interfaces.</p>")
+    parts.append(_heading(2, "Joint maps", "joint-maps"))
+    parts += figure("joint_map", "Along each joint: the largest opening and slip of the run, "
+                    "the residual slip, and the pair states of the static state and at the "
+                    "end.")  # fmt: skip
+    for name in [k for k in images if k.startswith("states_")]:
+        parts += figure(name, "Pair states along the joint over time.")
+    if "joint_map" not in images:
+        parts.append("<p>No joint maps (no interfaces, or no histories).</p>")
+    parts.append(_heading(2, "Stress envelope", "envelope"))
     if envelope:
-        parts.append("<h2>Stress envelope</h2><table>")
-        parts += [f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in envelope]
-        parts.append("</table><p>Per node and cell in results.h5 (/envelope) and "
-                     "envelope.vtu.</p>")  # fmt: skip
+        parts += _pairs_table(envelope)
+        parts.append("<p>Per node and cell in results.h5 (/envelope) and envelope.vtu.</p>")
+        parts += figure("envelope", "The largest σ1 and the smallest σ3 of the run at every "
+                        "node (MPa, tension positive; static state included); the stars mark "
+                        "the extremes.")  # fmt: skip
+    else:
+        parts.append("<p>No stress envelope (a static-only run, or output.envelope = "
+                     "false).</p>")  # fmt: skip
+    parts.append(_heading(2, "Demand-capacity ratio and cumulative inelastic duration", "dcr"))
     if dcr:
-        parts.append("<h2>Demand-capacity ratio and cumulative inelastic duration</h2><table>")
-        parts += [f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in dcr]
-        parts.append("</table><p>USACE EM 1110-2-6053, linear time-history evaluation of a "
+        parts += _pairs_table(dcr)
+        parts.append("<p>USACE EM 1110-2-6053, linear time-history evaluation of a "
                      "gravity dam: DCR = σ1/f_t per cell (the total stress, static state "
                      "included; f_t the materials' tensile_strength); CID the time during "
                      "which σ1 > f_t. Per cell in results.h5 (/envelope/cells/dcr, cid) and "
                      "envelope.vtu.</p>")  # fmt: skip
-    parts.append("<h2>Figures</h2>")
-    for name, data in images:
-        parts.append(f"<h3>{esc(name.replace('_', ' '))}</h3>"
-                     f"<img alt='{esc(name)}' src='data:image/png;base64,{data}'>")  # fmt: skip
+    else:
+        parts.append("<p>No evaluation (no material with a tensile_strength, or no "
+                     "envelope).</p>")  # fmt: skip
+    rest = [k for k in images if k not in used]
+    if rest:
+        parts.append("<h2>Other figures</h2>")
+        for name in rest:
+            parts += figure(name)
     parts.append("</body></html>")
     try:
         target.write_text("\n".join(parts))
