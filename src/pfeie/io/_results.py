@@ -69,9 +69,9 @@ UNITS = {
 #: changed incompatibly); a minor version adds groups or attributes (1.1: /checkpoint,
 #: run_key; 1.2: /envelope, history/joints/{force,moment}; 1.3: the attributes
 #: compression, compression_level, field_precision, and fields that may be float32;
-#: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; files without the
-#: attribute are 1.0)
-FORMAT_VERSION = "1.4"
+#: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; 1.5: the attributes
+#: model_spec and model_path; files without the attribute are 1.0)
+FORMAT_VERSION = "1.5"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
