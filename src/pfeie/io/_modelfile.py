@@ -397,6 +397,8 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             log.warning("%s: materials.%s.rho = 0: the blocks %s are massless (no inertia; "
                         "a foundation usually gets a small density instead)", p, mname,
                         ", ".join(users) or "(none)")  # fmt: skip
+    if cfg.analysis.dynamic and model.pairs is not None and model.pairs.area.size:
+        _scheme_with_interfaces(p, cfg.analysis, int(model.pairs.area.size), damping)
     if cfg.analysis.dynamic and not records and cfg.analysis.duration is None:
         raise InputError(f"{p}: analysis.duration: missing (required without ground_motion)")
     if cfg.analysis.dynamic and cfg.analysis.duration is None:
@@ -407,6 +409,31 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
     return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
+
+
+def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) -> None:
+    """The time schemes that a model with interface pairs refuses, said before any work
+    (the dynamic analysis would refuse them after the static solve)."""
+    if a.scheme == "newmark":
+        given = [k for k in ("alpha", "beta", "gamma") if k in a.model_fields_set]
+        why = f" (implied by {', '.join(given)})" if given else ""
+        raise InputError(f"{p}: analysis.scheme: scheme = 'newmark'{why} runs models without "
+                         f"interfaces; this model has {n_pairs} interface pairs: expected "
+                         "scheme = 'nonsmooth-alpha' (the default; rho_inf for numerical "
+                         "damping) or 'moreau-jean', without alpha, beta, gamma")  # fmt: skip
+    if a.scheme == "moreau-jean" and a.theta < 0.55:
+        raise InputError(f"{p}: analysis.theta: expected a number in [0.55, 1] with interfaces "
+                         f"(theta = 1/2 does not dissipate impacts and lets blocks hop), found "
+                         f"{a.theta}")  # fmt: skip
+    if (
+        a.scheme == "nonsmooth-alpha"
+        and (a.rho_inf or 0.0) > 0
+        and not (damping is not None and damping.beta > 0)
+    ):
+        raise InputError(f"{p}: analysis.rho_inf: rho_inf = {a.rho_inf} with interfaces needs "
+                         "stiffness-proportional damping (a Rayleigh beta > 0 in [damping]): "
+                         "without it the blocks hop at contacts; expected rho_inf = 0, or "
+                         "add damping")  # fmt: skip
 
 
 def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
