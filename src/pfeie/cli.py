@@ -221,7 +221,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         summary = run_job(job, progress=not args.quiet, resume=args.resume)
     except (InputError, MeshError, RecordError, ResultsError) as exc:
-        print(f"pfeie: error: {exc}", file=sys.stderr)
+        # a mesh error met while building the operators names the model file it came from
+        where = f"{args.model}: " if isinstance(exc, MeshError) and not str(exc).startswith(
+            str(job.path)) else ""  # fmt: skip
+        print(f"pfeie: error: {where}{exc}", file=sys.stderr)
         return EXIT_INPUT
     except MechanismError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)

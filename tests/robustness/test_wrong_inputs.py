@@ -409,6 +409,17 @@ CASES: list[Case] = [
             'groups = ["face"]\nwater_level = 1.8\n[[loads.silt]]',
         ),
     ),
+    C("hydrostatic-on-an-interface", M, "loads.hydrostatic[0].groups: 'joint' is an interface",
+      "expected a group of boundary faces", edit=sub(
+          'groups = ["upstream"]\nwater_level = 1.8\n[[loads.silt]]',
+          'groups = ["joint"]\nwater_level = 1.8\n[[loads.silt]]')),
+    C("pressure-inside-a-block", M, "loads.pressure[0].group: pressure on 'joint'",
+      "inside a block", "expected facets on the boundary of a block or on an interface",
+      edit=lambda t: drop("[interfaces.joint]\nfriction_angle = 35.0\ncohesion = 1e5\n",
+                          '[[loads.uplift]]\ninterface = "joint"\nheadwater = 1.8\n')(t).replace(
+          'group = "crest"', 'group = "joint"')),
+    C("blocks-empty", M, "a model needs at least one block",
+      edit=drop('rock = "rock"\ndam = "concrete"\n')),
     C(
         "hydrostatic-level-missing",
         M,
@@ -513,6 +524,10 @@ CASES: list[Case] = [
       edit=into("[[ground_motion]]", 'baseline = "yes"')),
     C("record-all-zeros-pga", M, "ground_motion[0]", "the record is all zeros",
       edit=into("[[ground_motion]]", "pga = 0.3"), files={"rec.csv": "t,a\n0,0\n0.01,0\n"}),
+    C("record-in-cm-s2-read-as-g", M, "ground_motion[0]", "peak ground acceleration is 300 g",
+      "expected at most 20 g", "check units", files={"rec.csv": "t,a\n0,0\n0.01,300\n0.02,0\n"}),
+    C("record-scale-huge", M, "ground_motion[0]", "expected at most 20 g",
+      edit=into("[[ground_motion]]", "scale = 1e300")),
     # -- record files ----------------------------------------------------------------------
     C("at2-value-1e400", "rec.at2", "line 5", "'1e400'", "expected a finite number", edit=use_at2,
       files={"rec.at2": at2(data=" 0.0 1e400 -0.05 0.0")}),

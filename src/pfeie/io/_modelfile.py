@@ -46,6 +46,11 @@ from ._schema import (
 log = logging.getLogger(__name__)
 
 
+#: the largest peak ground acceleration of a record (g), as read and scaled: beyond it a
+#: record is taken for a mistake of units or scale (recorded peaks stay below 5 g)
+MAX_PGA_G = 20.0
+
+
 @dataclass(frozen=True)
 class Override:
     """A setting given on the command line: the dotted key path (``analysis.alpha``,
@@ -373,6 +378,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             rec = _scaled(rec, gm)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
+        if rec.pga > MAX_PGA_G * 9.81:
+            raise InputError(f"{p}: ground_motion[{i}]: the record's peak ground acceleration "
+                             f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
+                             f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
+                             "times too strong) and scale")  # fmt: skip
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         records.append(rec)
     probes = {}
@@ -479,7 +489,14 @@ def _hydrostatic(level: float, rho_w: float, g: float, up: int) -> Callable[[Any
 
 
 def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:
-    cells, facets = sorted(mesh.cell_groups), sorted(mesh.facet_groups)
+    cells = sorted(mesh.cell_groups)
+    # an interface's group is split into its two sides, "<name>:a" and "<name>:b"
+    joints = sorted({g[:-2] for g in mesh.facet_groups if g.endswith((":a", ":b"))})
+    facets = sorted({g[:-2] if g.endswith((":a", ":b")) else g for g in mesh.facet_groups})
+    if name in joints:
+        return (f"{p}: {key}: {name!r} is an interface (a joint inside the model); expected a "
+                f"group of boundary faces (water in a joint: [[loads.uplift]]); groups of "
+                f"dimension {mesh.dim - 1}: {facets}")  # fmt: skip
     where = ""
     if dim == mesh.dim and name in mesh.facet_groups:
         where = f" ({name!r} is a group of dimension {mesh.dim - 1}, a block needs {mesh.dim})"
