@@ -37,7 +37,7 @@ from .dynamics import (
     demand_capacity,
     envelope_extremes,
 )  # fmt: skip
-from .errors import InputError, ModelError, PfeieError
+from .errors import InputError, ModelError, PfeieError, ResultsError
 from .interface import OPEN, SLIDE, SolverSettings
 from .io import (
     CheckpointWriter,
@@ -98,7 +98,17 @@ def run_job(
     id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
     with _FolderLock(out, job.path):
-        return _run(job, out, progress, duration, stream, resume, checkpoint_s)
+        try:
+            return _run(job, out, progress, duration, stream, resume, checkpoint_s)
+        except OSError as exc:  # a full disk, a quota, a folder removed under the run
+            import gc
+
+            gc.collect()  # close the results file that the run left open
+            raise ResultsError(
+                f"{out}: cannot write the results ({exc.strerror or exc}); what was written "
+                "before stays readable (pfeie report, pfeie export); with room again, "
+                "`pfeie run --resume` continues from the last checkpoint"
+            ) from None
 
 
 class _FolderLock:

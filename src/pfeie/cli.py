@@ -21,7 +21,7 @@ import json
 import logging
 import sys
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 from ._version import __version__
 from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError, ResultsError
@@ -32,8 +32,18 @@ if TYPE_CHECKING:
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with pfeie's error line, ``pfeie: error: run: the following arguments are
+    required: model`` after the usage (exit 2), as every other input error."""
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        sub = self.prog.removeprefix("pfeie").strip()
+        self.exit(EXIT_INPUT, f"pfeie: error: {sub + ': ' if sub else ''}{message}\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(
+    ap = _Parser(
         prog="pfeie",
         description="Dynamic analysis of jointed structures by the PFE/IE method.",
         epilog="Exit codes: 0 success, 1 analysis failed, 2 invalid input (or results file), "
@@ -177,7 +187,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")  # fmt: skip
     if args.command is None:
-        ap.print_help()
+        ap.print_help(sys.stderr)
+        print("pfeie: error: expected a command, e.g. pfeie check model.toml", file=sys.stderr)
         return EXIT_INPUT
     if args.command in ("plot", "export", "report"):
         return _post(args)
@@ -210,7 +221,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         summary = run_job(job, progress=not args.quiet, resume=args.resume)
     except (InputError, MeshError, RecordError, ResultsError) as exc:
-        print(f"pfeie: error: {exc}", file=sys.stderr)
+        # a mesh error met while building the operators names the model file it came from
+        where = f"{args.model}: " if isinstance(exc, MeshError) and not str(exc).startswith(
+            str(job.path)) else ""  # fmt: skip
+        print(f"pfeie: error: {where}{exc}", file=sys.stderr)
         return EXIT_INPUT
     except MechanismError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)

@@ -185,6 +185,8 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
             raise MeshError(
                 f"interface {name!r} has facets on the mesh boundary (only one cell); at "
                 f"{np.round(mesh.points[K[(iface == j) & ~inner][0]].mean(axis=0), 6).tolist()}"
+                "; expected facets between two cells (a joint inside the mesh; a support or "
+                "a load goes on boundary facets)"
             )
     # the two instances of every interior facet: (first, second) in instance order
     order = np.argsort(fid, kind="stable")

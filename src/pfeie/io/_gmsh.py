@@ -156,17 +156,21 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
     remap = np.full(points.shape[0], -1, dtype=np.int64)
     remap[used] = np.arange(used.size)
 
-    def rm(a: np.ndarray) -> np.ndarray:
+    def rm(a: np.ndarray, group: str | None = None) -> np.ndarray:
         out = remap[a]
         if np.any(out < 0):
-            raise MeshError(f"{path}: facets refer to nodes that no cell uses")
+            node = int(np.asarray(a)[out < 0].ravel()[0])
+            where = f"physical group {group!r}: " if group is not None else ""
+            raise MeshError(f"{path}: {where}facets refer to nodes that no cell uses (node "
+                            f"{node + 1} of the node list); expected facets on the faces of "
+                            "the cells")  # fmt: skip
         return out
 
     mesh = Mesh(
         planar_points(points[used], top, str(path)),
         {t: rm(np.concatenate(v)) for t, v in cells.items()},
         {g: {t: np.unique(np.concatenate(v)) for t, v in d.items()} for g, d in cgroups.items()},
-        {g: {t: rm(np.concatenate(v)) for t, v in d.items()} for g, d in fgroups.items()},
+        {g: {t: rm(np.concatenate(v), g) for t, v in d.items()} for g, d in fgroups.items()},
         {t: np.concatenate(v) for t, v in cell_ids.items()} if ids is not None else {},
     )
     flipped = mesh.orient()

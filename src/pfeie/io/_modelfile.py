@@ -46,6 +46,11 @@ from ._schema import (
 log = logging.getLogger(__name__)
 
 
+#: the largest peak ground acceleration of a record (g), as read and scaled: beyond it a
+#: record is taken for a mistake of units or scale (recorded peaks stay below 5 g)
+MAX_PGA_G = 20.0
+
+
 @dataclass(frozen=True)
 class Override:
     """A setting given on the command line: the dotted key path (``analysis.alpha``,
@@ -373,6 +378,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             rec = _scaled(rec, gm)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
+        if rec.pga > MAX_PGA_G * 9.81:
+            raise InputError(f"{p}: ground_motion[{i}]: the record's peak ground acceleration "
+                             f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
+                             f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
+                             "times too strong) and scale")  # fmt: skip
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         records.append(rec)
     probes = {}
@@ -397,6 +407,8 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             log.warning("%s: materials.%s.rho = 0: the blocks %s are massless (no inertia; "
                         "a foundation usually gets a small density instead)", p, mname,
                         ", ".join(users) or "(none)")  # fmt: skip
+    if cfg.analysis.dynamic and model.pairs is not None and model.pairs.area.size:
+        _scheme_with_interfaces(p, cfg.analysis, int(model.pairs.area.size), damping)
     if cfg.analysis.dynamic and not records and cfg.analysis.duration is None:
         raise InputError(f"{p}: analysis.duration: missing (required without ground_motion)")
     if cfg.analysis.dynamic and cfg.analysis.duration is None:
@@ -407,6 +419,31 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
     return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
+
+
+def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) -> None:
+    """The time schemes that a model with interface pairs refuses, said before any work
+    (the dynamic analysis would refuse them after the static solve)."""
+    if a.scheme == "newmark":
+        given = [k for k in ("alpha", "beta", "gamma") if k in a.model_fields_set]
+        why = f" (implied by {', '.join(given)})" if given else ""
+        raise InputError(f"{p}: analysis.scheme: scheme = 'newmark'{why} runs models without "
+                         f"interfaces; this model has {n_pairs} interface pairs: expected "
+                         "scheme = 'nonsmooth-alpha' (the default; rho_inf for numerical "
+                         "damping) or 'moreau-jean', without alpha, beta, gamma")  # fmt: skip
+    if a.scheme == "moreau-jean" and a.theta < 0.55:
+        raise InputError(f"{p}: analysis.theta: expected a number in [0.55, 1] with interfaces "
+                         f"(theta = 1/2 does not dissipate impacts and lets blocks hop), found "
+                         f"{a.theta}")  # fmt: skip
+    if (
+        a.scheme == "nonsmooth-alpha"
+        and (a.rho_inf or 0.0) > 0
+        and not (damping is not None and damping.beta > 0)
+    ):
+        raise InputError(f"{p}: analysis.rho_inf: rho_inf = {a.rho_inf} with interfaces needs "
+                         "stiffness-proportional damping (a Rayleigh beta > 0 in [damping]): "
+                         "without it the blocks hop at contacts; expected rho_inf = 0, or "
+                         "add damping")  # fmt: skip
 
 
 def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
@@ -452,7 +489,14 @@ def _hydrostatic(level: float, rho_w: float, g: float, up: int) -> Callable[[Any
 
 
 def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:
-    cells, facets = sorted(mesh.cell_groups), sorted(mesh.facet_groups)
+    cells = sorted(mesh.cell_groups)
+    # an interface's group is split into its two sides, "<name>:a" and "<name>:b"
+    joints = sorted({g[:-2] for g in mesh.facet_groups if g.endswith((":a", ":b"))})
+    facets = sorted({g[:-2] if g.endswith((":a", ":b")) else g for g in mesh.facet_groups})
+    if name in joints:
+        return (f"{p}: {key}: {name!r} is an interface (a joint inside the model); expected a "
+                f"group of boundary faces (water in a joint: [[loads.uplift]]); groups of "
+                f"dimension {mesh.dim - 1}: {facets}")  # fmt: skip
     where = ""
     if dim == mesh.dim and name in mesh.facet_groups:
         where = f" ({name!r} is a group of dimension {mesh.dim - 1}, a block needs {mesh.dim})"

@@ -129,6 +129,10 @@ class Damping(_Table):
         if self.ratio is not None:
             if self.frequencies is None:
                 raise _check("frequencies", "missing (required with ratio)")
+            f1, f2 = self.frequencies
+            if not (f1 > 0 and f2 > 0 and f1 != f2):
+                raise _check("frequencies", f"expected two distinct frequencies > 0 (Hz), "
+                             f"found {list(self.frequencies)}")  # fmt: skip
             if self.alpha or self.beta:
                 raise _check("", "give either ratio and frequencies or alpha and beta, not both")
         return self

@@ -197,6 +197,25 @@ class Mesh:
                 return table[4], table[2][at]
         raise MeshError(f"some facets of type {ftype!r} are not faces of any cell of the mesh")
 
+    def facet_cell_centres(self, ftype: str, facets: IntArray) -> FloatArray:
+        """The centroid of one cell adjacent to each facet, the cells of any type (a facet
+        group may run along cells of several types: quadrilaterals and triangles)."""
+        keys = facet_keys(facets, ftype)
+        centre = np.zeros((keys.shape[0], self.points.shape[1]))
+        todo = np.ones(keys.shape[0], dtype=bool)
+        for table in self._facet_table():
+            if table[0] != ftype or not todo.any():
+                continue
+            at, found = match_rows(table[3], keys)
+            hit = found & todo
+            cells = self.cells[table[4]][table[2][at[hit]]]
+            centre[hit] = self.points[cells].mean(axis=1)
+            todo &= ~found
+        if todo.any():
+            raise MeshError(f"{int(todo.sum())} facet(s) of type {ftype!r} are not faces of any "
+                            "cell of the mesh")  # fmt: skip
+        return centre
+
     def _facet_table(self) -> list[tuple[str, IntArray, IntArray, IntArray, str, IntArray]]:
         """Per cell type: (facet type, facet connectivity, owner cell, sorted corner keys,
         cell type, multiplicity of each facet over the whole mesh)."""

@@ -710,8 +710,7 @@ class Model:
 
     def _outward(self, ftype: str, conn: IntArray, fv: asm.FacetValues) -> FloatArray:
         """+1 where the facet normal points out of its adjacent cell, −1 otherwise."""
-        ctype, cell = self.mesh.facet_cells(ftype, conn)
-        centre = self.mesh.points[self.mesh.cells[ctype][cell]].mean(axis=1)
+        centre = self.mesh.facet_cell_centres(ftype, conn)
         side = np.einsum("fd,fd->f", fv.x.mean(axis=1) - centre, fv.normal.mean(axis=1))
         return np.where(side >= 0.0, 1.0, -1.0)
 
