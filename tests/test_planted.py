@@ -240,7 +240,8 @@ def _check(cell: str, n: int, seeds: range, mode: str) -> tuple[int, int, float,
 @pytest.mark.parametrize("mode", ["step", "bonded", "iterate"])
 def test_planted_solutions(cell: str, n: int, seeds: int, mode: str) -> None:
     """Every planted problem solved (see :func:`_check`): 2D Q4, 303 pairs, 10 seeds;
-    3D Hex8, 363 pairs, 3 seeds; measured residuals ≤ 1e-11, forces to ≤ 3e-11."""
+    3D Hex8, 363 pairs, 3 seeds; measured: residuals ≤ 8e-9 (the 3D state iteration stops
+    at the tolerance), forces to ≤ 1.1e-7 of the largest."""
     m, solved, r, ex = _check(cell, n, range(seeds), mode)
     assert m >= 300
     assert solved == seeds, (solved, r, ex)
