@@ -101,6 +101,8 @@ def natural_map(
     nz = np.sqrt(np.einsum("ki,ki->k", z, z))
     xp = np.maximum(Xn, 0.0)
     tau = np.maximum(law.c + law.mu * xp, 0.0)
+    cut = sep & (law.c > 0)  # a separated pair carries no shear, whatever its cohesion
+    tau[cut] = 0.0
     fixed = br & law.fixed
     stick = br & (nz <= tau) & ~fixed
     slide = br & ~stick & ~fixed
@@ -118,7 +120,7 @@ def natural_map(
     A[it] = r[it, None, None] * eye
     A[contact, -1, -1] = r[contact]
     B[sep, -1, -1] = 1.0
-    grows = (law.c + law.mu * xp > 0) & (Xn > 0)
+    grows = (law.c + law.mu * xp > 0) & (Xn > 0) & ~cut
     if d > 1:
         et = np.eye(d - 1)
         A[stick, :-1, :-1] = r[stick, None, None] * et

@@ -76,6 +76,8 @@ SPARSE_MIN = 1000
 """Smallest W (rows) kept sparse when it is sparse enough (:data:`SPARSE_FILL`)."""
 SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
+NEWTON_WOODBURY_MIN = 1500
+"""Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c."""
 
 
 def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -380,8 +382,10 @@ class InterfaceSolver:
         assert Winv is not None
         d = self.d
         b = target.ravel() - w_free.ravel()
+        # the replaced rows take no part in y (any value would do): zero, not the forces
+        # x₀ of their constraints, which W_c⁻¹ would blow up to be cancelled in the
+        # correction (relative errors of 1e-5 with a residual cohesion)
         b[oth] = 0.0
-        b[fr] = x0
         y = Winv @ b
         if oth.size == 0:
             return y.reshape(self.m, d)
@@ -399,7 +403,8 @@ class InterfaceSolver:
         cy = y[oth]
         if fr.size:
             cy[rows_fr] -= coef * y[nidx]
-        corr = _lu_solve(lu, cy - b[oth])
+            cy[rows_fr] -= x0  # the constraints' right-hand side b_o
+        corr = _lu_solve(lu, cy)
         return (y - Winv[:, oth] @ corr).reshape(self.m, d)
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
@@ -472,7 +477,11 @@ class InterfaceSolver:
                 upd = sl & ~op & ~back & (nds > tolD) & ~fixed
                 if upd.any():
                     sdir = sdir.copy() if sdir is st.slip_dir else sdir
-                    sdir[upd] = ds[upd] / nds[upd, None]
+                    # halfway between the last direction and that of the slip increment
+                    # (the plain update flips the directions of neighbouring pairs back
+                    # and forth; the fixed point is the same)
+                    h = st.slip_dir[upd] + ds[upd] / nds[upd, None]
+                    sdir[upd] = h / _rownorm(h)[:, None]
         # open
         cl = (state == OPEN) & (s[:, -1] < -tolD) & ~self._inactive
         if cl.any():
@@ -556,6 +565,7 @@ class InterfaceSolver:
         seen: dict[bytes, int] = {}
         q = np.zeros(0)
         history: list[np.ndarray] = []
+        turn: list[float] = []  # 3D: the largest change of a slip direction, per iteration
         it = 0
         for it in range(1, self.max_iter + 1):
             try:
@@ -574,14 +584,28 @@ class InterfaceSolver:
             same = bool((new.state == st.state).all()) and (
                 new.broken is st.broken or bool((new.broken == st.broken).all())
             )
-            # the directions settled: as np.allclose(rtol=0, atol=1e-9), NaN never settled
-            if same and bool((np.abs(new.slip_dir - st.slip_dir) <= 1e-9).all()):
+            # the directions settled: as np.allclose(rtol=0, atol=1e-9), NaN never settled;
+            # in 3D, where the directions converge linearly, the residual also judges an
+            # iterate whose states settled while its directions still turn
+            settled = same and bool((np.abs(new.slip_dir - st.slip_dir) <= 1e-9).all())
+            if settled or (same and self.d == 3):
                 res = float(self.residual(st, prev, w_free).max(initial=0.0))
                 if res <= self.tol:
                     self.last = SolveInfo(it, res, "state iteration")
                     return st, q
-                log.debug("%s: states settled but residual %.2e > tol", label, res)
-                break
+                if settled:
+                    log.debug("%s: states settled but residual %.2e > tol", label, res)
+                    break
+            if self.d == 3:
+                # the slip directions of 3D pairs follow their slip increments, a fixed
+                # point that converges linearly or not at all (neighbouring pairs that
+                # slide apart flip each other's direction): when the directions have not
+                # halved their change over four iterations, the Newton takes over
+                turn.append(float(np.abs(new.slip_dir - st.slip_dir).max(initial=0.0)))
+                if it >= 8 and not turn[-1] <= 0.5 * turn[-5]:
+                    log.debug("%s: slip directions do not settle after %d iterations",
+                              label, it)  # fmt: skip
+                    break
             key = new.state.tobytes() + new.broken.tobytes()
             if self.d == 3:
                 # the same resolution as the settle test above (1e-9), so that directions
@@ -727,7 +751,7 @@ class InterfaceSolver:
                     break
                 try:
                     assert J is not None
-                    dX = np.linalg.solve(J, -F)
+                    dX = self._newton_step(J, -F)
                 except np.linalg.LinAlgError:
                     dX = np.linalg.lstsq(J, -F, rcond=None)[0]  # type: ignore[arg-type]
                 step = 1.0
@@ -750,6 +774,32 @@ class InterfaceSolver:
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
+
+    def _newton_step(self, J: FloatArray, b: FloatArray) -> FloatArray:
+        """The Newton step J x = b. Without a border, on a large W inverted once
+        (:data:`NEWTON_WOODBURY_MIN` components or more), through W_c⁻¹: J = ρ W_c except
+        in the rows ``oth`` of separated, sliding, fixed and held-open components, so with
+        z = W_c⁻¹ b / ρ, x = z − W_c⁻¹[:, oth] y / ρ, Cap y = J[oth] z − b[oth],
+        Cap = J[oth] W_c⁻¹[:, oth] / ρ (k × k): O(k² M) instead of the O(M³) of a dense
+        solve, when k ≤ M/2. Otherwise, or when the capacitance system is singular, the
+        dense solve."""
+        Winv, M = self._winv, self.m * self.d
+        if Winv is None or self.E is not None or M < NEWTON_WOODBURY_MIN:
+            return np.asarray(np.linalg.solve(J, b))
+        r = self.rho
+        oth = np.flatnonzero((r * self.Wc != J).any(axis=1))
+        if 2 * oth.size > M:
+            return np.asarray(np.linalg.solve(J, b))
+        z = (Winv @ b) / r
+        if not oth.size:
+            return z
+        Wo = Winv[:, oth]
+        cap = (J[oth] @ Wo) / r
+        y = np.linalg.solve(cap, J[oth] @ z - b[oth])
+        x = z - (Wo @ y) / r
+        if not np.all(np.isfinite(x)):
+            raise np.linalg.LinAlgError("singular Newton capacitance system")
+        return np.asarray(x)
 
     def _classify(
         self, st: PairState, X: FloatArray, broken: np.ndarray, s_: FloatArray,
@@ -840,6 +890,9 @@ class InterfaceSolver:
         z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
         nz = np.linalg.norm(z, axis=1)
         tau = np.maximum(c + mu * np.maximum(Xm[:, -1], 0.0), 0.0)
+        # a separated pair carries no shear, whatever its residual cohesion
+        cut = br & ~contact & (c > 0)
+        tau[cut] = 0.0
         fixed = br & self._fixed
         stick = br & (nz <= tau) & ~fixed
         slide = br & ~stick & ~fixed
@@ -851,7 +904,7 @@ class InterfaceSolver:
         F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
         if jac:
             # the cone radius τ grows with X_n where c + μ X_n⁺ > 0 and X_n > 0
-            grows = (c + mu * np.maximum(Xm[:, -1], 0.0) > 0) & (Xm[:, -1] > 0)
+            grows = (c + mu * np.maximum(Xm[:, -1], 0.0) > 0) & (Xm[:, -1] > 0) & ~cut
             nrm = np.arange(m) * d + d - 1  # the column of each pair's normal force
             fk = np.flatnonzero(fixed)
             J[fk, :-1] = Ir[fk, :-1]
