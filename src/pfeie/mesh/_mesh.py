@@ -186,17 +186,6 @@ class Mesh:
             out.setdefault(ftype, []).append(keep)
         return {k: np.concatenate(v) for k, v in out.items()}
 
-    def facet_cells(self, ftype: str, facets: IntArray) -> tuple[str, IntArray]:
-        """The cell type and the index of one cell adjacent to each facet."""
-        keys = facet_keys(facets, ftype)
-        for table in self._facet_table():
-            if table[0] != ftype:
-                continue
-            at, found = match_rows(table[3], keys)
-            if found.all():
-                return table[4], table[2][at]
-        raise MeshError(f"some facets of type {ftype!r} are not faces of any cell of the mesh")
-
     def facet_cell_centres(self, ftype: str, facets: IntArray) -> FloatArray:
         """The centroid of one cell adjacent to each facet, the cells of any type (a facet
         group may run along cells of several types: quadrilaterals and triangles)."""

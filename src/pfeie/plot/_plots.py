@@ -498,8 +498,7 @@ def _facet_polylines(model: Any, group: str) -> list[tuple[np.ndarray, np.ndarra
     out = []
     for ftype, conn in mesh.facet_group(group).items():
         conn = np.asarray(conn)
-        ctype, cell = mesh.facet_cells(ftype, conn)
-        centre = mesh.points[mesh.cells[ctype][cell]].mean(axis=1)[:, :2]
+        centre = mesh.facet_cell_centres(ftype, conn)[:, :2]
         a, b = mesh.points[conn[:, 0], :2], mesh.points[conn[:, 1], :2]
         t = b - a
         n = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.linalg.norm(t, axis=1)[:, None]
