@@ -26,9 +26,12 @@ back-substitution, measured just before it).
 from __future__ import annotations
 
 import argparse
+import cProfile
 import os
+import pstats
 import time
 from pathlib import Path
+from typing import Any
 
 for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(var, "1")
@@ -60,17 +63,11 @@ def build(nx: int) -> pf.Model:
     return model
 
 
-def case(nx: int, steps: int, large_rotation: bool = False,
-         scheme: str = "nonsmooth-alpha", envelope: bool = True) -> dict[str, float]:  # fmt: skip
-    model = build(nx)
-    t0 = time.perf_counter()
-    static = pf.solve_static(model)
-    t_static = time.perf_counter() - t0
-    data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
-    gm = pf.GroundMotion.from_samples(2.0 * data[:, 1], time=data[:, 0], units="g")
-    t0 = time.perf_counter()
-    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation, scheme=scheme)
-    t_setup = time.perf_counter() - t0
+def measure(model: pf.Model, an: pf.Dynamic, steps: int, t_static: float, t_setup: float,
+            profile: int = 0, **run: Any) -> dict[str, float]:  # fmt: skip
+    """Run ``an`` for ``steps`` steps (``run``: the keywords of :meth:`pf.Dynamic.run`) and
+    time it: one back-substitution (median of 7), the step, their ratio, the share of the
+    pair solves, the end state's counts (and a cProfile's top ``profile`` lines)."""
     b = np.random.default_rng(0).standard_normal(an.system.n)
     an.factor.solve(b)
     ts = []
@@ -91,17 +88,40 @@ def case(nx: int, steps: int, large_rotation: bool = False,
         return out
 
     cls.solve = timed  # type: ignore[method-assign]
+    prof = cProfile.Profile() if profile else None
     try:
         t0 = time.perf_counter()
-        res = an.run(n_steps=steps, ground=[gm], start=static, envelope=envelope)
+        if prof is not None:
+            prof.enable()
+        res = an.run(n_steps=steps, **run)
+        if prof is not None:
+            prof.disable()
         t_run = time.perf_counter() - t0
     finally:
         cls.solve = solve_fn  # type: ignore[method-assign]
+    if prof is not None:
+        pstats.Stats(prof).sort_stats("tottime").print_stats(profile)
     counts = res.final.pairs.counts() if res.final else {}
+    slip = float(np.abs(res.final.pairs.s[:, :-1]).max()) if res.final else 0.0
     return dict(dof=an.system.n, pairs=model.pairs.n if model.pairs else 0, t_static=t_static,
                 t_setup=t_setup, t_solve=t_solve, t_step=t_run / steps,
-                ratio=t_run / steps / t_solve,
-                iface=t_iface / t_run, **{k: float(v) for k, v in counts.items()})  # fmt: skip
+                ratio=t_run / steps / t_solve, iface=t_iface / t_run, slip=slip,
+                **{k: float(v) for k, v in counts.items()})  # fmt: skip
+
+
+def case(nx: int, steps: int, large_rotation: bool = False,
+         scheme: str = "nonsmooth-alpha", envelope: bool = True) -> dict[str, float]:  # fmt: skip
+    model = build(nx)
+    t0 = time.perf_counter()
+    static = pf.solve_static(model)
+    t_static = time.perf_counter() - t0
+    data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
+    gm = pf.GroundMotion.from_samples(2.0 * data[:, 1], time=data[:, 0], units="g")
+    t0 = time.perf_counter()
+    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation, scheme=scheme)
+    t_setup = time.perf_counter() - t0
+    return measure(model, an, steps, t_static, t_setup, ground=[gm], start=static,
+                   envelope=envelope)  # fmt: skip
 
 
 def main() -> None:

@@ -21,9 +21,7 @@ the interface solver, and the pair counts at the end.
 from __future__ import annotations
 
 import argparse
-import cProfile
 import os
-import pstats
 import time
 from pathlib import Path
 
@@ -33,6 +31,7 @@ for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 import pfeie as pf  # noqa: E402
+from interfaces import measure  # noqa: E402
 
 RECORD = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_ns_chopra.csv"
 JOINTS = (2.0, 4.0, 6.0, 8.0)
@@ -77,45 +76,8 @@ def case(n: int, steps: int, scheme: str = "nonsmooth-alpha", envelope: bool = T
     t0 = time.perf_counter()
     an = pf.Dynamic(model, 0.01, scheme=scheme)
     t_setup = time.perf_counter() - t0
-    b = np.random.default_rng(0).standard_normal(an.system.n)
-    an.factor.solve(b)
-    ts = []
-    for _ in range(7):
-        t0 = time.perf_counter()
-        an.factor.solve(b)
-        ts.append(time.perf_counter() - t0)
-    t_solve = float(np.median(ts))
-    t_iface = 0.0
-    cls = pf.interface.InterfaceSolver
-    solve_fn = cls.solve
-
-    def timed(*args, **kw):  # type: ignore[no-untyped-def]
-        nonlocal t_iface
-        t1 = time.perf_counter()
-        out = solve_fn(*args, **kw)
-        t_iface += time.perf_counter() - t1
-        return out
-
-    cls.solve = timed  # type: ignore[method-assign]
-    prof = cProfile.Profile() if profile else None
-    try:
-        t0 = time.perf_counter()
-        if prof is not None:
-            prof.enable()
-        res = an.run(n_steps=steps, ground=records(), start=static, envelope=envelope)
-        if prof is not None:
-            prof.disable()
-        t_run = time.perf_counter() - t0
-    finally:
-        cls.solve = solve_fn  # type: ignore[method-assign]
-    if prof is not None:
-        pstats.Stats(prof).sort_stats("tottime").print_stats(profile)
-    counts = res.final.pairs.counts() if res.final else {}
-    slip = float(np.abs(res.final.pairs.s[:, :-1]).max()) if res.final else 0.0
-    return dict(dof=an.system.n, pairs=model.pairs.n if model.pairs else 0, t_static=t_static,
-                t_setup=t_setup, t_solve=t_solve, t_step=t_run / steps,
-                ratio=t_run / steps / t_solve, iface=t_iface / t_run, slip=slip,
-                **{k: float(v) for k, v in counts.items()})  # fmt: skip
+    return measure(model, an, steps, t_static, t_setup, profile, ground=records(),
+                   start=static, envelope=envelope)  # fmt: skip
 
 
 def main() -> None:
