@@ -249,11 +249,10 @@ def test_planted_solutions(cell: str, n: int, seeds: int, mode: str) -> None:
 
 @pytest.mark.slow
 @pytest.mark.parametrize(("cell", "n"),
-                         [("quad8", 60), ("tetra10", 6), ("hexahedron", 16), ("quad", 240)])
+                         [("quad8", 60), ("tetra10", 6)])
 @pytest.mark.parametrize("mode", ["step", "bonded", "iterate"])
 def test_planted_solutions_large(cell: str, n: int, mode: str) -> None:
-    """As above, 20 seeds each: 2D Q8 (363 pairs), 3D Tet10 (507 pairs), and larger Hex8
-    and Q4 models (867 and 723 pairs)."""
+    """As above, 20 seeds each: 2D Q8 (363 pairs) and 3D Tet10 (507 pairs)."""
     m, solved, r, ex = _check(cell, n, range(20), mode)
     assert m >= 300
     assert solved == 20, (solved, r, ex)
