@@ -266,6 +266,17 @@ CASES: list[Case] = [
     C("material-E-1e400", M, "materials.rock.E: expected a finite number, found inf",
       edit=sub("E = 1e9", "E = 1e400")),
     C("material-E-missing", M, "materials.rock.E: missing (required)", edit=drop("E = 1e9\n")),
+    # huge but finite: a slip of the exponent, caught by the physical ranges
+    C("material-E-1e300", M, "materials.rock.E: expected a number <= 1e+16, found 1e+300",
+      edit=sub("E = 1e9", "E = 1e300")),
+    C("material-rho-1e300", M, "materials.rock.rho: expected a number <= 1000000",
+      edit=sub("rho = 2000.0", "rho = 1e300")),
+    C("gravity-1e300", M, "loads.gravity: expected a number <= 1000, found 1e+300",
+      edit=sub("gravity = 9.81", "gravity = 1e300")),
+    C("hydrostatic-level-1e300", M, "loads.hydrostatic[0].water_level: expected a number "
+      "<= 1000000", edit=sub("[[loads.hydrostatic]]\ngroups = [\"upstream\"]\n"
+                             "water_level = 1.8", "[[loads.hydrostatic]]\ngroups = "
+                             "[\"upstream\"]\nwater_level = 1e300")),
     C("material-nu-half", M, "materials.rock.nu: expected a number < 0.5, found 0.5",
       edit=sub("nu = 0.25", "nu = 0.5")),
     C("material-nu-minus-one", M, "materials.rock.nu: expected a number > -1",

@@ -60,6 +60,11 @@ Vector = Annotated[list[float], Field(min_length=2, max_length=3),
 Angle = Annotated[float, Field(ge=0.0, lt=90.0), Expect("an angle in [0, 90) degrees")]
 Positive = Annotated[float, Field(gt=0.0)]
 NonNegative = Annotated[float, Field(ge=0.0)]
+# physical ranges wide enough for any structure on Earth (and for stiff penalty blocks), so
+# that a slip of the exponent is caught here, not as a "numerically singular" system later
+Modulus = Annotated[float, Field(gt=0.0, le=1e16)]  # Pa
+Density = Annotated[float, Field(ge=0.0, le=1e6)]  # kg/m³
+Elevation = Annotated[float, Field(ge=-1e6, le=1e6)]  # m
 
 
 def _path_text(v: str) -> str:
@@ -97,9 +102,9 @@ class MeshFile(_Table):
 class Material(_Table):
     """``[materials.<name>]``: an isotropic elastic material."""
 
-    E: Annotated[Positive, Field(description="Young's modulus (Pa)")]
+    E: Annotated[Modulus, Field(description="Young's modulus (Pa)")]
     nu: Annotated[float, Field(gt=-1.0, lt=0.5, description="Poisson's ratio")]
-    rho: Annotated[NonNegative, Field(description="density (kg/m³)")]
+    rho: Annotated[Density, Field(description="density (kg/m³)")]
     tensile_strength: Annotated[
         Positive | None,
         Field(description="tensile strength f_t (Pa) for the demand-capacity ratio σ₁/f_t "
@@ -219,7 +224,7 @@ class Hydrostatic(_Table):
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       Field(description="physical groups of wetted faces")]  # fmt: skip
-    water_level: Annotated[float, Field(description="water level (m, on the vertical axis)")]
+    water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
     density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
 
 
@@ -262,7 +267,7 @@ class Westergaard(_Table):
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       Field(description="physical groups of the wet faces of the dam")]  # fmt: skip
-    water_level: Annotated[float, Field(description="water level (m, on the vertical axis)")]
+    water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
     model: Annotated[
         Literal["westergaard", "fe"],
         Field(description="'westergaard': the closed form 7/8 ρ_w √(H (level − z)) along the "
@@ -332,7 +337,7 @@ class Loads(_Table):
     """``[loads]``: gravity, pressures, water, silt."""
 
     gravity: Annotated[
-        NonNegative, Field(description="gravitational acceleration (m/s²); 0 for none")
+        float, Field(ge=0.0, le=1e3, description="gravitational acceleration (m/s²); 0 for none")
     ] = 9.81
     gravity_direction: Annotated[
         Vector | None, Field(description="unit vector of gravity; default −y (2D), −z (3D)")
@@ -599,7 +604,7 @@ def _walk(
 # -- words -----------------------------------------------------------------------------------
 def _num(x: float) -> str:
     fr = Fraction(x).limit_denominator(12)
-    if float(x).is_integer():
+    if float(x).is_integer() and abs(x) < 1e7:
         return str(int(x))
     if abs(float(fr) - x) < 1e-12 and fr.denominator in (3, 6, 7, 9, 11, 12):
         return f"{fr.numerator}/{fr.denominator}"
