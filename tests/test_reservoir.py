@@ -498,7 +498,7 @@ def test_start_acceleration_with_the_full_added_mass() -> None:
     """The consistent start acceleration q̈₀ = M⁻¹(f − K u − C v) uses the full M (the
     blocks' lumped mass and the reservoir's full M_a), as the time stepping does: under
     gravity switched on at t0, with Rayleigh damping and ρ∞ = 0.5, M q̈₀ equals the load
-    to round-off (1e-14 of it; the lumped diagonal left 2 % before)."""
+    to round-off (measured 1.5e-16 of it; the lumped diagonal left 2 % before)."""
     m = _dam(fe=True)
     m.add_gravity(9.81)
     m.damping = pf.Rayleigh(0.1, 1e-3)
@@ -509,4 +509,4 @@ def test_start_acceleration_with_the_full_added_mass() -> None:
     f = ex.load(0.0)
     a0 = an._consistent_acceleration(ex, 0.0, np.zeros(n), v, f, an.initial().pairs, False)
     r = f - an.damping_force(v, np.zeros(n))
-    assert np.abs(an.system.M @ a0 - r).max() < 1e-14 * np.abs(r).max()
+    assert np.abs(an.system.M @ a0 - r).max() < 1.5e-15 * np.abs(r).max()
