@@ -46,6 +46,13 @@ class Expect:
     text: str
 
 
+@dataclass(frozen=True)
+class Unit:
+    """The unit of a number, for the messages and the reference (``Pa``, ``m``)."""
+
+    text: str
+
+
 _CONFIG = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
 
@@ -60,11 +67,21 @@ Vector = Annotated[list[float], Field(min_length=2, max_length=3),
 Angle = Annotated[float, Field(ge=0.0, lt=90.0), Expect("an angle in [0, 90) degrees")]
 Positive = Annotated[float, Field(gt=0.0)]
 NonNegative = Annotated[float, Field(ge=0.0)]
-# physical ranges wide enough for any structure on Earth (and for stiff penalty blocks), so
-# that a slip of the exponent is caught here, not as a "numerically singular" system later
-Modulus = Annotated[float, Field(gt=0.0, le=1e16)]  # Pa
-Density = Annotated[float, Field(ge=0.0, le=1e6)]  # kg/m³
-Elevation = Annotated[float, Field(ge=-1e6, le=1e6)]  # m
+# physical ranges wide enough for any structure on Earth (and for stiff penalty blocks and
+# joints), so that a slip of the exponent is caught here, not as a "numerically singular"
+# system or a silent nonsense later; each with its unit, which the messages print
+Modulus = Annotated[float, Field(gt=0.0, le=1e16), Unit("Pa")]
+Density = Annotated[float, Field(ge=0.0, le=1e6), Unit("kg/m³")]
+FluidDensity = Annotated[float, Field(gt=0.0, le=1e5), Unit("kg/m³")]
+Elevation = Annotated[float, Field(ge=-1e6, le=1e6), Unit("m")]
+Distance = Annotated[float, Field(ge=0.0, le=1e6), Unit("m")]
+Length = Annotated[float, Field(gt=0.0, le=1e6), Unit("m")]
+Displacement = Annotated[float, Field(ge=-1e3, le=1e3), Unit("m")]
+Stress = Annotated[float, Field(ge=-1e10, le=1e10), Unit("Pa")]
+Strength = Annotated[float, Field(ge=0.0, le=1e10), Unit("Pa")]
+PositiveStrength = Annotated[float, Field(gt=0.0, le=1e10), Unit("Pa")]
+JointStiffness = Annotated[float, Field(gt=0.0, le=1e20), Unit("Pa/m")]
+UnitWeight = Annotated[float, Field(gt=0.0, le=1e6), Unit("N/m³")]
 
 
 def _path_text(v: str) -> str:
@@ -106,7 +123,7 @@ class Material(_Table):
     nu: Annotated[float, Field(gt=-1.0, lt=0.5, description="Poisson's ratio")]
     rho: Annotated[Density, Field(description="density (kg/m³)")]
     tensile_strength: Annotated[
-        Positive | None,
+        PositiveStrength | None,
         Field(description="tensile strength f_t (Pa) for the demand-capacity ratio σ₁/f_t "
               "and the cumulative inelastic duration of USACE EM 1110-2-6053 (for an "
               "earthquake the dynamic strength, about 1.5 × the static); changes no "
@@ -118,12 +135,18 @@ class Damping(_Table):
     """``[damping]``: Rayleigh damping, by its coefficients or by a ratio at two
     frequencies."""
 
-    alpha: Annotated[NonNegative, Field(description="Rayleigh mass coefficient α (1/s)")] = 0.0
-    beta: Annotated[NonNegative, Field(description="Rayleigh stiffness coefficient β (s)")] = 0.0
+    alpha: Annotated[
+        float, Field(ge=0.0, le=1e4), Unit("1/s"),
+        Field(description="Rayleigh mass coefficient α (1/s)"),
+    ] = 0.0  # fmt: skip
+    beta: Annotated[
+        float, Field(ge=0.0, le=1.0), Unit("s"),
+        Field(description="Rayleigh stiffness coefficient β (s)"),
+    ] = 0.0  # fmt: skip
     ratio: Annotated[
-        NonNegative | None,
+        float | None, Field(ge=0.0, le=1.0),
         Field(description="damping ratio ζ at the two frequencies (instead of alpha, beta)"),
-    ] = None
+    ] = None  # fmt: skip
     frequencies: Annotated[
         list[float] | None, Field(min_length=2, max_length=2),
         Expect("an array of 2 numbers"), Field(description="the two frequencies (Hz) for 'ratio'"),
@@ -135,8 +158,8 @@ class Damping(_Table):
             if self.frequencies is None:
                 raise _check("frequencies", "missing (required with ratio)")
             f1, f2 = self.frequencies
-            if not (f1 > 0 and f2 > 0 and f1 != f2):
-                raise _check("frequencies", f"expected two distinct frequencies > 0 (Hz), "
+            if not (0 < f1 <= 1e4 and 0 < f2 <= 1e4 and f1 != f2):
+                raise _check("frequencies", f"expected two distinct frequencies in (0, 1e4] Hz, "
                              f"found {list(self.frequencies)}")  # fmt: skip
             if self.alpha or self.beta:
                 raise _check("", "give either ratio and frequencies or alpha and beta, not both")
@@ -148,11 +171,11 @@ class Joint(_Table):
     tension cut-off, or slip weakening)."""
 
     friction_angle: Annotated[Angle, Field(description="friction angle φ (degrees)")]
-    cohesion: Annotated[NonNegative, Field(description="cohesion c of the intact joint (Pa)")] = 0.0
+    cohesion: Annotated[Strength, Field(description="cohesion c of the intact joint (Pa)")] = 0.0
     tensile_strength: Annotated[
-        NonNegative, Field(description="tensile strength σ_t of the intact joint (Pa)")
+        Strength, Field(description="tensile strength σ_t of the intact joint (Pa)")
     ] = 0.0
-    residual_cohesion: Annotated[NonNegative, Field(description="cohesion once broken (Pa)")] = 0.0
+    residual_cohesion: Annotated[Strength, Field(description="cohesion once broken (Pa)")] = 0.0
     residual_friction_angle: Annotated[
         Angle | None,
         Field(
@@ -161,18 +184,18 @@ class Joint(_Table):
         ),
     ] = None
     residual_tensile_strength: Annotated[
-        NonNegative, Field(description="tensile strength once broken (Pa)")
+        Strength, Field(description="tensile strength once broken (Pa)")
     ] = 0.0
     initial: Annotated[
         Literal["intact", "broken"],
         Field(description="initial state: 'intact' (bonded) or 'broken' (an existing joint)"),
     ] = "broken"
     normal_stiffness: Annotated[
-        Positive | None,
+        JointStiffness | None,
         Field(description="normal stiffness k_n of a weak layer (Pa/m); none: rigid contact"),
     ] = None
     shear_stiffness: Annotated[
-        Positive | None, Field(description="shear stiffness k_s of a weak layer (Pa/m)")
+        JointStiffness | None, Field(description="shear stiffness k_s of a weak layer (Pa/m)")
     ] = None
     law: Annotated[
         Literal["mohr-coulomb", "slip-weakening"],
@@ -183,7 +206,7 @@ class Joint(_Table):
         ),
     ] = "mohr-coulomb"
     weakening_distance: Annotated[
-        Positive | None,
+        Length | None,
         Field(
             description="slip over which the friction angle weakens (m); required with "
             "law = 'slip-weakening', refused otherwise"
@@ -209,14 +232,14 @@ class Support(_Table):
         Expect("an array of 'x', 'y', 'z'"),
         Field(description="supported components, e.g. ['x', 'y']; default: all"),
     ] = None  # fmt: skip
-    value: Annotated[float, Field(description="prescribed displacement (m)")] = 0.0
+    value: Annotated[Displacement, Field(description="prescribed displacement (m)")] = 0.0
 
 
 class Pressure(_Table):
     """``[[loads.pressure]]``: a uniform pressure on faces."""
 
     group: Annotated[str, Field(description="physical group of faces")]
-    value: Annotated[float, Field(description="pressure (Pa), positive pushing into the body")]
+    value: Annotated[Stress, Field(description="pressure (Pa), positive pushing into the body")]
 
 
 class Hydrostatic(_Table):
@@ -225,7 +248,7 @@ class Hydrostatic(_Table):
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       Field(description="physical groups of wetted faces")]  # fmt: skip
     water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
-    density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
+    density: Annotated[FluidDensity, Field(description="water density (kg/m³)")] = 1000.0
 
 
 class Silt(_Table):
@@ -234,14 +257,14 @@ class Silt(_Table):
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       Field(description="physical groups of the faces the silt lies "
                             "against (the upstream face, the reservoir floor)")]  # fmt: skip
-    level: Annotated[float, Field(description="elevation of the silt surface (m, on the "
+    level: Annotated[Elevation, Field(description="elevation of the silt surface (m, on the "
                                   "vertical axis)")]  # fmt: skip
     submerged_unit_weight: Annotated[
-        Positive, Field(description="submerged unit weight γ' of the silt (N/m³): its "
+        UnitWeight, Field(description="submerged unit weight γ' of the silt (N/m³): its "
                         "saturated unit weight less the water's")
     ]  # fmt: skip
     k: Annotated[
-        Positive | None,
+        float | None, Field(gt=0.0, le=100.0),
         Field(description="lateral pressure coefficient K (e.g. the active Ka): horizontal "
               "pressure K γ' (level − z); instead of friction_angle"),
     ] = None  # fmt: skip
@@ -276,14 +299,14 @@ class Westergaard(_Table):
               "matrix in the modal analysis and its row sums in the time stepping"),
     ] = "westergaard"  # fmt: skip
     bottom: Annotated[
-        float | None,
+        Elevation | None,
         Field(description="elevation of the reservoir bottom (m); default the lowest point "
               "of the wet faces (model = 'westergaard' only: the finite-element reservoir's "
               "bottom is the lowest point of its wet faces)"),
     ] = None  # fmt: skip
-    density: Annotated[Positive, Field(description="water density (kg/m³)")] = 1000.0
+    density: Annotated[FluidDensity, Field(description="water density (kg/m³)")] = 1000.0
     length: Annotated[
-        Positive | None,
+        Length | None,
         Field(description="model = 'fe': the reservoir length (m) from the most upstream "
               "point of the wet face to the far end, where p = 0; default 3 × the depth"),
     ] = None  # fmt: skip
@@ -309,12 +332,12 @@ class UpliftTable(_Table):
     """``[[loads.uplift]]``: the pore pressure in a joint (pfeie.model.Uplift)."""
 
     interface: Annotated[str, Field(description="the interface (a group of [interfaces])")]
-    headwater: Annotated[float, Field(description="headwater level (m, vertical axis)")]
+    headwater: Annotated[Elevation, Field(description="headwater level (m, vertical axis)")]
     tailwater: Annotated[
-        float | None, Field(description="tailwater level (m); default none (the toe's level)")
+        Elevation | None, Field(description="tailwater level (m); default none (the toe's level)")
     ] = None
     drains: Annotated[
-        NonNegative | None,
+        Distance | None,
         Field(description="distance of the line of drains from the heel (m); default none"),
     ] = None
     drain_efficiency: Annotated[
@@ -330,15 +353,16 @@ class UpliftTable(_Table):
         Field(description="uplift during the shaking: 'keep' the pre-earthquake uplift; "
               "'full' headwater pressure where a pair opens; 'zero' where it opens"),
     ] = "keep"  # fmt: skip
-    density: Annotated[Positive, Field(description="water density ρ_w (kg/m³)")] = 1000.0
+    density: Annotated[FluidDensity, Field(description="water density ρ_w (kg/m³)")] = 1000.0
 
 
 class Loads(_Table):
     """``[loads]``: gravity, pressures, water, silt."""
 
     gravity: Annotated[
-        float, Field(ge=0.0, le=1e3, description="gravitational acceleration (m/s²); 0 for none")
-    ] = 9.81
+        float, Field(ge=0.0, le=1e3), Unit("m/s²"),
+        Field(description="gravitational acceleration (m/s²); 0 for none"),
+    ] = 9.81  # fmt: skip
     gravity_direction: Annotated[
         Vector | None, Field(description="unit vector of gravity; default −y (2D), −z (3D)")
     ] = None
@@ -368,10 +392,13 @@ class TargetSa(_Table):
     """``ground_motion[].target_sa``: scale the record so that its pseudo-spectral
     acceleration at one period matches a target."""
 
-    period: Annotated[Positive, Field(description="period T (s) of the target")]
-    value: Annotated[
-        Positive, Field(description="target pseudo-spectral acceleration Sa(T, ζ) = ω² Sd (g)")
+    period: Annotated[
+        float, Field(gt=0.0, le=100.0), Unit("s"), Field(description="period T (s) of the target")
     ]
+    value: Annotated[
+        float, Field(gt=0.0, le=20.0), Unit("g"),
+        Field(description="target pseudo-spectral acceleration Sa(T, ζ) = ω² Sd (g)"),
+    ]  # fmt: skip
     damping: Annotated[
         float, Field(gt=0.0, lt=1.0, description="damping ratio ζ of the spectrum")
     ] = 0.05
@@ -411,7 +438,7 @@ class GroundMotionRecord(RecordReading):
         AfterValidator(_nonzero),
     ] = 1.0
     pga: Annotated[
-        Positive | None,
+        Annotated[float, Field(gt=0.0, le=20.0), Unit("g")] | None,
         Field(description="scale the record to this peak ground acceleration (g), instead of "
               "scale"),
     ] = None  # fmt: skip
@@ -512,7 +539,7 @@ class ModelFile(_Table):
     plane: Annotated[
         Literal["strain", "stress"], Field(description="2D hypothesis: 'strain' or 'stress'")
     ] = "strain"
-    thickness: Annotated[Positive, Field(description="out-of-plane thickness in 2D (m)")] = 1.0
+    thickness: Annotated[Length, Field(description="out-of-plane thickness in 2D (m)")] = 1.0
     materials: Annotated[
         dict[str, Material], Field(description="isotropic elastic materials by name")
     ]
@@ -604,7 +631,7 @@ def _walk(
 # -- words -----------------------------------------------------------------------------------
 def _num(x: float) -> str:
     fr = Fraction(x).limit_denominator(12)
-    if float(x).is_integer() and abs(x) < 1e7:
+    if float(x).is_integer() and abs(x) < 1e6:
         return str(int(x))
     if abs(float(fr) - x) < 1e-12 and fr.denominator in (3, 6, 7, 9, 11, 12):
         return f"{fr.numerator}/{fr.denominator}"
@@ -651,15 +678,23 @@ def expected(node: _Node) -> str:
     lo += [(f"[{_num(v)}", f">= {_num(v)}") for v in [_bound(node.meta, "ge")] if v is not None]
     hi = [(f"{_num(v)})", f"< {_num(v)}") for v in [_bound(node.meta, "lt")] if v is not None]
     hi += [(f"{_num(v)}]", f"<= {_num(v)}") for v in [_bound(node.meta, "le")] if v is not None]
+    unit = next((f" {m.text}" for m in node.meta if isinstance(m, Unit)), "")
     if lo and hi:
-        return f"{words} in {lo[0][0]}, {hi[0][0]}"
+        return f"{words} in {lo[0][0]}, {hi[0][0]}{unit}"
     if lo or hi:
-        return f"{words} {(lo or hi)[0][1]}"
-    return words
+        return f"{words} {(lo or hi)[0][1]}{unit}"
+    return words + (f" ({unit.strip()})" if unit else "")
 
 
-_BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="),
+_BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def _item_range(err: Any) -> str:
+    """The bound an item of an array of numbers crossed: '> 0'."""
+    ops = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="),
            "less_than": ("lt", "<"), "less_than_equal": ("le", "<=")}  # fmt: skip
+    name, op = ops[err["type"]]
+    return f"{op} {_num(err['ctx'][name])}"
 
 
 def _path(loc: Sequence[int | str]) -> str:
@@ -718,9 +753,10 @@ def problems(exc: ValidationError, data: Any, root: type[BaseModel] | None = Non
             text = str(err["msg"]).removeprefix("Value error, ").removeprefix("Assertion failed, ")
         elif node is None:
             text = str(err["msg"])
-        elif typ in _BOUNDS:
-            name, op = _BOUNDS[typ]
-            text = f"expected {_type_words(node)} {op} {_num(ctx[name])}, found {found!r}"
+        elif typ in _BOUNDS and n < len(err["loc"]):  # in an array of numbers
+            text = f"expected {expected(node)}, each {_item_range(err)}, found {found!r}"
+        elif typ in _BOUNDS:  # the whole range and the unit, not only the bound crossed
+            text = f"expected {expected(node)}, found {found!r}"
         elif typ == "finite_number" and n < len(err["loc"]):  # in an array of numbers
             text = f"expected {expected(node)}, each finite, found {found!r}"
         elif typ == "finite_number":
