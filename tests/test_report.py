@@ -7,10 +7,16 @@ state (joint states, safety factors, principal stresses), the input motion and i
 spectrum, the modal table (with and without the added mass), the analysis (Δt, solver
 statistics), the histories, the joints' results and maps, the stress envelope and the
 EM 1110-2-6053 evaluation; the page is self-contained. Without its model file the page
-keeps every section and says what is missing and why."""
+keeps every section and says what is missing and why.
+
+The report of a 3D model (two stacked Hex8 blocks with a joint, a few steps) holds every
+figure in 3D: the mesh's boundary faces, the loads, the static stresses and the envelope
+painted on them, each joint in its plane; their numbers are checked against closed forms
+(face and pair counts, the hydrostatic pressure) and the results file's envelope."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 from pathlib import Path
@@ -225,3 +231,223 @@ def test_report_without_the_model_file(run: tuple[Path, str], tmp_path: Path) ->
         assert "not available: the model file" in s[name], name
     assert "Elastic(E=20000000000.0" in s["Materials"]  # the recorded summary
     assert images(s["Joint maps"])[0] == "joint_map" and "time step Δt" in s["Analysis"]
+
+
+# -- a 3D model: every section holds its figure, drawn in 3D ---------------------------------
+#: two stacked blocks of Hex8 cells (a rock block and a dam block), NX × NY × NZ cells each
+NX, NY, NZ = 4, 3, 2
+LX, LY, LZ = 4.0, 3.0, 2.0
+H3 = 3.5  # the water level on the dam block's upstream face x = 0 (m)
+
+MODEL_3D = f"""
+title = "3D report test"
+[mesh]
+file = "blocks.msh"
+[materials.concrete]
+E = 20e9
+nu = 0.2
+rho = 2400.0
+tensile_strength = 1.5e6
+[blocks]
+rock = "concrete"
+dam = "concrete"
+[interfaces.joint]
+cohesion = 0.0
+friction_angle = 30.0
+[[supports]]
+group = "bottom"
+[loads]
+gravity = 9.81
+[[loads.hydrostatic]]
+groups = ["upstream"]
+water_level = {H3}
+[[ground_motion]]
+file = "pulse.csv"
+units = "g"
+[analysis]
+dt = 0.01
+duration = 0.1
+[output]
+folder = "out"
+probes = {{ crest = [0.0, 0.0, {2 * LZ}] }}
+"""
+
+
+def write_blocks_msh(path: Path) -> None:
+    """Two stacked NX × NY × NZ blocks of Hex8 cells (gmsh MSH 2.2, conforming at z = LZ):
+    physical volumes 'rock' (below) and 'dam' (above), surfaces 'bottom' (z = 0),
+    'joint' (z = LZ) and 'upstream' (the dam's face x = 0)."""
+    from pfeie.mesh import box
+
+    m = box(LX, LY, 2 * LZ, NX, NY, 2 * NZ)
+    x, hexa = m.points, m.cells["hexahedron"]
+    lower = x[hexa].mean(axis=1)[:, 2] < LZ
+    xmin = m.facet_groups["xmin"]["quad"]
+    groups = [
+        (2, "bottom", m.facet_groups["zmin"]["quad"]),
+        (2, "joint", hexa[lower & (x[hexa[:, 4:], 2] == LZ).all(axis=1)][:, 4:]),
+        (2, "upstream", xmin[x[xmin].mean(axis=1)[:, 2] > LZ]),
+        (3, "rock", hexa[lower]), (3, "dam", hexa[~lower]),
+    ]  # fmt: skip
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(groups))]
+    lines += [f'{d} {t} "{name}"' for t, (d, name, _) in enumerate(groups, start=1)]
+    lines += ["$EndPhysicalNames", "$Nodes", str(len(x))]
+    lines += [f"{i} {a!r} {b!r} {c!r}" for i, (a, b, c) in enumerate(x.tolist(), start=1)]
+    els = [(5 if d == 3 else 3, t, row) for t, (d, _, conn) in enumerate(groups, start=1)
+           for row in (conn + 1).tolist()]  # fmt: skip
+    lines += ["$EndNodes", "$Elements", str(len(els))]
+    lines += [f"{k} {kind} 2 {t} {t} " + " ".join(map(str, row))
+              for k, (kind, t, row) in enumerate(els, start=1)]  # fmt: skip
+    path.write_text("\n".join([*lines, "$EndElements"]) + "\n")
+
+
+def png(data: bytes) -> tuple[tuple[int, int], dict[str, str]]:
+    """The pixel size and the text chunks of a PNG (refused if it is not a valid one)."""
+    import io
+
+    from PIL import Image
+
+    with Image.open(io.BytesIO(data)) as im:
+        assert im.format == "PNG"
+        im.verify()
+    with Image.open(io.BytesIO(data)) as im:
+        im.load()
+        return im.size, dict(im.text)
+
+
+@pytest.fixture(scope="module")
+def run3d(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """The 3D model run once (10 steps), and its report."""
+    tmp = tmp_path_factory.mktemp("report3d")
+    write_blocks_msh(tmp / "blocks.msh")
+    t = np.arange(0.0, 0.2 + 1e-9, 0.01)
+    np.savetxt(tmp / "pulse.csv", np.c_[t, 0.5 * np.sin(2 * np.pi * t / 0.2)], delimiter=",",
+               header="time,acc", comments="")  # fmt: skip
+    (tmp / "model.toml").write_text(MODEL_3D)
+    assert main(["run", str(tmp / "model.toml"), "--quiet"]) == 0
+    assert main(["report", str(tmp / "out" / "results.h5")]) == 0
+    return tmp, (tmp / "out" / "report.html").read_text()
+
+
+def test_report_of_a_3d_model(run3d: tuple[Path, str]) -> None:
+    """Every section of the report of a 3D model holds its figure, each a valid PNG; the
+    3D figures draw what they should: the mesh's boundary faces, 2 (nx ny + ny nz +
+    nz nx) per block (each block its own, the joint's nodes split); the joint's pairs in
+    the joint's plane, one per node of the joint, (nx + 1)(ny + 1), as the model has
+    them, on the axes (x, y) of the horizontal joint; the envelope's extremes those of
+    the results file; the largest face pressure ρ_w g (H − z) at the centroid of the
+    lowest wet faces."""
+    import base64
+
+    from pfeie.dynamics import envelope_extremes
+
+    tmp, page = run3d
+    s = sections(page)
+    assert len(s) == 12
+    expect = {
+        "Geometry and mesh": ["mesh"], "Loads": ["loads"],
+        "Static state (before the shaking)": ["static_stress", "static_joint"],
+        "Input motion": ["input_motion"], "Joint maps": ["joint_map", "states_joint"],
+        "Stress envelope": ["envelope"],
+    }  # fmt: skip
+    for name, figs in expect.items():
+        assert images(s[name]) == figs, name
+    assert {"probe_crest", "joint_joint", "rigid_motion", "energy"} == set(images(s["Histories"]))
+    assert "3D" in s["Geometry and mesh"] and "seen from upstream" in s["Geometry and mesh"]
+    data = {name: base64.b64decode(b64) for name, b64 in re.findall(
+        r"<img alt='([^']+)' src='data:image/png;base64,([^']+)'", page)}  # fmt: skip
+    assert len(data) == page.count("<img ") == 12
+    meta = {}
+    for name, raw in data.items():
+        (w, h), text = png(raw)
+        assert 500 <= w <= 2500 and 350 <= h <= 2500, (name, w, h)
+        if "Description" in text:
+            meta[name] = json.loads(text["Description"])
+    assert set(meta) == {"mesh", "loads", "static_stress", "joint_map", "envelope"}
+    # the mesh: boundary faces per block (closed form), the pairs and the probe drawn
+    faces = 2 * 2 * (NX * NY + NY * NZ + NZ * NX)
+    assert meta["mesh"] == {"boundary_faces": faces, "pairs": (NX + 1) * (NY + 1), "probes": 1,
+                            "view": [25.0, -135.0]}  # fmt: skip
+    # the joint map: the model's pairs of the joint, in the plane z = LZ (normal ±z, exact
+    # for a plane joint: 1e-12), on the axes x and y
+    model = load_job(tmp / "model.toml").model
+    assert model.pairs is not None
+    jm = meta["joint_map"]["joints"]["joint"]
+    assert jm["pairs"] == model.pairs.of("joint").size == (NX + 1) * (NY + 1)
+    assert np.allclose(np.abs(jm["normal"]), [0.0, 0.0, 1.0], rtol=0, atol=1e-12)
+    assert jm["axes"] == ["x", "y"]
+    # the envelope: the painted extremes and their nodes are the results file's (the
+    # colour bar spans ± the largest |value| over the nodes): the same numbers, exactly
+    # (JSON keeps a float); the positions to the 4 decimals envelope_extremes rounds to
+    with Results(tmp / "out" / "results.h5") as res:
+        env = res.envelope()
+        ext = envelope_extremes(env, np.asarray(res.f["mesh/points"]))
+    assert ext is not None
+    hi, lo = meta["envelope"]["panels"]
+    assert hi["extreme_MPa"] == 1e-6 * ext["max_principal_Pa"]
+    assert lo["extreme_MPa"] == 1e-6 * ext["min_principal_Pa"]
+    assert np.allclose(hi["at_m"], ext["max_principal_at_m"], rtol=0, atol=5e-5)
+    assert np.allclose(lo["at_m"], ext["min_principal_at_m"], rtol=0, atol=5e-5)
+    for panel, key in ((hi, "node_max"), (lo, "node_min")):
+        assert panel["colour_limit_MPa"] == float(np.nanmax(np.abs(1e-6 * env[key])))
+    # the loads: the upstream faces of the dam (NY × NZ) loaded; the largest face pressure
+    # at the centroid of the lowest ones, z = LZ + LZ / (2 NZ): ρ_w g (H − z) (reached
+    # exactly here; 1e-15 for round-off)
+    ld = meta["loads"]
+    assert ld["loaded_faces"] == NY * NZ
+    z = LZ + LZ / (2 * NZ)
+    assert ld["largest_face_pressure_kPa"] == pytest.approx(1e-3 * 1000 * 9.81 * (H3 - z),
+                                                            rel=1e-15)  # fmt: skip
+    assert ld["supported_nodes"] == (NX + 1) * (NY + 1)
+
+
+def test_plot_writes_the_3d_figures(run3d: tuple[Path, str], tmp_path: Path) -> None:
+    """`pfeie plot` of a 3D run writes the 3D mesh, joint map and envelope beside the
+    histories (the names of the module docstring of pfeie.plot._plots)."""
+    tmp, _ = run3d
+    assert main(["plot", str(tmp / "out" / "results.h5"), "--out", str(tmp_path)]) == 0
+    names = {p.name for p in tmp_path.iterdir()}
+    assert {"mesh.png", "joint_map.png", "envelope.png", "input_motion.png",
+            "probe_crest.png", "joint_joint.png", "states_joint.png", "rigid_motion.png",
+            "energy.png"} == names  # fmt: skip
+    for name in ("mesh.png", "joint_map.png", "envelope.png"):
+        (w, h), text = png((tmp_path / name).read_bytes())
+        assert w >= 500 and h >= 350 and "Description" in text
+
+
+@pytest.mark.parametrize("cell", ["hexahedron", "tetra", "tetra10"])
+def test_boundary_faces_of_a_box(cell: str) -> None:
+    """The boundary faces of a structured 2 × 3 × 4 box: 2 (nx ny + ny nz + nz nx) quads,
+    twice as many triangles for the tetrahedra (each side quad cut in two), every face on
+    a side of the box (its corners share the side's coordinate)."""
+    from pfeie.mesh import box
+    from pfeie.plot._plots import boundary_faces
+
+    m = box(2.0, 3.0, 4.0, 2, 3, 4, cell=cell)
+    (faces,) = boundary_faces(m.points, m.cells)
+    n_quads = 2 * (2 * 3 + 3 * 4 + 4 * 2)
+    assert faces.shape == ((n_quads, 4) if cell == "hexahedron" else (2 * n_quads, 3))
+    p = m.points[faces]
+    lo, hi = m.points.min(axis=0), m.points.max(axis=0)
+    on_side = ((p == lo).all(axis=1) | (p == hi).all(axis=1)).any(axis=1)
+    assert on_side.all()
+
+
+def test_joint_plane_of_an_inclined_joint() -> None:
+    """An inclined plane joint (normal (sin 30°, 0, cos 30°)): the normal found to
+    round-off, the axes y and ≈x orthonormal, and the map an isometry: the distances
+    between the pairs in the plane are the distances in space (1e-14 m on 10 m)."""
+    from pfeie.plot._plots import joint_plane
+
+    n = np.array([np.sin(np.pi / 6), 0.0, np.cos(np.pi / 6)])
+    t1, t2 = np.array([0.0, 1.0, 0.0]), np.cross(n, [0.0, 1.0, 0.0])
+    ab = np.random.default_rng(3).uniform(0.0, 10.0, (30, 2))
+    x = np.array([1.0, 2.0, 3.0]) + ab[:, :1] * t1 + ab[:, 1:] * t2
+    frame = np.broadcast_to(np.stack([t1, t2, n]), (30, 3, 3))
+    uv, basis, labels = joint_plane(x, frame)
+    assert np.allclose(basis[-1], n, rtol=0, atol=1e-15)  # reached: 1.7e-16
+    assert np.allclose(basis @ basis.T, np.eye(3), rtol=0, atol=1e-16)  # reached: 1.5e-17
+    assert labels == ["y", "≈x"]
+    d3 = np.linalg.norm(x[:, None] - x[None], axis=-1)
+    d2 = np.linalg.norm(uv[:, None] - uv[None], axis=-1)
+    assert np.abs(d2 - d3).max() < 1e-14  # reached: 1.8e-15

@@ -2,6 +2,9 @@
 
 ``plot_all(results, folder)`` writes PNG files:
 
+- ``mesh.png``: the mesh coloured by body, the interface pairs and the probes (2D: the
+  cell outlines; 3D: the boundary faces in a fixed view, :func:`plot_mesh_3d`);
+- ``input_motion.png``: the records and their 5 % PSa spectra;
 - ``probe_<name>.png``: displacement (relative to the ground) and absolute acceleration
   histories of each probe;
 - ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest)
@@ -9,16 +12,25 @@
   in 3D: the broken pairs) and open crack (the broken pairs that are open) over time;
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
-- ``joint_map.png``: along each interface, the largest opening and slip of the run, the
-  residual slip, and the pair states of the static state and at the end;
-- ``envelope.png`` (2D, with an envelope): the largest σ₁ and the smallest σ₃ of the run
-  at every node, on the mesh;
+- ``joint_map.png``: in 2D, along each interface, the largest opening and slip of the
+  run, the residual slip, and the pair states of the static state and at the end; in
+  3D, each interface in its own plane: the pair states of the static state and at the
+  end, the largest opening and the residual slip (:func:`plot_joint_map_3d`);
+- ``envelope.png`` (with an envelope): the largest σ₁ and the smallest σ₃ of the run at
+  every node, on the mesh (3D: painted on the boundary faces, :func:`plot_fields_3d`);
 - ``rigid_motion.png``: translation and rotation histories of the bodies that move;
 - ``energy.png``: the energy terms and the balance residual.
 
 The report (:func:`pfeie.plot.write_report`) adds figures that need the model:
-``plot_loads`` (the loads on the mesh) and ``plot_fields`` (the static principal
-stresses).
+``plot_loads`` / ``plot_loads_3d`` (the loads on the mesh) and ``plot_fields`` /
+``plot_fields_3d`` (the static principal stresses).
+
+The 3D figures are drawn with matplotlib's ``mplot3d``: the boundary faces of the cells
+(the faces one cell only uses, :func:`boundary_faces`) as polygons through their corner
+nodes, equal scaling along x, y, z, seen from :data:`VIEW_3D` (upstream, −x, from the −y
+side and above); a nodal field paints each face with the mean of its corners' values.
+Their PNG files carry the key numbers they draw (counts, extremes, the joint planes) as
+JSON in the ``Description`` text chunk.
 
 A static-only run (``analysis.dynamic = false``) has no histories: ``plot_all`` then
 writes ``static_<name>.png``, the normal and shear stress of the static state along each
@@ -63,6 +75,7 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
     files: list[Path] = []
     with Results(results) as res:
         title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        two_d = res.f["mesh/points"].shape[1] == 2
         if res.n_times == 0:
             if not (res.interface_names and "static/X" in res.f):
                 raise ResultsError(
@@ -73,12 +86,10 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
             out = output_folder(folder)
             files = [plot_static(res, name, out / f"static_{name}.png", title)
                      for name in res.interface_names]  # fmt: skip
-            if res.f["mesh/points"].shape[1] == 2:
-                files.insert(0, plot_mesh(res, out / "mesh.png", title))
+            files.insert(0, (plot_mesh if two_d else plot_mesh_3d)(res, out / "mesh.png", title))
             return files
         out = output_folder(folder)
-        if res.f["mesh/points"].shape[1] == 2:
-            files.append(plot_mesh(res, out / "mesh.png", title))
+        files.append((plot_mesh if two_d else plot_mesh_3d)(res, out / "mesh.png", title))
         if "records" in res.f and len(res.f["records"]):
             files.append(plot_input(res, out / "input_motion.png", title))
         for name in res.probe_names:
@@ -87,9 +98,11 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
             files.append(plot_joint(res, name, out / f"joint_{name}.png", title))
             files.append(plot_states(res, name, out / f"states_{name}.png", title))
         if res.interface_names:
-            files.append(plot_joint_map(res, out / "joint_map.png", title))
-        if res.f["mesh/points"].shape[1] == 2 and res.has_envelope:
-            files.append(plot_envelope(res, out / "envelope.png", title))
+            joint_map = plot_joint_map if two_d else plot_joint_map_3d
+            files.append(joint_map(res, out / "joint_map.png", title))
+        if res.has_envelope:
+            envelope = plot_envelope if two_d else plot_envelope_3d
+            files.append(envelope(res, out / "envelope.png", title))
         files.append(plot_rigid(res, out / "rigid_motion.png", title))
         files.append(plot_energy(res, out / "energy.png", title))
     return files
@@ -626,3 +639,423 @@ def plot_loads(res: Results, model: Any, spec: dict[str, Any], path: Path,
         fontsize=10,
     )
     return _finish(fig, path)
+
+
+# -- figures of 3D models: boundary faces in a fixed view, joints in their planes -----------
+#: the view of the 3D figures (degrees): elevation above the x-y plane and azimuth from
+#: +x; the camera is upstream (−x, the reservoir's side by the model file's convention),
+#: on the −y side and above, so a dam's upstream face, its crest and one flank show
+VIEW_3D = (25.0, -135.0)
+#: marks of the 3D figures drawn over the faces (the axes keep the drawing order)
+_ON_TOP = 5
+
+
+def boundary_faces(points: np.ndarray, cells: dict[str, np.ndarray]) -> list[np.ndarray]:
+    """The boundary faces of a 3D mesh: the faces that one cell only uses, as their corner
+    node ids (one array (n_faces, 3 or 4) per corner count, triangles first).
+
+    A face is keyed by its sorted corner ids and counted over every cell of the mesh
+    (:meth:`pfeie.mesh.Mesh.facets`, ``numpy.unique`` with counts); the faces counted
+    once are the boundary. The nodes of a joint are split (each side its own), so each
+    block shows its own boundary, its faces on the joint included (a structured
+    ``nx × ny × nz`` hexahedral block has 2 (nx ny + ny nz + nz nx) of them)."""
+    from ..element import reference
+    from ..mesh import Mesh
+
+    faces = Mesh(np.asarray(points, dtype=float), dict(cells)).facets(boundary_only=True)
+    out: dict[int, list[np.ndarray]] = {}
+    for ftype, conn in faces.items():
+        k = reference(reference(ftype).linear).n_nodes
+        out.setdefault(k, []).append(np.asarray(conn)[:, :k])
+    return [np.concatenate(out[k]) for k in sorted(out)]
+
+
+def _faces_of(res: Results) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The points (n, 3) and the boundary faces (:func:`boundary_faces`) of a results
+    file's mesh."""
+    x = np.asarray(res.f["mesh/points"])
+    cells = {ctype: np.asarray(res.f[f"mesh/cells/{ctype}"]) for ctype in res.f["mesh/cells"]}
+    return x, boundary_faces(x, cells)
+
+
+def _polygons(x: np.ndarray, faces: list[np.ndarray]) -> Any:
+    """The corner coordinates of the faces: an array (n_faces, k, 3) when they all have k
+    corners, else a list of (k, 3) arrays (triangles and quadrilaterals together)."""
+    if len(faces) == 1:
+        return x[faces[0]]
+    return [p for f in faces for p in x[f]]
+
+
+def _art3d() -> Any:
+    """matplotlib's 3D collections (``mpl_toolkits.mplot3d.art3d``)."""
+    _plt()
+    from mpl_toolkits.mplot3d import art3d  # type: ignore[import-untyped]
+
+    return art3d
+
+
+def _axes3d(fig: Any, *where: int) -> Any:
+    """A 3D axes (subplot ``where``: rows, columns, index) in the fixed view
+    :data:`VIEW_3D`, drawn in the order of the artists (faces first, the marks over
+    them)."""
+    ax = fig.add_subplot(*where, projection="3d", computed_zorder=False)
+    ax.view_init(elev=VIEW_3D[0], azim=VIEW_3D[1])
+    return ax
+
+
+def _frame3d(ax: Any, x: np.ndarray) -> None:
+    """Equal scaling along x, y, z: the axes' box in proportion to the mesh's extent."""
+    lo, hi = x.min(axis=0), x.max(axis=0)
+    span = np.maximum(hi - lo, 1e-3 * max(float((hi - lo).max()), 1e-12))
+    mid = 0.5 * (lo + hi)
+    ax.set_xlim(mid[0] - span[0] / 2, mid[0] + span[0] / 2)
+    ax.set_ylim(mid[1] - span[1] / 2, mid[1] + span[1] / 2)
+    ax.set_zlim(mid[2] - span[2] / 2, mid[2] + span[2] / 2)
+    ax.set_box_aspect(tuple(span))
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_zlabel("z (m)")
+
+
+def _finish_described(fig: Any, path: Path, description: dict[str, Any]) -> Path:
+    """Save like :func:`_finish`, the figure's key numbers (what it draws) in the PNG's
+    ``Description`` text chunk as JSON, for a reader or a check without the model."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, metadata={"Description": json.dumps(description)})
+    _plt().close(fig)
+    return path
+
+
+def plot_mesh_3d(res: Results, path: Path, title: str = "") -> Path:
+    """The 3D mesh: its boundary faces (:func:`boundary_faces`) coloured by body in the
+    view :data:`VIEW_3D`, equal scaling, the interface pairs (red, drawn through the
+    faces) and the probes (labelled). The PNG's description gives the counts drawn."""
+    plt = _plt()
+    x, faces = _faces_of(res)
+    body = np.asarray(res.f["mesh/body"])
+    fig = plt.figure(figsize=(8.5, 7))
+    ax = _axes3d(fig, 1, 1, 1)
+    first = np.concatenate([f[:, 0] for f in faces]) if faces else np.zeros(0, dtype=int)
+    colours = plt.get_cmap("tab10")(np.maximum(body[first], 0) % 10)
+    colours[:, 3] = 0.45
+    ax.add_collection3d(_art3d().Poly3DCollection(_polygons(x, faces), facecolors=colours,
+                                         edgecolors="0.3", linewidths=0.3))  # fmt: skip
+    n_pairs = 0
+    if "pairs/x" in res.f:
+        xp = np.asarray(res.f["pairs/x"])
+        n_pairs = int(xp.shape[0])
+        ax.scatter(*xp.T, s=4, color="tab:red", depthshade=False, zorder=_ON_TOP,
+                   label="interface pairs")  # fmt: skip
+    probes = res.probe_names
+    if probes:
+        nodes = json.loads(res.f["history/probes"].attrs.get("nodes", "[]"))
+        xn = x[np.asarray(nodes, dtype=int)]
+        ax.scatter(*xn.T, marker="^", s=40, color="k", depthshade=False, zorder=_ON_TOP + 1)
+        for name, at in zip(probes, xn, strict=False):
+            ax.text(*at, f" {name}", fontsize=8, zorder=_ON_TOP + 1)
+    _frame3d(ax, x)
+    names = res.body_names
+    handles = [plt.Rectangle((0, 0), 1, 1, color=plt.get_cmap("tab10")(b % 10), alpha=0.45)
+               for b in range(len(names))]  # fmt: skip
+    labels = list(names)
+    if n_pairs:
+        handles.append(plt.Line2D([], [], color="tab:red", marker=".", ls=""))
+        labels.append("interface pairs")
+    ax.legend(handles, labels, loc="upper left", fontsize=8)
+    n_faces = int(sum(f.shape[0] for f in faces))
+    ax.set_title((f"{title}\n" if title else "") + f"mesh: {len(names)} bodies "
+                 f"({', '.join(names)}), {x.shape[0]} nodes, {n_faces} boundary faces",
+                 fontsize=10)  # fmt: skip
+    return _finish_described(fig, path, {"boundary_faces": n_faces, "pairs": n_pairs,
+                                         "probes": len(probes), "view": list(VIEW_3D)})  # fmt: skip
+
+
+def plot_fields_3d(
+    res: Results, fields: list[tuple[str, np.ndarray]], path: Path, title: str = "",
+) -> Path:  # fmt: skip
+    """Nodal scalar fields (label, values (n_points,) in MPa) painted on the boundary
+    faces of a 3D mesh, one panel each: a face's colour is the mean of its corner nodes'
+    values (a face with a missing value grey); the colour bar spans ± the largest |value|
+    over all the nodes, and the extreme of each field (the largest of the first panel,
+    the smallest of the others) is starred at its node, drawn through the faces (it may
+    lie inside) and given in the panel's title. The PNG's description gives, per panel,
+    the colour bar's limit and the extreme (MPa) with its node's position (m)."""
+    plt = _plt()
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    x, faces = _faces_of(res)
+    cmap = plt.get_cmap("RdBu_r")
+    fig = plt.figure(figsize=(6.0 * len(fields), 6.0))
+    panels = []
+    for k, (label, v) in enumerate(fields):
+        ax = _axes3d(fig, 1, len(fields), k + 1)
+        v = np.asarray(v, dtype=float)
+        finite = np.isfinite(v)
+        lim = float(np.abs(v[finite]).max()) if finite.any() else 1.0
+        lim = lim if lim > 0 else 1.0
+        norm = Normalize(-lim, lim)
+        mean = np.concatenate([v[f].mean(axis=1) for f in faces]) if faces else np.zeros(0)
+        colours = cmap(norm(np.where(np.isfinite(mean), mean, 0.0)))
+        colours[~np.isfinite(mean)] = (0.8, 0.8, 0.8, 1.0)
+        ax.add_collection3d(_art3d().Poly3DCollection(_polygons(x, faces), facecolors=colours,
+                                             edgecolors="0.4", linewidths=0.15))  # fmt: skip
+        fig.colorbar(ScalarMappable(norm, cmap), ax=ax, shrink=0.6, pad=0.1, label="MPa")
+        panel: dict[str, Any] = {"label": label, "colour_limit_MPa": lim}
+        if finite.any():
+            at = int(np.nanargmax(v) if k == 0 else np.nanargmin(v))
+            ax.scatter(*x[at], marker="*", s=160, color="k", edgecolors="w", depthshade=False,
+                       zorder=_ON_TOP)  # fmt: skip
+            where = ", ".join(f"{c:.4g}" for c in x[at])
+            label = f"{label}\n{'max' if k == 0 else 'min'} {v[at]:.4g} MPa at ({where}) m"
+            panel.update({"extreme_MPa": float(v[at]), "at_m": x[at].tolist()})
+        panels.append(panel)
+        _frame3d(ax, x)
+        ax.set_title(label, fontsize=9)
+    fig.suptitle(title, fontsize=10)
+    return _finish_described(fig, path, {"panels": panels, "view": list(VIEW_3D)})
+
+
+def plot_envelope_3d(res: Results, path: Path, title: str = "") -> Path:
+    """The stress envelope of a 3D model on its boundary faces: the largest σ₁ and the
+    smallest σ₃ of the run at every node (MPa, tension positive; the total stress, static
+    state included), :func:`plot_fields_3d`; the stars mark the extremes."""
+    env = res.envelope()
+    fields = [("largest σ1 over the run", 1e-6 * env["node_max"]),
+              ("smallest σ3 over the run", 1e-6 * env["node_min"])]  # fmt: skip
+    return plot_fields_3d(res, fields, path, (f"{title}\n" if title else "") + "stress "
+                          "envelope (tension +), on the boundary faces")  # fmt: skip
+
+
+def joint_plane(x: np.ndarray, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """The plane of a 3D joint and its pairs' coordinates in it.
+
+    The plane's normal n is the mean of the pairs' normals (the last row of their frames,
+    oriented as the first pair's); if they cancel, the direction of least spread of the
+    points (the last right singular vector of the centred points). Its in-plane axes are
+    the global axes least aligned with n, made orthonormal to n (Gram–Schmidt): a
+    horizontal joint is mapped on (x, y), a joint normal to x on (y, z). Returns the
+    coordinates (n_pairs, 2) = (x · a₁, x · a₂) in m, the axes (3, 3) = (a₁, a₂, n), and
+    the axes' labels ("x" for an axis along x, "≈x" for one only close to it)."""
+    nrm = np.asarray(frame)[:, -1, :]
+    nrm = nrm * np.where(nrm @ nrm[0] < 0, -1.0, 1.0)[:, None]
+    n = nrm.mean(axis=0)
+    if np.linalg.norm(n) < 1e-9:
+        n = np.linalg.svd(x - x.mean(axis=0), full_matrices=True)[2][-1]
+    n = n / np.linalg.norm(n)
+    axes = [n]
+    labels = []
+    for i in np.argsort(np.abs(n), kind="stable")[:2]:
+        a = np.eye(3)[i] - sum((np.eye(3)[i] @ b) * b for b in axes)
+        a = a / np.linalg.norm(a)
+        axes.insert(len(axes) - 1, a)
+        labels.append(("" if abs(abs(a[i]) - 1.0) < 1e-9 else "≈") + AXES[i])
+    basis = np.stack(axes)
+    return x @ basis[:2].T, basis, labels
+
+
+#: the least top of the colour scales of the 3D joint map (mm): a joint that stays shut
+#: (openings of round-off size) is drawn white, not at a full scale of noise
+MAP_FLOOR_MM = 1e-3
+
+
+def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
+    """Per joint of a 3D model, its pairs in the joint's plane (:func:`joint_plane`), each
+    pair a square of its tributary area about its point: the pair states of the static
+    state and at the end (the colours of the 2D map; broken pairs crossed), the largest
+    opening of the run and the residual slip (mm; each colour scale from 0 to the
+    largest value, at least :data:`MAP_FLOOR_MM`). The PNG's description gives, per
+    joint, the pairs drawn, the plane's normal and the largest values shown."""
+    plt = _plt()
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    names = res.interface_names
+    fig, axes = plt.subplots(2 * len(names), 2, figsize=(11, 7.6 * len(names)), squeeze=False)
+    cmap = ListedColormap(STATE_COLOURS)
+    norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
+    corners = 0.5 * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    described: dict[str, Any] = {}
+    for j, name in enumerate(names):
+        pr = res.pairs(name)
+        uv, basis, labels = joint_plane(pr["x"], pr["frame"])
+        squares = uv[:, None, :] + np.sqrt(pr["area"])[:, None, None] * corners[None, :, :]
+        first = (res.static_pairs(name)["state"] if "static/state" in res.f
+                 else pr["state"][0])  # fmt: skip
+        opening = 1e3 * pr["opening"].max(axis=0)
+        residual = 1e3 * np.linalg.norm(pr["slip"][-1], axis=-1)
+        broken = pr["broken"][-1]
+        panels = (
+            (first, "pair states, static", None),
+            (pr["state"][-1], "pair states at the end (× broken)", None),
+            (opening, "largest opening of the run", "Reds"),
+            (residual, "residual slip", "Blues"),
+        )  # fmt: skip
+        for k, (v, what, seq) in enumerate(panels):
+            ax = axes[2 * j + k // 2, k % 2]
+            if seq is None:
+                pc = PolyCollection(list(squares), array=v, cmap=cmap, norm=norm, edgecolors="w",
+                                    linewidths=0.3)  # fmt: skip
+            else:
+                pc = PolyCollection(list(squares), array=v, cmap=seq, edgecolors="0.6",
+                                    linewidths=0.3)  # fmt: skip
+                pc.set_clim(0.0, max(float(v.max()), MAP_FLOOR_MM))
+                fig.colorbar(pc, ax=ax, shrink=0.8, label="mm")
+            ax.add_collection(pc)
+            if k == 1 and broken.any():
+                ax.plot(uv[broken, 0], uv[broken, 1], "kx", ms=4)
+            ax.set_aspect("equal")
+            ax.autoscale_view()
+            ax.set_xlabel(f"{labels[0]} (m)")
+            ax.set_ylabel(f"{labels[1]} (m)")
+            ax.set_title(f"joint {name}: {what}", fontsize=9)
+        described[name] = {"pairs": int(uv.shape[0]), "normal": basis[-1].tolist(),
+                           "axes": labels, "largest_opening_mm": float(opening.max()),
+                           "largest_residual_slip_mm": float(residual.max())}  # fmt: skip
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
+    handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
+    fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
+    fig.suptitle((f"{title}\n" if title else "") + "joint maps, each joint in its plane "
+                 "(a pair: a square of its area)", fontsize=10)  # fmt: skip
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    fig.savefig(path, dpi=110, metadata={"Description": json.dumps({"joints": described})})
+    plt.close(fig)
+    return path
+
+
+def _face_normals(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Unit normals (n_faces, 3) of faces of 3 or 4 corners: the cross product of the
+    diagonals (of two edges for a triangle); the sign is not fixed."""
+    p = x[faces]
+    if faces.shape[1] == 4:
+        n = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    else:
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+
+
+def plot_loads_3d(res: Results, model: Any, spec: dict[str, Any], path: Path,
+                  title: str = "") -> Path:  # fmt: skip
+    """The loads of a 3D model on its boundary faces (:data:`VIEW_3D`): each face shaded
+    by the normal pressure the model's loads put on it at its centroid (kPa; pressures,
+    hydrostatic pressure and the silt's normal pressure σ·n² summed, positive pushing
+    in), the faces that carry the reservoir's added mass edged in cyan, the water levels
+    as outlines over the wet faces, the pairs with a static uplift (purple), the
+    supports (black) and gravity (an arrow at the centre of mass). The PNG's description
+    gives the largest face pressure, the loaded faces, the supported nodes and the
+    centre of mass."""
+    plt = _plt()
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    from ..element import reference
+    from ..mesh import match_rows
+
+    x, faces = _faces_of(res)
+    size = float(np.ptp(x, axis=0).max()) or 1.0
+    keys = [np.sort(f, axis=1) for f in faces]
+    p = [np.zeros(f.shape[0]) for f in faces]
+    loaded = [np.zeros(f.shape[0], dtype=bool) for f in faces]
+    wet = [np.zeros(f.shape[0], dtype=bool) for f in faces]
+
+    def group_faces(group: str) -> list[tuple[int, np.ndarray]]:
+        """The boundary faces of a facet group: (index into ``faces``, rows)."""
+        out = []
+        for ftype, conn in model.mesh.facet_group(group).items():
+            k = reference(reference(ftype).linear).n_nodes
+            gk = np.sort(np.asarray(conn)[:, :k], axis=1)
+            for i, table in enumerate(keys):
+                if table.shape[1] == k and table.shape[0] and gk.shape[0]:
+                    at, found = match_rows(table, gk)
+                    out.append((i, at[found]))
+        return out
+
+    gravity = None
+    for ld in model.loads:
+        if ld.kind == "gravity":
+            gravity = np.asarray(ld.value, dtype=float)
+        elif ld.kind in ("pressure", "silt") and ld.target is not None:
+            for i, rows in group_faces(ld.target):
+                c = x[faces[i][rows]].mean(axis=1)
+                if ld.kind == "silt":
+                    n = _face_normals(x, faces[i][rows])
+                    v = (np.asarray(ld.value(c), dtype=float) * n**2).sum(axis=1)
+                elif callable(ld.value):
+                    v = np.asarray(ld.value(c), dtype=float)
+                else:
+                    v = np.full(rows.size, float(ld.value))
+                p[i][rows] += v
+                loaded[i][rows] = True
+    loads_spec = spec.get("loads", {})
+    for wg in loads_spec.get("westergaard", []):
+        for g in wg["groups"]:
+            for i, rows in group_faces(g):
+                wet[i][rows] = True
+    kpa = 1e-3 * np.concatenate(p) if p else np.zeros(0)
+    on = np.concatenate(loaded) if loaded else np.zeros(0, dtype=bool)
+    peak = float(np.abs(kpa[on]).max()) if on.any() else 0.0
+    cmap = plt.get_cmap("Blues")
+    norm = Normalize(0.0, peak if peak > 0 else 1.0)
+    colours = np.tile([0.85, 0.85, 0.85, 0.25], (kpa.size, 1))
+    colours[on] = cmap(norm(np.maximum(kpa[on], 0.0)))
+    edges = np.tile([0.5, 0.5, 0.5, 0.6], (kpa.size, 1))
+    edges[np.concatenate(wet)] = (0.0, 0.75, 0.75, 1.0)
+    fig = plt.figure(figsize=(9, 7))
+    ax = _axes3d(fig, 1, 1, 1)
+    ax.add_collection3d(_art3d().Poly3DCollection(_polygons(x, faces), facecolors=colours,
+                                         edgecolors=edges, linewidths=0.4))  # fmt: skip
+    if on.any():
+        fig.colorbar(ScalarMappable(norm, cmap), ax=ax, shrink=0.6, pad=0.1,
+                     label="normal pressure on the face (kPa)")  # fmt: skip
+    handles: list[Any] = []
+    labels: list[str] = []
+    for hy in loads_spec.get("hydrostatic", []):
+        rows_all = [x[faces[i][rows]].reshape(-1, 3) for g in hy["groups"]
+                    for i, rows in group_faces(g)]  # fmt: skip
+        if not rows_all:
+            continue
+        pts = np.concatenate(rows_all)
+        (x0, y0), (x1, y1) = pts[:, :2].min(axis=0), pts[:, :2].max(axis=0)
+        z = float(hy["water_level"])
+        ring = np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z], [x0, y0, z]])
+        ax.add_collection3d(_art3d().Line3DCollection([ring], colors="tab:blue", linestyles="--",
+                                             linewidths=1.0, zorder=_ON_TOP))  # fmt: skip
+        handles.append(plt.Line2D([], [], color="tab:blue", ls="--"))
+        labels.append(f"water {z:g} m")
+    n_uplift = 0
+    if "static/uplift" in res.f and "pairs/x" in res.f:
+        up = np.asarray(res.f["static/uplift"]) > 0
+        n_uplift = int(up.sum())
+        if n_uplift:
+            xp = np.asarray(res.f["pairs/x"])[up]
+            ax.scatter(*xp.T, s=6, color="tab:purple", depthshade=False, zorder=_ON_TOP)
+            handles.append(plt.Line2D([], [], color="tab:purple", marker=".", ls=""))
+            peak_up = 1e-3 * float(np.asarray(res.f["static/uplift"]).max())
+            labels.append(f"uplift (static), up to {peak_up:.4g} kPa")
+    fixed = np.unique(np.concatenate([s.nodes for s in model.supports] or [np.zeros(0, int)]))
+    if fixed.size:
+        ax.scatter(*x[fixed].T, marker="^", s=8, color="k", depthshade=False, zorder=_ON_TOP)
+        handles.append(plt.Line2D([], [], color="k", marker="^", ls=""))
+        labels.append("supports")
+    if any(w.any() for w in wet):
+        handles.append(plt.Line2D([], [], color="c", lw=2))
+        labels.append("added mass (Westergaard)")
+    centre = None
+    if gravity is not None and np.any(gravity):
+        w = np.asarray(model.body_weights)
+        centre = (w[:, None] * x).sum(axis=0) / w.sum() if w.sum() > 0 else x.mean(axis=0)
+        g = 0.2 * size * gravity / np.linalg.norm(gravity)
+        ax.quiver(*centre, *g, color="k", linewidth=1.5, arrow_length_ratio=0.25,
+                  zorder=_ON_TOP + 1)  # fmt: skip
+        ax.text(*centre, f" g = {np.linalg.norm(gravity):g} m/s²", fontsize=8,
+                zorder=_ON_TOP + 1)  # fmt: skip
+    _frame3d(ax, x)
+    if handles:
+        ax.legend(handles, labels, loc="upper left", fontsize=8)
+    ax.set_title((f"{title}\n" if title else "") + "loads: the faces shaded by their normal "
+                 "pressure (hydrostatic, silt, pressures)", fontsize=10)  # fmt: skip
+    return _finish_described(fig, path, {
+        "largest_face_pressure_kPa": peak, "loaded_faces": int(on.sum()),
+        "supported_nodes": int(fixed.size), "uplift_pairs": n_uplift,
+        "centre_of_mass_m": None if centre is None else centre.tolist(),
+        "view": list(VIEW_3D)})  # fmt: skip

@@ -20,7 +20,14 @@ import numpy as np
 from ..dynamics import envelope_extremes
 from ..errors import InputError, PfeieError, ResultsError
 from ..io import Results, output_file
-from ._plots import plot_all, plot_fields, plot_loads, plot_static
+from ._plots import (
+    plot_all,
+    plot_fields,
+    plot_fields_3d,
+    plot_loads,
+    plot_loads_3d,
+    plot_static,
+)
 
 if TYPE_CHECKING:
     from ..io import Job
@@ -532,6 +539,28 @@ def _image(name: str, data: str, caption: str = "") -> str:
     return f"<figure><img alt='{esc(name)}' src='data:image/png;base64,{data}'>{cap}</figure>"
 
 
+#: the captions of the figures of a 3D model (drawn by :mod:`pfeie.plot._plots`: the
+#: boundary faces in the view :data:`pfeie.plot._plots.VIEW_3D`, the joints in their planes)
+CAPTIONS_3D = {
+    "mesh": "The boundary faces of the mesh coloured by body, seen from upstream (−x), the "
+            "−y side and above, equal scaling; the interface pairs (drawn through the faces) "
+            "and the probes.",
+    "loads": "The loads on the boundary faces: each face shaded by the normal pressure the "
+             "loads put on it (hydrostatic, silt, pressures; kPa); the faces with the "
+             "reservoir's added mass edged in cyan; the water levels; the pairs with a static "
+             "uplift; gravity at the centre of mass; the supports.",
+    "static_stress": "Principal stresses of the static state (MPa, tension positive) "
+                     "painted on the boundary faces (a face: the mean of its corner nodes); "
+                     "the stars mark the extremes over all the nodes, inside ones included.",
+    "joint_map": "Each joint in its own plane (a pair: a square of its tributary area): the "
+                 "pair states of the static state and at the end (broken pairs crossed), the "
+                 "largest opening of the run and the residual slip.",
+    "envelope": "The largest σ1 and the smallest σ3 of the run (MPa, tension positive; static "
+                "state included) painted on the boundary faces (a face: the mean of its corner "
+                "nodes); the colour bar spans the extremes over all the nodes, which the stars "
+                "mark.",
+}  # fmt: skip
+
 #: the sections of the report, in order: anchor and heading
 SECTIONS = (
     ("mesh", "Geometry and mesh"), ("materials", "Materials"), ("loads", "Loads"),
@@ -551,7 +580,10 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     histories, the joints' results and maps, the stress envelope and the EM 1110-2-6053
     evaluation. The sections that need the model (the materials' values, the loads, the
     modal table, the static stresses) rebuild it from the model file of the run
-    (:func:`model_of_run`); without it the page says why they are missing."""
+    (:func:`model_of_run`); without it the page says why they are missing. A 3D model's
+    figures are drawn in 3D (:mod:`pfeie.plot._plots`: the boundary faces in a fixed
+    view, the loads and the stress fields on them, each joint in its own plane), with the
+    captions of :data:`CAPTIONS_3D`."""
     rpath = Path(results)
     target = Path(out) if out is not None else rpath.parent / "report.html"
     with Results(rpath) as res:  # a file that is not a results file is refused first
@@ -579,16 +611,17 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         extra: dict[str, Path] = {}
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp)
-            if job is not None and two_d:
-                extra["loads"] = plot_loads(res, job.model, job.spec, folder / "loads.png",
-                                            title)  # fmt: skip
+            if job is not None:
+                extra["loads"] = (plot_loads if two_d else plot_loads_3d)(
+                    res, job.model, job.spec, folder / "loads.png", title)  # fmt: skip
                 if "static/u" in res.f:
-                    extra["static_stress"] = plot_fields(
-                        res,
-                        static_stress(res, job),
-                        folder / "static_stress.png",
-                        f"{title}\nprincipal stresses of the static state (tension +)",
-                    )
+                    head = f"{title}\nprincipal stresses of the static state (tension +)"
+                    extra["static_stress"] = (
+                        plot_fields(res, static_stress(res, job), folder / "static_stress.png",
+                                    head) if two_d else
+                        plot_fields_3d(res, static_stress(res, job),
+                                       folder / "static_stress.png", f"{head}, on the "
+                                       "boundary faces"))  # fmt: skip
             if not static_only:
                 for name in res.interface_names if "static/X" in res.f else []:
                     extra[f"static_{name}"] = plot_static(res, name, folder / f"static_{name}.png",
@@ -610,7 +643,7 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         if name not in images:
             return []
         used.add(name)
-        return [_image(name, images[name], caption)]
+        return [_image(name, images[name], caption if two_d else CAPTIONS_3D.get(name, caption))]
 
     def missing(what: str) -> list[str]:
         return [f"<p class='note'>{esc(what)}: not available: {esc(source)}.</p>"]
