@@ -128,8 +128,9 @@ def _parser() -> argparse.ArgumentParser:
     sch.add_argument("-o", "--output", metavar="FILE", help="output file (default: stdout)")
     post = {
         "plot": ("figures of a results file (PNG)", "Write the figures of a results file: "
-                 "probe histories, joint slip and opening, pair-state maps, rigid motions, "
-                 "energy.", ("--out", "output folder (default: figures/ beside the results)")),
+                 "the mesh, the input motion, probe histories, joint slip and opening, "
+                 "pair-state maps, the joint map, the stress envelope, rigid motions, energy "
+                 "(2D and 3D).", ("--out", "output folder (default: figures/ beside the results)")),
         "export": ("tidy CSV tables of a results file", "Write tidy CSV tables (one "
                    "observation per row): probes, bodies, energy, joints, and the final state "
                    "of every pair.", ("--csv", "output folder (required)")),
