@@ -149,7 +149,8 @@ class NonsmoothAlpha:
 
     def modified_energy(self, state: State) -> float:
         """Φ, the terms of the scheme's modified energy E* = T + U + Φ beyond the kinetic
-        and the strain energy (J; docs/theory.md, "Energy identity"):
+        and the strain energy (J; docs/theory.md, "Energy identity of the smooth
+        step"):
 
             Φ = (δh/2) vᵀM e + (δ²h²/8)(3 aᵀM a + 2 aᵀM e + 2 eᵀM e),
 
@@ -167,8 +168,8 @@ class NonsmoothAlpha:
     def dissipation(self, cur: State, nxt: State) -> float:
         """D = δ h² ēᵀ M ē ≥ 0, the algorithmic dissipation of the smooth step cur → nxt
         (J; ē = (e_n + e_{n+1})/2, e = a − q̈, δ = γ − ½; docs/theory.md, "Energy
-        identity"). For a smooth step, E*_{n+1} − E*_n = external and pair work (step
-        averages) − damping work − D exactly."""
+        identity of the smooth step"). For a smooth step, E*_{n+1} − E*_n = external and
+        pair work (step averages) − damping work − D exactly."""
         eb = 0.5 * (self._lag(cur)[1] + self._lag(nxt)[1])
         return (self.gamma - 0.5) * self.dt**2 * float(eb @ (self.system.M @ eb))
 

@@ -8,8 +8,9 @@ Energy (J), accumulated over the run (method.md §8):
 - ``modified``: for the default nonsmooth generalised-α, the change since the start of
   the terms Φ of the scheme's modified energy E* = T + U + Φ beyond the kinetic and
   strain energy (:meth:`NonsmoothAlpha.modified_energy`; docs/theory.md, "Energy
-  identity"): Φ = (δh/2) vᵀMe + (δ²h²/8)(3aᵀMa + 2aᵀMe + 2eᵀMe), e = a − q̈ the lag
-  of the auxiliary acceleration, δ = γ − ½; zero for the other schemes;
+  identity of the smooth step"): Φ = (δh/2) vᵀMe + (δ²h²/8)(3aᵀMa + 2aᵀMe + 2eᵀMe),
+  e = a − q̈ the lag of the auxiliary acceleration, δ = γ − ½; zero for the other
+  schemes;
 - ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
   includes the work of the moving base through the joints);
 - ``damping``: Σ Δu·C v̄;
@@ -368,7 +369,8 @@ class EnergyAccount:
         energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ;
         ``modified`` the change of Φ (:meth:`NonsmoothAlpha.modified_energy`) and
         ``algorithmic`` what closes the balance with it: D ≥ 0 on a smooth step, plus
-        what the corrections leave (docs/theory.md, "Energy identity")."""
+        what the corrections leave (docs/theory.md, "Energy identity of the smooth
+        step")."""
         an, acc = self.an, self.acc
         k0, k1 = cur.kin, nxt.kin
         du = k1.u - k0.u
