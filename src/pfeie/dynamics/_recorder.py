@@ -2,9 +2,15 @@
 
 Energy (J), accumulated over the run (method.md §8):
 
-    kinetic + strain + damping + interface + impact + algorithmic
+    kinetic + strain + modified + damping + interface + impact + algorithmic
         = external_work + correction (+ initial energy),
 
+- ``modified``: for the default nonsmooth generalised-α, the change since the start of
+  the terms Φ of the scheme's modified energy E* = T + U + Φ beyond the kinetic and
+  strain energy (:meth:`NonsmoothAlpha.modified_energy`; docs/theory.md, "Energy
+  identity of the smooth step"): Φ = (δh/2) vᵀMe + (δ²h²/8)(3aᵀMa + 2aᵀMe + 2eᵀMe),
+  e = a − q̈ the lag of the auxiliary acceleration, δ = γ − ½; zero for the other
+  schemes;
 - ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
   includes the work of the moving base through the joints);
 - ``damping``: Σ Δu·C v̄;
@@ -16,9 +22,12 @@ Energy (J), accumulated over the run (method.md §8):
   generalised-α);
 - ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
   per step for Moreau-Jean (zero for Newmark's average-acceleration rule, whose balance
-  holds exactly; for the default nonsmooth generalised-α, which has no exact discrete
-  identity, the residual that closes the balance: the energy of the high modes the
-  scheme damps);
+  holds exactly); for the default nonsmooth generalised-α the residual that closes the
+  balance with the modified energy: on a smooth step (no impulse, no position
+  correction, pair forces that do not change) exactly the scheme's dissipation
+  D = δh²ēᵀMē ≥ 0 (:meth:`NonsmoothAlpha.dissipation`), plus, on the other steps, what
+  the velocity and position corrections and the jump of the pair forces leave
+  (docs/theory.md lists these terms; they have no sign);
 - ``correction``: the potential energy that the position correction of the nonsmooth
   generalised-α adds when it moves penetrating pair nodes apart by Δq: the strain energy
   it stores less the work of the step-average load over Δq (an input: it is then
@@ -39,12 +48,13 @@ from ..assembly import principal_extremes
 from ..interface import OPEN
 from ..typing import FloatArray, IntArray
 from ._excitation import Excitation
+from ._newmark import State
 
 if TYPE_CHECKING:
     from ._driver import Checkpoint, Dynamic, StepState
 
-ENERGY_TERMS = ("kinetic", "strain", "external_work", "damping", "interface", "impact",
-                "algorithmic", "correction")  # fmt: skip
+ENERGY_TERMS = ("kinetic", "strain", "modified", "external_work", "damping", "interface",
+                "impact", "algorithmic", "correction")  # fmt: skip
 _INPUTS = ("external_work", "correction")  # the right-hand side of the balance
 
 
@@ -62,9 +72,9 @@ class DynamicResult:
     ``safety_factor``, ``joint_force`` and ``joint_moment`` (…, d and 1 or 3; N, N·m), the
     cracked extent ``joint_cracked`` (the broken pairs) and the open crack ``joint_open``
     (the broken pairs that are open), lengths in 2D (m), areas in 3D (m²;
-    :meth:`pfeie.Model.joint_extent`). ``energy``: kinetic, strain,
-    external_work, damping, interface, impact, algorithmic, correction (J) and ``balance`` (their
-    residual).
+    :meth:`pfeie.Model.joint_extent`). ``energy``: kinetic, strain, modified,
+    external_work, damping, interface, impact, algorithmic, correction (J) and ``balance``
+    (their residual).
     """
 
     t: FloatArray
@@ -322,6 +332,17 @@ class EnergyAccount:
     def __init__(self, an: Dynamic, excitation: Excitation) -> None:
         self.an, self.ex = an, excitation
         self.acc = dict.fromkeys(ENERGY_TERMS[2:], 0.0)
+        self._phi: tuple[State, float] | None = None  # the last state's Φ (by identity)
+
+    def modified(self, state: State) -> float:
+        """Φ of a state of the nonsmooth generalised-α (J), the last one kept: a step
+        asks for its start, which the previous step asked for as its end."""
+        if self._phi is not None and self._phi[0] is state:
+            return self._phi[1]
+        assert self.an.ga is not None
+        value = self.an.ga.modified_energy(state)
+        self._phi = (state, value)
+        return value
 
     def add_step(self, cur: StepState, nxt: StepState) -> None:
         """Add the work of the step cur → nxt."""
@@ -345,9 +366,11 @@ class EnergyAccount:
         (friction and contact; the position correction is not theirs), and for joints
         with springs −½(λ_n + λ_{n+1})·Δw, which is the change of their elastic energy
         exactly while they stick (a spring is a smooth force); ``impact`` the
-        energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ; the
-        scheme has no exact discrete energy identity, so its ``algorithmic`` dissipation
-        is what closes the balance (docs/theory.md gives what it holds)."""
+        energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ;
+        ``modified`` the change of Φ (:meth:`NonsmoothAlpha.modified_energy`) and
+        ``algorithmic`` what closes the balance with it: D ≥ 0 on a smooth step, plus
+        what the corrections leave (docs/theory.md, "Energy identity of the smooth
+        step")."""
         an, acc = self.an, self.acc
         k0, k1 = cur.kin, nxt.kin
         du = k1.u - k0.u
@@ -379,7 +402,10 @@ class EnergyAccount:
         acc["interface"] += pair
         acc["impact"] += nxt.impact
         acc["correction"] += nxt.correction
-        acc["algorithmic"] += ext + nxt.correction - dT - dU - damp - pair - nxt.impact
+        phi0 = self.modified(k0)
+        dphi = self.modified(k1) - phi0
+        acc["modified"] += dphi
+        acc["algorithmic"] += ext + nxt.correction - dT - dU - damp - pair - nxt.impact - dphi
 
     def _add_moreau_jean(self, cur: StepState, nxt: StepState) -> None:
         """The terms of the θ-method's exact balance (see :mod:`._moreau`)."""
@@ -518,8 +544,8 @@ class Recorder:
         """The histories of the first ``rows`` rows."""
         keep = slice(0, rows)
         E = self.E
-        tot = (E["kinetic"] + E["strain"] + E["damping"] + E["interface"] + E["impact"]
-               + E["algorithmic"])  # fmt: skip
+        tot = (E["kinetic"] + E["strain"] + E["modified"] + E["damping"] + E["interface"]
+               + E["impact"] + E["algorithmic"])  # fmt: skip
         assert self.origin is not None
         E["balance"] = tot - sum(self.origin) - E["external_work"] - E["correction"]
         P = self.an.model.pairs

@@ -275,8 +275,8 @@ class ResultsWriter:
         self._grow(hs, "fallbacks", (), "count", np.int64)
         self._grow(hs, "residual", (), "1")
         he = h.create_group("energy")
-        for key in ("kinetic", "strain", "external_work", "damping", "interface", "impact",
-                    "algorithmic", "correction", "balance"):  # fmt: skip
+        for key in ("kinetic", "strain", "modified", "external_work", "damping", "interface",
+                    "impact", "algorithmic", "correction", "balance"):  # fmt: skip
             self._grow(he, key, (), "J")
         fg = f.create_group("fields")
         self._grow(fg, "time", (), "s")
@@ -392,7 +392,8 @@ class ResultsWriter:
                     self._extend(f[f"history/solver/{key}"],
                                  [r.get("solver", [0, 0, 0.0])[k] for r in buf])  # fmt: skip
             for key in buf[0]["energy"]:
-                self._extend(f[f"history/energy/{key}"], [r["energy"][key] for r in buf])
+                if key in f["history/energy"]:  # (older files lack `modified`)
+                    self._extend(f[f"history/energy/{key}"], [r["energy"][key] for r in buf])
             fr = [r for r in buf if "fields" in r]
             self._extend(f["fields/time"], [r["t"] for r in fr])
             for key in ("u", "v", "a"):
