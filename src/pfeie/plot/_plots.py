@@ -302,9 +302,11 @@ def plot_energy(res: Results, path: Path, title: str = "") -> Path:
                            gridspec_kw={"height_ratios": [3, 1]})  # fmt: skip
     for key, lab in (("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"),
                      ("interface", "friction and contact"), ("impact", "impact"),
-                     ("algorithmic", "time scheme"), ("correction", "position correction"),
+                     ("algorithmic", "time scheme"), ("modified", "scheme's stored term Φ"),
+                     ("correction", "position correction"),
                      ("external_work", "work of the loads")):  # fmt: skip
-        if key in e and (key not in ("algorithmic", "correction") or np.any(e[key])):
+        if key in e and (key not in ("algorithmic", "correction", "modified")
+                         or np.any(e[key])):  # fmt: skip
             ax[0].plot(t, e[key] - (e[key][0] if key == "strain" else 0.0), lw=1.0, label=lab)
     ax[0].set_ylabel("energy (J)\n(strain: change)")
     ax[0].legend(loc="upper left", fontsize=8)
