@@ -113,8 +113,10 @@ def measure(model: pf.Model, an: pf.Dynamic, steps: int, t_static: float, t_setu
         pstats.Stats(prof).sort_stats("tottime").print_stats(profile)
     counts = res.final.pairs.counts() if res.final else {}
     slip = float(np.abs(res.final.pairs.s[:, :-1]).max()) if res.final else 0.0
-    # factorisations of W_c per 100 steps after the set-up's (large rotations)
-    fact = 100.0 * (an.istep.factorizations - 1) / steps if an.istep is not None else 0.0
+    # factorisations of W_c per 100 steps after the set-up's (large rotations; NaN for a
+    # version of pfeie that does not count them)
+    n_fact = getattr(an.istep, "factorizations", float("nan"))
+    fact = 100.0 * (n_fact - 1) / steps if an.istep is not None else 0.0
     return dict(dof=an.system.n, pairs=model.pairs.n if model.pairs else 0, t_static=t_static,
                 t_setup=t_setup, t_solve=t_solve, t_step=t_run / steps,
                 ratio=t_run / steps / t_solve, iface=t_iface / t_run, slip=slip, fact=fact,

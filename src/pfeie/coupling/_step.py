@@ -18,9 +18,10 @@ When the operators change a little from step to step (pair frames that turn with
 blocks, large rotations: W changes by the order of the rotation increment), :meth:`update`
 does not factorise the new W_c: its solver keeps the W_c⁻¹ of the last factorised one and
 refines each state system on it (:class:`InterfaceSolver`, ``reference``), to round-off.
-W_c is factorised anew when a refinement contracted by less than
+W_c is factorised anew at the next update when a refinement's contraction factor exceeded
 :data:`REFACTOR_CONTRACTION` (the accumulated rotation has grown: each correction would
-gain too few digits) or stopped contracting (the solver then factorises by itself);
+gain too few digits), and at once when one stops contracting (the solver then factorises
+by itself);
 :attr:`InterfaceStep.factorizations` counts the factorisations.
 """
 
