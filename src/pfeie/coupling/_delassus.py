@@ -21,9 +21,7 @@ Storage strategies, behind the :class:`Delassus` protocol:
   the largest), exact to that tolerance; the interaction of distant joints through an
   elastic body is smooth, so it compresses;
 - :class:`GatheredDelassus`: W gathered from a stored nodal flexibility (the pair nodes'
-  block of K̂⁻¹) for pair frames that change, with no new solve (large rotations);
-  :class:`SideFlexibility` keeps it split by the sides of the pairs, so that a W whose
-  side-b rows turn by a rotation per pair is three block-diagonal products.
+  block of K̂⁻¹) for pair frames that change, with no new solve (large rotations).
 
 ``delassus(factor, G, strategy=...)`` builds one. The same builder serves statics (with
 the pinned stiffness, §5.2), dynamics (K̂) and the stiffness-scaled variants.
@@ -233,63 +231,6 @@ class NodalFlexibility:
         return self.factor.solve(b)
 
 
-@dataclass
-class SideFlexibility:
-    """W = G̃ F G̃ᵀ split by the sides of the pairs, G = G_a + G_b (G_a: the columns of the
-    nodes of side a, with their sign), for operators G̃ = G_a + P G_b whose side-b rows
-    are turned by an orthogonal d × d matrix P_k per pair (block-diagonal P):
-
-        W(P) = H_a + P H_ba + H_ab Pᵀ + P H_b Pᵀ,
-        H_a = G_a F G_aᵀ,  H_ab = G_a F G_bᵀ = H_baᵀ,  H_b = G_b F G_bᵀ,
-
-    formed once; W(P) then costs three block-diagonal products of M × M arrays (O(d M²)),
-    not the products with the nodal flexibility F. The products go to work arrays kept
-    between calls (fresh M × M arrays cost more to map than to fill).
-
-    >>> import numpy as np, scipy.sparse as sp
-    >>> F = np.array([[2.0, 0.5], [0.5, 1.0]])              # two DOFs, one 1D pair
-    >>> Ga, Gb = sp.csr_matrix([[-1.0, 0.0]]), sp.csr_matrix([[0.0, 1.0]])
-    >>> sf = SideFlexibility.build(F, Ga, Gb, 1)            # w = u₂ − u₁
-    >>> float(sf.matrix(None)[0, 0]), float(sf.matrix(-np.ones((1, 1, 1)))[0, 0])
-    (2.0, 4.0)
-    """
-
-    Ha: FloatArray
-    Hba: FloatArray
-    Hb: FloatArray
-    d: int
-    _work: list[FloatArray] = field(default_factory=list, repr=False)
-
-    @classmethod
-    def build(cls, F: FloatArray, Ga: sp.csr_matrix, Gb: sp.csr_matrix, d: int) -> SideFlexibility:
-        """From the nodal flexibility F and the two sides' columns G_a, G_b (M × |F|)."""
-        FGa = np.asarray(Ga @ F).T  # F G_aᵀ (F symmetric)
-        FGb = np.asarray(Gb @ F).T
-        Ha, Hb = np.asarray(Ga @ FGa), np.asarray(Gb @ FGb)
-        return cls(0.5 * (Ha + Ha.T), np.asarray(Gb @ FGa), 0.5 * (Hb + Hb.T), d)
-
-    def matrix(self, P: FloatArray | None) -> FloatArray:
-        """W(P) (M, M) (a new array); None for P = I (the reference operators)."""
-        if P is None:
-            W = self.Ha + self.Hba
-            W += self.Hba.T
-            W += self.Hb
-            return W
-        M, m, d = self.Ha.shape[0], P.shape[0], self.d
-        if not self._work:
-            self._work = [np.empty((m, d, M)) for _ in range(3)]
-        X, Y, Z = self._work
-        np.matmul(P, self.Hba.reshape(m, d, M), out=X)  # P H_ba
-        np.matmul(P, self.Hb.reshape(m, d, M), out=Y)  # P H_b
-        Z.reshape(M, M)[...] = Y.reshape(M, M).T  # H_b Pᵀ
-        np.matmul(P, Z, out=Y)  # P H_b Pᵀ
-        Xm = X.reshape(M, M)
-        W = self.Ha + Xm
-        W += Xm.T
-        W += Y.reshape(M, M)
-        return W
-
-
 Strategy = Literal["auto", "dense", "matrix-free", "blocks"]
 
 
@@ -359,5 +300,5 @@ def _blocks(
 __all__ = [
     "BlockDelassus",
     "Delassus", "DenseDelassus", "GatheredDelassus", "MatrixFreeDelassus", "NodalFlexibility",
-    "SideFlexibility", "delassus",
+    "delassus",
 ]  # fmt: skip

@@ -914,8 +914,8 @@ class InterfaceSolver:
         in the rows ``oth`` of separated, sliding, fixed and held-open components, so with
         z = W_c⁻¹ b / ρ, x = z − W_c⁻¹[:, oth] y / ρ, Cap y = J[oth] z − b[oth],
         Cap = J[oth] W_c⁻¹[:, oth] / ρ (k × k): O(k² M) instead of the O(M³) of a dense
-        solve, when k ≤ M/2. Otherwise, or when the capacitance system is singular, the
-        dense solve."""
+        solve, when k ≤ M/2. Otherwise, or when the capacitance system is singular, or on a
+        reference's W_c⁻¹ (not this W_c's), the dense solve."""
         Winv, M = self._winv, self.m * self.d
         if Winv is None or self.refined or self.E is not None or M < NEWTON_WOODBURY_MIN:
             return np.asarray(np.linalg.solve(J, b))
