@@ -222,10 +222,11 @@ class NodalFlexibility:
         return np.asarray(Gt @ (Gt @ self.F).T)
 
     def response(self, y: FloatArray) -> FloatArray:
-        """K̂⁻¹ Sᵀ y (n,) for nodal forces y on the selected DOFs."""
+        """K̂⁻¹ Sᵀ y (n,) for nodal forces y on the selected DOFs (or (n, k) for y (|dofs|,
+        k))."""
         if self.Y is not None:
             return np.asarray(self.Y @ y)
-        b = np.zeros(self.factor.n)
+        b = np.zeros((self.factor.n, *np.shape(y)[1:]))
         b[self.dofs] = y
         return self.factor.solve(b)
 

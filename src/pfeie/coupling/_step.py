@@ -13,12 +13,22 @@ forces in the step) calls this problem once per step:
 3. corrector: u_{n+1} = u_free + s K̂⁻¹ Gᵀ X (:meth:`Delassus.correct`).
 
 The problem knows nothing of time: the integrator owns K̂, P̂ and s.
+
+When the operators change a little from step to step (pair frames that turn with their
+blocks, large rotations: W changes by the order of the rotation increment), :meth:`update`
+does not factorise the new W_c: its solver keeps the W_c⁻¹ of the last factorised one and
+refines each state system on it (:class:`InterfaceSolver`, ``reference``), to round-off.
+W_c is factorised anew at the next update when a refinement's contraction factor exceeded
+:data:`REFACTOR_CONTRACTION` (the accumulated rotation has grown: each correction would
+gain too few digits), and at once when one stops contracting (the solver then factorises
+by itself);
+:attr:`InterfaceStep.factorizations` counts the factorisations.
 """
 
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -26,6 +36,29 @@ from ..interface import OPEN, STICK, InterfaceSolver, PairLaws, PairState, Solve
 from ..typing import BoolArray, FloatArray
 from ._delassus import Delassus
 from ._operators import PairOperator
+
+REFACTOR_CONTRACTION = 0.02
+"""The first contraction factor of a refinement on the reference W_c⁻¹ above which the
+next :meth:`InterfaceStep.update` factorises W_c anew (at 0.02 a state system is solved
+to round-off in about nine corrections of two M × M products each)."""
+
+
+@dataclass
+class _Reference:
+    """The factorised solvers the updated ones refine on, shared by the problems made by
+    :meth:`InterfaceStep.with_laws`: the solver of the full W and those of sub-blocks (per
+    pattern of active pairs), the largest contraction seen on them since, and the number
+    of factorisations made."""
+
+    solver: InterfaceSolver | None = None
+    subs: dict[bytes, InterfaceSolver] = field(default_factory=dict)
+    contraction: float = 0.0
+    factorizations: int = 0
+
+    def track(self, solver: InterfaceSolver, before: int) -> None:
+        """Account for a solve of ``solver`` (``before``: its factorisations before it)."""
+        self.factorizations += solver.factorizations - before
+        self.contraction = max(self.contraction, solver.contraction)
 
 
 @dataclass
@@ -64,7 +97,12 @@ class InterfaceStep:
     scale: s, the weight of the pair forces in the step's equation.
     settings: the interface solver's settings.
     regularize: relative compliance for redundant constraints (T and X junctions).
+
+    ``reuse`` (default True): :meth:`update` refines on the last factorised W_c⁻¹ (module
+    docstring); False factorises every new W_c.
     """
+
+    reuse: bool = True
 
     def __init__(
         self,
@@ -80,13 +118,29 @@ class InterfaceStep:
         self.settings = SolverSettings() if settings is None else settings
         self.regularize = regularize
         self.stats = SolveStats()  # shared with the problems made by with_laws
+        self._ref = _Reference()  # likewise
         self.update(op, W)
 
+    @property
+    def factorizations(self) -> int:
+        """The factorisations of W_c (and of its sub-blocks) made for this problem and
+        those made by :meth:`with_laws` since its creation."""
+        return self._ref.factorizations
+
     def update(self, op: PairOperator, W: Delassus) -> None:
-        """New operators (e.g. pair frames that turned); the solver is rebuilt for them."""
+        """New operators (e.g. pair frames that turned). The solver for them refines on
+        the last factorised W_c⁻¹ while that contracts by at most
+        :data:`REFACTOR_CONTRACTION` (and :attr:`reuse`); otherwise it factorises W_c."""
         self.op, self.W = op, W
+        ref = self._ref
+        base = ref.solver
+        if not self.reuse or (base is not None and ref.contraction > REFACTOR_CONTRACTION):
+            base = None
         self.solver = InterfaceSolver(self.scale * W.matrix(), self.laws, settings=self.settings,
-                                      regularize=self.regularize)  # fmt: skip
+                                      regularize=self.regularize, reference=base)  # fmt: skip
+        ref.track(self.solver, 0)
+        if not self.solver.refined:  # factorised: the reference of the next updates
+            ref.solver, ref.subs, ref.contraction = self.solver, {}, 0.0
         self._last = self.solver
         self._subsolvers: dict[bytes, InterfaceSolver] = {}
 
@@ -119,8 +173,15 @@ class InterfaceStep:
             idx = np.flatnonzero(active)
             comps = (idx[:, None] * d + np.arange(d)).ravel()
             Wa = self.scale * self.W.matrix()[np.ix_(comps, comps)]
+            ref = self._ref
+            base = ref.subs.get(key) if self.solver.refined else None
             hit = InterfaceSolver(Wa, self.laws.subset(idx), settings=self.settings,
-                                  regularize=self.regularize)  # fmt: skip
+                                  regularize=self.regularize, reference=base)  # fmt: skip
+            ref.track(hit, 0)
+            if not hit.refined:
+                if len(ref.subs) >= 16:
+                    ref.subs.clear()
+                ref.subs[key] = hit
             if len(self._subsolvers) >= 16:
                 self._subsolvers.clear()
             self._subsolvers[key] = hit
@@ -179,8 +240,10 @@ class InterfaceStep:
     ) -> StepSolution:  # fmt: skip
         m, d = self.op.m, self.op.d
         if inactive is None or not inactive.any() or self._held_open(inactive):
+            n0 = self.solver.factorizations
             trial, _ = self.solver.solve(w_free, prev, label=label, fixed=fixed,
                                          breaking=breaking, inactive=inactive)  # fmt: skip
+            self._track(self.solver, n0)
             self._last = self.solver
         else:
             active = ~inactive
@@ -189,9 +252,11 @@ class InterfaceStep:
             trial.state[inactive] = OPEN
             if active.any():
                 sub = self._subsolver(active)
+                n0 = sub.factorizations
                 part, _ = sub.solve(w_free[active], prev.select(active), label=label,
                                     fixed=None if fixed is None else fixed[active],
                                     breaking=breaking)  # fmt: skip
+                self._track(sub, n0, active.tobytes())
                 self._last = sub
                 for name in ("state", "broken", "X", "slip_dir"):
                     getattr(trial, name)[active] = getattr(part, name)
@@ -211,6 +276,19 @@ class InterfaceStep:
             return StepSolution(trial, np.zeros(0))
         du = self.W.correct(trial.X.ravel() * self.scale)
         return StepSolution(trial, np.asarray(du))
+
+    def _track(self, solver: InterfaceSolver, before: int, sub: bytes | None = None) -> None:
+        """Account for a solve of ``solver`` (a sub-block's for the pattern ``sub``): its
+        contraction, and, when it left the reference and factorised its W_c, it becomes
+        the reference of the next updates."""
+        ref = self._ref
+        ref.track(solver, before)
+        if solver.factorizations == before or not self.reuse:
+            return
+        if sub is None:
+            ref.solver, ref.subs, ref.contraction = solver, {}, 0.0
+        else:
+            ref.subs[sub] = solver
 
     @property
     def iterations(self) -> int:

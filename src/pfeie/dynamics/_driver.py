@@ -630,8 +630,7 @@ class Dynamic:
         Z = None
         if cols:
             rhs = ga.s * np.column_stack(cols)
-            Z = (np.asarray(W.correct(rhs)) if self.corot is None else
-                 np.column_stack([W.correct(c) for c in rhs.T]))  # fmt: skip
+            Z = np.asarray(W.correct(rhs))
         parts = iter(range(len(cols)))
         acc = acc_free + Z[:, next(parts)] if Z is not None and lam.any() else acc_free
         dv = Z[:, next(parts)] if Z is not None and Lam.any() else 0.0

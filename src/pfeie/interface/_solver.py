@@ -42,6 +42,23 @@ changing and the residual. Each answer is judged by the residual above. When the
 state iteration or the first Newton succeeds, nothing of this path changes: the
 fallbacks only run after them.
 
+A solver made for a W that changed a little (pair frames that turned with their blocks,
+large rotations) may keep the W_c⁻¹ of a ``reference`` solver instead of factorising its
+own: each state system A X = b (the rows of W_c, those of the open and sliding components
+replaced by their constraints) is solved on the reference's A_ref⁻¹ (its Woodbury form)
+and refined with the residual of the exact A,
+
+    X₀ = A_ref⁻¹ b,    X_{j+1} = X_j + A_ref⁻¹ (b − A X_j),
+
+which contracts by q ≈ ‖A_ref⁻¹ (A − A_ref)‖, of the order of the rotation since the
+reference was factorised. It runs until the correction falls to round-off
+(:data:`REFINE_TOL` of X), so the state iteration, its residual and its tolerance are
+those of a solver that factorised W_c itself. When the corrections stop contracting
+(q > :data:`REFINE_MAX_CONTRACTION`) or do not reach round-off in :data:`REFINE_MAX_ITER`
+corrections, the solver factorises its own W_c and solves again; the largest first
+contraction factor is kept in :attr:`InterfaceSolver.contraction` for the caller to
+decide when to factorise anew.
+
 A large sparse W (at least :data:`SPARSE_MIN` rows and at most :data:`SPARSE_FILL`
 nonzeros, e.g. granular media: many blocks, each with a few pairs) is kept sparse: the
 state systems are factorised by a sparse LU, W is not inverted, and a failed state
@@ -78,6 +95,18 @@ SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
 NEWTON_WOODBURY_MIN = 1500
 """Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c."""
+REFINE_TOL = 1e-15
+"""Iterative refinement on a reference W_c⁻¹: the state system is solved when the last
+correction, or the error it predicts (q/(1 − q) of it), is at most this fraction of X
+(max norms): round-off."""
+REFINE_FLOOR = 1e-12
+"""A refinement whose corrections stop contracting below this fraction of X has reached
+the round-off of the residual (ε times the condition of W_c) and is accepted there."""
+REFINE_MAX_CONTRACTION = 0.5
+"""A refinement whose corrections shrink by less than this factor (above
+:data:`REFINE_FLOOR`) is abandoned: the solver factorises its own W_c."""
+REFINE_MAX_ITER = 40
+"""Corrections of one refinement before the solver factorises its own W_c."""
 
 
 def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -130,6 +159,10 @@ class InterfaceSolver:
     border: optional E (M, r) for statics with floating blocks.
     settings: tolerance and iteration limit (:class:`SolverSettings`).
     regularize: relative compliance added to W for redundant constraints.
+    reference: a solver of a nearby W of the same size whose W_c⁻¹ is kept: the state
+        systems are solved on it by iterative refinement (see the module docstring)
+        instead of a factorisation of this W_c; ignored (this W_c is factorised) when the
+        reference has no W_c⁻¹, or with a border, a regularisation or a sparse W.
     """
 
     def __init__(
@@ -140,6 +173,7 @@ class InterfaceSolver:
         border: FloatArray | None = None,
         settings: SolverSettings | None = None,
         regularize: float = 0.0,
+        reference: InterfaceSolver | None = None,
     ) -> None:
         settings = SolverSettings() if settings is None else settings
         props = laws
@@ -185,24 +219,38 @@ class InterfaceSolver:
             self._sparse = sp.csr_array(self.Wc)
             self._cdiag = np.diag(self.Wc) - diag
             log.info("W is sparse (%d × %d, %d nonzeros)", M, M, self._sparse.nnz)
+        self.factorizations = 0  # of W_c by this solver (one, or none on a reference)
+        self.contraction = 0.0  # the largest first contraction of its refinements
+        self.refined = False  # whether the state systems are refined on a reference W_c⁻¹
         if border is None and regularize == 0.0 and self.m and self._sparse is None:
+            if (reference is not None and reference._winv is not None
+                    and reference._winv.shape == self.Wc.shape):  # fmt: skip
+                self._winv, self.refined = reference._winv, True
+                # the capacitance factors depend on W_c⁻¹ and the pattern only: shared
+                self._cache = reference._cache
+            else:
+                self._invert(diag)
+
+    def _invert(self, diag: FloatArray) -> None:
+        """W_c⁻¹ from a Cholesky factorisation of W_c (shifted when W is singular)."""
+        try:
+            cf = sla.cho_factor(self.Wc, check_finite=False)
+        except (np.linalg.LinAlgError, sla.LinAlgError):
+            # redundant pairs (more constraints than the blocks' motions they tie, as
+            # in FCLIB's stacked boxes): W is singular, the forces are not unique but
+            # the relative motions are. A proximal shift ε I with ε = 1e-12 of the
+            # mean diagonal picks one answer; it moves the relative motions by ε X,
+            # far below the solver's tolerance
+            eps = 1e-12 * float(diag.mean())
+            self.Wc = self.Wc + eps * np.eye(self.Wc.shape[0])
+            log.info("W is singular (redundant pairs): shifted by %.1e", eps)
             try:
                 cf = sla.cho_factor(self.Wc, check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
-                # redundant pairs (more constraints than the blocks' motions they tie, as
-                # in FCLIB's stacked boxes): W is singular, the forces are not unique but
-                # the relative motions are. A proximal shift ε I with ε = 1e-12 of the
-                # mean diagonal picks one answer; it moves the relative motions by ε X,
-                # far below the solver's tolerance
-                eps = 1e-12 * float(diag.mean())
-                self.Wc = self.Wc + eps * np.eye(self.Wc.shape[0])
-                log.info("W is singular (redundant pairs): shifted by %.1e", eps)
-                try:
-                    cf = sla.cho_factor(self.Wc, check_finite=False)
-                except (np.linalg.LinAlgError, sla.LinAlgError):
-                    cf = None
-            if cf is not None:
-                self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
+                cf = None
+        if cf is not None:
+            self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
+            self.factorizations += 1
 
     @property
     def woodbury(self) -> bool:
@@ -217,7 +265,9 @@ class InterfaceSolver:
             raise ValueError("with_laws needs the same joint compliance")
         other = copy.copy(self)
         other.props = laws
-        other._cache = {}
+        # on a reference W_c⁻¹ the capacitance factors (W_c⁻¹ and the pattern only) are
+        # shared with the reference's other solvers
+        other._cache = self._cache if self.refined else {}
         other._gapv = np.zeros_like(self._gapv)
         if other.m:
             other._gapv[:, -1] = laws.gap
@@ -274,6 +324,11 @@ class InterfaceSolver:
         coef = -mu[pair_fr] * tdir  # X_t = coef · X_n + x0
         x0 = -c[pair_fr] * tdir
         key = prefix.tobytes() + np.round(coef, 14).tobytes()
+        if self.refined:
+            Xr = self._refine(key, kin, fr, coef, x0, target, w_free, oth, rows_fr, nidx)
+            if Xr is not None:
+                Xr.reshape(-1)[zero] = 0.0
+                return Xr, np.zeros(0)
         if self._winv is not None:
             X = self._woodbury(key, kin, fr, coef, x0, target, w_free, oth, rows_fr, nidx)
             X.reshape(-1)[zero] = 0.0  # open: zero, not the round-off of the update
@@ -406,6 +461,84 @@ class InterfaceSolver:
             cy[rows_fr] -= x0  # the constraints' right-hand side b_o
         corr = _lu_solve(lu, cy)
         return (y - Winv[:, oth] @ corr).reshape(self.m, d)
+
+    def _refine(
+        self, key: bytes, kin: np.ndarray, fr: np.ndarray, coef: FloatArray, x0: FloatArray,
+        target: FloatArray, w_free: FloatArray, oth: np.ndarray, rows_fr: np.ndarray,
+        nidx: np.ndarray,
+    ) -> FloatArray | None:  # fmt: skip
+        """The state system of :meth:`_woodbury` on the reference W_c⁻¹ by iterative
+        refinement (module docstring): X_{j+1} = X_j + A_ref⁻¹ (b − A X_j), with A this
+        W_c in the rows ``kin`` and the constraints C X = b_o (X_j = 0, X_t − coef X_n =
+        x₀) in the rows ``oth``, A_ref⁻¹ the Woodbury solve of :meth:`_woodbury` on the
+        reference. Until round-off (:data:`REFINE_TOL`); when it stops contracting, W_c is
+        factorised (None is returned: the caller solves on the new inverse)."""
+        Winv = self._winv
+        assert Winv is not None
+        b = target.ravel() - w_free.ravel()
+        b[oth] = 0.0
+        bo = np.zeros(oth.size)
+        if fr.size:
+            bo[rows_fr] = x0
+        lu: tuple[FloatArray, np.ndarray] | None = None
+        Wo = Winv[:, oth]
+        if oth.size:
+            cached = self._cache.get(b"w" + key)
+            if cached is None:
+                cap = Winv[np.ix_(oth, oth)]
+                if fr.size:
+                    cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
+                lu = _lu_factor(cap)
+                if len(self._cache) > 64:
+                    self._cache.clear()
+                self._cache[b"w" + key] = (lu,)
+            else:
+                lu = cached[0]  # type: ignore[assignment]
+
+        def constraints(X: FloatArray) -> FloatArray:
+            cx = X[oth]
+            if fr.size:
+                cx[rows_fr] -= coef * X[nidx]
+            return cx
+
+        def ref_solve(r: FloatArray, ro: FloatArray) -> FloatArray:
+            """A_ref⁻¹ (r, ro): r on the rows ``kin`` (zero in ``oth``), ro the constraints'."""
+            y = Winv @ r
+            if lu is None:
+                return np.asarray(y)
+            return np.asarray(y - Wo @ _lu_solve(lu, constraints(y) - ro))
+
+        X = ref_solve(b, bo)
+        last = 0.0
+        for it in range(REFINE_MAX_ITER):
+            r = b - self.Wc @ X
+            r[oth] = 0.0
+            dX = ref_solve(r, bo - constraints(X))
+            X += dX
+            nX, nd = float(np.abs(X).max(initial=0.0)), float(np.abs(dX).max(initial=0.0))
+            if nd <= REFINE_TOL * nX:
+                return X.reshape(self.m, self.d)
+            q = nd / (last if it else nX)
+            if not it:
+                self.contraction = max(self.contraction, q)
+            if q > REFINE_MAX_CONTRACTION:
+                if it and nd <= REFINE_FLOOR * nX:  # round-off: the residual's floor
+                    return X.reshape(self.m, self.d)
+                break
+            if it and nd * q / (1.0 - q) <= REFINE_TOL * nX:
+                return X.reshape(self.m, self.d)
+            last = nd
+        log.debug("refinement on the reference W_c⁻¹ stopped contracting (q = %.2e): "
+                  "W_c factorised", q)  # fmt: skip
+        self._refactorize()
+        return None
+
+    def _refactorize(self) -> None:
+        """Leave the reference: factorise this W_c (a new capacitance cache with it)."""
+        self.refined, self.contraction = False, 0.0
+        self._cache = {}
+        self._winv = None
+        self._invert(np.diag(self.W))
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
         """w = w_free + W X (+ E q)."""
@@ -781,10 +914,10 @@ class InterfaceSolver:
         in the rows ``oth`` of separated, sliding, fixed and held-open components, so with
         z = W_c⁻¹ b / ρ, x = z − W_c⁻¹[:, oth] y / ρ, Cap y = J[oth] z − b[oth],
         Cap = J[oth] W_c⁻¹[:, oth] / ρ (k × k): O(k² M) instead of the O(M³) of a dense
-        solve, when k ≤ M/2. Otherwise, or when the capacitance system is singular, the
-        dense solve."""
+        solve, when k ≤ M/2. Otherwise, or when the capacitance system is singular, or on a
+        reference's W_c⁻¹ (not this W_c's), the dense solve."""
         Winv, M = self._winv, self.m * self.d
-        if Winv is None or self.E is not None or M < NEWTON_WOODBURY_MIN:
+        if Winv is None or self.refined or self.E is not None or M < NEWTON_WOODBURY_MIN:
             return np.asarray(np.linalg.solve(J, b))
         r = self.rho
         oth = np.flatnonzero((r * self.Wc != J).any(axis=1))
