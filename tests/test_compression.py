@@ -27,7 +27,7 @@ from test_cli import SMALL, _write
 from test_robustness import msh22
 
 #: the small model of test_cli (two blocks of 2 m × 1 m stacked, a joint between them) on
-#: a mesh of 0.05 m quadrilaterals (1,722 nodes, the demo's 1,845); 0.6 s at 5 ms, fields
+#: a mesh of 0.05 m quadrilaterals (1,722 nodes, the demo's 1,922); 0.6 s at 5 ms, fields
 #: every 2nd step
 TEXT = SMALL.replace('folder = "out"', 'folder = "out"\nfield_every = 2\nOUTPUT')
 TEXT = re.sub(r'file = ".*\.msh"', 'file = "plate.msh"', TEXT)
@@ -209,7 +209,7 @@ def test_series_read_back_with_meshio(runs: dict[str, Path]) -> None:
     value (z = 0); the stress components those of the nodal stress of the stored
     displacement (for float32, its float32 rounding: to 1e-7 relative); and the float32
     series' stress, computed from float32 displacements, is the float64 series' to
-    1e-5 of the frame's largest stress (measured 1.7e-6, the demo 1.6e-5: the
+    1e-5 of the frame's largest stress (measured 1.7e-6, the demo 1.7e-5: the
     displacements' rounding, 6e-8 relative, grows by their ratio to the differences
     between neighbouring nodes that make the strain)."""
     import meshio

@@ -162,8 +162,8 @@ def test_wet_over_dry_period_ratio() -> None:
 
 def test_short_run(tmp_path: Path) -> None:
     """A 2 s run of the demo completes; its energy balance closes to 5e-12 of the
-    dissipated energy, as the Koyna demo's test asks; the results file holds the static
-    uplift and crack of the static analysis."""
+    dissipated energy; the results file holds the static uplift and crack of the static
+    analysis."""
     from pfeie._job import run_job
     from pfeie.io import Results
 

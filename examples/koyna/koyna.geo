@@ -55,8 +55,13 @@ Physical Curve("upstream_upper") = {7};
 Physical Curve("reservoir_floor") = {8};
 Physical Curve("rock_bottom") = {10};
 
+// Quadratic serendipity quadrilaterals only (Q8, no T6): the frontal-Delaunay for quads
+// algorithm and the blossom full-quad recombination, which meshes at twice the size and
+// splits every cell into quadrilaterals, so the element sizes above hold. gmsh 4.15 warns
+// "Cannot apply Blossom: odd number of triangles" for dam_lower and recombines that
+// surface with its simple full-quad algorithm: 583 Q8 cells, 1,876 nodes.
 Mesh.ElementOrder = 2;
 Mesh.SecondOrderIncomplete = 1;
 Mesh.RecombineAll = 1;
 Mesh.Algorithm = 8;
-Mesh.RecombinationAlgorithm = 1;
+Mesh.RecombinationAlgorithm = 3;
