@@ -249,7 +249,7 @@ LIBVER = ("v110", "v110")
 
 #: the datasets of the series' files above this many bytes are compressed (far less than
 #: the results file's :data:`~pfeie.io._results.SMALL`: one frame of one stress component
-#: is a dataset, 7 kB in float32 on the demo's 1,845 nodes, and the file format of
+#: is a dataset, about 7 kB in float32 on the demo (1,922 nodes), and the file format of
 #: :data:`LIBVER` indexes a dataset of one chunk at no cost)
 SERIES_SMALL = 1024
 
