@@ -159,6 +159,22 @@ def test_resume_refuses_other_inputs(tmp_path: Path, capsys: pytest.CaptureFixtu
     err = capsys.readouterr().err
     assert "pfeie: error: " in err and "results.h5: cannot resume" in err, err
     assert main(["run", str(p), "--quiet", "--resume"]) == 0  # same inputs: nothing to do
+    # a checkpoint of an earlier pfeie, whose energy account had no 'modified' term (its
+    # algorithmic sum holds Φ): continuing it would mix two accounts
+    import json
+
+    import h5py
+
+    res = next(tmp_path.rglob("results.h5"))
+    with h5py.File(res, "r+") as f:
+        g = f["checkpoint"]
+        energy = json.loads(g.attrs["energy"])
+        del energy["modified"]
+        g.attrs["energy"] = json.dumps(energy)
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet", "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot resume" in err and "no 'modified' term" in err, err
 
 
 def test_one_run_per_output_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

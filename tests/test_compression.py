@@ -450,10 +450,10 @@ def test_lzf_fields_of_an_older_file_are_copied(runs: dict[str, Path], tmp_path:
     [
         ('compression = "zip"',
          r"output\.compression: expected one of 'gzip', 'lzf', 'none', found 'zip'"),
-        ("compression_level = 0", r"output\.compression_level: expected an integer >= 1, "
-         r"found 0"),
-        ("compression_level = 10", r"output\.compression_level: expected an integer <= 9, "
-         r"found 10"),
+        ("compression_level = 0", r"output\.compression_level: expected an integer from 1 to "
+         r"9, found 0"),
+        ("compression_level = 10", r"output\.compression_level: expected an integer from 1 to "
+         r"9, found 10"),
         ("compression_level = 4.0", r"output\.compression_level: expected an integer, found "
          r"a number 4\.0"),
         ('field_precision = "float16"',

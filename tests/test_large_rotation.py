@@ -139,19 +139,7 @@ def test_rest_of_a_stack_with_turning_pair_frames() -> None:
     large-rotation run stays at rest (method.md §5.2; the reference is the static state):
     rigid motion within 2e-15 m and rad (measured 2.4e-16), pair forces within 3e-10 of the
     largest (measured 5.0e-11)."""
-    mesh = pf.rectangle(1.0, 2.5, 2, 5)
-    mesh.points[:, 1] -= 0.5
-    mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
-    mesh.add_cell_group("low", lambda x: (x[:, 1] > 0) & (x[:, 1] < 1))
-    mesh.add_cell_group("high", lambda x: x[:, 1] > 1)
-    mesh.add_facet_group("j1", lambda x: np.abs(x[:, 1]) < 1e-9, boundary_only=False)
-    mesh.add_facet_group("j2", lambda x: np.abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
-    mat = pf.Elastic(30e9, 0.2, 2400.0)
-    model = pf.Model(mesh, [pf.Block(n, mat) for n in ("base", "low", "high")],
-                     interfaces=[pf.Interface("j1", pf.Joint(phi=35.0)),
-                                 pf.Interface("j2", pf.Joint(phi=35.0))])  # fmt: skip
-    model.fix("base")
-    model.add_gravity()
+    model = _stack(2, 5)
     static = pf.solve_static(model)
     an = Dynamic(model, 0.005, large_rotation=True)
     assert an.frames is not None and an.frames.n == 2
@@ -185,9 +173,10 @@ def test_large_rotation_refuses_hht() -> None:
         Dynamic(model, 0.01, alpha=-0.1, large_rotation=True)
 
 
-def _stack() -> pf.Model:
-    """Two blocks stacked on a fixed base (4 × 10 Q4), joints at y = 0 and 1 m."""
-    mesh = pf.rectangle(1.0, 2.5, 4, 10)
+def _stack(nx: int = 4, ny: int = 10) -> pf.Model:
+    """Two blocks stacked on a fixed base (nx × ny Q4 over 1 m × 2.5 m), joints at y = 0
+    and 1 m, under gravity."""
+    mesh = pf.rectangle(1.0, 2.5, nx, ny)
     mesh.points[:, 1] -= 0.5
     mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
     mesh.add_cell_group("low", lambda x: (x[:, 1] > 0) & (x[:, 1] < 1))

@@ -259,6 +259,7 @@ def _released(
     an = pf.Dynamic(model, dt)
     res = an.run(t_end, start=an.initial(u0=u0))
     th, t = -res.rigid[:, 1, 2], res.t
+    assert (th <= 0.0).any(), "the block did not land"
     i = int(np.argmax(th <= 0.0))
     t_q = float(t[i - 1] + (t[i] - t[i - 1]) * th[i - 1] / (th[i - 1] - th[i]))
     k = i + int(np.argmin(th[i:]))

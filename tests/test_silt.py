@@ -143,7 +143,7 @@ def test_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
         good.replace('"upstream"', '"nowhere"'):
             "loads.silt[0].groups: no physical group 'nowhere'",
         good.replace("9000.0", "-9000.0"): "loads.silt[0].submerged_unit_weight: expected a "
-                                           "number > 0",
+                                           "number in (0, 1e+06] N/m³",
     }  # fmt: skip
     for text, words in bad.items():
         p.write_text(MODEL.format(mesh=mesh).replace("SILT", text))

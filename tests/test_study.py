@@ -253,7 +253,7 @@ def test_histories_kept_on_request(tmp_path: Path) -> None:
 @pytest.mark.parametrize("edit, words", [
     ('model = "model.toml"', ["model", "required"]),
     ('pattern = "*.csv"', ["no file", "*.txt"]),
-    ("values = [0.2, 0.5]", ["intensity.values", "numbers > 0"]),
+    ("values = [0.2, 0.5]", ["intensity.values", "numbers, each > 0"]),
     ('measure = "pga"', ["intensity.measure", "one of 'scale', 'pga', 'sa'"]),
     ('units = "g"', ["records[0]", "rainbow"]),
     ('folder = "rec"', ["records[0]", "either file or folder"]),

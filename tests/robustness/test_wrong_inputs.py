@@ -686,7 +686,7 @@ CASES: list[Case] = [
     C("damping-one-frequency", M, "damping.frequencies: expected an array of 2 numbers",
       edit=sub("frequencies = [1.0, 10.0]", "frequencies = [1.0]")),
     C("damping-equal-frequencies", M,
-      "damping.frequencies: expected two distinct frequencies in (0, 1e4] Hz, found [5.0, 5.0]",
+      "damping.frequencies: expected two distinct frequencies in (0, 1e+04] Hz, found [5.0, 5.0]",
       edit=sub("frequencies = [1.0, 10.0]", "frequencies = [5.0, 5.0]")),
     C("damping-negative-ratio", M, "damping.ratio: expected a number in [0, 1]",
       edit=sub("ratio = 0.05", "ratio = -0.05")),

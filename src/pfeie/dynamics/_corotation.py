@@ -209,11 +209,11 @@ class Corotation:
         Ra = np.broadcast_to(np.eye(self.d), (self.a_body.size, self.d, self.d)).copy()
         Ra[turns] = R[self.a_body[turns]]
         op = self.op0
+        assert op.pairs is not None
+        T0 = op.pairs.frame
         if turns.any():  # T_k ← T_k R_aᵀ
-            assert op.pairs is not None
-            op = self._turned_op(op.pairs.frame @ np.swapaxes(Ra, 1, 2))
+            op = self._turned_op(T0 @ np.swapaxes(Ra, 1, 2))
         # P_k = T_k R_aᵀ R_b T_kᵀ: the turn of side b in the turned frame of pair k
-        T0 = self.op0.pairs.frame  # type: ignore[union-attr]
         Rb = np.broadcast_to(np.eye(self.d), Ra.shape).copy()
         on_b = self.b_body >= 0
         Rb[on_b] = R[self.b_body[on_b]]

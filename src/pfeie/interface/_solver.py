@@ -52,12 +52,13 @@ and refined with the residual of the exact A,
 
 which contracts by q ≈ ‖A_ref⁻¹ (A − A_ref)‖, of the order of the rotation since the
 reference was factorised. It runs until the correction falls to round-off
-(:data:`REFINE_TOL` of X), so the state iteration, its residual and its tolerance are
-those of a solver that factorised W_c itself. When the corrections stop contracting
-(q > :data:`REFINE_MAX_CONTRACTION`) or do not reach round-off in :data:`REFINE_MAX_ITER`
-corrections, the solver factorises its own W_c and solves again; the largest first
-contraction factor is kept in :attr:`InterfaceSolver.contraction` for the caller to
-decide when to factorise anew.
+(:data:`REFINE_TOL` of X; or, on an ill-conditioned W_c whose corrections stall at the
+residual's own round-off, below :data:`REFINE_FLOOR` of X), so the state iteration, its
+residual and its tolerance are those of a solver that factorised W_c itself. When the
+corrections stop contracting (q > :data:`REFINE_MAX_CONTRACTION`) or do not reach
+round-off in :data:`REFINE_MAX_ITER` corrections, the solver factorises its own W_c and
+solves again; the largest first contraction factor is kept in
+:attr:`InterfaceSolver.contraction` for the caller to decide when to factorise anew.
 
 A large sparse W (at least :data:`SPARSE_MIN` rows and at most :data:`SPARSE_FILL`
 nonzeros, e.g. granular media: many blocks, each with a few pairs) is kept sparse: the
@@ -72,6 +73,7 @@ import copy
 import logging
 import warnings
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import scipy.linalg as sla
@@ -444,23 +446,33 @@ class InterfaceSolver:
         y = Winv @ b
         if oth.size == 0:
             return y.reshape(self.m, d)
-        cached = self._cache.get(b"w" + key)
-        if cached is None:
-            cap = Winv[np.ix_(oth, oth)]
-            if fr.size:
-                cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
-            lu = _lu_factor(cap)
-            if len(self._cache) > 64:
-                self._cache.clear()
-            self._cache[b"w" + key] = (lu,)
-        else:
-            lu = cached[0]  # type: ignore[assignment]
+        lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
         cy = y[oth]
         if fr.size:
             cy[rows_fr] -= coef * y[nidx]
             cy[rows_fr] -= x0  # the constraints' right-hand side b_o
         corr = _lu_solve(lu, cy)
         return (y - Winv[:, oth] @ corr).reshape(self.m, d)
+
+    def _capacitance(
+        self, key: bytes, Winv: FloatArray, oth: np.ndarray, fr: np.ndarray,
+        coef: FloatArray, rows_fr: np.ndarray, nidx: np.ndarray,
+    ) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
+        """The LU factors of the capacitance system C W_c⁻¹ Cᵀ of the replaced rows
+        ``oth`` (their constraints C: X_j = 0, or X_t − coef X_n for the sliding rows
+        ``rows_fr`` of normals ``nidx``), cached by the pattern ``key``: they depend on
+        W_c⁻¹, the pattern and coef only (a refined solver shares its reference's)."""
+        cached = self._cache.get(b"w" + key)
+        if cached is not None:
+            return cast("tuple[FloatArray, np.ndarray]", cached[0])
+        cap = Winv[np.ix_(oth, oth)]
+        if fr.size:
+            cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
+        lu = _lu_factor(cap)
+        if len(self._cache) > 64:
+            self._cache.clear()
+        self._cache[b"w" + key] = (lu,)
+        return lu
 
     def _refine(
         self, key: bytes, kin: np.ndarray, fr: np.ndarray, coef: FloatArray, x0: FloatArray,
@@ -483,17 +495,7 @@ class InterfaceSolver:
         lu: tuple[FloatArray, np.ndarray] | None = None
         Wo = Winv[:, oth]
         if oth.size:
-            cached = self._cache.get(b"w" + key)
-            if cached is None:
-                cap = Winv[np.ix_(oth, oth)]
-                if fr.size:
-                    cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
-                lu = _lu_factor(cap)
-                if len(self._cache) > 64:
-                    self._cache.clear()
-                self._cache[b"w" + key] = (lu,)
-            else:
-                lu = cached[0]  # type: ignore[assignment]
+            lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
 
         def constraints(X: FloatArray) -> FloatArray:
             cx = X[oth]
@@ -528,8 +530,12 @@ class InterfaceSolver:
             if it and nd * q / (1.0 - q) <= REFINE_TOL * nX:
                 return X.reshape(self.m, self.d)
             last = nd
-        log.debug("refinement on the reference W_c⁻¹ stopped contracting (q = %.2e): "
-                  "W_c factorised", q)  # fmt: skip
+        if q > REFINE_MAX_CONTRACTION:
+            log.debug("refinement on the reference W_c⁻¹ stopped contracting (q = %.2e): "
+                      "W_c factorised", q)  # fmt: skip
+        else:
+            log.debug("refinement on the reference W_c⁻¹ not at round-off after %d "
+                      "corrections (q = %.2e): W_c factorised", REFINE_MAX_ITER, q)  # fmt: skip
         self._refactorize()
         return None
 

@@ -217,6 +217,10 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
                 f"record differ from those of the run ({job.path}); run without --resume"
             )
         ck = read_checkpoint(f)
+        if "modified" not in ck.energy:  # its algorithmic sum holds Φ: not to be continued
+            raise ResultsError(f"{p}: cannot resume: the checkpoint was written by an earlier "
+                               "pfeie, whose energy account had no 'modified' term; run "
+                               "without --resume")  # fmt: skip
         rows, frows = ck.row + 1, int(f["checkpoint"].attrs["fields_rows"])
         tails = f["checkpoint"].get("tail")
 

@@ -159,7 +159,7 @@ class Damping(_Table):
                 raise _check("frequencies", "missing (required with ratio)")
             f1, f2 = self.frequencies
             if not (0 < f1 <= 1e4 and 0 < f2 <= 1e4 and f1 != f2):
-                raise _check("frequencies", f"expected two distinct frequencies in (0, 1e4] Hz, "
+                raise _check("frequencies", f"expected two distinct frequencies in (0, 1e+04] Hz, "
                              f"found {list(self.frequencies)}")  # fmt: skip
             if self.alpha or self.beta:
                 raise _check("", "give either ratio and frequencies or alpha and beta, not both")

@@ -23,6 +23,7 @@ from .. import (
     modal,
     solve_static,
 )
+from ..errors import SolverError
 from ..interface import OPEN, SLIDE
 from ..mesh import rectangle
 from ._core import CaseResult, Check, Series, case
@@ -1021,6 +1022,8 @@ def _v7c(n: int, dt: float, beta: float, t_end: float = 0.35) -> dict[str, Any]:
     an = Dynamic(model, dt)
     res = an.run(t_end, start=an.initial(u0=u0))
     th, t = -res.rigid[:, 1, 2], res.t  # positive on the right toe
+    if not (th <= 0.0).any():
+        raise SolverError(f"V7c: the block did not land within {t_end} s (Δt = {dt})")
     i = int(np.argmax(th <= 0.0))
     k = i + int(np.argmin(th[i:]))  # the largest tilt onto the left toe
     j = k + int(np.argmax(th[k:] > 0.0))
@@ -1154,8 +1157,9 @@ def v7c(fast: bool) -> CaseResult:
         res.notes += (f" At 7.8 μs the lift is {limit[2]:.5f}, {limit[4]:.5f}, {limit[8]:.5f} "
                       "on 2 × 8, 4 × 16 and 8 × 32 cells: it converges in the mesh too "
                       f"(changes {d_h[0]:.1e}, {d_h[1]:.1e}, observed order "
-                      f"{np.log2(d_h[0] / d_h[1]):.1f}). Undamped (4 × 16), the lift converges "
-                      f"later and more slowly: {', '.join(f'{v:.4f}' for v in und)} at "
+                      f"{np.log2(d_h[0] / d_h[1]):.1f}). Undamped (4 × 16), the lift does not "
+                      "settle steadily but wanders by about 2e-3: "
+                      f"{', '.join(f'{v:.4f}' for v in und)} at "
                       f"Δt = {', '.join(f'{1e6 * dt:g}' for dt in fine)} μs (changes "
                       f"{', '.join(f'{v:.1e}' for v in np.abs(np.diff(und)))}), higher "
                       "than the damped block's: the mesh-scale vibration the impacts "
