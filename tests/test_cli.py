@@ -130,7 +130,7 @@ def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
         (lambda s: s.replace("E = 30e9", 'E = "stiff"'), InputError,
          r"materials\.concrete\.E: expected a number, found a string 'stiff'"),
         (lambda s: s.replace("dt = 0.005", "dt = -0.005"), InputError,
-         r"analysis\.dt: expected a number in \(0, 10\], found -0.005"),
+         r"analysis\.dt: expected a number in \(0, 10\] s, found -0.005"),
         (lambda s: s.replace('dam = "concrete"', 'dam = "steel"'), InputError,
          r"blocks\.dam: unknown material 'steel'"),
         (lambda s: s.replace('dam = "concrete"', 'dome = "concrete"'), InputError,

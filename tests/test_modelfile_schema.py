@@ -181,7 +181,7 @@ def test_slip_weakening_interface_builds_its_law(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "match"),
     [
-        (["--duration", "-1"], "analysis.duration (from --duration -1): expected a number > 0, "
+        (["--duration", "-1"], "analysis.duration (from --duration -1): expected a number > 0 s, "
          "found -1"),
         (["--duration", "nan"], "analysis.duration (from --duration nan): expected a finite "
          "number, found nan"),
@@ -189,7 +189,7 @@ def test_slip_weakening_interface_builds_its_law(tmp_path: Path) -> None:
          "found a string 'long'"),
         (["--duration", "1e12"], "analysis.duration (from --duration 1e12): duration "
          "1000000000000.0 s is 2e+14 steps of 0.005 s: too many"),
-        (["--dt", "0"], "analysis.dt (from --dt 0): expected a number in (0, 10], found 0"),
+        (["--dt", "0"], "analysis.dt (from --dt 0): expected a number in (0, 10] s, found 0"),
         (["--set", "analysis.alpha=-0.5"], "analysis.alpha (from --set analysis.alpha=-0.5): "
          "expected a number in [-1/3, 0], found -0.5"),
         (["--set", "analysis.alpa=-0.1"], "analysis.alpa (from --set analysis.alpa=-0.1): "

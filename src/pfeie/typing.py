@@ -8,6 +8,8 @@ Axis convention: element data are indexed ``(cell, quadrature point, node, compo
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -15,4 +17,13 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
-__all__ = ["BoolArray", "FloatArray", "IntArray"]
+
+@dataclass(frozen=True)
+class Unit:
+    """The unit of a number in typed settings (``Annotated[float, Field(...), Unit("Pa")]``),
+    printed by the model file's messages and reference (``Pa``, ``m``, ``s``)."""
+
+    text: str
+
+
+__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit"]

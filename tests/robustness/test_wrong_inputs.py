@@ -623,9 +623,9 @@ CASES: list[Case] = [
       files={"rec.csv": "t,a\n0,0\n0.01,1e300\n"}),
     # -- [analysis] ------------------------------------------------------------------------
     C("dt-zero", M, "analysis.dt: "
-      "expected a number in (0, 10], found 0.0", edit=sub("dt = 0.01", "dt = 0.0")),
+      "expected a number in (0, 10] s, found 0.0", edit=sub("dt = 0.01", "dt = 0.0")),
     C("dt-above-10", M, "analysis.dt: "
-      "expected a number in (0, 10], found 11.0", edit=sub("dt = 0.01", "dt = 11.0")),
+      "expected a number in (0, 10] s, found 11.0", edit=sub("dt = 0.01", "dt = 11.0")),
     C("dt-1e400", M, "analysis.dt: expected a finite number, found inf",
       edit=sub("dt = 0.01", "dt = 1e400")),
     C("dt-string", M, "analysis.dt: expected a number, found a string",
@@ -798,7 +798,7 @@ CASES: list[Case] = [
       argv=("check", M, "--duration", "nan")),
     C("cli-duration-word", "--duration long", "expected a number, found a string 'long'",
       argv=("run", M, "--duration", "long")),
-    C("cli-dt-zero", "analysis.dt (from --dt 0)", "expected a number in (0, 10]",
+    C("cli-dt-zero", "analysis.dt (from --dt 0)", "expected a number in (0, 10] s",
       argv=("run", M, "--dt", "0")),
     C("cli-set-no-value", "--set analysis.alpha", "expected KEY=VALUE",
       argv=("check", M, "--set", "analysis.alpha")),

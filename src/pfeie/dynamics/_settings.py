@@ -26,6 +26,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..interface import SolverSettings
+from ..typing import Unit
 from ._newmark import scheme_parameters
 
 _SOLVER = SolverSettings()
@@ -36,8 +37,8 @@ class DynamicSettings(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False,
-                               description="time step (s)")] = 0.01  # fmt: skip
+    dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False), Unit("s"),
+                  Field(description="time step (s)")] = 0.01  # fmt: skip
     scheme: Annotated[Literal["nonsmooth-alpha", "newmark", "moreau-jean"], Field(
         description="time stepping: 'nonsmooth-alpha' (generalised-α on the smooth forces, "
         "pair forces at the acceleration level and Coulomb impulses at the velocity level; "

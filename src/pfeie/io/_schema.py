@@ -37,18 +37,12 @@ from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
 from pydantic_core import PydanticCustomError, core_schema
 
 from ..dynamics import DynamicSettings
+from ..typing import Unit
 
 
 @dataclass(frozen=True)
 class Expect:
     """What a value must be, in words, when the type and bounds do not say it well."""
-
-    text: str
-
-
-@dataclass(frozen=True)
-class Unit:
-    """The unit of a number, for the messages and the reference (``Pa``, ``m``)."""
 
     text: str
 
@@ -460,7 +454,8 @@ class Analysis(DynamicSettings):
     )
     dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
     duration: Annotated[
-        Positive | None, Field(description="duration (s); default: the longest record")
+        Annotated[float, Field(gt=0.0), Unit("s")] | None,
+        Field(description="duration (s); default: the longest record"),
     ] = None
     form: Annotated[Literal["relative", "absolute"], Field(
         description="ground motion: 'relative' (fixed base) or 'absolute' (moving supports)",
