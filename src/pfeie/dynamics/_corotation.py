@@ -49,7 +49,9 @@ class SideFlexibility:
 
     formed once; W(P) then costs three block-diagonal products of M × M arrays (O(d M²)),
     not the products with the nodal flexibility F. The products go to work arrays kept
-    between calls (fresh M × M arrays cost more to map than to fill).
+    between calls (fresh M × M arrays cost more to map than to fill). Memory: the three H
+    and three work arrays, 6 M² doubles (17 MB at M = 600; 430 MB at M = 3,000, a 3D
+    model of 1,000 pairs), beside W and its inverse.
 
     >>> import numpy as np, scipy.sparse as sp
     >>> F = np.array([[2.0, 0.5], [0.5, 1.0]])              # two DOFs, one 1D pair
