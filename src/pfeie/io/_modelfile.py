@@ -297,10 +297,15 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             model.add_gravity(loads.gravity, direction=direction)
         except ModelError as exc:
             raise InputError(f"{p}: loads.gravity_direction: {exc}") from None
+
+    def faces(key: str, groups: list[str]) -> None:
+        """Each of ``groups`` must be a facet group of the mesh (``key`` names the list)."""
+        for g in groups:
+            if g not in model.mesh.facet_groups:
+                raise InputError(_group_msg(p, key, g, model.mesh, mesh.dim - 1))
+
     for i, pr in enumerate(loads.pressure):
-        if pr.group not in model.mesh.facet_groups:
-            raise InputError(_group_msg(p, f"loads.pressure[{i}].group", pr.group,
-                                        model.mesh, mesh.dim - 1))  # fmt: skip
+        faces(f"loads.pressure[{i}].group", [pr.group])
         try:
             model.add_pressure(pr.group, pr.value)
         except ModelError as exc:
@@ -308,29 +313,21 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     up = mesh.dim - 1
     g_acc = loads.gravity or 9.81
     for i, hy in enumerate(loads.hydrostatic):
+        faces(f"loads.hydrostatic[{i}].groups", hy.groups)
         for g in hy.groups:
-            if g not in model.mesh.facet_groups:
-                raise InputError(_group_msg(p, f"loads.hydrostatic[{i}].groups", g, model.mesh,
-                                            mesh.dim - 1))  # fmt: skip
             try:
                 model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
             except ModelError as exc:
                 raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
     for i, sl in enumerate(loads.silt):
-        for g in sl.groups:
-            if g not in model.mesh.facet_groups:
-                raise InputError(_group_msg(p, f"loads.silt[{i}].groups", g, model.mesh,
-                                            mesh.dim - 1))  # fmt: skip
+        faces(f"loads.silt[{i}].groups", sl.groups)
         try:
             model.add_silt(sl.groups, sl.level, sl.submerged_unit_weight, k=sl.k,
                            friction_angle=sl.friction_angle)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: loads.silt[{i}]: {exc}") from None
     for i, wg in enumerate(loads.westergaard):
-        for g in wg.groups:
-            if g not in model.mesh.facet_groups:
-                raise InputError(_group_msg(p, f"loads.westergaard[{i}].groups", g, model.mesh,
-                                            mesh.dim - 1))  # fmt: skip
+        faces(f"loads.westergaard[{i}].groups", wg.groups)
         try:
             if wg.model == "fe":
                 model.add_reservoir(wg.groups, wg.water_level, density=wg.density,
