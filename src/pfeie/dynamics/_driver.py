@@ -80,6 +80,7 @@ class StepState:
     step: int = 0
     lam: FloatArray | None = None  # smooth pair forces λ (nonsmooth-α), (m, d)
     impact: float = 0.0  # energy taken by the step's velocity correction (J)
+    dissipation: float = 0.0  # the rigid pairs' dissipation by the law, −P·U⁺ (J)
     correction: float = 0.0  # strain energy stored by its position correction (J)
     shift: FloatArray | None = None  # the step's position correction Δq (nonsmooth-α)
 
@@ -646,12 +647,17 @@ class Dynamic:
             nu[pen, -1] = -gap[pen] / self._gmg[pen]
             dq = self.minv * (self.op.Gt @ nu.ravel())
             u1 = u1 + dq
-        # the energy the impulses beyond hλ take, −Λ·(U⁻ + U⁺)/2 (≥ 0 for a landing), and
-        # the strain energy the position correction stores
+        # the energy of the impulses, split so that each part has its sign (docs/theory.md,
+        # "The signs of impact and interface"): the rigid pairs' dissipation −P·U⁺ (≥ 0 by
+        # the velocity-level law that P and U⁺ = U⁻ + sWΛ satisfy), the impact
+        # ½Λ·(U⁺ − U⁻) = ½sΛᵀWΛ (≥ 0, W positive), and the strain energy the position
+        # correction stores
+        U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
+        rigid = ~spring
+        dissipation = -float(np.sum(P.X[rigid] * U_plus[rigid]))
         impact = correction = 0.0
         if Lam.any():
-            U_plus = self.op.relative(v1, pres[1] if pres is not None else None)
-            impact = -0.5 * float(np.sum(Lam * (U_minus.reshape(m, d) + U_plus)))
+            impact = 0.5 * float(np.sum(Lam * (U_plus - U_minus.reshape(m, d))))
         if dq is not None:
             # the potential energy it adds: strain, and the loads' (the step-average load
             # over Δq, as the external work counts it)
@@ -671,7 +677,7 @@ class Dynamic:
         s[:, -1] += laws.gap
         trial = PairState(P.state, P.broken, X, w, s, P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact,
-                         correction=correction, shift=dq)  # fmt: skip
+                         dissipation=dissipation, correction=correction, shift=dq)  # fmt: skip
 
     def _impulse_is_smooth(
         self, P: PairState, closed: BoolArray, part: BoolArray, U: FloatArray

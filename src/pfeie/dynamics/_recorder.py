@@ -14,20 +14,22 @@ Energy (J), accumulated over the run (method.md §8):
 - ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
   includes the work of the moving base through the joints);
 - ``damping``: Σ Δu·C v̄;
-- ``interface``: −Σ X·Δw, the work dissipated (friction, contact) or stored (joint
-  springs) at the pairs: the smooth forces λ_{n+1} of the nonsmooth generalised-α on its
-  smooth motion (the step average for springs), the impulses on the θ-velocity for
-  Moreau-Jean;
-- ``impact``: the energy taken by the impulses of the velocity correction (nonsmooth
-  generalised-α);
+- ``interface``: the work dissipated (friction, contact) or stored (joint springs) at
+  the pairs: for the nonsmooth generalised-α the rigid contacts' dissipation by the
+  velocity-level law, −P·U⁺ a step (P = hX the step impulse, U⁺ the relative velocity
+  at t_{n+1}; ≥ 0 at every step), and the springs' step-average force on the smooth
+  motion; the impulses on the θ-velocity, −P·U_θ, for Moreau-Jean;
+- ``impact``: the energy the impulses of the velocity correction beyond hλ take from the
+  relative motion, ½Λ·(U⁺ − U⁻) = ½sΛᵀWΛ ≥ 0 (nonsmooth generalised-α);
 - ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
   per step for Moreau-Jean (zero for Newmark's average-acceleration rule, whose balance
   holds exactly); for the default nonsmooth generalised-α the residual that closes the
-  balance with the modified energy: on a smooth step (no impulse, no position
-  correction, pair forces that do not change) exactly the scheme's dissipation
-  D = δh²ēᵀMē ≥ 0 (:meth:`NonsmoothAlpha.dissipation`), plus, on the other steps, what
-  the velocity and position corrections and the jump of the pair forces leave
-  (docs/theory.md lists these terms; they have no sign);
+  balance with the modified energy: on a step without impulses, position corrections
+  or working pair forces exactly the scheme's dissipation D = δh²ēᵀMē ≥ 0
+  (:meth:`NonsmoothAlpha.dissipation`), plus, on the other steps, what the velocity and
+  position corrections leave and K = hλ_{n+1}·U⁺ − ½(λ_n + λ_{n+1})·Δw, the recorded
+  right-endpoint pair work less the step average (docs/theory.md lists these terms;
+  they have no sign);
 - ``correction``: the potential energy that the position correction of the nonsmooth
   generalised-α adds when it moves penetrating pair nodes apart by Δq: the strain energy
   it stores less the work of the step-average load over Δq (an input: it is then
@@ -362,11 +364,12 @@ class EnergyAccount:
 
     def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
-        ``interface`` the work of the smooth pair forces, −λ_{n+1}·Δw on the smooth motion
-        (friction and contact; the position correction is not theirs), and for joints
-        with springs −½(λ_n + λ_{n+1})·Δw, which is the change of their elastic energy
-        exactly while they stick (a spring is a smooth force); ``impact`` the
-        energy taken by the velocity correction, −Λ·(U⁻ + U⁺)/2 with Λ = P − hλ;
+        ``interface`` the rigid pairs' dissipation by the velocity-level law, −P·U⁺ with
+        P = hX the step impulse and U⁺ the relative velocity at t_{n+1} (≥ 0: friction
+        and contact), and for joints with springs −½(λ_n + λ_{n+1})·Δw on the smooth
+        motion, which is the change of their elastic energy exactly while they stick (a
+        spring is a smooth force); ``impact`` the energy the impulses beyond hλ take from
+        the relative motion, ½Λ·(U⁺ − U⁻) = ½sΛᵀWΛ ≥ 0 with Λ = P − hλ;
         ``modified`` the change of Φ (:meth:`NonsmoothAlpha.modified_energy`) and
         ``algorithmic`` what closes the balance with it: D ≥ 0 on a smooth step, plus
         what the corrections leave (docs/theory.md, "Energy identity of the smooth
@@ -378,22 +381,25 @@ class EnergyAccount:
         damp = 0.0
         if an.system.C is not None:
             damp = 0.5 * float(du @ an.damping_force(k0.v + k1.v, k0.u))
-        pair = 0.0
+        pair = nxt.dissipation  # the rigid pairs: −P·U⁺
         if an.m:
             m, d = an.m, an.d
-            lam = nxt.pairs.X if nxt.lam is None else nxt.lam
             spring = an.model.pair_laws.springs
-            if spring.any():
-                lam0 = cur.pairs.X if cur.lam is None else cur.lam
-                lam = np.where(spring[:, None], 0.5 * (lam0 + lam), lam)
-            # the smooth forces work on the smooth motion, not on the position correction
-            smooth_du = du if nxt.shift is None else du - nxt.shift
-            dw = (an.op.G @ smooth_du).reshape(m, d)
-            if self.ex.form == "absolute" and self.ex.ground:
+            absolute = self.ex.form == "absolute" and self.ex.ground
+            if absolute:
                 dwp = (an.w_pres(k1.t, self.ex) - an.w_pres(k0.t, self.ex)).reshape(m, d)
                 ext -= float(np.sum(nxt.pairs.X * dwp))
-                dw = dw + dwp
-            pair = -float(np.sum(lam * dw))
+            if spring.any():
+                # springs: their smooth force, step-averaged, on the smooth motion (not on
+                # the position correction): the change of their elastic energy while they
+                # stick
+                lam0 = cur.pairs.X if cur.lam is None else cur.lam
+                lam1 = nxt.pairs.X if nxt.lam is None else nxt.lam
+                smooth_du = du if nxt.shift is None else du - nxt.shift
+                dw = (an.op.G @ smooth_du).reshape(m, d)
+                if absolute:
+                    dw = dw + dwp
+                pair -= float(np.sum((0.5 * (lam0 + lam1) * dw)[spring]))
         dT = 0.5 * (an.mass_product(k1.v) - an.mass_product(k0.v))
         U0 = an.strain_energy(k0.u)  # first: the recorder has just asked for it
         dU = an.strain_energy(k1.u) - U0

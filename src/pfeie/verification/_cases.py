@@ -402,12 +402,14 @@ def _v4d(dt: float, E: float = 10e9, height: float = 1.0) -> tuple[CaseResult, d
                           Series("rigid block (exact)", res.t, xr, "--")]), info  # fmt: skip
     checks = [
         # measured at Δt = 1 ms: 0.39 %; 0.38 % (worst episode); 8e-16 m (round-off: no
-        # hop); 4.8e-7 (1.2e-5 at 2 ms)
+        # hop); 5.8e-5 (the friction work −P·U⁺ is a right-endpoint rule: at each slip
+        # onset and arrest it is shifted by about half a step, O(Δt²) an episode; 2.1e-4
+        # at 2 ms, 8.8e-6 at 0.5 ms)
         Check("whole-history slip error / peak slip", 0.0, err, 1e-2, False),
         Check("worst slip-episode offset / its excursion", 0.0, max(ends), 1e-2, False),
         Check("largest opening (no hop)", 0.0, opening, 1e-12, False, "m"),
         Check("pair-steps open", 0.0, float(np.mean(res.state == OPEN)), 0.0, False),
-        Check("|algorithmic energy| / friction work", 0.0, alg, 5e-6, False),
+        Check("|algorithmic energy| / friction work", 0.0, alg, 5e-4, False),
     ]  # fmt: skip
     _MODELS["V4d"] = model
     out = CaseResult("V4d", "Deformable block, repeated stick-slip", checks,
