@@ -146,12 +146,35 @@ def test_command_line_resume_after_kill_9(tmp_path: Path) -> None:
             np.testing.assert_array_equal(got[key], value, err_msg=f"kill at row {row}: {key}")
 
 
-def test_resume_refuses_other_inputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """``--resume`` without a results file, or with another friction angle (--set) than
-    the run's: exit 2 and a ``pfeie: error`` line naming the file and the cause."""
+def test_resume_refuses_other_inputs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], caplog: pytest.LogCaptureFixture
+) -> None:
+    """``--resume`` without a results file, or of a run of the same inputs killed before
+    its first checkpoint: the run starts from the beginning (a warning says so; nothing
+    is lost: the run is deterministic) and gives the bits of a plain run. With another
+    friction angle (--set) than the run's, or a file without a checkpoint from other
+    inputs: exit 2 and a ``pfeie: error`` line naming the file and the cause."""
+    import h5py
+
     p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    assert "nothing to resume: no results file; running from the start" in caplog.text
+    res = next(tmp_path.rglob("results.h5"))
+    ref = _histories(res)
+    with h5py.File(res, "r+") as f:  # as a run killed before its first checkpoint leaves it
+        del f["checkpoint"]
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    assert "stopped before its first checkpoint; running from the start" in caplog.text
+    got = _histories(res)
+    assert got.keys() == ref.keys()
+    for key, value in ref.items():
+        np.testing.assert_array_equal(got[key], value, err_msg=key)
+    with h5py.File(res, "r+") as f:
+        del f["checkpoint"]
+        f.attrs["run_key"] = "another run"
     assert main(["run", str(p), "--quiet", "--resume"]) == 2
-    assert "nothing to resume" in capsys.readouterr().err
+    assert "no checkpoint (a run of an older pfeie, or of other inputs)" in (
+        capsys.readouterr().err)  # fmt: skip
     assert main(["run", str(p), "--quiet"]) == 0
     capsys.readouterr()
     assert main(["run", str(p), "--quiet", "--resume", "--set",
@@ -163,9 +186,6 @@ def test_resume_refuses_other_inputs(tmp_path: Path, capsys: pytest.CaptureFixtu
     # algorithmic sum holds Φ): continuing it would mix two accounts
     import json
 
-    import h5py
-
-    res = next(tmp_path.rglob("results.h5"))
     with h5py.File(res, "r+") as f:
         g = f["checkpoint"]
         energy = json.loads(g.attrs["energy"])

@@ -5,6 +5,7 @@ every dataset of a results file has units."""
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import numpy as np
@@ -172,6 +173,18 @@ def test_bow_tie_and_degenerate_cells_are_named_by_gmsh_id(
     fails(capsys, ["check", str(p)], "duplicated", "gmsh element 11 and gmsh element 12")
 
 
+def test_cell_type_without_element_is_refused(tmp_path: Path) -> None:
+    """A prism (gmsh type 6, id 11) in a physical volume with a tetrahedron: pfeie has no
+    prism element, so the mesh is refused, naming the group, the gmsh id and the types it
+    has (it dropped the prism without a word)."""
+    nodes = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, -1), (0, 0, 1), (1, 0, 1), (0, 1, 1)]
+    elements = [(10, 4, 1, [1, 2, 3, 4]), (11, 6, 1, [1, 2, 3, 5, 6, 7])]
+    path = msh22(tmp_path / "p.msh", nodes=nodes, elements=elements, names={1: (3, "all")})
+    with pytest.raises(MeshError, match=r"p\.msh: physical group 'all': 1 wedge cell\(s\) "
+                       r"\(gmsh element 11\); pfeie has elements for .*tetra10"):  # fmt: skip
+        read_mesh(path)
+
+
 def test_cells_named_by_index_without_gmsh() -> None:
     import pfeie as pf
 
@@ -265,7 +278,13 @@ def test_unreadable_msh(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> N
         ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= 0.01 SEC\n0.1 1e400 0.2\n",
          ["r.at2", "line 5", "'1e400'", "expected a finite number"]),
         ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= 1e999 SEC\n0.1 0.2 0.3\n",
-         ["r.at2", "line 4", "DT", "finite number > 0"]),
+         ["r.at2", "line 4", "DT", "expected a number in (0, 10] s"]),
+        ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= 1e30 SEC\n0.1 0.2 0.3\n",
+         ["r.at2", "line 4", "DT", "expected a number in (0, 10] s", "'1e30'"]),
+        # tables read as one column would interleave their columns
+        ("r.txt", "0.0,0.0,1\n0.02,0.0063,1\n",
+         ["r.txt", "line 1", "3 numbers", "a table, not one column"]),
+        ("r.txt", "0,00;0,50\n0,02;0,60\n", ["r.txt", "line 1", "decimal commas"]),
         ("r.at2", "PEER\nt\nACCELERATION IN UNITS OF G\nNPTS= 3, DT= .. SEC\n0.1 0.2 0.3\n",
          ["r.at2", "line 4", "DT: expected a number"]),
         ("r.csv", "t,a\n0,0\n0.01,nan\n", ["r.csv", "line 3", "'nan'"]),
@@ -280,6 +299,23 @@ def test_non_finite_record_values(tmp_path: Path, name: str, text: str, words: l
         read_record(p, units="g", dt=0.01 if name.endswith(".txt") else None)
     for w in words:
         assert w in str(err.value)
+
+
+def test_record_encodings(tmp_path: Path) -> None:
+    """A byte-order mark before a numeric first line keeps that line as data (it made a
+    header of it); a Latin-1 AT2 title is read (it was 'not a text file'); a file with NUL
+    bytes is refused."""
+    p = tmp_path / "bom.csv"
+    p.write_bytes("\ufeff0,0.5\n0.02,0.25\n".encode())
+    gm = read_record(p, units="g")
+    assert gm.time.size == 2 and gm.acceleration[0] == pytest.approx(0.5 * 9.81)
+    at2 = tmp_path / "d.at2"
+    at2.write_bytes("PEER\nDÜZCE 11/12/99\nACCELERATION IN UNITS OF G\nNPTS= 2, DT= 0.01 "
+                    "SEC\n0.1 0.2\n".encode("latin-1"))  # fmt: skip
+    assert read_record(at2).name == "DÜZCE 11/12/99"
+    (tmp_path / "b.csv").write_bytes(b"0,1\n\0\0")
+    with pytest.raises(RecordError, match=r"b\.csv: not a text file"):
+        read_record(tmp_path / "b.csv", units="g")
 
 
 def test_record_scale_overflow(tmp_path: Path) -> None:
@@ -423,7 +459,7 @@ def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert "results format 2.0" in capsys.readouterr().err
 
 
-def test_3d_block_on_roller_sides_slides() -> None:
+def test_3d_block_on_roller_sides_slides(caplog: pytest.LogCaptureFixture) -> None:
     """A 3D block held on two sides by rollers (u_x = 0) slides along y on its joint under
     a base acceleration of 8 sin(4πt) m/s² (μ = tan 30°): it runs (the old contact
     projection met a singular system here), the rollers hold (u_x at round-off, 1e-15 m;
@@ -452,6 +488,15 @@ def test_3d_block_on_roller_sides_slides() -> None:
     assert np.abs(ref).max() > 0.02
     assert np.abs(y - ref).max() < 1e-2 * np.abs(ref).max()
     assert np.abs(res.rigid[:, 1, 0]).max() < 1e-15
+    # with large rotations: every block has a support, so no frame turns (a warning says
+    # so; it crashed on the empty set of rotating bodies) and the run is the small-rotation
+    # one to round-off (measured 0 m)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        big = pf.Dynamic(m, 0.002, large_rotation=True).run(0.1, ground=[gm],
+                                                            start=pf.solve_static(m))
+    assert "no block's frame rotates" in caplog.text
+    n = big.t.size
+    assert np.abs(big.rigid[:, 1] - res.rigid[:n, 1]).max() < 1e-12 * np.abs(ref).max()
 
 
 def test_mechanism_names_the_free_modes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -510,3 +555,38 @@ def test_output_file_with_a_nul_character(tmp_path: Path,
     capsys.readouterr()
     fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", "a\x00b"],
           "NUL character")  # fmt: skip
+
+
+def test_python_api_mistakes_get_typed_errors() -> None:
+    """Wrong types through the Python API end in a ModelError naming the argument (they
+    ended in TypeError or AttributeError deep inside); one record may be given alone; the
+    plain Newmark integrator refuses a model with interface pairs (it left the block in
+    free fall); a 3D model refuses a thickness."""
+    import pfeie as pf
+    from pfeie.dynamics import Newmark
+
+    with pytest.raises(ModelError, match=r"Elastic: E: expected a number \(Pa\), got str '30e9'"):
+        pf.Elastic(E="30e9", nu=0.2, rho=2400)  # type: ignore[arg-type]
+    with pytest.raises(ModelError, match=r"block 'b': material: expected a pfeie.Elastic"):
+        pf.Block("b", 3.0)  # type: ignore[arg-type]
+    mesh = pf.rectangle(1.0, 1.0, 1, 2)
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
+    mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
+    mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
+    mat = pf.Elastic(1e9, 0.2, 2000.0)
+    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+                 interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+    with pytest.raises(ModelError, match=r"fix base: components: expected integers in 0..1"):
+        m.fix("base", components=["w"])  # type: ignore[list-item]
+    m.fix("base")
+    m.add_gravity()
+    with pytest.raises(ModelError, match=r"Newmark: the model has 2 interface pairs"):
+        Newmark(m.system(), 1e-3)
+    pulse = pf.GroundMotion.from_function(lambda t: 0.1 * t, duration=0.01, dt=0.001)
+    an = pf.Dynamic(m, 1e-3)
+    one = an.run(0.01, ground=pulse)  # type: ignore[arg-type]
+    assert np.array_equal(one.rigid, an.run(0.01, ground=[pulse]).rigid)
+    with pytest.raises(ModelError, match=r"ground\[0\]: expected a pfeie.GroundMotion"):
+        an.run(0.01, ground=["rec.csv"])  # type: ignore[list-item]
+    with pytest.raises(ModelError, match=r"thickness = 2.0 m is a 2D setting"):
+        pf.Model(pf.box(1.0, 1.0, 1.0, 1, 1, 1), [pf.Block("all", mat)], thickness=2.0)

@@ -42,6 +42,7 @@ from .interface import OPEN, SLIDE, SolverSettings
 from .io import (
     CheckpointWriter,
     Job,
+    NothingToResume,
     ResultsWriter,
     history,
     output_folder,
@@ -161,8 +162,12 @@ def _run(
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
     ck: Checkpoint | None = None
     if resume:
-        writer, ck = reopen_results(out / "results.h5", job)
-    else:
+        try:
+            writer, ck = reopen_results(out / "results.h5", job)
+        except NothingToResume as exc:
+            log.warning("%s; running from the start", exc)
+            resume = False
+    if ck is None:
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
     ckw = CheckpointWriter(writer, run_key(job), every_s)

@@ -26,6 +26,7 @@ error (see docs/theory.md for the measured order).
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -36,6 +37,8 @@ from ..coupling import GatheredDelassus, NodalFlexibility, PairOperator
 from ..linalg import Factorization
 from ..model import BodyFrames, LinearSystem, Model
 from ..typing import FloatArray, IntArray
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -112,6 +115,10 @@ class Corotation:
     ) -> None:
         self.model, self.system, self.factor = model, system, factor
         self.frames = BodyFrames(model, system.free)
+        if not self.frames.n:
+            log.warning("large_rotation: every block has a support (a prescribed "
+                        "component), so no block's frame rotates; the run is the "
+                        "small-rotation one")  # fmt: skip
         self.d = model.dim
         self.op0 = op
         self._last: tuple[bytes, Any] | None = None

@@ -166,6 +166,13 @@ class Dynamic:
             self.mj = MoreauJean(self.system, settings.dt, theta=settings.theta,
                                  backend=settings.backend)  # fmt: skip
         else:
+            n_pairs = 0 if model.pairs is None else int(model.pairs.n)
+            if n_pairs:
+                raise ModelError(
+                    f"scheme = 'newmark' runs models without interfaces; this model has "
+                    f"{n_pairs} interface pairs: use scheme = 'nonsmooth-alpha' (the default; "
+                    "rho_inf for numerical damping) or 'moreau-jean'"
+                )
             self.nm = Newmark(self.system, settings.dt, beta=beta, gamma=gamma, alpha=alpha,
                               rho_inf=settings.rho_inf, backend=settings.backend)  # fmt: skip
         self.d = model.dim
@@ -210,12 +217,6 @@ class Dynamic:
             self.istep = InterfaceStep(self.op, delassus(self.mj.factor, self.op.G), laws, 1.0,
                                        settings=settings.solver(),
                                        regularize=model.pairs.regularization)  # fmt: skip
-        elif self.m:
-            raise ModelError(
-                f"scheme = 'newmark' runs models without interfaces; this model has "
-                f"{self.m} interface pairs: use scheme = 'nonsmooth-alpha' (the default; "
-                "rho_inf for numerical damping) or 'moreau-jean'"
-            )
         self.setup_time = _time.perf_counter() - t0
 
     def _setup_nonsmooth_alpha(

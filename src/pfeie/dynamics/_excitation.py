@@ -50,7 +50,7 @@ class Excitation:
         self,
         model: Model,
         system: LinearSystem,
-        ground: Sequence[GroundMotion] = (),
+        ground: Sequence[GroundMotion] | GroundMotion = (),
         form: str = "relative",
         uplift: FloatArray | None = None,
         open0: BoolArray | None = None,
@@ -64,7 +64,14 @@ class Excitation:
             self._f_up = model.uplift_load(self._p0)[system.free]
             m = 0 if model.pairs is None else model.pairs.n
             self._open0 = np.zeros(m, dtype=bool) if open0 is None else np.asarray(open0)
+        if isinstance(ground, GroundMotion):  # one record given alone
+            ground = [ground]
         self.ground = list(ground)
+        for k, g in enumerate(self.ground):
+            if not isinstance(g, GroundMotion):
+                raise ModelError(f"ground[{k}]: expected a pfeie.GroundMotion (a file is "
+                                 "read with pfeie.io.read_record), got "
+                                 f"{type(g).__name__} {g!r}")  # fmt: skip
         for g in self.ground:
             if g.direction.size != d:
                 raise ModelError(f"ground motion {g.name!r}: direction has {g.direction.size} "

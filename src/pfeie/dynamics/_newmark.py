@@ -171,6 +171,11 @@ class Newmark:
         rho_inf: float | None = None,
         backend: str = "auto",
     ) -> None:
+        pairs = getattr(system, "n_pairs", 0)
+        if pairs:
+            raise ModelError(f"Newmark: the model has {pairs} interface pairs, which its "
+                             "block operators do not couple (each block would move alone); "
+                             "use pfeie.Dynamic, whose schemes solve the interfaces")  # fmt: skip
         if not dt > 0:
             raise ModelError(f"time step dt must be > 0 s, got {dt}")
         if not -1.0 / 3.0 - 1e-12 <= alpha <= 0.0:

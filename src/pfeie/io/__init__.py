@@ -1,6 +1,6 @@
 """Input and output: gmsh meshes, ground-motion records, model files."""
 
-from ._checkpoint import CheckpointWriter, history, reopen_results, run_key
+from ._checkpoint import CheckpointWriter, NothingToResume, history, reopen_results, run_key
 from ._export import export_csv
 from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
@@ -25,6 +25,7 @@ __all__ = [
     "CheckpointWriter",
     "Job",
     "ModelFile",
+    "NothingToResume",
     "Override",
     "Results",
     "ResultsWriter",

@@ -190,13 +190,19 @@ def read_checkpoint(f: Any) -> Checkpoint:
     return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]), env)
 
 
+class NothingToResume(ResultsError):
+    """The run to resume left no checkpoint: no results file, or one of the same inputs
+    stopped before its first checkpoint. Nothing is lost by running it again from the
+    start (the run is deterministic), which :func:`pfeie.run_job` then does."""
+
+
 def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoint]:
     """The results file of a stopped run opened to continue it: the inputs checked against
     the run key, the histories cut back to the checkpoint's row. Errors
     (:class:`ResultsError`) name the file and what was expected."""
     p = Path(path)
     if not p.is_file():
-        raise ResultsError(f"{p}: nothing to resume: no results file (run without --resume)")
+        raise NothingToResume(f"{p}: nothing to resume: no results file")
     try:
         f = _h5py().File(p, "r+")
     except OSError as exc:
@@ -206,11 +212,14 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
             # killed while the new checkpoint replaced the old: it was on disk, complete,
             # before the old one was deleted (format 1.3 on)
             f.move("checkpoint_new", "checkpoint")
-        if "checkpoint" not in f:
-            raise ResultsError(f"{p}: nothing to resume: the file has no checkpoint (a "
-                               "run of an older pfeie, or one stopped before its first "
-                               "row)")  # fmt: skip
         key = run_key(job)
+        if "checkpoint" not in f:
+            if f.attrs.get("run_key", "") == key:  # the same run, stopped before a checkpoint
+                raise NothingToResume(f"{p}: nothing to resume: the run stopped before its "
+                                      "first checkpoint")  # fmt: skip
+            raise ResultsError(f"{p}: nothing to resume: the file has no checkpoint (a "
+                               "run of an older pfeie, or of other inputs); run without "
+                               "--resume")  # fmt: skip
         if f.attrs.get("run_key", "") != key:
             raise ResultsError(
                 f"{p}: cannot resume: the model file, its --set overrides, the mesh or a "
@@ -276,4 +285,11 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
     )  # fmt: skip
 
 
-__all__ = ["CheckpointWriter", "history", "read_checkpoint", "reopen_results", "run_key"]
+__all__ = [
+    "CheckpointWriter",
+    "NothingToResume",
+    "history",
+    "read_checkpoint",
+    "reopen_results",
+    "run_key",
+]

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ..element import cell_dimension
+from ..element import SUPPORTED, cell_dimension
 from ..errors import MeshError
 from ..mesh import Mesh, planar_points
 
@@ -105,6 +105,18 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
     if len(phys) != len(m.cells):  # MSH 4 with entities in no physical group: see cell_sets
         phys = [np.zeros(len(b.data), dtype=np.int64) for b in m.cells]
     dims = [cell_dimension(b.type) if _known(b.type) else -1 for b in m.cells]
+    for k, (block, tags) in enumerate(zip(m.cells, phys, strict=True)):
+        # a cell type pfeie has no element for, in a physical group, would drop part of
+        # a block or a face without a word
+        tagged = np.asarray(tags) != 0
+        if dims[k] < 0 and tagged.any() and block.type not in ("vertex", "line", "line3"):
+            first = f" (gmsh element {int(ids[k][np.argmax(tagged)])})" if ids is not None else ""
+            group = names.get(int(np.asarray(tags)[tagged][0]), ("?", 0))[0]
+            known = ", ".join(t for t in SUPPORTED if cell_dimension(t) >= 2)
+            raise MeshError(f"{path}: physical group {group!r}: {int(tagged.sum())} "
+                            f"{block.type} cell(s){first}; pfeie has elements for {known} "
+                            "only: mesh this group with those (e.g. tetrahedra, or "
+                            "hexahedra by recombination, in gmsh)")  # fmt: skip
     top = max(dims, default=-1)
     if top not in (2, 3):
         raise MeshError(f"{path}: no 2D or 3D cells (found dimensions {sorted(set(dims))})")

@@ -381,6 +381,8 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                              f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
                              "times too strong) and scale")  # fmt: skip
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
+        if cfg.analysis.dynamic:
+            _record_against_dt(p, i, rec, cfg.analysis.dt)
         records.append(rec)
     probes = {}
     reach = _largest_cell(model.mesh)
@@ -441,6 +443,22 @@ def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) ->
                          "stiffness-proportional damping (a Rayleigh beta > 0 in [damping]): "
                          "without it the blocks hop at contacts; expected rho_inf = 0, or "
                          "add damping")  # fmt: skip
+
+
+def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
+    """A record the steps cannot see is an error: one that lasts less than one step;
+    one sampled finer than the step gets a warning (the load is the record interpolated at
+    the steps, so content above 1/(2Δt) is not applied)."""
+    span = float(rec.time[-1] - rec.time[0])
+    if span < dt:
+        raise InputError(f"{p}: ground_motion[{i}]: the record lasts {span:.6g} s, less than "
+                         f"one step (analysis.dt = {dt:g} s); expected a record of at least "
+                         "one step (check its time column or dt)")  # fmt: skip
+    step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
+    if dt > step * (1 + 1e-9):
+        log.warning("%s: ground_motion[%d]: analysis.dt = %g s is coarser than the record's "
+                    "sampling (%g s): the record is read at the steps, and its content "
+                    "above %.4g Hz is not applied", p, i, dt, step, 0.5 / dt)  # fmt: skip
 
 
 def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:

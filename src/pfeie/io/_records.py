@@ -38,6 +38,7 @@ from ..errors import RecordError
 from ..model import GroundMotion
 from ..typing import FloatArray
 
+MAX_DT = 10.0  # s: the largest sampling step of a record (as for the analysis' Δt)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
 _SEP = re.compile(r"[,;\s]+")
 _ALLOWED = re.compile(r"^[\s0-9eEdD.+\-,;]*$")
@@ -82,8 +83,8 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
         dt = float(m.group(2))
     except ValueError:
         raise RecordError(f"{path}: line 4: DT: expected a number, found {m.group(2)!r}") from None
-    if not (math.isfinite(dt) and dt > 0):
-        raise RecordError(f"{path}: line 4: DT: expected a finite number > 0 s, found "
+    if not (math.isfinite(dt) and 0 < dt <= MAX_DT):
+        raise RecordError(f"{path}: line 4: DT: expected a number in (0, {MAX_DT:g}] s, found "
                           f"{m.group(2)!r}")  # fmt: skip
     values: list[float] = []
     for i, line in enumerate(lines[4:], start=5):
@@ -112,6 +113,22 @@ def _data_lines(path: Path, lines: list[str]) -> tuple[list[tuple[int, list[floa
     return rows, header
 
 
+def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]]) -> None:
+    """Refuse a table read as one column: several numbers per line are a wrapped sequence
+    only when blanks separate them; commas, semicolons or tabs make a table (time and
+    acceleration, several channels, or decimal commas), whose values would be
+    interleaved."""
+    for i, r in rows:
+        if len(r) > 1 and re.search(r"[,;\t]", lines[i - 1].strip()):
+            line = lines[i - 1].strip()
+            hint = (" (decimal commas? write numbers with a decimal point)"
+                    if re.search(r"\d,\d", line) and ";" in line else
+                    "; a record of time and acceleration is read as two columns")  # fmt: skip
+            raise RecordError(f"{path}: line {i}: {len(r)} numbers separated by ',', ';' or "
+                              f"tabs ({line[:40]!r}): a table, not one column of "
+                              f"accelerations{hint}")  # fmt: skip
+
+
 def read_record(
     path: str | Path,
     *,
@@ -131,10 +148,14 @@ def read_record(
     p = Path(path)
     if not p.is_file():
         raise RecordError(f"{p}: record file not found")
-    try:
-        lines = p.read_text(errors="strict").splitlines()
+    raw = p.read_bytes()
+    if b"\0" in raw:
+        raise RecordError(f"{p}: not a text file (it holds NUL bytes)")
+    try:  # UTF-8, a byte-order mark dropped; else Latin-1 (titles such as 'DÜZCE')
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
-        raise RecordError(f"{p}: not a text file") from None
+        text = raw.decode("latin-1")
+    lines = text.splitlines()
     kind = fmt.lower()
     if kind not in ("auto", "at2", "two-column", "one-column"):
         raise RecordError(f"{p}: format must be auto, at2, two-column or one-column, got {fmt!r}")
@@ -167,6 +188,7 @@ def read_record(
         else:
             if dt is None:
                 raise RecordError(f"{p}: a one-column record needs its time step dt")
+            _one_column(p, lines, rows)
             acc = np.array([x for _, r in rows for x in r])
             gm = _make(p, acc, dt, None, units, scale, direction, label)
     return gm.baseline_corrected() if baseline else gm

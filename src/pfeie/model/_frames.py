@@ -101,7 +101,7 @@ class BodyFrames:
 
     def _sum(self, v: FloatArray) -> FloatArray:
         """Per-body sums of a nodal array (k, ...) → (n, ...)."""
-        flat = v.reshape(v.shape[0], -1)
+        flat = v.reshape(v.shape[0], int(np.prod(v.shape[1:])))  # (k = 0 included)
         cols = [np.bincount(self.body, flat[:, j], self.n) for j in range(flat.shape[1])]
         return np.stack(cols, axis=1).astype(float).reshape(self.n, *v.shape[1:])
 

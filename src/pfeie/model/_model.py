@@ -80,6 +80,7 @@ class LinearSystem:
     _patterns: FloatArray
     _amplitudes: tuple[Amplitude | None, ...]
     _constant: FloatArray
+    n_pairs: int = 0  # the model's interface pairs, which these operators do not couple
 
     @property
     def n(self) -> int:
@@ -141,6 +142,9 @@ class Model:
             raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
         if not thickness > 0:
             raise ModelError(f"thickness must be > 0 m, got {thickness}")
+        if mesh.dim == 3 and thickness != 1.0:
+            raise ModelError(f"thickness = {thickness} m is a 2D setting, but the mesh is 3D; a "
+                             "3D model takes no thickness")  # fmt: skip
         if not blocks:
             raise ModelError("a model needs at least one block")
         if mesh.dim == 3 and plane == "stress":
@@ -258,8 +262,10 @@ class Model:
         nodes of a facet or cell group, or of given node indices."""
         nodes, label = self._nodes(where)
         comps = tuple(range(self.dim)) if components is None else tuple(np.atleast_1d(components))
-        if any(c < 0 or c >= self.dim for c in comps):
-            raise ModelError(f"fix {label}: components must lie in 0..{self.dim - 1}")
+        if any(isinstance(c, bool) or not isinstance(c, int | np.integer) or not 0 <= c < self.dim
+               for c in comps):  # fmt: skip
+            raise ModelError(f"fix {label}: components: expected integers in 0..{self.dim - 1} "
+                             f"(0 = x), got {list(comps)!r}")  # fmt: skip
         self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
         self.__dict__.pop("_dofmap", None)
 
@@ -746,6 +752,7 @@ class Model:
             M=M[free][:, free].tocsr(), K=Kff, C=C, free=free, n_dof=self.n_dof,
             prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
+            n_pairs=0 if self.pairs is None else int(self.pairs.n),
         )  # fmt: skip
 
     # -- interfaces and bodies -------------------------------------------------------------

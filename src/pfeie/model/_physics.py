@@ -41,6 +41,12 @@ class Elastic:
     tensile_strength: float | None = None
 
     def __post_init__(self) -> None:
+        for key, unit in (("E", "Pa"), ("nu", ""), ("rho", "kg/m³"), ("tensile_strength", "Pa")):
+            v = getattr(self, key)
+            if (v is None and key == "tensile_strength") or _is_number(v):
+                continue
+            raise ModelError(f"Elastic: {key}: expected a number{f' ({unit})' if unit else ''}, "
+                             f"got {type(v).__name__} {v!r}")  # fmt: skip
         if not self.E > 0:
             raise ModelError(f"Young's modulus E must be > 0 Pa, got {self.E}")
         if not -1.0 < self.nu < 0.5:
@@ -67,6 +73,11 @@ class Elastic:
         return float(np.sqrt((lam + 2 * mu) / self.rho)), float(np.sqrt(mu / self.rho))
 
 
+def _is_number(v: object) -> bool:
+    """A real number (int or float, NumPy's included; not a bool or a string)."""
+    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool)
+
+
 @dataclass(frozen=True)
 class Block:
     """A block: a named cell group of the mesh with its own material.
@@ -78,6 +89,15 @@ class Block:
     name: str
     material: Elastic
     group: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not (self.group is None
+                                                  or isinstance(self.group, str)):  # fmt: skip
+            raise ModelError(f"Block: name and group: expected strings, got {self.name!r} "
+                             f"and {self.group!r}")  # fmt: skip
+        if not isinstance(self.material, Elastic):
+            raise ModelError(f"block {self.name!r}: material: expected a pfeie.Elastic, got "
+                             f"{type(self.material).__name__} {self.material!r}")  # fmt: skip
 
     @property
     def cell_group(self) -> str:
