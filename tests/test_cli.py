@@ -248,3 +248,9 @@ def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     assert np.linalg.norm(pd["shape"], axis=1).max() == pytest.approx(1.0, rel=1e-12)
     assert main(["modal", str(p), "-n", "0"]) == 2
     assert "--modes: expected a number of modes >= 1" in capsys.readouterr().err
+    # the upper block free on its joint: three rigid-body modes, marked so (they printed
+    # as 0.0000 Hz and periods of 1e5 s), then the first elastic one
+    assert main(["modal", str(p), "-n", "4", "--interfaces", "free", "--out",
+                 str(tmp_path / "f")]) == 0  # fmt: skip
+    lines = capsys.readouterr().out.splitlines()[2:6]
+    assert [ln.split()[1] for ln in lines[:3]] == ["rigid"] * 3 and float(lines[3].split()[1]) > 1

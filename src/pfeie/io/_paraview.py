@@ -314,7 +314,8 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
     for k, f in enumerate(result.frequencies):
         me = result.effective_mass[k]
         share = me / np.maximum(total, 1e-300) if total.size else np.full(me.shape, np.nan)
-        rows.append(f"{k + 1},{f:.9g},{1 / f:.9g}," + ",".join(
+        period = 1 / f if f > 0 else float("inf")  # a rigid-body mode: ω² = 0 to round-off
+        rows.append(f"{k + 1},{f:.9g},{period:.9g}," + ",".join(
             f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
     csv_path.write_text("\n".join(rows) + "\n")
     return [path, csv_path]
