@@ -284,10 +284,11 @@ def test_bad_arguments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     assert "--workers" in capsys.readouterr().err
     assert main(["study", str(tmp_path / "none.toml")]) == 2
     assert "study file not found" in capsys.readouterr().err
-    with pytest.raises(ModelError, match="finite and > 0"):
+    with pytest.raises(ModelError, match=r"intensity\.values\[0\]: expected a finite number > 0"):
         Study(tmp_path / "model.toml", [tmp_path / "rec" / "r0.csv"], values=[math.inf])
     with pytest.raises(ModelError, match="same name"):
-        Study(tmp_path / "model.toml", [RecordSource("a", p), RecordSource("a", p)])
+        Study(tmp_path / "model.toml", [RecordSource("a", tmp_path / "rec" / "r0.csv"),
+                                        RecordSource("a", tmp_path / "rec" / "r1.csv")])
     with pytest.raises(InputError, match="no column"):
         StudyTable([{"a": 1}]).column("b")
 

@@ -452,6 +452,7 @@ def _spectrum(args: argparse.Namespace) -> int:
 
 
 def _study(args: argparse.Namespace) -> int:
+    import signal
     import time
 
     from .study import Study
@@ -465,6 +466,7 @@ def _study(args: argparse.Namespace) -> int:
         workers = int(args.workers)
     try:
         st = Study.from_file(args.study)
+        st.prepare_folder()
         specs = st.runs()
     except PfeieError as exc:
         return _input_failure(exc, args.study)
@@ -498,18 +500,27 @@ def _study(args: argparse.Namespace) -> int:
 
     print(f"study: {len(st.records)} records x {len(st.values)} intensities = {len(specs)} "
           f"runs; output {st.folder}", file=sys.stderr)  # fmt: skip
+
+    def on_term(signum: int, _frame: object) -> None:
+        """SIGTERM stops a study as Ctrl-C does: the rows written so far are kept."""
+        raise KeyboardInterrupt(signal.Signals(signum).name)
+
+    old_term = signal.signal(signal.SIGTERM, on_term)
     try:
         table = st.run(workers=workers, scheduler=args.scheduler, resume=not args.restart,
                        progress=progress)  # fmt: skip
-    except KeyboardInterrupt:
-        print("pfeie: interrupted; the runs finished so far are kept: the same command "
-              "resumes the study", file=sys.stderr)  # fmt: skip
+    except KeyboardInterrupt as exc:
+        why = f" ({exc.args[0]})" if exc.args else ""
+        print(f"pfeie: interrupted{why}; the runs finished so far are kept: the same "
+              "command resumes the study", file=sys.stderr)  # fmt: skip
         return EXIT_INTERRUPTED
     except (InputError, MeshError, RecordError, ResultsError) as exc:
         return _input_failure(exc, args.study)
     except PfeieError as exc:
         print(f"pfeie: analysis failed: {exc}", file=sys.stderr)
         return EXIT_FAILED
+    finally:
+        signal.signal(signal.SIGTERM, old_term)
     from .study import median_lines
 
     stopped = [f"{r['record']}@{r['intensity']:g}" for r in table.rows if not r["completed"]]

@@ -902,6 +902,27 @@ CASES: list[Case] = [
       files={"study.toml": STUDY + '[[limit_states]]\nname = "x"\nthreshold = 0.001\n'}),
     C("study-record-units-missing", "rec.csv", "give the units", argv=("study", "study.toml"),
       files={"study.toml": STUDY.replace('units = "g"\n', "")}),
+    C("study-values-twice", "study.toml", "intensity.values[1]", "is already intensity.values[0]",
+      argv=("study", "study.toml"),
+      files={"study.toml": STUDY.replace("[0.1, 0.2]", "[0.1, 0.1]")}),
+    C("study-pga-too-large", "study.toml", "intensity.values[1]: expected a number in (0, 20] g",
+      "found 500", argv=("study", "study.toml"),
+      files={"study.toml": STUDY.replace("[0.1, 0.2]", "[0.1, 500]")}),
+    C("study-record-twice", "study.toml", "records[0].file", "records[1].folder", "rec.csv",
+      argv=("study", "study.toml"),
+      files={"study.toml": STUDY + '[[records]]\nfolder = "."\npattern = "*.csv"\nunits = "g"\n'}),
+    C("study-output-folder-is-a-file", "study.toml", "output.folder", "is a file, not a folder",
+      argv=("study", "study.toml"), prepare=_results_like,
+      files={"study.toml": STUDY.replace('folder = "study"', 'folder = "afile"')}),
+    C("study-limit-state-threshold-negative", "study.toml", "limit_states[0].threshold",
+      "expected a number > 0", argv=("study", "study.toml"),
+      files={"study.toml": STUDY + '[[limit_states]]\nname = "x"\n'
+             'demand = "joint.joint.max_opening_m"\nthreshold = -1\n'}),
+    C("study-limit-state-demand-misspelt", "study.toml", "limit_states[0].demand",
+      "'joint.jiont.max_opening_m'", "did you mean 'joint.joint.max_opening_m'",
+      argv=("study", "study.toml"),
+      files={"study.toml": STUDY + '[[limit_states]]\nname = "x"\n'
+             'demand = "joint.jiont.max_opening_m"\nthreshold = 0.001\n'}),
 ]
 # fmt: on
 

@@ -9,7 +9,10 @@ keeps its finished runs; on a cluster, the output folder must be on a file syste
 the workers share with the client.
 
 A local cluster has ``workers`` processes of one thread each, with ``OMP_NUM_THREADS=1``
-(a run is sequential; the processes are the parallelism). With ``scheduler``, the runs
+(a run is sequential; the processes are the parallelism). Its workers log only critical
+errors (a run's error comes back with its task), and an interrupted study (Ctrl-C,
+SIGTERM) closes the cluster without the warnings of workers stopped in the middle of a
+run. With ``scheduler``, the runs
 go to a running Dask scheduler (``dask scheduler`` and ``dask worker ADDRESS`` on the
 machines, or dask-jobqueue on SLURM or PBS, see docs/study.md); its workers need pfeie
 installed.
@@ -55,7 +58,7 @@ def run_parallel(
         cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
                                processes=True, dashboard_address=":0",
                                scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.ERROR, env=env)  # fmt: skip
+                               silence_logs=logging.CRITICAL, env=env)  # fmt: skip
         client = Client(cluster)
     log.info("study on Dask: %s (%d runs)", client.dashboard_link or scheduler, len(specs))
     error: BaseException | None = None
@@ -69,6 +72,9 @@ def run_parallel(
                 error = error or exc
                 continue
             finished(row)
+    except BaseException:  # Ctrl-C, SIGTERM: the workers are stopped mid-run, as asked
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        raise
     finally:
         client.close()
         if cluster is not None:

@@ -58,9 +58,9 @@ def write_study_outputs(study: Study, table: StudyTable, folder: Path) -> list[P
     """Write the IDA and fragility outputs and ``report.html`` into ``folder``; returns
     the files written."""
     states = limit_states(study)
-    for ls in states:
+    for i, ls in enumerate(states):
         if ls.column not in table.columns:
-            raise ModelError(f"limit state {ls.name!r}: the table has no column "
+            raise ModelError(f"limit_states[{i}].demand: the table has no column "
                              f"{ls.column!r}; its demand columns are "
                              f"{', '.join(c for c in table.columns if '.' in c)}")  # fmt: skip
     imcol, imlabel = intensity_column(study)

@@ -13,6 +13,10 @@ with its overrides, the mesh and record bytes, the reading options of the record
 scale factor, the duration, pfeie's version). A finished run leaves its row in
 ``<folder>/rows/<key>.json`` (written atomically); a study started again skips the runs
 whose row is there, so a killed study resumes where it stopped and gives the same table.
+A row found by its key is the same computation whatever ladder it was run for: it is
+given the current study's record name, level (the index in the current ladder) and
+intensity, so that a ladder changed between two runs of a study (a value added, say)
+numbers its levels from the current ladder.
 
 The table has one row per record and intensity: the record, the intensity and the scale
 factor; the intensity measures of the scaled record (PGA, PGV, PGD, Arias intensity, CAV,
@@ -27,11 +31,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import difflib
 import hashlib
 import json
 import logging
 import math
 import os
+import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -60,11 +66,59 @@ IM_COLUMNS = (
 )  # fmt: skip
 
 
+#: the columns of a probe, of a joint (2D: the ``length_m`` pair; 3D: the ``area_m2``
+#: pair), of the stress envelope (the demand-capacity ones with tensile strengths) and of
+#: the pair solver, after ``probe.<name>.``, ``joint.<name>.``, ``stress.``, ``solver.``
+PROBE_KEYS = ("peak_displacement_m", "peak_abs_acceleration_g")
+JOINT_KEYS = ("peak_slip_max_m", "residual_slip_max_m", "residual_slip_mean_m",
+              "max_opening_m", "broken_share", "cracked_length_m", "cracked_area_m2",
+              "max_open_length_m", "max_open_area_m2", "min_safety_factor")  # fmt: skip
+JOINT_KEYS_2D = tuple(k for k in JOINT_KEYS if not k.endswith("_area_m2"))
+JOINT_KEYS_3D = tuple(k for k in JOINT_KEYS if not k.endswith("_length_m"))
+STRESS_KEYS = ("max_principal_Pa", "min_principal_Pa", "max_dcr", "max_cid_s",
+               "overstressed_share")  # fmt: skip
+SOLVER_KEYS = ("fallback_steps", "worst_residual")
+
+#: demand columns that hold a signed value: the principal stresses (tension > 0,
+#: compression < 0), so that a threshold of either sign is meaningful. Every other
+#: numeric column is a magnitude (a peak, a norm, a length, a share, a ratio, a count):
+#: never negative, so a threshold <= 0 would be reached by every run ("above") or by none
+#: ("below"), and is refused.
+SIGNED_COLUMNS = frozenset({"stress.max_principal_Pa", "stress.min_principal_Pa"})
+
+#: the largest intensity of a ``pga`` or ``sa`` ladder (g): the model file's bound on
+#: ``ground_motion[].pga`` and ``target_sa.value``
+MAX_INTENSITY_G = 20.0
+
+
+def record_names(paths: list[Path], base: Path) -> list[str]:
+    """Unique, stable names of record files: the file's stem when no other record of the
+    study shares it, else the file's path relative to ``base`` (POSIX, with its
+    suffix). A name depends on the file alone, not on the order of the records.
+
+    >>> record_names([Path("a/r1.csv"), Path("b/r1.csv"), Path("a/r2.csv")], Path("."))
+    ['a/r1.csv', 'b/r1.csv', 'r2']
+    """
+    stems = [p.stem for p in paths]
+    root = base.resolve()
+    return [
+        stem if stems.count(stem) == 1 else
+        Path(os.path.relpath(p.resolve(), root)).as_posix()
+        for p, stem in zip(paths, stems, strict=True)
+    ]  # fmt: skip
+
+
+def _slug(name: str) -> str:
+    """A folder name for a run: the record name and level, other characters as ``_``."""
+    return re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("_.") or "run"
+
+
 @dataclass(frozen=True)
 class RecordSource:
     """A record file of a study and how to read it (as a model file's ``[[ground_motion]]``).
 
-    ``name`` is unique within the study (the file's stem, numbered if two share it)."""
+    ``name`` is unique within the study (the file's stem; the path relative to the study
+    file when two records share a stem, :func:`record_names`)."""
 
     name: str
     path: Path
@@ -191,7 +245,7 @@ def run_one(ctx: Context, spec: RunSpec) -> dict[str, Any]:
     if ctx.histories:
         from ..io import ResultsWriter
 
-        folder = ctx.folder / "runs" / spec.name.replace("@", "_")
+        folder = ctx.folder / "runs" / _slug(spec.name)
         folder.mkdir(parents=True, exist_ok=True)
         writer = ResultsWriter(folder / "results.h5", run_job,
                                field_every=job.output.field_every)  # fmt: skip
@@ -243,9 +297,7 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
         row[f"probe.{name}.peak_displacement_m"] = p["peak_displacement_m"]
         row[f"probe.{name}.peak_abs_acceleration_g"] = p["peak_abs_acceleration_g"]
     for name, j in s.get("joints", {}).items():
-        for k in ("peak_slip_max_m", "residual_slip_max_m", "residual_slip_mean_m",
-                  "max_opening_m", "broken_share", "cracked_length_m", "cracked_area_m2",
-                  "max_open_length_m", "max_open_area_m2", "min_safety_factor"):  # fmt: skip
+        for k in JOINT_KEYS:
             if k in j:
                 row[f"joint.{name}.{k}"] = j[k]
     if "stress" in s:
@@ -261,6 +313,17 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
     row["wall_s"] = round(wall, 3)
     row["key"] = spec.key
     return row
+
+
+def _as_run(row: dict[str, Any], spec: RunSpec) -> dict[str, Any]:
+    """The row of a run found by its key, as a row of ``spec``: the key fixes the
+    computation (the model, the record's bytes and options, the scale factor, the
+    duration), not the record's name in the study, nor its level or intensity in the
+    ladder, which come from the current study."""
+    out = dict(row)
+    out.update(record=spec.record.name, file=str(spec.record.path), level=spec.level,
+               intensity=spec.value)  # fmt: skip
+    return out
 
 
 def write_row(folder: Path, row: dict[str, Any]) -> None:
@@ -295,12 +358,16 @@ class Study:
     records: record files (:class:`RecordSource`, or paths read with the defaults).
     measure: ``"scale"`` (``values`` are scale factors), ``"pga"`` (``values`` in g) or
         ``"sa"`` (``values`` are Sa(``period``, ``damping``) in g).
-    values: the intensities (> 0).
+    values: the intensities, each once: scale factors > 0, or in (0, 20] g for ``pga`` and
+        ``sa`` (the model file's range); ``level`` k of the table is ``values[k]``.
     period: T1 (s) of Sa (the ``sa`` measure and the ``im.sa_t1_g`` column); default the
         model's first period with its joints bonded.
     duration: of every run (s); default each record's length.
     overrides: ``KEY=VALUE`` settings of the model file (as ``pfeie run --set``).
     folder: output folder (the rows, the table).
+    limit_states: ``{"name", "demand", "threshold", "exceed"}`` dicts (the study file's
+        ``[[limit_states]]``); a threshold > 0 unless the demand is a principal stress.
+    source: the study file (its name starts the messages about the study's keys).
 
     Example
     -------
@@ -326,25 +393,90 @@ class Study:
     workers: int = 0
     scheduler: str | None = None
     limit_states: list[dict[str, Any]] = field(default_factory=list)
+    source: Path | None = None
 
     def __post_init__(self) -> None:
+        """Check the study; a :class:`ModelError` names the key of the study file that
+        is wrong (``intensity.values[1]: ...``), which :meth:`from_file` prefixes with the
+        file."""
         self.model = Path(self.model)
         self.folder = Path(self.folder)
-        self.records = [r if isinstance(r, RecordSource) else
-                        RecordSource(Path(r).stem, Path(r)) for r in self.records]  # fmt: skip
+        raw: list[Any] = list(self.records)  # RecordSource, or a path read with the defaults
+        plain = [k for k, r in enumerate(raw) if not isinstance(r, RecordSource)]
+        for k, name in zip(plain, record_names([Path(raw[k]) for k in plain], Path.cwd()),
+                           strict=True):  # fmt: skip
+            raw[k] = RecordSource(name, Path(raw[k]))
+        self.records = raw
         if self.measure not in ("scale", "pga", "sa"):
-            raise ModelError(f"study: measure must be 'scale', 'pga' or 'sa', got "
-                             f"{self.measure!r}")  # fmt: skip
-        bad = [v for v in self.values if not (math.isfinite(v) and v > 0)]
-        if bad or not self.values:
-            raise ModelError(f"study: intensity values must be finite and > 0, got "
-                             f"{self.values!r}")  # fmt: skip
+            raise ModelError(f"intensity.measure: expected one of 'scale', 'pga', 'sa', "
+                             f"found {self.measure!r}")  # fmt: skip
+        self._check_values()
+        first: dict[Path, int] = {}
+        for k, r in enumerate(self.records):
+            j = first.setdefault(r.path.resolve(), k)
+            if j != k:
+                raise ModelError(f"records: records {j} ({self.records[j].name}) and {k} "
+                                 f"({r.name}) are the same file {r.path}; expected each "
+                                 "record file once")  # fmt: skip
         names = [r.name for r in self.records]
         if len(set(names)) != len(names):
-            raise ModelError(f"study: two records have the same name: {names}")
+            raise ModelError(f"records: two records have the same name: {names}")
+        self._check_limit_states()
+        self.source = None if self.source is None else Path(self.source)
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
         self._read: dict[RecordSource, GroundMotion] = {}
+
+    def _check_values(self) -> None:
+        """The ladder: finite values > 0 (scale factors), or in (0, 20] g (``pga``,
+        ``sa``: the model file's range), each once (a value is a level)."""
+        if not self.values:
+            raise ModelError("intensity.values: expected at least one value, found []")
+        top = math.inf if self.measure == "scale" else MAX_INTENSITY_G
+        expect = ("a finite number > 0 (a scale factor)" if self.measure == "scale" else
+                  f"a number in (0, {top:g}] g (measure {self.measure!r})")  # fmt: skip
+        seen: dict[float, int] = {}
+        for i, v in enumerate(self.values):
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and 0 < v <= top):
+                found = f"{v:g}" if isinstance(v, (int, float)) else repr(v)
+                raise ModelError(f"intensity.values[{i}]: expected {expect}, found {found}")
+            j = seen.setdefault(float(v), i)
+            if j != i:
+                raise ModelError(f"intensity.values[{i}]: {v!r} is already "
+                                 f"intensity.values[{j}]; expected distinct values (each is "
+                                 "one level of the ladder)")  # fmt: skip
+
+    def _check_limit_states(self) -> None:
+        """Each limit state: a name used once, a finite threshold, and > 0 on a demand that
+        is a magnitude (every column but the signed principal stresses,
+        :data:`SIGNED_COLUMNS`)."""
+        names: dict[str, int] = {}
+        for i, ls in enumerate(self.limit_states):
+            key = f"limit_states[{i}]"
+            for k in ("name", "demand", "threshold"):
+                if k not in ls:
+                    raise ModelError(f"{key}.{k}: missing (required)")
+            j = names.setdefault(str(ls["name"]), i)
+            if j != i:
+                raise ModelError(f"{key}.name: {ls['name']!r} is already limit_states[{j}]"
+                                 ".name; expected distinct names")  # fmt: skip
+            if ls.get("exceed", "above") not in ("above", "below"):
+                raise ModelError(f"{key}.exceed: expected one of 'above', 'below', found "
+                                 f"{ls['exceed']!r}")  # fmt: skip
+            t = ls["threshold"]
+            if not (isinstance(t, (int, float)) and math.isfinite(t)):
+                raise ModelError(f"{key}.threshold: expected a finite number, found {t!r}")
+            if t <= 0 and ls["demand"] not in SIGNED_COLUMNS:
+                raise ModelError(
+                    f"{key}.threshold: expected a number > 0 for the demand "
+                    f"{ls['demand']!r}, found {t!r} (a magnitude, never negative: every run "
+                    f"would be {'beyond' if ls.get('exceed', 'above') == 'above' else 'short of'}"
+                    " it; only the principal stresses take a signed threshold)"
+                )
+
+    def _where(self, key: str) -> str:
+        """``FILE: KEY`` for a message (the key alone for a study made in Python)."""
+        return f"{self.source}: {key}" if self.source is not None else key
 
     @classmethod
     def from_file(cls, path: str | Path) -> Study:
@@ -355,13 +487,16 @@ class Study:
         cfg = read_study_file(p)
         base = p.parent
         records: list[RecordSource] = []
+        origin: dict[Path, str] = {}  # resolved file: the entry that gave it
         for i, r in enumerate(cfg.records):
             if r.file is not None:
                 files = [base / r.file]
+                entry = f"records[{i}].file"
                 if not files[0].is_file():
                     raise InputError(f"{p}: records[{i}].file: {files[0]} not found")
             else:
                 folder = base / (r.folder or ".")
+                entry = f"records[{i}].folder ({r.pattern!r} in {r.folder})"
                 if not folder.is_dir():
                     raise InputError(f"{p}: records[{i}].folder: {folder} is not a folder")
                 files = sorted(q for q in folder.glob(r.pattern) if q.is_file())
@@ -369,23 +504,23 @@ class Study:
                     raise InputError(f"{p}: records[{i}]: no file in {folder} matches "
                                      f"{r.pattern!r}")  # fmt: skip
             for f in files:
+                first = origin.setdefault(f.resolve(), entry)
+                if first != entry:
+                    raise InputError(f"{p}: {first} and {entry} both give the record file "
+                                     f"{f}; expected each record file once")  # fmt: skip
                 records.append(RecordSource(
                     f.stem, f, r.format, r.units, r.dt, r.component,
                     None if r.direction is None else tuple(r.direction), r.baseline,
                 ))  # fmt: skip
-        seen: dict[str, int] = {}
-        for k, rs in enumerate(records):  # unique names: stem, stem-2, stem-3, ...
-            n = seen.get(rs.name, 0) + 1
-            seen[rs.name] = n
-            if n > 1:
-                records[k] = dataclasses.replace(rs, name=f"{rs.name}-{n}")
+        names = record_names([r.path for r in records], base)
+        records = [dataclasses.replace(r, name=n) for r, n in zip(records, names, strict=True)]
         it = cfg.intensity
         try:
             return cls(base / cfg.model, records, it.measure, list(it.values), it.period,
                        it.damping, cfg.analysis.duration, list(cfg.analysis.set),
                        base / cfg.output.folder, cfg.output.histories, cfg.output.parquet,
                        cfg.title, cfg.run.workers, cfg.run.scheduler,
-                       [ls.model_dump() for ls in cfg.limit_states])  # fmt: skip
+                       [ls.model_dump() for ls in cfg.limit_states], p)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: {exc}") from None
 
@@ -442,6 +577,7 @@ class Study:
         if self._specs is not None:
             return self._specs
         ctx = self.context()
+        self._check_demands()
         t1 = self.t1()
         specs = []
         for r in self.records:
@@ -465,6 +601,44 @@ class Study:
         self._specs = specs
         return specs
 
+    def demand_columns(self) -> list[str]:
+        """The numeric columns that a row of this model can have (the model's probes and
+        joints, its dimension's joint columns): what a limit state's demand may name."""
+        self.context()
+        model, probes = self._job.model, self._job.probes
+        joints = [] if model.pairs is None else list(model.pairs.names)
+        keys = JOINT_KEYS_2D if model.dim == 2 else JOINT_KEYS_3D
+        return (["intensity", "scale_factor"] + [c for c, _, _ in IM_COLUMNS]
+                + [f"probe.{p}.{k}" for p in probes for k in PROBE_KEYS]
+                + [f"joint.{j}.{k}" for j in joints for k in keys]
+                + [f"stress.{k}" for k in STRESS_KEYS]
+                + [f"solver.{k}" for k in SOLVER_KEYS])  # fmt: skip
+
+    def _check_demands(self) -> None:
+        """Every limit state names a column of this model's table (before any run)."""
+        if not self.limit_states:
+            return
+        cols = self.demand_columns()
+        for i, ls in enumerate(self.limit_states):
+            col = str(ls["demand"])
+            if col not in cols:
+                near = difflib.get_close_matches(col, cols, n=1)
+                hint = f" (did you mean {near[0]!r}?)" if near else ""
+                raise InputError(
+                    f"{self._where(f'limit_states[{i}].demand')}: no column {col!r} in the "
+                    f"table of {self.model}{hint}; expected one of: {', '.join(cols)}"
+                )
+
+    def prepare_folder(self) -> Path:
+        """Create the output folder (and its ``rows``) if needed and check that it can be
+        written; an :class:`InputError` names the study file and ``output.folder``."""
+        from ..io import output_folder
+
+        where = self._where("output.folder")
+        folder = output_folder(self.folder, where)
+        output_folder(folder / "rows", where)
+        return folder
+
     # -- running ---------------------------------------------------------------------------
 
     def run(
@@ -482,11 +656,10 @@ class Study:
         after the other), or the Dask ``scheduler`` at an address; the study file's
         ``[run]`` values by default. ``progress(done, total, row)`` is called after each
         run."""
+        folder = self.prepare_folder().resolve()
         specs = self.runs()
         # the output options as they are now (they may be changed after the set-up)
-        ctx = dataclasses.replace(self.context(), folder=Path(self.folder).resolve(),
-                                  histories=self.histories)  # fmt: skip
-        ctx.folder.mkdir(parents=True, exist_ok=True)
+        ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories)
         workers = self.workers if workers is None else workers
         scheduler = self.scheduler if scheduler is None else scheduler
         done: dict[str, dict[str, Any]] = {}
@@ -495,8 +668,10 @@ class Study:
                 row = read_row(ctx.folder, s.key)
                 if row is not None:
                     done[s.key] = row
-        todo = [s for s in specs if s.key not in done]
-        log.info("study: %d runs, %d done before, %d to run", len(specs), len(done), len(todo))
+        # one run per key: two records with the same bytes and options share their runs
+        todo = list({s.key: s for s in specs if s.key not in done}.values())
+        total = len({s.key for s in specs})
+        log.info("study: %d runs, %d done before, %d to run", total, len(done), len(todo))
         n_done = len(done)
 
         def finished(row: dict[str, Any]) -> None:
@@ -504,7 +679,7 @@ class Study:
             done[row["key"]] = row
             n_done += 1
             if progress is not None:
-                progress(n_done, len(specs), row)
+                progress(n_done, total, row)
 
         if todo:
             if scheduler or workers > 0:
@@ -514,7 +689,7 @@ class Study:
             else:
                 for s in todo:
                     finished(run_one(ctx, s))
-        table = StudyTable([done[s.key] for s in specs])
+        table = StudyTable([_as_run(done[s.key], s) for s in specs])
         table.to_csv(ctx.folder / "table.csv")
         if self.parquet:
             table.to_parquet(ctx.folder / "table.parquet")
@@ -530,7 +705,7 @@ class Study:
         try:
             self._outputs += write_study_outputs(self, table, ctx.folder)
         except ModelError as exc:  # a limit state on a column the table does not have
-            raise InputError(f"{self.model}: study: {exc} (the table is written)") from None
+            raise InputError(f"{self._where(str(exc))} (the table is written)") from None
         return table
 
     def outputs(self) -> list[Path]:
