@@ -10,7 +10,10 @@ same record, 1.5 s later, × 1.4 along y (relative form, Δt = 0.01 s). It print
 ``benchmarks/interfaces.py`` does: DOF, pairs, the static analysis time, the set-up time
 (factorisation of K̂ and the Delassus operator), the time of one back-substitution, the
 mean step time and its ratio to the back-substitution, the share of the step spent in
-the interface solver, and the pair counts at the end.
+the interface solver, the pair problems per step, the solver iterations per step and the
+share of the problems that the state iteration did not settle (solved by the semismooth
+Newton or a later fallback), and the pair counts at the end. Times are CPU times
+(``time.process_time``): the machine may be shared.
 
     python benchmarks/interfaces3d.py                 # n = 11: 2,116 pairs
     python benchmarks/interfaces3d.py --n 6           # 676 pairs (quick)
@@ -30,8 +33,11 @@ for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import numpy as np  # noqa: E402
 
+import interfaces  # noqa: E402
 import pfeie as pf  # noqa: E402
 from interfaces import measure  # noqa: E402
+
+interfaces.CLOCK = time.process_time  # CPU time: the machine may be shared
 
 RECORD = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_ns_chopra.csv"
 JOINTS = (2.0, 4.0, 6.0, 8.0)
@@ -70,14 +76,35 @@ def records() -> list[pf.GroundMotion]:
 def case(n: int, steps: int, scheme: str = "nonsmooth-alpha", envelope: bool = True,
          profile: int = 0) -> dict[str, float]:  # fmt: skip
     model = build(n)
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     static = pf.solve_static(model)
-    t_static = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t_static = time.process_time() - t0
+    t0 = time.process_time()
     an = pf.Dynamic(model, 0.01, scheme=scheme)
-    t_setup = time.perf_counter() - t0
-    return measure(model, an, steps, t_static, t_setup, profile, ground=records(),
-                   start=static, envelope=envelope)  # fmt: skip
+    t_setup = time.process_time() - t0
+    # the pair problems of the steps: how many, their iterations, how many the state
+    # iteration did not settle
+    cls = pf.interface.InterfaceSolver
+    solve_fn = cls.solve
+    count = {"solves": 0.0, "iters": 0.0, "unsettled": 0.0}
+
+    def counted(self, *args, **kw):  # type: ignore[no-untyped-def]
+        out = solve_fn(self, *args, **kw)
+        count["solves"] += 1
+        count["iters"] += self.last.iterations
+        count["unsettled"] += self.last.method != "state iteration"
+        return out
+
+    cls.solve = counted  # type: ignore[method-assign]
+    try:
+        r = measure(model, an, steps, t_static, t_setup, profile, ground=records(),
+                    start=static, envelope=envelope)  # fmt: skip
+    finally:
+        cls.solve = solve_fn  # type: ignore[method-assign]
+    r["problems"] = count["solves"] / steps
+    r["iters"] = count["iters"] / steps
+    r["unsettled"] = count["unsettled"] / max(count["solves"], 1.0)
+    return r
 
 
 def main() -> None:
@@ -103,6 +130,9 @@ def main() -> None:
           f"{r['t_setup']:>8.2f} {1e3 * r['t_solve']:>9.1f} {1e3 * r['t_step']:>8.1f} "
           f"{r['ratio']:>10.2f} {100 * r['iface']:>8.0f}  {end}; largest slip "
           f"{1e3 * r['slip']:.1f} mm", flush=True)  # fmt: skip
+    print(f"pair problems a step {r['problems']:.2f}, solver iterations a step "
+          f"{r['iters']:.1f}, not settled by the state iteration "
+          f"{100 * r['unsettled']:.0f} %", flush=True)  # fmt: skip
     if len(runs) > 1:
         print("ratios of the runs:", ", ".join(f"{x['ratio']:.2f}" for x in runs))
 

@@ -60,6 +60,29 @@ round-off in :data:`REFINE_MAX_ITER` corrections, the solver factorises its own 
 solves again; the largest first contraction factor is kept in
 :attr:`InterfaceSolver.contraction` for the caller to decide when to factorise anew.
 
+A large 3D problem (at least :data:`NEWTON_WOODBURY_MIN` components, W_c inverted once)
+takes another path. Its slip directions follow the slip increments, a fixed point that
+converges linearly or not at all (neighbouring sliding pairs turn each other), so the
+state iteration hands over to the semismooth Newton as soon as a direction turns. The
+Newton's map F(X) of the pairs depends on each pair's own (X_k, s_k), s = s_free + W_c X,
+so its generalised Jacobian is
+
+    J = L + R W_c,   L_k = ∂F_k/∂X_k,  R_k = ∂F_k/∂s_k   (d × d per pair),
+
+and a step J x = b is solved without forming J: the rows o that are not those of ρ W_c
+(separated normals, sliding and fixed tangents, held-open pairs) give a capacitance
+system of k = |o| unknowns,
+
+    x = W_c⁻¹ (b₀ + E_o y)/ρ,   (L_o W_c⁻¹[:, o] + R_o[:, o]) y/ρ = b_o − L_o z − R_o b₀/ρ,
+
+(b₀: b with its rows o zeroed, z = W_c⁻¹ b₀/ρ), gathered pair by pair; W_c x =
+(b₀ + E_o y)/ρ is known without a product, so a Newton iteration costs one product with
+W_c⁻¹ (O(M²)), and an iterate that meets the tolerance is judged again on s recomputed.
+With a border (statics, r rigid amplitudes), the state systems and the Newton steps are
+the same Woodbury solves for [b, E] plus an r × r system for q (:meth:`_woodbury_bordered`,
+:meth:`_bordered_step`), instead of an LU of the bordered (M + r)-square system per
+pattern. Every answer is judged by the same residual and tolerance.
+
 A large sparse W (at least :data:`SPARSE_MIN` rows and at most :data:`SPARSE_FILL`
 nonzeros, e.g. granular media: many blocks, each with a few pairs) is kept sparse: the
 state systems are factorised by a sparse LU, W is not inverted, and a failed state
@@ -96,7 +119,9 @@ SPARSE_MIN = 1000
 SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
 NEWTON_WOODBURY_MIN = 1500
-"""Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c."""
+"""Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c (in 3D,
+with the Jacobian kept per pair and the Newton taking over from the state iteration as
+soon as a slip direction turns; a 3D border problem is then solved on W_c⁻¹ too)."""
 REFINE_TOL = 1e-15
 """Iterative refinement on a reference W_c⁻¹: the state system is solved when the last
 correction, or the error it predicts (q/(1 − q) of it), is at most this fraction of X
@@ -210,6 +235,7 @@ class InterfaceSolver:
         self._wref: FloatArray | None = None
         self._wscale = 0.0
         self._eye: FloatArray | None = None
+        self._gathered: tuple[bytes, FloatArray, FloatArray] | None = None
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
@@ -224,7 +250,12 @@ class InterfaceSolver:
         self.factorizations = 0  # of W_c by this solver (one, or none on a reference)
         self.contraction = 0.0  # the largest first contraction of its refinements
         self.refined = False  # whether the state systems are refined on a reference W_c⁻¹
-        if border is None and regularize == 0.0 and self.m and self._sparse is None:
+        if (border is not None and self.d == 3 and M >= NEWTON_WOODBURY_MIN
+                and self._sparse is None):  # fmt: skip
+            # a large 3D problem with a border (statics with floating blocks): W_c⁻¹ once,
+            # each state pattern a capacitance system plus an r × r border system
+            self._invert(diag)
+        elif border is None and regularize == 0.0 and self.m and self._sparse is None:
             if (reference is not None and reference._winv is not None
                     and reference._winv.shape == self.Wc.shape):  # fmt: skip
                 self._winv, self.refined = reference._winv, True
@@ -250,9 +281,22 @@ class InterfaceSolver:
                 cf = sla.cho_factor(self.Wc, check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
                 cf = None
+        self._gathered = None  # blocks of an earlier W_c⁻¹
         if cf is not None:
-            self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), check_finite=False)
+            # the identity is overwritten by the inverse (one M × M array less at the peak)
+            self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), overwrite_b=True,
+                                       check_finite=False)  # fmt: skip
             self.factorizations += 1
+
+    @property
+    def _vectorised_newton(self) -> bool:
+        """Whether the semismooth Newton runs through the stored W_c⁻¹ with its Jacobian
+        kept per pair (:meth:`_newton_woodbury`): 3D, at least
+        :data:`NEWTON_WOODBURY_MIN` components, W_c inverted by this solver (with or
+        without a border). It then takes over from the state iteration as soon as a
+        slip direction turns."""
+        return (self.d == 3 and self._winv is not None and not self.refined
+                and self.m * self.d >= NEWTON_WOODBURY_MIN)  # fmt: skip
 
     @property
     def woodbury(self) -> bool:
@@ -326,6 +370,9 @@ class InterfaceSolver:
         coef = -mu[pair_fr] * tdir  # X_t = coef · X_n + x0
         x0 = -c[pair_fr] * tdir
         key = prefix.tobytes() + np.round(coef, 14).tobytes()
+        if self.E is not None and self._winv is not None:
+            return self._woodbury_bordered(key, fr, coef, x0, target, w_free, oth, rows_fr,
+                                           nidx, zero, e)  # fmt: skip
         if self.refined:
             Xr = self._refine(key, kin, fr, coef, x0, target, w_free, oth, rows_fr, nidx)
             if Xr is not None:
@@ -453,6 +500,48 @@ class InterfaceSolver:
             cy[rows_fr] -= x0  # the constraints' right-hand side b_o
         corr = _lu_solve(lu, cy)
         return (y - Winv[:, oth] @ corr).reshape(self.m, d)
+
+    def _woodbury_bordered(
+        self, key: bytes, fr: np.ndarray, coef: FloatArray, x0: FloatArray, target: FloatArray,
+        w_free: FloatArray, oth: np.ndarray, rows_fr: np.ndarray, nidx: np.ndarray,
+        zero: np.ndarray, e: FloatArray | None,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        """The state system with the border (statics, :meth:`_linear`) through W_c⁻¹: the
+        rows ``kin`` W_c X + E q = b, the constraints C X = b_o in the rows ``oth`` and the
+        equilibrium Eᵀ X = e. With S the Woodbury solve of :meth:`_woodbury` (affine in
+        b, the constraints' x₀ in it), X₀ = S(b) and T = S(E) − S(0) (M × r, r border
+        columns, one product W_c⁻¹ [b, E]):
+
+            X = X₀ − T q,   (Eᵀ T) q = Eᵀ X₀ − e   (r × r),
+
+        instead of an LU of the (M + r)-square bordered system per pattern. A singular
+        Eᵀ T (a floating block that its pairs do not hold) raises :class:`MechanismError`."""
+        Winv, E = self._winv, self.E
+        assert Winv is not None and E is not None and e is not None
+        B = np.column_stack([target.ravel() - w_free.ravel(), E])
+        B[oth] = 0.0  # the replaced rows take no part (as in :meth:`_woodbury`)
+        Y = Winv @ B
+        if oth.size:
+            lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
+            cy = Y[oth]
+            if fr.size:
+                cy[rows_fr] -= coef[:, None] * Y[nidx]
+                cy[rows_fr, 0] -= x0
+            Y -= Winv[oth].T @ _lu_solve(lu, cy)
+        Y[zero] = 0.0  # open: zero, not the round-off of the update
+        X0, T = Y[:, 0], Y[:, 1:]
+        S = E.T @ T
+        with warnings.catch_warnings():  # a singular system is reported below
+            warnings.simplefilter("ignore", sla.LinAlgWarning)
+            luS = sla.lu_factor(S, check_finite=False)
+        piv = np.abs(np.diag(luS[0]))
+        if piv.min(initial=np.inf) <= 1e-15 * piv.max(initial=0.0):
+            raise MechanismError(
+                "the interface system is singular: with the current pair states some "
+                "block is not restrained (a mechanism)"
+            )
+        qs = sla.lu_solve(luS, E.T @ X0 - self._escale * e, check_finite=False)
+        return (X0 - T @ qs).reshape(self.m, self.d), qs * self._escale
 
     def _capacitance(
         self, key: bytes, Winv: FloatArray, oth: np.ndarray, fr: np.ndarray,
@@ -705,6 +794,7 @@ class InterfaceSolver:
         q = np.zeros(0)
         history: list[np.ndarray] = []
         turn: list[float] = []  # 3D: the largest change of a slip direction, per iteration
+        s_known: FloatArray | None = None
         it = 0
         for it in range(1, self.max_iter + 1):
             try:
@@ -718,6 +808,7 @@ class InterfaceSolver:
                 break
             st.X = X
             st.s = self.relative(X, q, w_free) + self.props.compliance * X
+            s_known = st.s  # s of the iterate X (the Newton may start from it)
             st.w = st.s - self.props.compliance * X - self._gapv
             new = self._update(st, prev, self._scale(X, w_free))
             same = bool((new.state == st.state).all()) and (
@@ -739,9 +830,12 @@ class InterfaceSolver:
                 # the slip directions of 3D pairs follow their slip increments, a fixed
                 # point that converges linearly or not at all (neighbouring pairs that
                 # slide apart flip each other's direction): when the directions have not
-                # halved their change over four iterations, the Newton takes over
+                # halved their change over four iterations, the Newton takes over; the
+                # Newton through W_c⁻¹ costs what a state iteration costs and converges
+                # superlinearly: it takes over as soon as a direction turns
                 turn.append(float(np.abs(new.slip_dir - st.slip_dir).max(initial=0.0)))
-                if it >= 8 and not turn[-1] <= 0.5 * turn[-5]:
+                if not turn[-1] <= 0.0 if self._vectorised_newton else (
+                        it >= 8 and not turn[-1] <= 0.5 * turn[-5]):  # fmt: skip
                     log.debug("%s: slip directions do not settle after %d iterations",
                               label, it)  # fmt: skip
                     break
@@ -761,6 +855,18 @@ class InterfaceSolver:
             # a large sparse W: no dense Newton; the sparse proximal Newton at once
             res_si = float(self.residual(st, prev, w_free).max(initial=0.0))
             return self._fallback(label, history, [(res_si, st)], prev, w_free, it)
+        if self._vectorised_newton:
+            try:
+                st1, q1, n1 = self._newton_woodbury(st, q, prev, w_free, e, s0=s_known)
+            except np.linalg.LinAlgError:
+                log.debug("%s: singular Newton system through W_c⁻¹", label)
+            else:
+                it += n1
+                res1 = float(self.residual(st1, prev, w_free).max(initial=0.0))
+                if res1 <= self.tol:
+                    self.last = SolveInfo(it, res1, "semismooth Newton")
+                    log.debug("%s: solved by semismooth Newton, residual %.2e", label, res1)
+                    return st1, q1
         st2, q2, n_it = self._newton(st, q, prev, w_free, e)
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
         if res <= self.tol:
@@ -913,6 +1019,226 @@ class InterfaceSolver:
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
+
+    # -- the semismooth Newton through W_c⁻¹ (3D) -------------------------------------------
+    def _local_map(
+        self, X: FloatArray, s_: FloatArray, broken: np.ndarray, prev: PairState, jac: bool
+    ) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
+        """The Alart-Curnier map of :meth:`_natural_map` (no border) as a function of each
+        pair's own (X_k, s_k), s = s_free + W_c X: F (m, d) and, if ``jac``, its partial
+        derivatives per pair, L_k = ∂F_k/∂X_k and R_k = ∂F_k/∂s_k (m, d, d), so that the
+        generalised Jacobian of F(X) is J = L + R W_c (L, R block diagonal), and the mask
+        (m, d) of the rows that equal those of ρ W_c (L = 0, R = ρ eᵢᵀ: intact, contact
+        normal and sticking tangential rows)."""
+        m, d, r = self.m, self.d, self.rho
+        c, mu, t = self.props.strength(broken, prev.path)
+        F = np.empty((m, d))
+        it = ~broken
+        F[it] = r * (s_[it] - prev.s[it])
+        Y = X[:, -1] + t
+        g = s_[:, -1]
+        contact = broken & (Y - r * g > 0)
+        br = broken
+        F[br, -1] = np.where(contact[br], r * g[br], Y[br])
+        Xt = X[:, :-1]
+        z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
+        nz = _rownorm(z)
+        tau = np.maximum(c + mu * np.maximum(X[:, -1], 0.0), 0.0)
+        cut = br & ~contact & (c > 0)
+        tau[cut] = 0.0
+        fixed = br & self._fixed
+        stick = br & (nz <= tau) & ~fixed
+        slide = br & ~stick & ~fixed
+        F[stick, :-1] = Xt[stick] - z[stick]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            zh = z / nz[:, None]
+        F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
+        F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
+        off = self._inactive
+        F[off] = X[off]
+        if not jac:
+            return F, np.zeros(0), np.zeros(0), np.zeros(0, dtype=bool)
+        L = np.zeros((m, d, d))
+        R = np.zeros((m, d, d))
+        kin = np.zeros((m, d), dtype=bool)
+        eye = np.eye(d)
+        R[it] = r * eye
+        kin[it] = True
+        R[contact, -1, -1] = r
+        kin[contact, -1] = True
+        sep = br & ~contact
+        L[sep, -1, -1] = 1.0
+        R[stick, :-1, :-1] = r * eye[:-1, :-1]
+        kin[stick, :-1] = True
+        grows = (c + mu * np.maximum(X[:, -1], 0.0) > 0) & (X[:, -1] > 0) & ~cut
+        L[fixed, :-1, :-1] = eye[:-1, :-1]
+        fg = fixed & grows
+        L[fg, :-1, -1] = mu[fg, None] * prev.slip_dir[fg]
+        # sliding: F_t = X_t − τ ẑ, dF_t = dX_t − ẑ dτ − P dz, P = (τ/|z|)(I − ẑẑᵀ),
+        # dz = dX_t − ρ ds_t
+        zk = zh[slide]
+        P = (eye[None, :-1, :-1] - zk[:, :, None] * zk[:, None, :]) * (
+            tau[slide] / nz[slide])[:, None, None]  # fmt: skip
+        L[slide, :-1, :-1] = eye[None, :-1, :-1] - P
+        L[slide, :-1, -1] = -np.where(grows[slide], mu[slide], 0.0)[:, None] * zk
+        R[slide, :-1, :-1] = r * P
+        L[off] = eye
+        R[off] = 0.0
+        kin[off] = False
+        return F, L, R, kin
+
+    def _woodbury_step(
+        self, L: FloatArray, R: FloatArray, kin: np.ndarray, B: FloatArray
+    ) -> tuple[FloatArray, FloatArray]:
+        """The solution of J x = b, J = L + R W_c (:meth:`_local_map`), for each column b
+        of ``B`` (M, c), through the stored W_c⁻¹ and a capacitance system of the other
+        rows o only: with b₀ = b off o and 0 on o, x = W_c⁻¹ (b₀ + E_o y)/ρ solves the
+        kinematic rows, and y (k = |o|) the rows o,
+
+            Cap y = b_o − L_o z − R_o b₀/ρ,   z = W_c⁻¹ b₀/ρ,
+            Cap = (L_o W_c⁻¹[:, o] + R_o[:, o])/ρ,
+
+        gathered pair by pair (L and R are block diagonal): O(c M² + M k + k³), and
+        W_c x = (b₀ + E_o y)/ρ exactly, without a product. Returns x and W_c x (M, c)."""
+        Winv = self._winv
+        assert Winv is not None
+        m, d, r = self.m, self.d, self.rho
+        o = np.flatnonzero(~kin.ravel())
+        b0 = B.copy()
+        b0[o] = 0.0
+        z = (Winv @ b0) / r
+        ds = b0 / r
+        if not o.size:
+            return z, ds
+        k, c = o.size, B.shape[1]
+        po = o // d  # the pair of each row o
+        cols = (po[:, None] * d + np.arange(d)).ravel()  # the components of those pairs
+        Lo = L.reshape(m * d, d)[o]  # (k, d): row o of L_k on its pair's components
+        Ro = R.reshape(m * d, d)[o]
+        okey = o.tobytes()
+        if self._gathered is None or self._gathered[0] != okey:
+            # the blocks of W_c⁻¹ that the rows o need, kept while o does not change (the
+            # Newton's last iterations)
+            # (rows o of the symmetric W_c⁻¹ first, contiguous; W_c⁻¹[cols, o] from them)
+            rows_o = Winv[o]
+            self._gathered = (okey, rows_o[:, cols].T.reshape(k, d, k), rows_o.T)
+        _, Wco, Wo = self._gathered
+        cap = np.einsum("kj,kjl->kl", Lo, Wco)
+        pos = np.full(m * d, -1)
+        pos[o] = np.arange(k)
+        pc = pos[cols].reshape(k, d)
+        has = pc >= 0
+        rows = np.broadcast_to(np.arange(k)[:, None], pc.shape)
+        np.add.at(cap, (rows[has], pc[has]), Ro[has])
+        cap /= r
+        rhs = (B[o] - np.einsum("kj,kjc->kc", Lo, z[cols].reshape(k, d, c))
+               - np.einsum("kj,kjc->kc", Ro, ds[cols].reshape(k, d, c)))  # fmt: skip
+        y = np.linalg.solve(cap, rhs)
+        x = z + (Wo @ y) / r  # W_c⁻¹ is symmetric: its rows o, contiguous
+        ds[o] += y / r
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(ds))):
+            raise np.linalg.LinAlgError("singular Newton capacitance system")
+        return x, ds
+
+    def _bordered_step(
+        self, L: FloatArray, R: FloatArray, kin: np.ndarray, bF: FloatArray, beq: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """The Newton step with the border (statics): J_X x + R E dq = b_F (pair rows),
+        ρ Eᵀ x = b_eq (equilibrium); with x = x_F − T dq (x_F, T: :meth:`_woodbury_step`
+        for b_F and for R E), the r × r system ρ Eᵀ T dq = ρ Eᵀ x_F − b_eq. Returns x, dq
+        and the change of s, W_c x + E dq."""
+        E = self.E
+        assert E is not None
+        m, d, r = self.m, self.d, self.rho
+        RE = np.einsum("kij,kjc->kic", R, E.reshape(m, d, -1)).reshape(m * d, -1)
+        x, ds = self._woodbury_step(L, R, kin, np.column_stack([bF, RE]))
+        xF, T = x[:, 0], x[:, 1:]
+        S = r * (E.T @ T)
+        dq = np.asarray(np.linalg.solve(S, r * (E.T @ xF) - beq), dtype=float)
+        return xF - T @ dq, dq, ds[:, 0] - ds[:, 1:] @ dq + E @ dq
+
+    def _newton_woodbury(
+        self, st: PairState, q0: FloatArray, prev: PairState, w_free: FloatArray,
+        e: FloatArray | None, max_iter: int = 100, s0: FloatArray | None = None,
+    ) -> tuple[PairState, FloatArray, int]:  # fmt: skip
+        """The semismooth Newton of :meth:`_newton` with its steps through the stored
+        W_c⁻¹ (:meth:`_woodbury_step`, :meth:`_bordered_step` with the border): the
+        Jacobian is never formed, and the relative motion of a step is s + t W_c x, W_c x
+        known from the step. An iterate that meets the tolerance is judged again on
+        s = s_free + W_c X (+ E q) recomputed (no drift of the updates is accepted).
+        ``s0``: s of the starting iterate when known (the state iteration's)."""
+        m, d, r = self.m, self.d, self.rho
+        E = self.E
+        nq = 0 if E is None else E.shape[1]
+        zq = q0 / self._escale if nq and q0.size else np.zeros(nq)
+        X = st.X.copy()
+        X[self._inactive] = 0.0
+        broken = st.broken.copy()
+        sdir = st.slip_dir.copy()
+        total = 0
+
+        def exact_s(X: FloatArray, zq: FloatArray) -> FloatArray:
+            sv = w_free.ravel() + self.Wc @ X.ravel()
+            if E is not None:
+                sv += E @ zq
+            return sv.reshape(m, d)
+
+        def equilibrium(X: FloatArray, zq: FloatArray) -> FloatArray:
+            if E is None:
+                return np.zeros(0)
+            assert e is not None
+            return r * (E.T @ X.ravel() - self._escale * e)
+
+        s_ = w_free
+        for _ in range(m + 1):
+            fscale = self._scale(X, w_free)
+            s_ = exact_s(X, zq) if s0 is None else s0
+            s0 = None
+            F, L, R, kin = self._local_map(X, s_, broken, prev, True)
+            Feq = equilibrium(X, zq)
+            exact = True  # whether s was computed from X, not updated
+            for _ in range(max_iter):
+                total += 1
+                nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
+                if nF <= 0.1 * self.tol * fscale:
+                    if exact:
+                        break
+                    s_ = exact_s(X, zq)
+                    F, L, R, kin = self._local_map(X, s_, broken, prev, True)
+                    exact = True
+                    nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
+                    if nF <= 0.1 * self.tol * fscale:
+                        break
+                if E is None:
+                    dX, dS = (a[:, 0] for a in self._woodbury_step(L, R, kin, -F.reshape(-1, 1)))
+                    dq = np.zeros(0)
+                else:
+                    dX, dq, dS = self._bordered_step(L, R, kin, -F.ravel(), -Feq)
+                dX, dS = dX.reshape(m, d), dS.reshape(m, d)
+                step = 1.0
+                for _ in range(30):
+                    X2, zq2 = X + step * dX, zq + step * dq
+                    F2 = self._local_map(X2, s_ + step * dS, broken, prev, False)[0]
+                    F2eq = equilibrium(X2, zq2)
+                    if np.sqrt(np.sum(F2 * F2) + F2eq @ F2eq) <= (1 - 1e-4 * step) * nF:
+                        break
+                    step *= 0.5
+                X, zq = X + step * dX, zq + step * dq
+                X[self._inactive] = 0.0  # held open: exactly, not the step's round-off
+                s_ = s_ + step * dS
+                exact = False
+                F, L, R, kin = self._local_map(X, s_, broken, prev, True)
+                Feq = equilibrium(X, zq)
+            if not exact:  # the iteration limit: the answer on the exact s
+                s_ = exact_s(X, zq)
+            Xn, nt = X[:, -1], _rownorm(X[:, :-1])
+            tolF = 1e-10 * fscale
+            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
+            fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
+            if not (fail.any() and self._breaking):
+                break
+            broken = broken | fail
+        return self._classify(st, X, broken, s_, prev, sdir), zq * self._escale, total
 
     def _newton_step(self, J: FloatArray, b: FloatArray) -> FloatArray:
         """The Newton step J x = b. Without a border, on a large W inverted once
