@@ -83,6 +83,9 @@ class StepState:
     dissipation: float = 0.0  # the rigid pairs' dissipation by the law, −P·U⁺ (J)
     correction: float = 0.0  # strain energy stored by its position correction (J)
     shift: FloatArray | None = None  # the step's position correction Δq (nonsmooth-α)
+    # the time of step 0 of the state's grid (s): step k is at origin + k h exactly, not
+    # at a running sum of h (None: t − step h)
+    origin: float | None = None
 
 
 @dataclass
@@ -412,7 +415,7 @@ class Dynamic:
             # start costs one local O(Δt²) error and the scheme stays second order). Models
             # without pairs start the same way, so that intact joints give the monolithic
             # response to round-off.
-            a = self._step_nonsmooth_alpha(first, ex, self.ga, ahead_next=False).kin.a
+            a = self._step_nonsmooth_alpha(first, ex, self.ga, t0, ahead_next=False).kin.a
             return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
         return StepState(State(t0, u, v, a, f), ps, 0)
 
@@ -477,15 +480,24 @@ class Dynamic:
     # -- one step ------------------------------------------------------------------------------
     def step(self, cur: StepState, ex: Excitation | None = None) -> StepState:
         """One step; returns the next state (with the committed pair state of the
-        step)."""
+        step). Step k of a run is at t₀ + k h (t₀ the start's time), not at a running sum
+        of h, so that a run of N steps ends at t₀ + N h to the rounding of one product."""
         ex = self.excitation() if ex is None else ex
+        origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
         if self.mj is not None:
-            return self._step_moreau_jean(cur, ex, self.mj)
-        if self.ga is not None:
-            return self._step_nonsmooth_alpha(cur, ex, self.ga)
-        # the Newmark family: models without interfaces
+            nxt = self._step_moreau_jean(cur, ex, self.mj, origin)
+        elif self.ga is not None:
+            nxt = self._step_nonsmooth_alpha(cur, ex, self.ga, origin)
+        else:
+            nxt = self._step_newmark(cur, ex, origin)
+        nxt.kin.t = origin + nxt.step * self.dt
+        nxt.origin = origin
+        return nxt
+
+    def _step_newmark(self, cur: StepState, ex: Excitation, origin: float) -> StepState:
+        """One step of the Newmark family (models without interfaces)."""
         kin = cur.kin
-        t1 = kin.t + self.dt
+        t1 = origin + (cur.step + 1) * self.dt
         f_ext = ex.load(t1)
         if self.corot is None:
             u_free = self.nm.predict(kin, f_ext)
@@ -498,12 +510,14 @@ class Dynamic:
             u_free = kin.u + self.corot.rotated_solve(self._increment_load(kin, f_ext, R), R)
         return StepState(self.nm.advance(kin, u_free, f_ext), cur.pairs, cur.step + 1)
 
-    def _step_moreau_jean(self, cur: StepState, ex: Excitation, mj: MoreauJean) -> StepState:
+    def _step_moreau_jean(
+        self, cur: StepState, ex: Excitation, mj: MoreauJean, origin: float
+    ) -> StepState:
         """One Moreau-Jean step (see :mod:`._moreau`): the free velocity, the pair impulses
         of the pairs predicted closed (and the intact ones) at the velocity level, then
         the positions. The committed pair state holds X = P/h, the step-average force."""
         kin, h, th = cur.kin, self.dt, mj.theta
-        t1 = kin.t + h
+        t1 = origin + (cur.step + 1) * h
         f1 = ex.load(t1)
         v_free = mj.free_velocity(kin, (1 - th) * kin.f + th * f1)
         m, d = self.m, self.d
@@ -530,8 +544,9 @@ class Dynamic:
         return StepState(new, trial.committed(prev), cur.step + 1)
 
     def _step_nonsmooth_alpha(
-        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha, ahead_next: bool = True
-    ) -> StepState:
+        self, cur: StepState, ex: Excitation, ga: NonsmoothAlpha, origin: float,
+        ahead_next: bool = True,
+    ) -> StepState:  # fmt: skip
         """One nonsmooth generalised-α step (method.md §3.1):
 
         1. smooth step: q̈_free (one back-substitution), then the smooth pair forces λ of
@@ -547,7 +562,7 @@ class Dynamic:
         The committed pair state holds X = P/h (the step-average force) and the
         relative motion at q_{n+1}; the recorded acceleration is the smooth q̈."""
         kin, h = cur.kin, self.dt
-        t1 = kin.t + h
+        t1 = origin + (cur.step + 1) * h
         ahead = self._ahead
         if ahead is not None and ahead[0] is kin and ahead[1] is ex and ahead[2] == t1:
             # computed at the end of the previous step, right after its block solve (see
@@ -670,8 +685,9 @@ class Dynamic:
             # load at t_{n+2} only) now, while the factor is in the processor's cache from
             # the block solve above: after the recorder's sweeps it would be read from
             # memory again (a back-substitution costs up to twice as much there)
-            f2 = ex.load(t1 + h)
-            self._ahead = (new, ex, t1 + h, f2, ga.free_acceleration(new, f2))
+            t2 = origin + (cur.step + 2) * h
+            f2 = ex.load(t2)
+            self._ahead = (new, ex, t2, f2, ga.free_acceleration(new, f2))
         w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
         X = P.X / h
         s = w + laws.compliance * X

@@ -109,6 +109,8 @@ class CheckpointWriter:
             energy=json.dumps(ck.energy), origin=json.dumps(list(ck.origin)),
             run_key=self.key,
         )  # fmt: skip
+        if st.origin is not None or st.step == 0:  # the time grid: step k at origin + k h
+            g.attrs["time_origin"] = kin.t if st.origin is None else st.origin
         data = {f"kin/{k}": getattr(kin, k) for k in _KIN}
         data.update({f"pairs/{k}": getattr(st.pairs, k) for k in _PAIRS})
         if kin.aux is not None:
@@ -182,7 +184,9 @@ def read_checkpoint(f: Any) -> Checkpoint:
     kin = State(float(g.attrs["t"]), u, v, a, f_, aux)
     pairs = PairState(*(np.asarray(g[f"pairs/{k}"]) for k in _PAIRS))
     lam = np.asarray(g["pairs/lam"]) if "pairs/lam" in g else None
-    st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam)
+    t0 = g.attrs.get("time_origin")  # (older files have none: t − step h)
+    st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam,
+                   origin=None if t0 is None else float(t0))  # fmt: skip
     energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
     o0, o1 = json.loads(g.attrs["origin"])
     env = ({k: np.asarray(v) for k, v in g["envelope"].items()} if "envelope" in g
