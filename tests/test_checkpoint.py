@@ -195,6 +195,14 @@ def test_resume_refuses_other_inputs(
     assert main(["run", str(p), "--quiet", "--resume"]) == 2
     err = capsys.readouterr().err
     assert "cannot resume" in err and "no 'modified' term" in err, err
+    # a checkpoint of the earlier account of interface and impact
+    assert main(["run", str(p), "--quiet"]) == 0
+    with h5py.File(res, "r+") as f:
+        del f["checkpoint"].attrs["energy_account"]
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet", "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "recorded 'interface' and 'impact' otherwise" in err, err
 
 
 def test_one_run_per_output_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -233,8 +241,8 @@ def test_steps_lie_on_the_time_grid(scheme: str) -> None:
     if joints:
         mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
     mat = pf.Elastic(1e9, 0.2, 2000.0)
-    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
-                 interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))] if joints else [])  # fmt: skip
+    joint = [pf.Interface("joint", pf.Joint(phi=30.0))] if joints else []
+    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)], interfaces=joint)
     m.fix("base")
     m.add_gravity()
     h = 1e-3

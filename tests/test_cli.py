@@ -254,3 +254,5 @@ def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
                  str(tmp_path / "f")]) == 0  # fmt: skip
     lines = capsys.readouterr().out.splitlines()[2:6]
     assert [ln.split()[1] for ln in lines[:3]] == ["rigid"] * 3 and float(lines[3].split()[1]) > 1
+    rows = list(csv.DictReader((tmp_path / "f" / "modes.csv").open()))
+    assert [r["period_s"] for r in rows[:3]] == ["inf"] * 3 and float(rows[3]["period_s"]) < 1

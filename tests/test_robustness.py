@@ -588,5 +588,9 @@ def test_python_api_mistakes_get_typed_errors() -> None:
     assert np.array_equal(one.rigid, an.run(0.01, ground=[pulse]).rigid)
     with pytest.raises(ModelError, match=r"ground\[0\]: expected a pfeie.GroundMotion"):
         an.run(0.01, ground=["rec.csv"])  # type: ignore[list-item]
+    blip = pf.GroundMotion.from_samples([0.1, 0.2], time=[0.0, 5e-4], name="blip")
+    with pytest.raises(ModelError, match=r"ground motion 'blip': the record lasts 0.0005 s, "
+                       r"less than one step \(analysis.dt = 0.001 s\)"):  # fmt: skip
+        an.run(0.01, ground=[blip])
     with pytest.raises(ModelError, match=r"thickness = 2.0 m is a 2D setting"):
         pf.Model(pf.box(1.0, 1.0, 1.0, 1, 1, 1), [pf.Block("all", mat)], thickness=2.0)

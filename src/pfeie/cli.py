@@ -354,8 +354,7 @@ def _modal(args: argparse.Namespace, job: object) -> int:
     print(head)
     print("-" * len(head))
     cum = np.cumsum(res.effective_mass, axis=0)
-    # rigid-body modes (a block free on its joints): eigenvalues at round-off of ω²
-    rigid = res.frequencies < 1e-4 * max(float(res.frequencies.max()), 1e-300)
+    rigid = res.rigid
     for k, f in enumerate(res.frequencies):
         cols = " ".join(f"{100 * res.effective_mass[k, i] / max(total[i], 1e-300):>8.2f} "
                         f"{100 * cum[k, i] / max(total[i], 1e-300):>7.2f}"

@@ -14,7 +14,7 @@ interfaces through :mod:`pfeie.coupling`.
 
 from ._corotation import Corotation
 from ._driver import Checkpoint, Dynamic, RunStopped, StepState
-from ._excitation import Excitation
+from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean
 from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
 from ._nsga import NonsmoothAlpha
@@ -38,5 +38,5 @@ __all__ = [
     "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
     "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
     "SecondOrderSystem", "State", "StepState", "StressEnvelope", "demand_capacity",
-    "envelope_extremes",
+    "envelope_extremes", "shorter_than_a_step",
 ]  # fmt: skip

@@ -53,7 +53,7 @@ from ..linalg import Factorization, factorize
 from ..model import GroundMotion, Model
 from ..typing import BoolArray, FloatArray, IntArray
 from ._corotation import Corotation
-from ._excitation import Excitation
+from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean, impulse_laws
 from ._newmark import Newmark, State
 from ._nsga import NonsmoothAlpha
@@ -672,8 +672,8 @@ class Dynamic:
         rigid = ~spring
         dissipation = -float(np.sum(P.X[rigid] * U_plus[rigid]))
         impact = correction = 0.0
-        if Lam.any():
-            impact = 0.5 * float(np.sum(Lam * (U_plus - U_minus.reshape(m, d))))
+        if Lam.any():  # U⁺ − U⁻ = G δv with δv = sŜ⁻¹GᵀΛ: ½Λ·Gδv = ½sΛᵀWΛ ≥ 0
+            impact = 0.5 * float(Lam.ravel() @ (G @ dv))
         if dq is not None:
             # the potential energy it adds: strain, and the loads' (the step-average load
             # over Δq, as the external work counts it)
@@ -791,6 +791,10 @@ class Dynamic:
         if not every >= 1:
             raise ModelError(f"every must be >= 1, got {every}")
         ex = self.excitation(ground, form, None if isinstance(start, StepState) else start)
+        for g in ex.ground:
+            why = shorter_than_a_step(g, self.dt)
+            if why is not None:
+                raise ModelError(f"ground motion {g.name!r}: {why}")
         if resume is not None:
             cur, row0 = resume.state, resume.row
             if self.corot is not None:

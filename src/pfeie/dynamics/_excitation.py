@@ -32,6 +32,18 @@ from ..typing import BoolArray, FloatArray
 Form = Literal["relative", "absolute"]
 
 
+def shorter_than_a_step(record: GroundMotion, dt: float) -> str | None:
+    """Why a record cannot drive a run of step ``dt`` (s): it lasts less than one step,
+    so the steps would see at most its first sample; None when it can."""
+    span = float(record.time[-1] - record.time[0])
+    if span < dt:
+        return (
+            f"the record lasts {span:.6g} s, less than one step (analysis.dt = {dt:g} s); "
+            "expected a record of at least one step (check its time column or dt)"
+        )
+    return None
+
+
 class Excitation:
     """The loads and prescribed motions of one run (see the module docstring).
 

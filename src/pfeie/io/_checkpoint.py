@@ -107,7 +107,7 @@ class CheckpointWriter:
         g.attrs.update(
             row=ck.row, step=st.step, t=kin.t, fields_rows=f["fields/time"].shape[0],
             energy=json.dumps(ck.energy), origin=json.dumps(list(ck.origin)),
-            run_key=self.key,
+            run_key=self.key, energy_account=ENERGY_ACCOUNT,
         )  # fmt: skip
         if st.origin is not None or st.step == 0:  # the time grid: step k at origin + k h
             g.attrs["time_origin"] = kin.t if st.origin is None else st.origin
@@ -194,6 +194,12 @@ def read_checkpoint(f: Any) -> Checkpoint:
     return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]), env)
 
 
+#: the energy account's definition, kept in every checkpoint: 2 records the rigid pairs'
+#: dissipation −P·U⁺ as ``interface`` and ½sΛᵀWΛ as ``impact`` (1: the smooth forces' work
+#: on the smooth motion and −½Λ·(U⁻ + U⁺)); a resumed run continues only its own account
+ENERGY_ACCOUNT = 2
+
+
 class NothingToResume(ResultsError):
     """The run to resume left no checkpoint: no results file, or one of the same inputs
     stopped before its first checkpoint. Nothing is lost by running it again from the
@@ -234,6 +240,11 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
             raise ResultsError(f"{p}: cannot resume: the checkpoint was written by an earlier "
                                "pfeie, whose energy account had no 'modified' term; run "
                                "without --resume")  # fmt: skip
+        if int(f["checkpoint"].attrs.get("energy_account", 1)) != ENERGY_ACCOUNT:
+            raise ResultsError(f"{p}: cannot resume: the checkpoint was written by an earlier "
+                               "pfeie, whose energy account recorded 'interface' and "
+                               "'impact' otherwise (docs/results.md); run without "
+                               "--resume")  # fmt: skip
         rows, frows = ck.row + 1, int(f["checkpoint"].attrs["fields_rows"])
         tails = f["checkpoint"].get("tail")
 

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 from pydantic import ValidationError
 
+from ..dynamics import shorter_than_a_step
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import Joint, SlipWeakening
 from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
@@ -449,11 +450,9 @@ def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
     """A record the steps cannot see is an error: one that lasts less than one step;
     one sampled finer than the step gets a warning (the load is the record interpolated at
     the steps, so content above 1/(2Δt) is not applied)."""
-    span = float(rec.time[-1] - rec.time[0])
-    if span < dt:
-        raise InputError(f"{p}: ground_motion[{i}]: the record lasts {span:.6g} s, less than "
-                         f"one step (analysis.dt = {dt:g} s); expected a record of at least "
-                         "one step (check its time column or dt)")  # fmt: skip
+    why = shorter_than_a_step(rec, dt)
+    if why is not None:
+        raise InputError(f"{p}: ground_motion[{i}]: {why}")
     step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
     if dt > step * (1 + 1e-9):
         log.warning("%s: ground_motion[%d]: analysis.dt = %g s is coarser than the record's "

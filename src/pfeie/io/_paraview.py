@@ -311,11 +311,11 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
     total = np.asarray(result.total_mass)
     rows = ["mode,frequency_hz,period_s," + ",".join(
         f"mass_{a}_kg,share_{a}" for a in axes)]  # fmt: skip
+    periods = result.periods
     for k, f in enumerate(result.frequencies):
         me = result.effective_mass[k]
         share = me / np.maximum(total, 1e-300) if total.size else np.full(me.shape, np.nan)
-        period = 1 / f if f > 0 else float("inf")  # a rigid-body mode: ω² = 0 to round-off
-        rows.append(f"{k + 1},{f:.9g},{period:.9g}," + ",".join(
+        rows.append(f"{k + 1},{f:.9g},{periods[k]:.9g}," + ",".join(
             f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
     csv_path.write_text("\n".join(rows) + "\n")
     return [path, csv_path]

@@ -65,8 +65,8 @@ class StudyIntensity(_Table):
     ] = "scale"  # fmt: skip
     values: Annotated[
         list[Annotated[float, Field(gt=0.0)]],
-        Field(min_length=1, description="the intensities, each > 0 (an IDA ladder: "
-              "increasing)"),
+        Field(min_length=1, description="the intensities, each > 0 and each once (an IDA "
+              "ladder: increasing); with measure 'pga' or 'sa' at most 20 g"),
     ] = [1.0]  # fmt: skip  # noqa: RUF012 (pydantic copies defaults)
     period: Annotated[
         Annotated[float, Field(gt=0.0, le=100.0)] | None,

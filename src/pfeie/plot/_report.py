@@ -480,9 +480,11 @@ def modal_tables(
         cum = np.cumsum(r.effective_mass, axis=0)
         total = np.maximum(r.total_mass, 1e-300)
         rows = []
+        rigid, periods = r.rigid, r.periods
         for k, f in enumerate(r.frequencies):
-            row: dict[str, Any] = {"mode": k + 1, "f (Hz)": f"{f:.4f}",
-                                   "T (s)": f"{1 / f:.4f}" if f > 0 else "∞"}  # fmt: skip
+            row: dict[str, Any] = {"mode": k + 1,
+                                   "f (Hz)": "rigid" if rigid[k] else f"{f:.4f}",
+                                   "T (s)": "∞" if rigid[k] else f"{periods[k]:.4f}"}  # fmt: skip
             for i, a in enumerate(axes):
                 row[f"m_{a} (%)"] = f"{100 * r.effective_mass[k, i] / total[i]:.2f}"
                 row[f"cumulative {a} (%)"] = f"{100 * cum[k, i] / total[i]:.2f}"

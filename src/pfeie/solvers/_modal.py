@@ -22,7 +22,7 @@ from ..coupling import relative_operator
 from ..errors import SolverError
 from ..linalg import factorize
 from ..model import Model
-from ..typing import FloatArray
+from ..typing import BoolArray, FloatArray
 
 
 @dataclass(frozen=True)
@@ -37,8 +37,18 @@ class ModalResult:
     total_mass: FloatArray = field(default_factory=lambda: np.zeros(0))  # (dim,) kg
 
     @property
+    def rigid(self) -> BoolArray:
+        """The rigid-body modes (a block free on its joints): ω² below 1e-8 of the largest
+        computed, the round-off of a zero eigenvalue of K − σM in the shift-invert
+        solve; their frequency is 0 to round-off and their period infinite."""
+        f = np.asarray(self.frequencies, dtype=float)
+        return np.asarray(f < 1e-4 * max(float(f.max(initial=0.0)), 1e-300))
+
+    @property
     def periods(self) -> FloatArray:
-        return 1.0 / self.frequencies
+        """Periods (s); ∞ for the rigid-body modes."""
+        f = np.asarray(self.frequencies, dtype=float)
+        return np.where(self.rigid, np.inf, 1.0 / np.where(self.rigid, 1.0, f))
 
 
 def modal(
