@@ -105,7 +105,8 @@ def _wait_for_checkpoint(path: Path, row: int, timeout: float = 120.0) -> None:
             with h5py.File(path, "r", locking=False) as f:
                 if "checkpoint" in f and int(f["checkpoint"].attrs["row"]) >= row:
                     return
-        except (OSError, KeyError):  # not created yet, or caught mid-write
+        except (OSError, KeyError, RuntimeError):  # not created yet, or caught mid-write
+            # (h5py raises RuntimeError, e.g. "addr overflow", on a file read mid-write)
             pass
         time.sleep(0.02)
     raise AssertionError(f"{path}: no checkpoint of row {row} within {timeout} s")
