@@ -24,6 +24,7 @@ the gaps), so the answer is the planted one.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pytest
@@ -147,6 +148,16 @@ def _in_disc(rng: np.random.Generator, m: int, d: int, radius: np.ndarray) -> np
     return v * (radius * rng.random(m))[:, None]
 
 
+def solve_planted(step: Any, solver: InterfaceSolver, pl: Planted, mode: str) -> PairState:
+    """The planted problem through the time step's path (``mode = "step"``: bonded pairs
+    break on converged forces) or the solver itself ("bonded"; "iterate": breaking within
+    the iterations)."""
+    if mode == "step":
+        return step.solve(None, pl.w_free, pl.prev, breaking="converged", correct=False).pairs
+    trial, _ = solver.solve(pl.w_free, pl.prev, breaking=mode == "iterate")
+    return trial
+
+
 def natural_map(W: np.ndarray, laws: PairLaws, pl: Planted, X: np.ndarray,
                 broken: np.ndarray) -> float:  # fmt: skip
     """The natural-map residual of the answer X for the broken flags given, computed here
@@ -216,11 +227,7 @@ def _check(cell: str, n: int, seeds: range, mode: str) -> tuple[int, int, float,
     solved = 0
     for seed in seeds:
         pl = plant(W, laws, d, seed)
-        if mode == "step":
-            trial = step.solve(None, pl.w_free, pl.prev, breaking="converged",
-                               correct=False).pairs  # fmt: skip
-        else:
-            trial, _ = solver.solve(pl.w_free, pl.prev, breaking=mode == "iterate")
+        trial = solve_planted(step, solver, pl, mode)
         r = natural_map(W, laws, pl, trial.X, trial.broken)
         ex = float(np.abs(trial.X - pl.X).max() / np.abs(pl.X).max())
         ew = float(np.abs(trial.w - pl.w).max() / np.abs(pl.w).max())

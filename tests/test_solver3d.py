@@ -23,7 +23,7 @@ import pfeie as pf
 import pfeie.interface._solver as solver_module
 from pfeie.coupling._static import StaticInterfaceProblem
 from pfeie.interface import InterfaceSolver
-from test_planted import _model_3d, natural_map, plant
+from test_planted import _model_3d, natural_map, plant, solve_planted
 
 
 @pytest.fixture(scope="module")
@@ -73,11 +73,7 @@ def test_planted_3d_through_the_inverse(
     calls = _no_dense_newton(monkeypatch)
     for seed in range(3):
         pl = plant(W, laws, d, seed)
-        if mode == "step":
-            trial = step.solve(None, pl.w_free, pl.prev, breaking="converged",
-                               correct=False).pairs  # fmt: skip
-        else:
-            trial, _ = solver.solve(pl.w_free, pl.prev, breaking=mode == "iterate")
+        trial = solve_planted(step, solver, pl, mode)
         assert natural_map(W, laws, pl, trial.X, trial.broken) <= 1e-8
         np.testing.assert_allclose(trial.X, pl.X, rtol=0, atol=5e-8 * np.abs(pl.X).max())
         np.testing.assert_allclose(trial.w, pl.w, rtol=0, atol=5e-8 * np.abs(pl.w).max())

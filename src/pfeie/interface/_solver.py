@@ -1011,34 +1011,40 @@ class InterfaceSolver:
             z_q = Xv[M:]
             s_ = (w_free.ravel() + Wc @ Xv).reshape(m, d)
             # intact pairs that exceed their strength break; repeat
-            Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
-            tolF = 1e-10 * fscale
-            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
-            fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
+            fail = self._overstressed(X, broken, prev, fscale)
             if not (fail.any() and self._breaking):
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
 
-    # -- the semismooth Newton through W_c⁻¹ (3D) -------------------------------------------
-    def _local_map(
-        self, X: FloatArray, s_: FloatArray, broken: np.ndarray, prev: PairState, jac: bool
-    ) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
-        """The Alart-Curnier map of :meth:`_natural_map` (no border) as a function of each
-        pair's own (X_k, s_k), s = s_free + W_c X: F (m, d) and, if ``jac``, its partial
-        derivatives per pair, L_k = ∂F_k/∂X_k and R_k = ∂F_k/∂s_k (m, d, d), so that the
-        generalised Jacobian of F(X) is J = L + R W_c (L, R block diagonal), and the mask
-        (m, d) of the rows that equal those of ρ W_c (L = 0, R = ρ eᵢᵀ: intact, contact
-        normal and sticking tangential rows)."""
+    def _overstressed(
+        self, X: FloatArray, broken: np.ndarray, prev: PairState, fscale: float
+    ) -> np.ndarray:
+        """The intact pairs whose forces X exceed their strength (tension beyond t, or
+        shear beyond c + μ X_n), to 1e-10 of the force scale: they break."""
+        Xn, nt = X[:, -1], _rownorm(X[:, :-1])
+        tolF = 1e-10 * fscale
+        cI, muI, tI = self.props.strength(np.zeros(self.m, dtype=bool), prev.path)
+        return np.asarray(~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF)))
+
+    def _map_parts(
+        self, X: FloatArray, s_: FloatArray, broken: np.ndarray, prev: PairState
+    ) -> tuple[FloatArray, tuple[np.ndarray, ...], tuple[FloatArray, ...]]:
+        """The Alart-Curnier residual F (m, d) of the pairs' forces X and relative motions
+        s_ (one home for :meth:`_natural_map` and :meth:`_local_map`), with the masks
+        (intact, broken, in contact, sticking, sliding, sliding in a fixed direction, cut:
+        separated pairs, which carry no shear whatever their residual cohesion) and the
+        arrays their Jacobians need (c, μ, the cone radius τ, |z| and ẑ of the trial
+        tangential force z = X_t − ρ(s_t − s_t,prev)). Inactive pairs are the callers'."""
         m, d, r = self.m, self.d, self.rho
         c, mu, t = self.props.strength(broken, prev.path)
-        F = np.empty((m, d))
+        F = np.zeros((m, d))
         it = ~broken
         F[it] = r * (s_[it] - prev.s[it])
+        br = broken
         Y = X[:, -1] + t
         g = s_[:, -1]
-        contact = broken & (Y - r * g > 0)
-        br = broken
+        contact = br & (Y - r * g > 0)
         F[br, -1] = np.where(contact[br], r * g[br], Y[br])
         Xt = X[:, :-1]
         z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
@@ -1053,7 +1059,23 @@ class InterfaceSolver:
         with np.errstate(invalid="ignore", divide="ignore"):
             zh = z / nz[:, None]
         F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
+        # fixed slide: X_t = −τ ŝ with the given direction
         F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
+        return F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh)
+
+    # -- the semismooth Newton through W_c⁻¹ (3D) -------------------------------------------
+    def _local_map(
+        self, X: FloatArray, s_: FloatArray, broken: np.ndarray, prev: PairState, jac: bool
+    ) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
+        """The Alart-Curnier map of :meth:`_natural_map` (no border) as a function of each
+        pair's own (X_k, s_k), s = s_free + W_c X: F (m, d) and, if ``jac``, its partial
+        derivatives per pair, L_k = ∂F_k/∂X_k and R_k = ∂F_k/∂s_k (m, d, d), so that the
+        generalised Jacobian of F(X) is J = L + R W_c (L, R block diagonal), and the mask
+        (m, d) of the rows that equal those of ρ W_c (L = 0, R = ρ eᵢᵀ: intact, contact
+        normal and sticking tangential rows)."""
+        m, d, r = self.m, self.d, self.rho
+        F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh) = self._map_parts(
+            X, s_, broken, prev)  # fmt: skip
         off = self._inactive
         F[off] = X[off]
         if not jac:
@@ -1231,10 +1253,7 @@ class InterfaceSolver:
                 Feq = equilibrium(X, zq)
             if not exact:  # the iteration limit: the answer on the exact s
                 s_ = exact_s(X, zq)
-            Xn, nt = X[:, -1], _rownorm(X[:, :-1])
-            tolF = 1e-10 * fscale
-            cI, muI, tI = self.props.strength(np.zeros(m, dtype=bool), prev.path)
-            fail = ~broken & ((Xn < -tI - tolF) | (nt > cI + muI * Xn + tolF))
+            fail = self._overstressed(X, broken, prev, fscale)
             if not (fail.any() and self._breaking):
                 break
             broken = broken | fail
@@ -1329,44 +1348,20 @@ class InterfaceSolver:
         I = self._eye if self._eye is not None and self._eye.shape == (M, N) else np.eye(M, N)
         self._eye = I  # read only: kept for the next call
         Xv = zv[:M]
-        c, mu, t = self.props.strength(broken, prev.path)
         Xm = Xv.reshape(m, d)
         sv = w_free.ravel() + Wc @ zv
         s_ = sv.reshape(m, d)
-        F = np.zeros((m, d))
+        F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh) = self._map_parts(
+            Xm, s_, broken, prev)  # fmt: skip
         J = np.zeros((m, d, N if jac else 0))
         Wr = Wc.reshape(m, d, N)
         Ir = I.reshape(m, d, N)
-        # intact
-        it = ~broken
-        F[it] = r * (s_[it] - prev.s[it])
         if jac:
             J[it] = r * Wr[it]
-        br = broken
-        Y = Xm[:, -1] + t
-        g = s_[:, -1]
-        contact = br & (Y - r * g > 0)
-        F[br, -1] = np.where(contact[br], r * g[br], Y[br])
         if jac:
             J[contact, -1] = r * Wr[contact, -1]
             sep = br & ~contact
             J[sep, -1] = Ir[sep, -1]
-        Xt = Xm[:, :-1]
-        z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
-        nz = np.linalg.norm(z, axis=1)
-        tau = np.maximum(c + mu * np.maximum(Xm[:, -1], 0.0), 0.0)
-        # a separated pair carries no shear, whatever its residual cohesion
-        cut = br & ~contact & (c > 0)
-        tau[cut] = 0.0
-        fixed = br & self._fixed
-        stick = br & (nz <= tau) & ~fixed
-        slide = br & ~stick & ~fixed
-        F[stick, :-1] = Xt[stick] - z[stick]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            zh = z / nz[:, None]
-        F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
-        # fixed slide: X_t = −τ ŝ with the given direction
-        F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
         if jac:
             # the cone radius τ grows with X_n where c + μ X_n⁺ > 0 and X_n > 0
             grows = (c + mu * np.maximum(Xm[:, -1], 0.0) > 0) & (Xm[:, -1] > 0) & ~cut
