@@ -247,6 +247,16 @@ def test_steps_lie_on_the_time_grid(scheme: str) -> None:
     m.fix("base")
     m.add_gravity()
     h = 1e-3
-    res = pf.Dynamic(m, h, scheme=scheme).run(n_steps=1000, start=pf.solve_static(m))
+    an = pf.Dynamic(m, h, scheme=scheme)
+    res = an.run(n_steps=1000, start=pf.solve_static(m))
     assert res.t[-1] == 1.0
     np.testing.assert_array_equal(res.t, np.arange(1001) * h)
+    # a start state continues its grid; one edited off it (another step number) goes on
+    # from its own time, never back
+    import dataclasses
+
+    assert res.final is not None
+    more = an.run(n_steps=3, start=res.final)
+    np.testing.assert_array_equal(more.t, np.arange(1000, 1004) * h)
+    moved = an.run(n_steps=3, start=dataclasses.replace(res.final, step=0))
+    assert np.all(np.diff(moved.t) > 0) and moved.t[1] == pytest.approx(1.0 + h, abs=1e-15)

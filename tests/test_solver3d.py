@@ -115,12 +115,15 @@ def test_newton_through_the_inverse_equals_the_dense_path(
 
 
 @pytest.mark.parametrize(("kx", "ky"), [(0.0, 0.0), (0.6, 0.3)])
-def test_bordered_static_problem_on_the_inverse(kx: float, ky: float) -> None:
+def test_bordered_static_problem_on_the_inverse(
+    kx: float, ky: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """The static problem with floating blocks (three blocks held by their joints only,
     18 rigid amplitudes), gravity and a lateral load of kx, ky times the weight (at
     0.6, 0.3 most pairs of the existing joint slide): the state systems and the Newton on
     W_c⁻¹ with the r × r border system give the forces and rigid amplitudes of the dense
-    bordered path to 5e-10 of the largest (measured 5e-11)."""
+    bordered path to 5e-10 of the largest (measured 5e-11), without the dense Newton (the
+    sliding case by the Newton on W_c⁻¹, the other by the state iteration)."""
     model = _model_3d("hexahedron", 12)
     model.add_gravity()
     system = model.system()
@@ -131,8 +134,12 @@ def test_bordered_static_problem_on_the_inverse(kx: float, ky: float) -> None:
     f[0::3] -= kx * f[2::3]
     f[1::3] -= ky * f[2::3]
     f_free = f[system.free]
+    calls = _no_dense_newton(monkeypatch)
     _, st = problem.solve(f_free)
-    assert problem.solver.last.residual <= 1e-8
+    assert problem.solver.last.residual <= 1e-8 and not calls
+    if kx:  # the sliding case goes through the Newton on W_c⁻¹ with the border
+        assert problem.solver.last.method == "semismooth Newton"
+    monkeypatch.undo()
     # the same problem on the dense path
     keep, Phi = problem.keep, problem.Phi
     u_pin = np.zeros(system.free.size)

@@ -483,7 +483,12 @@ class Dynamic:
         step). Step k of a run is at t₀ + k h (t₀ the start's time), not at a running sum
         of h, so that a run of N steps ends at t₀ + N h to the rounding of one product."""
         ex = self.excitation() if ex is None else ex
-        origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
+        origin = cur.kin.t - cur.step * self.dt
+        if cur.origin is not None:  # the state's grid, if its time is on it (an edited
+            # start state, another step or time, falls back to t − step h)
+            tol = 8 * np.spacing(max(abs(cur.kin.t), self.dt))
+            if abs(cur.origin + cur.step * self.dt - cur.kin.t) <= tol:
+                origin = cur.origin
         if self.mj is not None:
             nxt = self._step_moreau_jean(cur, ex, self.mj, origin)
         elif self.ga is not None:

@@ -289,8 +289,10 @@ class Newmark:
         put(0, st)
         if track_energy:
             E["kinetic"][0], E["strain"][0] = self.energies(st)
+        t0 = st.t
         for i in range(1, n_steps + 1):
             new = self.step(st)
+            new.t = t0 + i * self.dt  # on the grid, not a running sum of Δt
             if track_energy:
                 du = new.u - st.u
                 E["kinetic"][i], E["strain"][i] = self.energies(new)
