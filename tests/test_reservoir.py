@@ -12,28 +12,63 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from scipy.integrate import quad
 
 import pfeie as pf
 
 RHO_W = 1000.0
 
 
-def test_added_mass_total_converges() -> None:
-    """The lumped added mass of a 10 m vertical face sums to 7/12 ρ_w H² as the face is
-    refined, at the rate the square root at the surface allows (measured 7.1e-5, 8.9e-6,
-    1.1e-6 on 4, 16, 64 cells: rate 1.5; asserted ≥ 1.4 and 2e-6 at 64 cells); it acts
-    along the face normal only (x)."""
-    errs = []
-    ns = [4, 16, 64]
-    for n in ns:
-        mesh = pf.rectangle(1.0, 10.0, 1, n)
-        m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
-        m.add_westergaard("xmin", water_level=10.0)
-        am = m.added_mass().reshape(-1, 2)
-        assert am[:, 1].sum() == 0.0 and np.all(am >= 0)
-        errs.append(abs(am[:, 0].sum() / (7 / 12 * RHO_W * 10.0**2) - 1))
-    rate = np.log(errs[0] / errs[-1]) / np.log(ns[-1] / ns[0])
-    assert rate >= 1.4 and errs[-1] < 2e-6, (errs, rate)
+def _consistent_loads(ys: np.ndarray, p: int, level: float, H: float) -> np.ndarray:
+    """∫ N_a C dy on a vertical face with facet corners ``ys`` (bottom up, degree p
+    Lagrange facets), by adaptive quadrature (scipy's QUADPACK, independent of pfeie's
+    Gauss rules), per face node bottom up, per unit normal acceleration (kg/m)."""
+    def C(z: float) -> float:
+        return 0.875 * RHO_W * np.sqrt(H * max(level - z, 0.0))
+
+    out = np.zeros(p * (ys.size - 1) + 1)
+    for k in range(ys.size - 1):
+        nodes = np.linspace(ys[k], ys[k + 1], p + 1)
+        cut = [v for v in (level,) if nodes[0] < v < nodes[-1]]
+        for j in range(p + 1):
+            def f(z: float, j: int = j, nodes: np.ndarray = nodes) -> float:
+                others = [i for i in range(p + 1) if i != j]
+                N = np.prod([(z - nodes[i]) / (nodes[j] - nodes[i]) for i in others])
+                return float(N) * C(z)
+
+            out[p * k + j] += quad(f, nodes[0], nodes[-1], points=cut or None, epsabs=0.0,
+                                   epsrel=1e-13, limit=200)[0]  # fmt: skip
+    return out
+
+
+@pytest.mark.parametrize(("cell", "n", "level"),
+                         [("quad", 16, 10.0), ("quad8", 16, 10.0), ("quad8", 5, 10.0),
+                          ("quad", 16, 9.3)])  # fmt: skip
+def test_westergaard_loads_are_the_closed_form_pressures(cell: str, n: int, level: float) -> None:
+    """A rigid vertical face accelerated by a uniformly along its normal: the nodal forces
+    m_a a are the consistent loads ∫ N_a p dy of Westergaard's p = 7/8 ρ_w a √(H y) (y
+    the depth), computed here by adaptive quadrature, to 1e-6 of the largest (measured
+    7e-13 to 5e-12: the facet that meets the surface is integrated with the square root
+    of p mapped out); their sum is 7/12 ρ_w a H² (Westergaard's total) to 1e-12
+    (measured 4e-15 to 2e-13). Linear and quadratic facets, a level at a node and one between
+    nodes (9.3 m, on the linear face: the bottom at 0, H = 9.3 m)."""
+    H = level
+    mesh = pf.rectangle(1.0, 10.0, 1, n, cell=cell)
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    m.add_westergaard("xmin", water_level=level)
+    a = 1.7  # m/s², towards the water
+    force = (m.added_mass() * a).reshape(-1, 2)
+    assert np.all(force[:, 1] == 0.0) and np.all(force[:, 0] >= 0.0)
+    face = np.flatnonzero(mesh.points[:, 0] < 1e-9)
+    face = face[np.argsort(mesh.points[face, 1])]
+    p = 1 if cell == "quad" else 2
+    ref = a * _consistent_loads(np.linspace(0.0, 10.0, n + 1), p, level, H)
+    err = np.abs(force[face, 0] - ref).max() / ref.max()
+    assert err < 5e-11, err  # the issue's bound is 1e-6; 10× the worst measured
+    total = force[:, 0].sum() / (7 / 12 * RHO_W * a * H**2) - 1
+    assert abs(total) < 1e-12, total
+    # the nodes of the facets wholly above the level carry nothing
+    assert np.all(force[face[mesh.points[face, 1] > level + 10.0 / n], 0] == 0.0)
 
 
 def _wet_block(ny: int, westergaard: bool = True) -> pf.Model:
@@ -59,11 +94,13 @@ def test_added_mass_in_the_modes_of_a_block_on_springs() -> None:
     joint's centre with the block's mass and the added mass's closed-form moments,
     M = [[m + m_a, m h + S_a], [m h + S_a, I + I_a]] (m_a = 7/12 ρ_w H², S_a = 7/30 ρ_w H³,
     I_a = 2/15 ρ_w H⁴), K = diag(k_s A, Σ k_n A_i x_i²); the vertical mode does not see
-    the added mass (it acts along x). Errors fall at second order with the face's cells
-    (measured 9.7e-4, 2.3e-4, 5.8e-5, 1.6e-5 for the first mode, 5.2e-3 to 8.3e-5 for the
-    third: rates 1.87 to 2.07, the last one nearing the block's deformability; asserted
-    rates ≥ 1.8, 2e-5 and 1e-4 on 32 cells); the vertical mode within 2e-6
-    of √(k_n A/m)/2π (measured 1.6e-6, the block's own deformability)."""
+    the added mass (it acts along x). The lumped added mass (row sums: the consistent
+    loads of the pressure) has Westergaard's total m_a and first moment S_a to round-off
+    (asserted 1e-11; measured 4e-12 at most), its second moment to O(h²) (4.6e-2 to 7.1e-4
+    on 4 to 32 cells): errors fall at second order with the face's cells (measured 2.0e-3,
+    4.9e-4, 1.2e-4, 3.3e-5 for the first mode, 4.8e-3 to 7.9e-5 for the third: rates 1.93
+    to 2.00; asserted rates ≥ 1.8, 5e-5 and 1e-4 on 32 cells); the vertical mode within
+    2e-6 of √(k_n A/m)/2π (measured 1.6e-6, the block's own deformability)."""
     m_b, h, H = 2400.0, 0.5, 1.0
     m_a, s_a, i_a = 7 / 12 * RHO_W * H**2, 7 / 30 * RHO_W * H**3, 2 / 15 * RHO_W * H**4
     errs = []
@@ -79,11 +116,15 @@ def test_added_mass_in_the_modes_of_a_block_on_springs() -> None:
         f_v = np.sqrt(1e9 * P.area.sum() / m_b) / (2 * np.pi)
         f = pf.modal(model, 3).frequencies
         errs.append([abs(f[0] / f_hr[0] - 1), abs(f[2] / f_hr[1] - 1)])
+        am = model.added_mass().reshape(-1, 2)[:, 0]
+        z = model.mesh.points[:, 1] - 0.5  # height above the joint (the bottom)
+        assert am.sum() == pytest.approx(m_a, rel=1e-11)
+        assert (am * z).sum() == pytest.approx(s_a, rel=1e-11)
         assert f[1] == pytest.approx(f_v, rel=2e-6)
     e = np.array(errs)
     rates = np.log2(e[:-1] / e[1:])
     assert rates.min() >= 1.8, rates
-    assert e[-1, 0] < 2e-5 and e[-1, 1] < 1e-4, e[-1]
+    assert e[-1, 0] < 5e-5 and e[-1, 1] < 1e-4, e[-1]
     dry = pf.modal(_wet_block(8, westergaard=False), 1).frequencies[0]
     assert dry > 1.05 * pf.modal(_wet_block(8), 1).frequencies[0]  # the water slows it (7 %)
 
@@ -342,7 +383,7 @@ def _dam(westergaard: bool = False, fe: bool = False) -> pf.Model:
 
 def test_fe_reservoir_in_the_modes_of_a_dam_and_its_total() -> None:
     """The dam's frequencies: dry 3.969 Hz; with the finite-element reservoir 3.535 Hz
-    (full M_a, as `pfeie modal` uses it), with Westergaard's added mass 3.383 Hz, 4.3 %
+    (full M_a, as `pfeie modal` uses it), with Westergaard's added mass 3.384 Hz, 4.3 %
     lower (its parabola holds 7.5 % more water: 7/12 against 14 ζ(3)/π³ ρ_w H², the
     measured ratio of the totals 1.0751; the total is the series' within 2e-4, measured
     3.7e-5). The total of M_a equals the integral of its pressure field on the face (to
@@ -359,7 +400,7 @@ def test_fe_reservoir_in_the_modes_of_a_dam_and_its_total() -> None:
     m = _dam(fe=True)
     f_fe = pf.modal(m, 2).frequencies
     assert dry[0] == pytest.approx(3.969, abs=1e-3)
-    assert f_fe[0] == pytest.approx(3.535, abs=1e-3) and f_w[0] == pytest.approx(3.383, abs=1e-3)
+    assert f_fe[0] == pytest.approx(3.535, abs=1e-3) and f_w[0] == pytest.approx(3.384, abs=1e-3)
     assert f_w[0] / f_fe[0] - 1 == pytest.approx(-0.043, abs=1e-3)
     res = m.fe_reservoirs[0]
     ones = np.zeros(m.n_dof)

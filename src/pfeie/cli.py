@@ -163,7 +163,7 @@ def _parser() -> argparse.ArgumentParser:
                      "ignoring the rows of runs already done")  # fmt: skip
     stu.add_argument("--quiet", action="store_true", help="no progress line")
     ver = sub.add_parser("verify", help="run the verification suite and print its table",
-                         description="Run the verification cases (V1-V10 of the verification "
+                         description="Run the verification cases (V1-V11 of the verification "
                          "manual) and print: case, quantity, reference, pfeie, error, "
                          "tolerance, pass. Exits 1 if any check fails.")  # fmt: skip
     ver.add_argument("--fast", action="store_true", help="the fast subset (short runs)")
