@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import pfeie as pf
 from pfeie.cli import main
 from pfeie.errors import MeshError, ModelError, RecordError, ResultsError
 from pfeie.io import Results, read_mesh, read_record
@@ -183,6 +184,48 @@ def test_cell_type_without_element_is_refused(tmp_path: Path) -> None:
     with pytest.raises(MeshError, match=r"p\.msh: physical group 'all': 1 wedge cell\(s\) "
                        r"\(gmsh element 11\); pfeie has elements for .*tetra10"):  # fmt: skip
         read_mesh(path)
+
+
+def test_shape_quality_closed_forms_and_the_warning(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The mean-ratio shape quality (Knupp 2001) against its closed forms: 1 for a square,
+    an equilateral triangle, a cube and a regular tetrahedron (to round-off); a rectangle
+    of aspect ratio r gives 2r/(1 + r²), a right isosceles triangle √3/2 (its mean ratio,
+    4√3 A/Σl² = 0.866025), whatever their size and orientation. A mesh with a cell of
+    aspect ratio 50 (quality 0.04 < 0.05) passes ``check`` with a warning that names the
+    gmsh element and the worst quality; ``pfeie check`` prints the worst quality per cell
+    type, naming the cell."""
+    from pfeie.mesh import shape_quality
+
+    one = np.arange(4)[None]
+    sq = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    rot = np.array([[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]])
+    for r in (1.0, 4.0, 50.0):
+        q = shape_quality(3.7 * (sq * [r, 1.0]) @ rot.T, "quad", one)[0]
+        assert q == pytest.approx(2 * r / (1 + r * r), rel=1e-14)
+    tri = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, np.sqrt(3.0)]])
+    assert shape_quality(tri, "triangle", np.arange(3)[None])[0] == pytest.approx(1.0, rel=1e-14)
+    right = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    assert shape_quality(right, "triangle", np.arange(3)[None])[0] == pytest.approx(
+        np.sqrt(3.0) / 2, rel=1e-14)  # fmt: skip
+    cube = pf.box(1.0, 1.0, 1.0, 1, 1, 1, cell="hexahedron")
+    assert shape_quality(cube.points, "hexahedron", cube.cells["hexahedron"]) == pytest.approx(1.0)
+    reg = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, np.sqrt(3) / 2, 0.0],
+                    [0.5, np.sqrt(3) / 6, np.sqrt(2.0 / 3.0)]])  # fmt: skip
+    assert shape_quality(reg, "tetra", np.arange(4)[None])[0] == pytest.approx(1.0, rel=1e-14)
+    # a sliver: 50 × 1 cells in a gmsh file
+    nodes = [(0.0, 0.0, 0.0), (50.0, 0.0, 0.0), (50.0, 1.0, 0.0), (0.0, 1.0, 0.0)]
+    path = msh22(tmp_path / "sliver.msh", nodes=nodes, elements=[(7, 3, 1, [1, 2, 3, 4])],
+                 names={1: (2, "all")})  # fmt: skip
+    with caplog.at_level("WARNING"):
+        read_mesh(path)
+    assert "1 poorly shaped quad cell(s)" in caplog.text and "gmsh element 7" in caplog.text
+    assert "worst 0.04" in caplog.text
+    p = model(tmp_path)
+    assert main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "shape        quad: worst quality" in out and "gmsh element" in out
 
 
 def test_cells_named_by_index_without_gmsh() -> None:

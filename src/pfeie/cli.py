@@ -558,6 +558,11 @@ def _format_check(s: dict[str, object]) -> str:
     lines.append(f"bodies       {s['bodies']}")
     lines.append(f"cells        {s['cells']}")
     lines.append(f"nodes        {s['nodes']}, DOF {s['dof']} ({s['free_dof']} free)")
+    quality = s.get("quality", {})
+    assert isinstance(quality, dict)
+    for ctype, q in quality.items():
+        lines.append(f"shape        {ctype}: worst quality {q['worst']} ({q['cell']}; 1 for "
+                     f"the ideal cell), {q['below_0.3']} cell(s) below 0.3")  # fmt: skip
     pairs = s["pairs"]
     assert isinstance(pairs, dict)
     for name, n in pairs.items():

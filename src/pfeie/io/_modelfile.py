@@ -30,6 +30,7 @@ from pydantic import ValidationError
 from ..dynamics import shorter_than_a_step
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import Joint, SlipWeakening
+from ..mesh import Mesh, shape_quality
 from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
 from ._gmsh import read_mesh
 from ._records import read_record
@@ -176,10 +177,24 @@ class Job:
             "dimension": m.dim, "blocks": {b.name: b.material for b in m.blocks},
             "bodies": m.n_bodies, "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
             "free_dof": dof, "pairs": pairs,
+            "quality": _quality(m.mesh),
             "records": [g.summary() for g in self.records], "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
             "estimated_memory_mb": round(mem / 2**20, 1),
         }  # fmt: skip
+
+
+def _quality(mesh: Mesh) -> dict[str, dict[str, Any]]:
+    """Per cell type, the worst shape quality of the mesh's cells and the cell
+    (:func:`pfeie.mesh.shape_quality`: 1 for the ideal cell)."""
+    out = {}
+    for ctype, conn in mesh.cells.items():
+        if conn.shape[0]:
+            eta = shape_quality(mesh.points, ctype, conn)
+            k = int(np.argmin(eta))
+            out[ctype] = {"worst": round(float(eta[k]), 4), "cell": mesh.cell_label(ctype, k),
+                          "below_0.3": int((eta < 0.3).sum())}  # fmt: skip
+    return out
 
 
 def read_model_file(path: str | Path, overrides: Sequence[Override] = ()) -> ModelFile:

@@ -12,12 +12,29 @@ some of them and a negative one at others):
   written twice);
 - node coordinates that are not finite.
 
+and warns (``logging``, the run goes on) about *poorly shaped* cells, whose shape quality
+:func:`shape_quality` is below :data:`POOR`: their stiffness is ill-conditioned and the
+stresses near them are less accurate.
+
+Shape quality. At each point the map's Jacobian J is compared with that of the ideal cell
+of the same type (a square or cube, an equilateral triangle or a regular tetrahedron) by
+the mean ratio of T = J W⁻¹ (W the ideal cell's Jacobian on the reference cell; Knupp
+2001, "Algebraic mesh quality metrics", SIAM J. Sci. Comput. 23(1)),
+
+    η = d det(T)^{2/d} / ‖T‖²_F ∈ (0, 1],
+
+1 for the ideal shape whatever its size, → 0 as the cell flattens; a rectangle of aspect
+ratio r has η = 2r/(1 + r²) (0.198 at r = 10, 0.0998 at r = 20). The cell's quality is
+the smallest η over its quadrature points and its nodes (a curved or skewed quadratic
+cell is judged where it is worst).
+
 Cells are named by their gmsh element id when the mesh was read from gmsh
 (:attr:`Mesh.cell_ids`), else by cell type and index.
 """
 
 from __future__ import annotations
 
+import logging
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,9 +45,21 @@ from ..errors import MeshError
 if TYPE_CHECKING:
     from ._mesh import Mesh
 
+log = logging.getLogger(__name__)
+
 #: relative size of |det J| below which a cell is degenerate
 DEGENERATE = 1e-10
+#: shape quality (mean ratio, 1 for the ideal cell) below which a cell gets a warning: a
+#: rectangle of aspect ratio 40, a triangle with an angle of about 3°
+POOR = 0.05
 _SHOW = 5
+# the Jacobian of the ideal cell on each reference simplex (its edge vectors from the
+# first vertex as columns): the equilateral triangle and the regular tetrahedron
+_IDEAL = {
+    2: np.array([[1.0, 0.5], [0.0, np.sqrt(3.0) / 2.0]]),
+    3: np.array([[1.0, 0.5, 0.5], [0.0, np.sqrt(3.0) / 2.0, np.sqrt(3.0) / 6.0],
+                 [0.0, 0.0, np.sqrt(2.0 / 3.0)]]),
+}  # fmt: skip
 
 
 def _names(mesh: Mesh, ctype: str, idx: np.ndarray) -> str:
@@ -48,6 +77,30 @@ def jacobians(points: np.ndarray, ctype: str, conn: np.ndarray) -> np.ndarray:
     X = points[conn]  # (c, n, d)
     J = np.einsum("cnd,qne->cqde", X, dN)
     return np.asarray(np.linalg.det(J), dtype=float)
+
+
+def shape_quality(points: np.ndarray, ctype: str, conn: np.ndarray) -> np.ndarray:
+    """The shape quality of each cell (c,): the smallest mean ratio η = d det(T)^{2/d} /
+    ‖T‖²_F, T = J W⁻¹, over its quadrature points and nodes (module doc); ≤ 0 where the
+    cell is inverted.
+
+    >>> import numpy as np
+    >>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    >>> long = square * [10.0, 1.0]                      # aspect ratio 10: 20/101
+    >>> [round(float(shape_quality(p, "quad", np.arange(4)[None])[0]), 4) for p in (square, long)]
+    [1.0, 0.198]
+    """
+    ref = reference(ctype)
+    xi, _ = quadrature(ctype, 2 * ref.degree)
+    xi = np.concatenate([xi, ref.nodes])
+    _, dN = ref.shape_functions(xi)
+    J = np.einsum("cnd,qne->cqde", points[conn], dN)  # (c, q, d, d)
+    d = J.shape[-1]
+    T = J @ np.linalg.inv(_IDEAL[d]) if ref.simplex else J
+    det = np.linalg.det(T)
+    norm2 = np.einsum("cqij,cqij->cq", T, T)
+    eta = d * np.sign(det) * np.abs(det) ** (2.0 / d) / np.maximum(norm2, np.finfo(float).tiny)
+    return np.asarray(eta.min(axis=1), dtype=float)
 
 
 def check_cells(mesh: Mesh, where: str = "") -> None:
@@ -87,6 +140,16 @@ def check_cells(mesh: Mesh, where: str = "") -> None:
             )
         keys.append(corners)
         owners.append([(ctype, i) for i in range(conn.shape[0])])
+        bad_cells = np.union1d(degenerate, inverted)
+        eta = shape_quality(mesh.points, ctype, conn)
+        poor = np.setdiff1d(np.flatnonzero(eta < POOR), bad_cells)
+        if poor.size:
+            worst = poor[np.argsort(eta[poor])]
+            log.warning("%s%d poorly shaped %s cell(s) (shape quality below %g, 1 for a square, "
+                        "cube or equilateral simplex; worst %.3g): %s; their stiffness is "
+                        "ill-conditioned and the stresses near them less accurate",
+                        head, poor.size, ctype, POOR, float(eta[worst[0]]),
+                        _names(mesh, ctype, worst))  # fmt: skip
     for width in {k.shape[1] for k in keys}:
         same = [(k, o) for k, o in zip(keys, owners, strict=True) if k.shape[1] == width]
         pool = np.concatenate([k for k, _ in same])
