@@ -71,6 +71,27 @@ def test_westergaard_loads_are_the_closed_form_pressures(cell: str, n: int, leve
     assert np.all(force[face[mesh.points[face, 1] > level + 10.0 / n], 0] == 0.0)
 
 
+@pytest.mark.parametrize("theta", [15.0, 30.0, 45.0])
+def test_westergaard_on_an_inclined_face(theta: float) -> None:
+    """The normal-direction form on a planar face inclined θ from the vertical (Kuo 1982;
+    USACE EM 1110-2-6051's generalised Westergaard): m_ab = ∫ C(z) N_a N_b n nᵀ dA, with
+    dA = dz/cos θ along the face and n = (cos θ, sin θ) for a face leaning downstream
+    (the water above it): the horizontal added mass totals cos θ ∫ C dz = 7/12 ρ_w H² cos θ
+    and the vertical one sin²θ/cos θ 7/12 ρ_w H², to round-off (asserted 1e-13, measured
+    1.3e-14 at most)."""
+    H = 10.0
+    t = np.radians(theta)
+    mesh = pf.rectangle(3.0, H, 3, 8, cell="quad8")
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    mesh.points[:, 0] = x + (H - y) * np.tan(t) * (1 - x / 3.0)  # left face leans over the toe
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    m.add_westergaard("xmin", water_level=H)
+    am = m.added_mass().reshape(-1, 2)
+    total = 7 / 12 * RHO_W * H**2
+    assert am[:, 0].sum() == pytest.approx(total * np.cos(t), rel=1e-13)
+    assert am[:, 1].sum() == pytest.approx(total * np.sin(t) ** 2 / np.cos(t), rel=1e-13)
+
+
 def _wet_block(ny: int, westergaard: bool = True) -> pf.Model:
     """A stiff 1 m block (E = 1e14 Pa) on joint springs k_n = k_s = 1e9 Pa/m, its left face
     wet up to its top (H = 1 m), on a fixed base."""
