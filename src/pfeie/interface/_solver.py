@@ -795,15 +795,18 @@ class InterfaceSolver:
         history: list[np.ndarray] = []
         turn: list[float] = []  # 3D: the largest change of a slip direction, per iteration
         s_known: FloatArray | None = None
+        singular: MechanismError | None = None
         it = 0
         for it in range(1, self.max_iter + 1):
             try:
                 X, q = self._linear(st, prev, w_free, e)
-            except MechanismError:
-                if self.E is not None:  # statics: a floating block left free by its pairs
-                    raise
-                # a singular system for these states (redundant pairs): the Newton
-                # fallback below works on the whole law instead
+            except MechanismError as exc:
+                # a singular system for these states: redundant pairs, or (statics) a
+                # floating block that these states leave free, e.g. every pair of its
+                # joint sliding on a trial pattern near the limit of equilibrium; the
+                # Newton below works on the whole law instead, and in statics the error
+                # stands if it finds no equilibrium either
+                singular = exc
                 log.debug("%s: singular state system, to the Newton fallback", label)
                 break
             st.X = X
@@ -884,6 +887,8 @@ class InterfaceSolver:
         if self.E is None:
             return self._fallback(label, history, [(res, st2), (res4, st4)], prev, w_free,
                                   it + n_it + n4)  # fmt: skip
+        if singular is not None:  # statics: no equilibrium that holds the floating blocks
+            raise singular
         if res4 < res:
             st2, q2, res = st4, q4, res4
         raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))

@@ -24,7 +24,7 @@ import scipy.sparse as sp
 from .. import assembly as asm
 from ..element import quadrature, reference
 from ..errors import MeshError, ModelError
-from ..interface import PairGeometry, PairLaws, SplitMesh, split
+from ..interface import MohrCoulomb, PairGeometry, PairLaws, SplitMesh, split
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
@@ -156,6 +156,8 @@ class Model:
         _disjoint_blocks(mesh, blocks)
         self.input_mesh = mesh
         self.interfaces = list(interfaces)
+        for itf in self.interfaces:
+            _warn_unused_strength(itf)
         self.split: SplitMesh | None = None
         if self.interfaces:
             mesh = mesh.restrict([b.cell_group for b in blocks])
@@ -1091,6 +1093,24 @@ class Model:
             "nodes": int(self.active_nodes.size), "dof": int(self.n_dof),
             "free_dof": int(free.size), "prescribed_dof": int(pres.size),
         }  # fmt: skip
+
+
+def _warn_unused_strength(itf: Interface) -> None:
+    """Warn when a joint that starts broken is given an intact strength it never uses
+    (cohesion or tension with ``initial="broken"``, the default, and no residual ones):
+    a user who meant a bonded joint gets a frictional one without a word otherwise."""
+    law = itf.joint
+    if not isinstance(law, MohrCoulomb) or law.initial != "broken":
+        return
+    unused = [f"{k} = {v:g} Pa" for k, v in (("cohesion", law.c), ("tensile strength", law.tensile))
+              if v > 0]  # fmt: skip
+    if unused:
+        log.warning("interface %r: %s given, but the joint starts broken (initial = 'broken', "
+                    "the default), so only its residual strength acts (residual cohesion "
+                    "%g Pa, residual tensile strength %g Pa, friction angle %g°): set "
+                    "initial = 'intact' for a bonded joint, or the residual values for an "
+                    "existing joint with cohesion", itf.group, " and ".join(unused), law.c_r,
+                    law.tensile_r, law.phi if law.phi_r is None else law.phi_r)  # fmt: skip
 
 
 def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> None:

@@ -73,9 +73,16 @@ def solve_static(
         reactions[system.prescribed] = r[system.prescribed]
         return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d))
     problem = StaticInterfaceProblem(model, system, backend=backend, settings=settings)
+
+    def solve(f: FloatArray) -> tuple[FloatArray, PairState]:
+        try:
+            return problem.solve(f)
+        except MechanismError as exc:
+            raise MechanismError(f"{exc}. {_floating(model)}") from None
+
     p, cracks = model.uplift_pressure()
     f_up = model.uplift_load(p)
-    u_free, st = problem.solve(f_free + f_up[system.free])
+    u_free, st = solve(f_free + f_up[system.free])
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
@@ -83,7 +90,7 @@ def solve_static(
         if new == cracks:
             break
         p, cracks, f_up = p_new, new, model.uplift_load(p_new)
-        u_free, st = problem.solve(f_free + f_up[system.free])
+        u_free, st = solve(f_free + f_up[system.free])
     else:
         if model.uplifts:
             raise SolverError(
@@ -104,3 +111,31 @@ def solve_static(
 
 #: static solves at most to settle the crack and its uplift together
 _CRACK_ITERATIONS = 50
+
+
+def _floating(model: Model) -> str:
+    """What a static mechanism means for this model: the floating bodies (no support)
+    and the joints that must hold them, with what to check."""
+    assert model.pairs is not None
+    system = model.system()
+    held = np.zeros(model.n_dof, dtype=bool)
+    held[system.prescribed] = True
+    body = model.body_of_node
+    names = model.body_names()
+    P = model.pairs
+    parts = []
+    for b in range(model.n_bodies):
+        nodes = np.flatnonzero(body == b)
+        if not nodes.size or held.reshape(-1, model.dim)[nodes].any():
+            continue
+        on = np.isin(P.node_a, nodes) | np.isin(P.node_b, nodes)
+        joints = [n for n in P.names if on[P.of(n)].any()]
+        parts.append(f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}")
+    which = "; ".join(parts) if parts else "none found"
+    return (
+        "No static equilibrium holds the floating block(s) (" + which + ") under the "
+        "static loads: their joints' strength is exceeded, so they would slide or "
+        "open. Check the friction angles and cohesions (a joint that starts broken, "
+        'initial = "broken", the default, has only its residual strength: '
+        'initial = "intact" for a bonded joint) and the loads'
+    )

@@ -1,0 +1,95 @@
+"""The limit of static equilibrium of a block on a frictional joint.
+
+A block on a plane of dip θ with a joint of friction angle φ (no cohesion) is held iff
+tan θ ≤ tan φ (limit equilibrium; the pseudo-static coefficient k_h of a block on a plane
+of dip β adds atan k_h to the dip). Tilting gravity by θ on a flat base poses the same
+problem. The static analysis must hold the block up to the limit, with the joint's
+resultant shear over normal force equal to tan θ (equilibrium), and refuse the load just
+beyond it with a message that names the block and the joint. Near the limit most pairs
+slide, and trial state patterns that leave the block free (every pair sliding) used to end
+the 3D analysis with a mechanism at a factor of safety of 1.01.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.errors import MechanismError
+from pfeie.verification._models import block_on_base, block_on_base_3d
+
+PHI = 30.0
+
+
+def _tilted(dim: int, theta: float) -> pf.Model:
+    t = np.radians(theta)
+    if dim == 2:
+        m = block_on_base(joint=pf.Joint(phi=PHI), gravity=False, n=4)
+        m.add_gravity(direction=[np.sin(t), -np.cos(t)])
+    else:
+        m = block_on_base_3d(joint=pf.Joint(phi=PHI), gravity=False, n=3)
+        m.add_gravity(direction=[np.sin(t), 0.0, -np.cos(t)])
+    return m
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("theta", [29.0, 29.9, 29.99])
+def test_held_up_to_the_limit(dim: int, theta: float) -> None:
+    """Held at factors of safety tan φ / tan θ = 1.042, 1.0035 and 1.0003: ‖ΣT‖/ΣN = tan θ
+    to 1e-13 (equilibrium of the block; measured 3e-16 at most), every pair within its
+    cone (to 1e-10 of the largest force)."""
+    st = pf.solve_static(_tilted(dim, theta))
+    assert st.pairs is not None
+    X = st.pairs.X
+    ratio = np.linalg.norm(X[:, :-1].sum(axis=0)) / X[:, -1].sum()
+    assert ratio == pytest.approx(np.tan(np.radians(theta)), rel=1e-13)
+    mu = np.tan(np.radians(PHI))
+    excess = np.linalg.norm(X[:, :-1], axis=1) - mu * np.maximum(X[:, -1], 0.0)
+    # within the interface solver's tolerance (1e-8 of the forces' scale by the natural-map
+    # residual); measured 7.7e-12 (3D at 29.99°, solved by the Newton) and round-off
+    assert excess.max() <= 1e-10 * np.abs(X).max()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_refused_beyond_the_limit(dim: int) -> None:
+    """θ = 30.5° > φ: no equilibrium; the message names the floating block, its joint and
+    what to check."""
+    with pytest.raises(MechanismError, match=r"floating block\(s\) \('block' on 'joint'\).*"
+                       r"friction angles"):  # fmt: skip
+        pf.solve_static(_tilted(dim, 30.5))
+
+
+def test_cohesion_of_a_joint_that_starts_broken_is_flagged(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """A joint given a cohesion and a tensile strength of 10 kPa but starting broken (the
+    default) holds a block on 35° with φ = 30° only by friction, so the static analysis
+    finds no equilibrium (tan 35° > tan 30°); the same joint intact holds it (c A = 10 kN
+    > W (sin 35° − cos 35° tan 30°) = 2.4 kN for the 1 m block of 2400 kg), the joint's
+    shear over normal force tan 35° to 1e-13 (equilibrium), its heel pair broken in
+    tension. The broken one
+    gets a warning that names the interface and says what to set."""
+    def tilted(joint: pf.Joint) -> pf.Model:
+        m = block_on_base(joint=joint, gravity=False, n=2)
+        t = np.radians(35.0)
+        m.add_gravity(direction=[np.sin(t), -np.cos(t)])
+        return m
+
+    with caplog.at_level("WARNING"):
+        broken = tilted(pf.Joint(c=1e4, phi=PHI, tensile=1e4))
+    said = ("interface 'joint': cohesion = 10000 Pa and tensile strength = 10000 Pa given, "
+            "but the joint starts broken")
+    assert said in caplog.text and "initial = 'intact'" in caplog.text
+    with pytest.raises(MechanismError):
+        pf.solve_static(broken)
+    caplog.clear()
+    with caplog.at_level("WARNING"):
+        intact = tilted(pf.Joint(c=1e4, phi=PHI, tensile=1e4, initial="intact"))
+    assert "starts broken" not in caplog.text
+    st = pf.solve_static(intact)  # held: shear over normal tan 35° > tan φ, by cohesion
+    assert st.pairs is not None
+    X = st.pairs.X
+    assert st.pairs.broken.tolist() == [True, False, False]  # the heel (x = 0), in tension
+    assert abs(X[:, 0].sum()) / X[:, 1].sum() == pytest.approx(np.tan(np.radians(35.0)),
+                                                               rel=1e-13)  # fmt: skip
