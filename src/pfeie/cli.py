@@ -74,9 +74,11 @@ def _parser() -> argparse.ArgumentParser:
     mod = sub.add_parser(
         "modal", help="natural frequencies, effective modal masses and mode shapes",
         description="Modal analysis of a model file with its joints bonded (default) or "
-        "free: prints mode, frequency, period and the effective modal mass along each axis "
-        "(share of the free mass, and cumulative); writes modes.csv and the mode shapes as "
-        "a ParaView series (modes.xdmf, one frame per mode) to the output folder.",
+        "free, with the added mass of its reservoirs ([[loads.westergaard]]; default) or "
+        "without it (--dry): prints mode, frequency, period and the effective modal mass "
+        "along each axis (share of the free mass, and cumulative), and which mass it used; "
+        "writes modes.csv and the mode shapes as a ParaView series (modes.xdmf, one frame "
+        "per mode) to the output folder.",
     )  # fmt: skip
     mod.add_argument("model", help="model file (TOML)")
     mod.add_argument("-n", "--modes", type=int, default=10, metavar="N",
@@ -87,6 +89,8 @@ def _parser() -> argparse.ArgumentParser:
         default="bonded",
         help="joints bonded (default) or free (their springs, if any, ignored)",
     )
+    mod.add_argument("--dry", action="store_true", help="without the reservoirs' added mass "
+                     "(the structure alone; default: with it, the wet modes)")  # fmt: skip
     mod.add_argument("--out", metavar="DIR", help="output folder (default: output.folder)")
     for p in (run, chk, mod):
         p.add_argument("--duration", metavar="T", help="duration (s), instead of "
@@ -340,7 +344,7 @@ def _modal(args: argparse.Namespace, job: object) -> int:
               file=sys.stderr)  # fmt: skip
         return EXIT_INPUT
     try:
-        res = modal(model, args.modes, interfaces=args.interfaces)
+        res = modal(model, args.modes, interfaces=args.interfaces, added_mass=not args.dry)
         folder = output_folder(Path(args.out) if args.out else job.folder,  # type: ignore[attr-defined]
                                "--out" if args.out else "output.folder")  # fmt: skip
         files = write_modes(res, model, folder)
@@ -361,6 +365,14 @@ def _modal(args: argparse.Namespace, job: object) -> int:
                         for i in range(model.dim))  # fmt: skip
         ft = f"{'rigid':>10} {'-':>9}" if rigid[k] else f"{f:>10.4f} {1 / f:>9.4f}"
         print(f"{k + 1:>4} {ft} {cols}")
+    n_res = len(model.reservoirs) + len(model.fe_reservoirs)
+    some = f"{n_res} reservoir{'s' if n_res > 1 else ''} ([[loads.westergaard]])"
+    if not n_res:
+        print("mass: the blocks' only (the model has no reservoir: no [[loads.westergaard]])")
+    elif args.dry:
+        print(f"mass: dry, the blocks' only, without the added mass of {some} (--dry)")
+    else:
+        print(f"mass: wet, the blocks' and the added mass of {some}; --dry leaves it out")
     for f in files:
         print(f)
     return EXIT_OK

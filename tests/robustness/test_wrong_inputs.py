@@ -923,6 +923,29 @@ CASES: list[Case] = [
       argv=("study", "study.toml"),
       files={"study.toml": STUDY + '[[limit_states]]\nname = "x"\n'
              'demand = "joint.jiont.max_opening_m"\nthreshold = 0.001\n'}),
+    # -- ground_motion[].filter -------------------------------------------------------------
+    C("record-filter-above-nyquist", M, "ground_motion[0].filter.lowpass",
+      "expected a corner frequency in (0, 50) Hz", "Nyquist", "found 60.0",
+      edit=into("[[ground_motion]]", "filter = {lowpass = 60.0}")),
+    C("record-filter-highpass-above-nyquist", M, "ground_motion[0].filter.highpass",
+      "expected a corner frequency in (0, 50) Hz",
+      edit=into("[[ground_motion]]", "filter = {highpass = 60.0}")),
+    C("record-filter-corners-swapped", M, "ground_motion[0].filter.lowpass",
+      "expected a corner above highpass = 5 Hz", "found 2 Hz",
+      edit=into("[[ground_motion]]", "filter = {highpass = 5.0, lowpass = 2.0}")),
+    C("record-filter-order-9", M, "ground_motion[0].filter.order",
+      "expected an integer from 1 to 8, found 9",
+      edit=into("[[ground_motion]]", "filter = {lowpass = 5.0, order = 9}")),
+    C("record-filter-highpass-negative", M, "ground_motion[0].filter.highpass",
+      "expected a number > 0 Hz, found -0.1",
+      edit=into("[[ground_motion]]", "filter = {highpass = -0.1}")),
+    C("record-filter-no-corner", M, "ground_motion[0].filter", "expected highpass or lowpass",
+      edit=into("[[ground_motion]]", "filter = {order = 4}")),
+    C("record-filter-unknown-key", M, "ground_motion[0].filter.bandpass: unknown key",
+      edit=into("[[ground_motion]]", "filter = {bandpass = 1.0}")),
+    C("record-filter-uneven-times", M, "ground_motion[0].filter", "not equally spaced",
+      edit=into("[[ground_motion]]", "filter = {lowpass = 5.0}"),
+      files={"rec.csv": "t,a\n0,0\n0.01,0.1\n0.03,0\n"}),
 ]
 # fmt: on
 

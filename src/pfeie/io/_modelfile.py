@@ -384,10 +384,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             pair = f"either {given[0]} or {given[1]}, not both" if len(given) == 2 else (
                 "only one of scale, pga and target_sa")  # fmt: skip
             raise InputError(f"{p}: ground_motion[{i}]: give {pair}")
-        try:
+        try:  # scale, filter, baseline (as read_record), then to the pga or target_sa
             rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
-                              scale=gm.scale, direction=direction,
-                              baseline=gm.baseline)  # fmt: skip
+                              scale=gm.scale, direction=direction)  # fmt: skip
+            rec = _filtered(p, i, rec, gm.filter)
+            rec = rec.baseline_corrected() if gm.baseline else rec
             rec = _scaled(rec, gm)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
@@ -473,6 +474,19 @@ def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
         log.warning("%s: ground_motion[%d]: analysis.dt = %g s is coarser than the record's "
                     "sampling (%g s): the record is read at the steps, and its content "
                     "above %.4g Hz is not applied", p, i, dt, step, 0.5 / dt)  # fmt: skip
+
+
+def _filtered(p: Path, i: int, rec: GroundMotion, spec: Any) -> GroundMotion:
+    """The record through its ``filter`` table (:meth:`GroundMotion.filtered`); the checks
+    that need the record (its Nyquist frequency, equal steps) are reported at the key."""
+    if spec is None:
+        return rec
+    settings = {"highpass": spec.highpass, "lowpass": spec.lowpass, "order": spec.order}
+    why = rec.filter_problem(**settings)
+    if why is not None:
+        key, text = why
+        raise InputError(f"{p}: ground_motion[{i}].filter{'.' + key if key else ''}: {text}")
+    return rec.filtered(**settings)
 
 
 def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import RecordError
+from ..errors import ModelError, RecordError
 from ..model import GroundMotion
 from ..typing import FloatArray
 
@@ -139,11 +139,18 @@ def read_record(
     direction: Sequence[float] = (1.0, 0.0),
     baseline: bool = False,
     name: str | None = None,
+    highpass: float | None = None,
+    lowpass: float | None = None,
+    order: int = 4,
 ) -> GroundMotion:
     """Read an acceleration record into a :class:`GroundMotion` (see the module doc).
 
     ``units`` defaults to "g" for AT2 files and must be given otherwise (no guessing).
-    ``baseline`` applies :meth:`GroundMotion.baseline_corrected`.
+    The record is scaled by ``scale``, then, with ``highpass`` or ``lowpass`` (corner
+    frequencies, Hz), filtered by :meth:`GroundMotion.filtered` (zero-phase Butterworth of
+    order ``order``), then, with ``baseline``, corrected by
+    :meth:`GroundMotion.baseline_corrected`: the baseline correction comes last, so that
+    the record as applied ends at rest (the filter would change its final velocity).
     """
     p = Path(path)
     if not p.is_file():
@@ -191,6 +198,11 @@ def read_record(
             _one_column(p, lines, rows)
             acc = np.array([x for _, r in rows for x in r])
             gm = _make(p, acc, dt, None, units, scale, direction, label)
+    if highpass is not None or lowpass is not None:
+        try:
+            gm = gm.filtered(highpass=highpass, lowpass=lowpass, order=order)
+        except ModelError as exc:
+            raise RecordError(f"{p}: {exc}") from None
     return gm.baseline_corrected() if baseline else gm
 
 

@@ -398,6 +398,37 @@ class TargetSa(_Table):
     ] = 0.05
 
 
+class RecordFilter(_Table):
+    """``ground_motion[].filter``: a zero-phase Butterworth filter of the record (run
+    forward and backward, so |H|² per corner; a band-pass is the high-pass and the
+    low-pass in cascade; :meth:`pfeie.GroundMotion.filtered`). The corners must lie below
+    the record's Nyquist frequency 1/(2Δt), which ``pfeie check`` checks."""
+
+    highpass: Annotated[
+        Annotated[float, Field(gt=0.0), Unit("Hz")] | None,
+        Field(description="high-pass corner f_c (Hz): removes the periods longer than about "
+              "1/f_c, e.g. 0.1"),
+    ] = None  # fmt: skip
+    lowpass: Annotated[
+        Annotated[float, Field(gt=0.0), Unit("Hz")] | None,
+        Field(description="low-pass corner (Hz), e.g. 25; above highpass"),
+    ] = None
+    order: Annotated[
+        int, Field(ge=1, le=8), Expect("an integer from 1 to 8"),
+        Field(description="order n of each Butterworth (the two passes make the slope 2n)"),
+    ] = 4  # fmt: skip
+
+    @model_validator(mode="after")
+    def _corners(self) -> RecordFilter:
+        if self.highpass is None and self.lowpass is None:
+            raise _check("", "expected highpass or lowpass (corner frequencies, Hz), or both")
+        low, high = self.highpass, self.lowpass
+        if low is not None and high is not None and low >= high:
+            raise _check("lowpass", f"expected a corner above highpass = {self.highpass:g} Hz "
+                         f"(a band-pass), found {self.lowpass:g} Hz")  # fmt: skip
+        return self
+
+
 class RecordReading(_Table):
     """How a record file is read: its format, units, time step and direction (shared by
     a model file's ``[[ground_motion]]`` and a study file's ``[[records]]``)."""
@@ -440,6 +471,11 @@ class GroundMotionRecord(RecordReading):
         TargetSa | None,
         Field(description="scale the record to a pseudo-spectral acceleration Sa(T, ζ) (a "
               "table: period (s), value (g), damping), instead of scale or pga"),
+    ] = None  # fmt: skip
+    filter: Annotated[
+        RecordFilter | None,
+        Field(description="zero-phase Butterworth filter (a table: highpass, lowpass (Hz), "
+              "order), applied after scale and before baseline"),
     ] = None  # fmt: skip
 
 

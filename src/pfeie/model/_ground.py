@@ -8,6 +8,15 @@ to the ground, and absolute accelerations are a + ι a_g.
 The record is linearly interpolated to the analysis times (which need not coincide with
 its samples) and is zero before its first sample and after its last.
 
+Processing (:meth:`GroundMotion.filtered`, :meth:`GroundMotion.baseline_corrected`):
+a record read from a file is scaled, then band-limited by a zero-phase Butterworth
+filter, then baseline-corrected, in this order (:func:`pfeie.io.read_record`, the model
+file's ``[[ground_motion]]``). Scaling is linear and commutes with both; the baseline
+correction comes last because the filter's pads and transients change the final
+velocity that the correction brings to zero, and a constant removed before the filter
+would become two steps at the record's ends, which the filter turns into long-period
+transients.
+
 >>> gm = GroundMotion.from_samples([0.0, 0.1, -0.1], dt=0.02, units="g", direction=[1, 0])
 >>> round(gm(0.01), 6), round(gm(0.03), 6), gm(1.0)   # m/s², halfway between samples
 (0.4905, 0.0, 0.0)
@@ -15,6 +24,8 @@ its samples) and is zero before its first sample and after its last.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -29,6 +40,8 @@ if TYPE_CHECKING:
     from ._spectrum import ResponseSpectrum
 
 G_STANDARD = 9.80665
+#: the filter's zero pads at each end last PAD_PERIODS × order / (lowest corner) seconds
+PAD_PERIODS = 1.5
 G_UNITS = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
 
 
@@ -46,6 +59,8 @@ class GroundMotion:
     name: str = "record"
     #: how the record was scaled, for the summary (e.g. "scaled ×1.23 to PGA 0.3 g")
     scaling: str = ""
+    #: how the record was processed, for the summary (e.g. "band-pass 0.1–25 Hz, ...")
+    processing: str = ""
 
     @classmethod
     def from_samples(
@@ -119,8 +134,95 @@ class GroundMotion:
         v_end = float(np.sum(0.5 * (self.acceleration[1:] + self.acceleration[:-1])
                              * np.diff(self.time)))  # fmt: skip
         shift = v_end / self.duration
-        return GroundMotion(self.time, self.acceleration - shift, self.direction, self.name,
-                            self.scaling)  # fmt: skip
+        done = ", ".join(x for x in (self.processing, "baseline-corrected") if x)
+        return dataclasses.replace(self, acceleration=self.acceleration - shift,
+                                   processing=done)  # fmt: skip
+
+    def filtered(self, *, highpass: float | None = None, lowpass: float | None = None,
+                 order: int = 4) -> GroundMotion:  # fmt: skip
+        """The record through a zero-phase Butterworth filter: a high-pass (corner
+        ``highpass``, Hz: removes the long-period noise), a low-pass (corner ``lowpass``,
+        Hz) or both, a band-pass; ``order`` n in 1..8 is that of each Butterworth.
+
+        Each filter is designed digitally (bilinear transform, the corner pre-warped:
+        :func:`scipy.signal.butter`, second-order sections) and run forward and backward
+        (:func:`scipy.signal.sosfiltfilt`), so the phase is zero (no shift in time) and a
+        sine of frequency f (Hz), in steady state, is multiplied by
+
+            low-pass:   |H(f)|² = 1 / (1 + (w(f) / w(f_c))^(2n)),
+            high-pass:  |H(f)|² = 1 / (1 + (w(f_c) / w(f))^(2n)),
+            w(f) = tan(π f Δt),
+
+        i.e. 1/(1 + (f/f_c)^(2n)) and 1/(1 + (f_c/f)^(2n)) for f ≪ 1/Δt (the analogue
+        Butterworth squared): ½ at the corner (−6 dB), the slope that of order 2n. A
+        band-pass is the high-pass and the low-pass in cascade, |H|² their product.
+
+        Padding: zeros at both ends, each lasting 1.5 n / f_min (f_min the lowest corner,
+        Hz; about the duration of the filter's transient, Converse & Brady 1992), then the
+        two passes start from rest, and the pads are cut off: the record keeps its time
+        grid, and the transients of its ends lie in the pads. The samples must be equally
+        spaced; the corners must satisfy 0 < highpass < lowpass < 1/(2Δt) (the Nyquist
+        frequency). Accelerations stay in m/s².
+
+        >>> import numpy as np
+        >>> t = np.arange(20000) * 0.005
+        >>> gm = GroundMotion.from_samples(np.sin(2*np.pi*1.0*t) + np.sin(2*np.pi*20.0*t),
+        ...                                dt=0.005)
+        >>> mid = slice(8000, 12000)
+        >>> low = gm.filtered(lowpass=5.0).acceleration[mid]   # keeps 1 Hz, removes 20 Hz
+        >>> bool(np.abs(low - np.sin(2*np.pi*t[mid])).max() < 1e-4)
+        True
+        """
+        why = self.filter_problem(highpass=highpass, lowpass=lowpass, order=order)
+        if why is not None:
+            key, text = why
+            raise ModelError(f"ground motion {self.name!r}: filter{': ' + key if key else ''}: "
+                             f"{text}")  # fmt: skip
+        dt = float(self.duration / (self.time.size - 1))
+        from scipy.signal import butter, sosfiltfilt
+
+        corners = [(kind, fc) for kind, fc in (("highpass", highpass), ("lowpass", lowpass))
+                   if fc is not None]  # fmt: skip
+        sos = [butter(int(order), fc, btype=kind, output="sos", fs=1.0 / dt)
+               for kind, fc in corners]  # fmt: skip
+        f_min = min(fc for _, fc in corners)
+        pad = math.ceil(PAD_PERIODS * order / f_min / dt)
+        padded = np.concatenate([np.zeros(pad), self.acceleration, np.zeros(pad)])
+        out = sosfiltfilt(np.concatenate(sos), padded, padtype=None)[pad : pad + self.time.size]
+        band = (f"band-pass {highpass:g}–{lowpass:g} Hz" if highpass and lowpass
+                else f"high-pass {highpass:g} Hz" if highpass
+                else f"low-pass {lowpass:g} Hz")  # fmt: skip
+        note = f"{band} (Butterworth order {order}, zero phase)"
+        done = ", ".join(x for x in (self.processing, note) if x)
+        return dataclasses.replace(self, acceleration=np.asarray(out, dtype=float),
+                                   processing=done)  # fmt: skip
+
+    def filter_problem(self, *, highpass: float | None = None, lowpass: float | None = None,
+                       order: int = 4) -> tuple[str, str] | None:  # fmt: skip
+        """What is wrong with these settings of :meth:`filtered` for this record, as
+        (setting, what was expected and found), the setting "" for the record itself; None
+        if they are valid: 0 < highpass < lowpass < 1/(2Δt), order an integer in [1, 8],
+        at least one corner, equally spaced samples."""
+        integer = isinstance(order, int | np.integer) and not isinstance(order, bool)
+        if not (integer and 1 <= order <= 8):
+            return "order", f"expected an integer in [1, 8], found {order!r}"
+        if highpass is None and lowpass is None:
+            return "", "expected a highpass or a lowpass corner (Hz), or both"
+        dts = np.diff(self.time)
+        dt = float(self.duration / (self.time.size - 1))
+        if not np.allclose(dts, dt, rtol=1e-6, atol=0.0):
+            return "", (f"the samples are not equally spaced (Δt from {dts.min():g} to "
+                        f"{dts.max():g} s); expected a record with one time step")  # fmt: skip
+        nyquist = 0.5 / dt
+        for key, fc in (("highpass", highpass), ("lowpass", lowpass)):
+            if fc is not None and not (math.isfinite(fc) and 0.0 < fc < nyquist):
+                return key, (f"expected a corner frequency in (0, {nyquist:g}) Hz (below the "
+                             f"Nyquist frequency 1/(2Δt) of the record {self.name!r}, "
+                             f"Δt = {dt:g} s), found {fc!r}")  # fmt: skip
+        if highpass is not None and lowpass is not None and not highpass < lowpass:
+            return "lowpass", (f"expected a corner above highpass = {highpass:g} Hz (a "
+                               f"band-pass), found {lowpass:g} Hz")  # fmt: skip
+        return None
 
     def motion(self, t: float) -> tuple[float, float, float]:
         """Ground displacement (m), velocity (m/s) and acceleration (m/s²) at t, integrated
@@ -192,4 +294,5 @@ class GroundMotion:
         return (f"{self.name}: PGA {abs(self.acceleration[i]) / 9.81:.3f} g "
                 f"({abs(self.acceleration[i]):.3f} m/s²) at {self.time[i]:.2f} s, "
                 f"duration {self.duration:.2f} s, dt {dt}"
+                + (f", {self.processing}" if self.processing else "")
                 + (f", {self.scaling}" if self.scaling else ""))  # fmt: skip

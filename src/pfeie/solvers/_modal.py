@@ -8,6 +8,12 @@ the merged to the split DOFs, so an intact interface gives the frequencies of th
 mesh exactly (V9). Pairs of a joint with stiffnesses k_n, k_s add the springs
 Gᵀ diag(k A) G instead. ``interfaces="free"`` ignores the pairs (blocks vibrate apart;
 floating blocks then have zero frequencies).
+
+Reservoirs. M includes the added mass of the model's reservoirs (Westergaard's, or a
+finite-element reservoir's M_a: :meth:`pfeie.Model.add_westergaard`), the "wet" modes;
+``added_mass=False`` leaves it out, the "dry" modes of the structure alone (the same
+as the model without its reservoirs; its stiffness and supports unchanged). The added
+mass lowers the frequencies: ω² = φᵀKφ / φᵀ(M + M_a)φ at the wet mode.
 """
 
 from __future__ import annotations
@@ -59,8 +65,10 @@ def modal(
     lumped_mass: bool = False,
     backend: str = "auto",
     interfaces: str = "bonded",
+    added_mass: bool = True,
 ) -> ModalResult:
-    """The ``n_modes`` lowest modes of the supported model.
+    """The ``n_modes`` lowest modes of the supported model, with the reservoirs' added
+    mass (``added_mass``, default) or without it (the dry structure).
 
     Shift-invert about σ (default: slightly below zero, so that K − σM stays positive
     definite and Cholesky applies); the factorisation of K − σM is the project's own.
@@ -75,6 +83,9 @@ def modal(
     """
     system = model.system(lumped_mass=lumped_mass)
     K, M = system.K, system.M
+    if not added_mass:  # the blocks' mass alone, on the same free DOFs
+        M = model.mass(lumped=lumped_mass, added=False)[system.free][:, system.free].tocsr()
+    M_split = M
     if interfaces not in ("bonded", "free"):
         raise SolverError(f"interfaces must be 'bonded' or 'free', got {interfaces!r}")
     P = None
@@ -98,7 +109,7 @@ def modal(
     norms = np.sqrt(np.einsum("ik,ik->k", vec, M @ vec))
     vec = vec / norms
     if P is not None:  # back to the split DOFs (M = Pᵀ M_split P keeps the normalisation)
-        M = system.M
+        M = M_split
         vec = P @ vec
     freqs = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
     d = model.dim
