@@ -579,6 +579,15 @@ def _format_check(s: dict[str, object]) -> str:
     assert isinstance(pairs, dict)
     for name, n in pairs.items():
         lines.append(f"interface    {name}: {n} pairs")
+    damping = s.get("damping")
+    if isinstance(damping, dict):
+        floating = damping["floating"]
+        line = (f"damping      Rayleigh alpha = {damping['alpha']:.4g} 1/s, "
+                f"beta = {damping['beta']:.4g} s")  # fmt: skip
+        if damping["alpha"] > 0 and floating:
+            line += (f"; the mass-proportional part brakes the rigid motion of the floating "
+                     f"block(s) {', '.join(floating)} (docs/model-file.md, Damping)")  # fmt: skip
+        lines.append(line)
     records = s["records"]
     assert isinstance(records, list)
     for r in records:

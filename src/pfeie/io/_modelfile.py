@@ -178,10 +178,24 @@ class Job:
             "bodies": m.n_bodies, "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
             "free_dof": dof, "pairs": pairs,
             "quality": _quality(m.mesh),
+            "damping": {"alpha": m.damping.alpha if m.damping else 0.0,
+                        "beta": m.damping.beta if m.damping else 0.0,
+                        "floating": _floating_blocks(m)},
             "records": [g.summary() for g in self.records], "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
             "estimated_memory_mb": round(mem / 2**20, 1),
         }  # fmt: skip
+
+
+def _floating_blocks(m: Model) -> list[str]:
+    """The bodies with no support (held by their joints, or free): their rigid motion is
+    what the mass-proportional damping brakes."""
+    held = np.zeros(m.n_dof, dtype=bool)
+    held[m.system().prescribed] = True
+    body = m.body_of_node
+    names = m.body_names()
+    return [names[b] for b in range(m.n_bodies)
+            if not held.reshape(-1, m.dim)[body == b].any()]  # fmt: skip
 
 
 def _quality(mesh: Mesh) -> dict[str, dict[str, Any]]:
