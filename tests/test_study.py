@@ -2,8 +2,8 @@
 
 References: a study's row equals a separate ``pfeie run`` of the model with that record
 scaled the same way (an independent run: a new process, a new factorisation) to 1e-12
-relative; the Dask paths (a two-worker local cluster, a scheduler started here) give the
-serial table bit for bit; a study killed (SIGKILL) and started again gives the same table.
+relative (the Dask paths, which give the serial table bit for bit, are in
+test_study_workers.py); a study killed (SIGKILL) and started again gives the same table.
 """
 
 from __future__ import annotations
@@ -60,6 +60,8 @@ probes = { top = [1.0, 2.0] }
 STUDY = """
 title = "three records at two intensities"
 model = "model.toml"
+[run]
+workers = 0   # in this process: the tests of the local cluster remove this line
 [[records]]
 folder = "rec"
 pattern = "*.csv"
@@ -202,22 +204,6 @@ def test_interrupt_keeps_finished_runs(tmp_path: Path) -> None:
     assert seen == [3, 4, 5, 6]
 
 
-def test_dask_local_cluster_and_scheduler(tmp_path: Path) -> None:
-    """Two worker processes, and a scheduler started here (its address given as a
-    `pfeie study --scheduler` would): the same table as the serial study, bit for bit."""
-    distributed = pytest.importorskip("distributed")
-    p = setup(tmp_path)
-    serial = Study.from_file(p).run()
-    st = Study.from_file(p)
-    st.folder = tmp_path / "dask"
-    same(serial, st.run(workers=2))
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster:  # fmt: skip
-        st = Study.from_file(p)
-        st.folder = tmp_path / "scheduler"
-        same(serial, st.run(scheduler=cluster.scheduler_address))
-
-
 def test_sa_ladder_and_intensity_measures(tmp_path: Path) -> None:
     """An Sa(T1) ladder: T1 is the model's first period (joints bonded) unless given; the
     Sa column equals the target; Arias intensity scales with the factor squared, PGV and
@@ -257,6 +243,7 @@ def test_histories_kept_on_request(tmp_path: Path) -> None:
     ('measure = "pga"', ["intensity.measure", "one of 'scale', 'pga', 'sa'"]),
     ('units = "g"', ["records[0]", "rainbow"]),
     ('folder = "rec"', ["records[0]", "either file or folder"]),
+    ("workers = 0 ", ["run.workers", "expected an integer in [0, 4096] or 'auto'", "'many'"]),
 ])  # fmt: skip
 def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str,
                          words: list[str]) -> None:  # fmt: skip
@@ -269,6 +256,7 @@ def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edi
         'measure = "pga"': 'measure = "pgv"',
         'units = "g"': 'units = "g"\nrainbow = 1',
         'folder = "rec"': 'folder = "rec"\nfile = "rec/r0.csv"',
+        "workers = 0 ": 'workers = "many" ',
     }[edit]
     p = setup(tmp_path, STUDY.replace(edit, bad))
     assert main(["study", str(p)]) == 2

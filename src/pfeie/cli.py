@@ -21,7 +21,7 @@ import json
 import logging
 import sys
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Literal, NoReturn
 
 from ._version import __version__
 from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError, ResultsError
@@ -153,9 +153,11 @@ def _parser() -> argparse.ArgumentParser:
     stu.add_argument("study", help="study file (TOML)")
     stu.add_argument(
         "--workers",
-        metavar="N",
-        help="worker processes of a local Dask "
-        "cluster (0: in this process; default: the study file's run.workers)",
+        metavar="N|auto",
+        help="worker processes of a local Dask cluster; 'auto': one per available core "
+        "(in this process when Dask is not installed, or with one core or one run to do); "
+        "0: in this process, one after the other (default: the study file's run.workers, "
+        "itself 'auto' by default)",
     )
     stu.add_argument(
         "--scheduler",
@@ -468,11 +470,14 @@ def _study(args: argparse.Namespace) -> int:
 
     from .study import Study
 
-    workers = None
-    if args.workers is not None:
+    workers: int | Literal["auto"] | None = None
+    if args.workers == "auto":
+        workers = "auto"
+    elif args.workers is not None:
         if not (args.workers.isdigit() and int(args.workers) <= 4096):
             print(f"pfeie: error: --workers: expected a whole number in [0, 4096], found "
-                  f"{args.workers!r}", file=sys.stderr)  # fmt: skip
+                  f"{args.workers!r} (or 'auto': one process per core)",
+                  file=sys.stderr)  # fmt: skip
             return EXIT_INPUT
         workers = int(args.workers)
     try:

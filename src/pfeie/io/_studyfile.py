@@ -19,6 +19,9 @@ A study runs one model file under many records, each at several intensities
     [output]
     folder = "study"
 
+    [run]
+    workers = "auto"                    # the default: one process per core (0: serial)
+
 Relative paths are relative to the study file. Every table refuses unknown keys and
 non-finite numbers, and an error names the file, the key path and what was expected
 (the same messages as the model file, :mod:`pfeie.io._schema`).
@@ -33,7 +36,7 @@ from typing import Annotated, Literal
 from pydantic import Field, ValidationError, model_validator
 
 from ..errors import InputError
-from ._schema import PathText, Positive, RecordReading, _check, _Table, problems
+from ._schema import PathText, Positive, RecordReading, _check, _found, _Table, problems
 
 
 class StudyRecords(RecordReading):
@@ -104,18 +107,39 @@ class StudyOutput(_Table):
     ] = True
 
 
+#: the largest number of worker processes of ``run.workers`` (as ``pfeie study --workers``
+#: and :class:`pfeie.study.Study`)
+MAX_WORKERS = 4096
+
+
 class StudyRun(_Table):
     """``[run]``: how the runs are spread."""
 
     workers: Annotated[
-        int, Field(ge=0, le=4096, description="worker processes of a local Dask cluster; 0 "
-                   "runs every record in this process, one after the other"),
-    ] = 0  # fmt: skip
+        int | Literal["auto"],
+        Field(description="worker processes of a local Dask cluster; 'auto': one per core "
+              "available to this process (in this process when Dask is not installed, "
+              "or with one core or one run to do); 0 runs every record in this process, "
+              "one after the other"),
+    ] = "auto"  # fmt: skip
     scheduler: Annotated[
         str | None,
         Field(description="address of a running Dask scheduler (e.g. 'tcp://host:8786'), "
               "instead of a local cluster"),
     ] = None  # fmt: skip
+
+    @model_validator(mode="before")
+    @classmethod
+    def _workers(cls, data: object) -> object:
+        """``workers``: a whole number in [0, 4096] or "auto" (one message, not one per
+        member of the union)."""
+        if isinstance(data, dict) and "workers" in data:
+            w = data["workers"]
+            if not (w == "auto" or (type(w) is int and 0 <= w <= MAX_WORKERS)):
+                found = repr(w) if type(w) is int else _found(w)
+                raise _check("workers", f"expected an integer in [0, {MAX_WORKERS}] or "
+                             f"'auto', found {found}")  # fmt: skip
+        return data
 
 
 class StudyLimitState(_Table):

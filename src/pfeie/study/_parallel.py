@@ -8,6 +8,12 @@ the worker to ``<folder>/rows/`` as the run ends, so that a study killed at any 
 keeps its finished runs; on a cluster, the output folder must be on a file system that
 the workers share with the client.
 
+``workers = "auto"`` (the default of the study file and of :class:`~pfeie.study.Study`)
+is one process per core this process may run on (:func:`available_cores`), at most one
+per run, and the runs stay in this process, one after the other, when that cannot help:
+Dask not installed, one core, one run to do, or a daemonic process (which may not start
+others); an INFO line says which (:func:`local_workers`).
+
 A local cluster has ``workers`` processes of one thread each, with ``OMP_NUM_THREADS=1``
 (a run is sequential; the processes are the parallelism). Its workers log only critical
 errors (a run's error comes back with its task), and an interrupted study (Ctrl-C,
@@ -21,13 +27,57 @@ installed.
 from __future__ import annotations
 
 import logging
+import multiprocessing
+import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import InputError, PfeieError
-from ._study import Context, RunSpec, run_one
+from ._study import Context, RunSpec, Workers, run_one
 
 log = logging.getLogger(__name__)
+
+
+def available_cores() -> int:
+    """The cores this process may run on: ``os.sched_getaffinity`` (which honours
+    ``taskset``, a container's or a batch job's CPU set), else ``os.cpu_count()`` (on
+    platforms without it), at least 1."""
+    try:
+        return max(len(os.sched_getaffinity(0)), 1)
+    except AttributeError:  # macOS, Windows
+        return max(os.cpu_count() or 1, 1)
+
+
+def local_workers(workers: Workers, runs: int) -> int:
+    """The worker processes of the local cluster for ``runs`` runs (0: in this process).
+
+    A number is kept as given. ``"auto"`` is ``min(available_cores(), runs)``, or 0 with
+    an INFO line giving the reason when a cluster cannot help: one run (or none) to do,
+    one core, Dask not installed (the study extra), or a daemonic process (it may not
+    start processes)."""
+    if workers != "auto":
+        return int(workers)
+    cores = available_cores()
+    why = None
+    if runs <= 1:
+        why = f"{runs} run to do"
+    elif cores <= 1:
+        why = "one core available"
+    elif multiprocessing.current_process().daemon:
+        why = "a daemonic process cannot start worker processes"
+    else:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            why = "Dask is not installed (pip install 'pfeie[study]')"
+    if why is not None:
+        log.info("study: workers = 'auto': the runs go in this process, one after the "
+                 "other (%s)", why)  # fmt: skip
+        return 0
+    n = min(cores, runs)
+    log.info("study: workers = 'auto': a local Dask cluster of %d processes (%d cores, "
+             "%d runs)", n, cores, runs)  # fmt: skip
+    return n
 
 
 def run_parallel(
@@ -55,10 +105,18 @@ def run_parallel(
             raise InputError(f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     else:
         env = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-        cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
-                               processes=True, dashboard_address=":0",
-                               scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.CRITICAL, env=env)  # fmt: skip
+        try:
+            cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
+                                   processes=True, dashboard_address=":0",
+                                   scheduler_kwargs={"dashboard": False},
+                                   silence_logs=logging.CRITICAL, env=env)  # fmt: skip
+        except RuntimeError as exc:  # a worker process that failed to start
+            raise InputError(
+                f"the local Dask cluster could not start its {int(workers)} worker "
+                f"processes ({exc}); a Python script that runs a study on workers needs its "
+                "code under 'if __name__ == \"__main__\":' (each worker starts by importing "
+                "the script), or run the study with workers = 0"
+            ) from None
         client = Client(cluster)
     log.info("study on Dask: %s (%d runs)", client.dashboard_link or scheduler, len(specs))
     error: BaseException | None = None
@@ -83,4 +141,4 @@ def run_parallel(
         raise error
 
 
-__all__ = ["run_parallel"]
+__all__ = ["available_cores", "local_workers", "run_parallel"]

@@ -4,9 +4,11 @@ The model is built, its static state solved and its time stepping set up (the bl
 effective matrices factorised, the Delassus operator W built) **once per process**; every
 run of that process reuses them (:func:`run_one` keeps them in a per-process cache keyed by
 the inputs' hash). A run is then only the time stepping: the record scaled, the steps,
-the demands. Runs go one after the other in this process (``workers = 0``), or on Dask
-(:mod:`pfeie.study._parallel`): a local cluster of worker processes, or a running
-scheduler; only the small per-run summaries travel back.
+the demands. Runs go on Dask (:mod:`pfeie.study._parallel`): by default a local cluster
+of one worker process per available core (``workers = "auto"``), or a running scheduler;
+only the small per-run summaries travel back. With ``workers = 0`` (and by default when
+Dask is not installed, or with one core or one run) they go one after the other in this
+process. :func:`builds` counts the systems a process has built.
 
 Every run has a key: the SHA-256 of everything its result depends on (the model file
 with its overrides, the mesh and record bytes, the reading options of the record, the
@@ -42,7 +44,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from .._version import __version__
 from ..errors import InputError, ModelError, RecordError
@@ -85,6 +87,25 @@ SOLVER_KEYS = ("fallback_steps", "worst_residual")
 #: never negative, so a threshold <= 0 would be reached by every run ("above") or by none
 #: ("below"), and is refused.
 SIGNED_COLUMNS = frozenset({"stress.max_principal_Pa", "stress.min_principal_Pa"})
+
+#: how the runs are spread: worker processes of a local Dask cluster (0: in this process),
+#: or "auto" (:func:`pfeie.study._parallel.local_workers`)
+Workers = int | Literal["auto"]
+
+#: the most worker processes of a local cluster (the study file's bound on ``run.workers``)
+MAX_WORKERS = 4096
+
+
+def check_workers(workers: object) -> Workers:
+    """``workers`` if it is "auto" or a whole number in [0, 4096] (the study file's
+    ``run.workers``), else a :class:`ModelError` that names that key."""
+    if workers == "auto":
+        return "auto"
+    if type(workers) is int and 0 <= workers <= MAX_WORKERS:
+        return workers
+    raise ModelError(f"run.workers: expected an integer in [0, {MAX_WORKERS}] or 'auto', "
+                     f"found {workers!r}")  # fmt: skip
+
 
 #: the largest intensity of a ``pga`` or ``sa`` ladder (g): the model file's bound on
 #: ``ground_motion[].pga`` and ``target_sa.value``
@@ -199,6 +220,14 @@ class _System:
 
 
 _SYSTEMS: dict[str, _System] = {}
+_BUILDS = [0]  # the systems this process has built (:func:`builds`)
+
+
+def builds() -> int:
+    """How many times this process has built a system (:func:`system`): once for the
+    first run of a model key, and again only when another model key (another model file,
+    override or Δt) came in between; a worker answers for itself (``client.run``)."""
+    return _BUILDS[0]
 
 
 def system(ctx: Context) -> _System:
@@ -217,8 +246,9 @@ def system(ctx: Context) -> _System:
         hit = _System(job, dynamic_analysis(job), static)
         _SYSTEMS.clear()  # one model per process at a time
         _SYSTEMS[ctx.model_key] = hit
-        log.info("pid %d: system of %s built in %.2f s", os.getpid(), ctx.model,
-                 time.perf_counter() - t0)  # fmt: skip
+        _BUILDS[0] += 1
+        log.info("pid %d: system of %s built in %.2f s (build %d of this process)",
+                 os.getpid(), ctx.model, time.perf_counter() - t0, _BUILDS[0])  # fmt: skip
     return hit
 
 
@@ -365,6 +395,12 @@ class Study:
     duration: of every run (s); default each record's length.
     overrides: ``KEY=VALUE`` settings of the model file (as ``pfeie run --set``).
     folder: output folder (the rows, the table).
+    workers: worker processes of a local Dask cluster (0: every run in this process, one
+        after the other); ``"auto"`` (the default): one per core available, at most one
+        per run, and in this process when Dask is not installed or with one core or one
+        run. A Python script that runs a study on workers has its code under
+        ``if __name__ == "__main__":`` (each worker process starts by importing it).
+    scheduler: address of a running Dask scheduler, instead of a local cluster.
     limit_states: ``{"name", "demand", "threshold", "exceed"}`` dicts (the study file's
         ``[[limit_states]]``); a threshold > 0 unless the demand is a principal stress.
     source: the study file (its name starts the messages about the study's keys).
@@ -390,7 +426,7 @@ class Study:
     histories: bool = False
     parquet: bool = True
     title: str = ""
-    workers: int = 0
+    workers: Workers = "auto"
     scheduler: str | None = None
     limit_states: list[dict[str, Any]] = field(default_factory=list)
     source: Path | None = None
@@ -422,6 +458,7 @@ class Study:
         if len(set(names)) != len(names):
             raise ModelError(f"records: two records have the same name: {names}")
         self._check_limit_states()
+        self.workers = check_workers(self.workers)
         self.source = None if self.source is None else Path(self.source)
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
@@ -644,7 +681,7 @@ class Study:
     def run(
         self,
         *,
-        workers: int | None = None,
+        workers: Workers | None = None,
         scheduler: str | None = None,
         resume: bool = True,
         progress: Callable[[int, int, dict[str, Any]], None] | None = None,
@@ -653,14 +690,17 @@ class Study:
         the same key are kept) and write the table (``table.csv``, ``table.parquet``).
 
         ``workers`` worker processes of a local Dask cluster (0: in this process, one
-        after the other), or the Dask ``scheduler`` at an address; the study file's
-        ``[run]`` values by default. ``progress(done, total, row)`` is called after each
+        after the other; "auto": one per available core, in this process when Dask is
+        not installed or with one core or one run to do,
+        :func:`~pfeie.study._parallel.local_workers`), or the Dask ``scheduler`` at an
+        address; the study's ``workers`` and ``scheduler`` by default (the study file's
+        ``[run]``). ``progress(done, total, row)`` is called after each
         run."""
         folder = self.prepare_folder().resolve()
         specs = self.runs()
         # the output options as they are now (they may be changed after the set-up)
         ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories)
-        workers = self.workers if workers is None else workers
+        workers = self.workers if workers is None else check_workers(workers)
         scheduler = self.scheduler if scheduler is None else scheduler
         done: dict[str, dict[str, Any]] = {}
         if resume:
@@ -682,10 +722,11 @@ class Study:
                 progress(n_done, total, row)
 
         if todo:
-            if scheduler or workers > 0:
-                from ._parallel import run_parallel
+            from ._parallel import local_workers, run_parallel
 
-                run_parallel(ctx, todo, finished, workers=workers, scheduler=scheduler)
+            n = 0 if scheduler else local_workers(workers, len(todo))
+            if scheduler or n > 0:
+                run_parallel(ctx, todo, finished, workers=n, scheduler=scheduler)
             else:
                 for s in todo:
                     finished(run_one(ctx, s))
@@ -713,5 +754,5 @@ class Study:
         return list(getattr(self, "_outputs", []))
 
 
-__all__ = ["Context", "RecordSource", "RunSpec", "Study", "read_row", "run_one", "system",
-           "write_row"]  # fmt: skip
+__all__ = ["Context", "RecordSource", "RunSpec", "Study", "Workers", "builds", "check_workers",
+           "read_row", "run_one", "system", "write_row"]  # fmt: skip
