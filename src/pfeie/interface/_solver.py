@@ -118,7 +118,7 @@ SPARSE_MIN = 1000
 """Smallest W (rows) kept sparse when it is sparse enough (:data:`SPARSE_FILL`)."""
 SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
-NEWTON_WOODBURY_MIN = 1500
+NEWTON_WOODBURY_MIN = 300
 """Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c (in 3D,
 with the Jacobian kept per pair and the Newton taking over from the state iteration as
 soon as a slip direction turns; a 3D border problem is then solved on W_c⁻¹ too)."""
