@@ -260,3 +260,32 @@ def test_steps_lie_on_the_time_grid(scheme: str) -> None:
     np.testing.assert_array_equal(more.t, np.arange(1000, 1004) * h)
     moved = an.run(n_steps=3, start=dataclasses.replace(res.final, step=0))
     assert np.all(np.diff(moved.t) > 0) and moved.t[1] == pytest.approx(1.0 + h, abs=1e-15)
+
+
+def test_checkpoints_every_n_steps(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``output.checkpoint_steps = 25`` with a wall-time interval that never comes: a run of
+    120 steps writes its checkpoints at steps 25, 50, 75 and 100 and at its end (120); the
+    last one on disk is the end's, and a run key without the key (0, the default) is that
+    of the files written before it."""
+    from pfeie.io import _checkpoint
+    from pfeie.io import load_job, parse_override
+
+    seen: list[_checkpoint.CheckpointWriter] = []
+    init = _checkpoint.CheckpointWriter.__init__
+
+    def spy(self: _checkpoint.CheckpointWriter, *a: object, **k: object) -> None:
+        init(self, *a, **k)  # type: ignore[arg-type]
+        seen.append(self)
+
+    monkeypatch.setattr(_checkpoint.CheckpointWriter, "__init__", spy)
+    p = _write(tmp_path, SMALL, duration=0.6)
+    assert main(["run", str(p), "--quiet", "--set", "output.checkpoint_steps=25",
+                 "--set", "output.checkpoint_seconds=1e6"]) == 0  # fmt: skip
+    assert seen[0].written == [25, 50, 75, 100, 120]
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert int(res.f["checkpoint"].attrs["step"]) == 120
+    plain = load_job(p, [])
+    zero = load_job(p, [parse_override("output.checkpoint_steps=0")])
+    assert _checkpoint.run_key(plain) == _checkpoint.run_key(zero)
+    other = load_job(p, [parse_override("output.checkpoint_steps=25")])
+    assert _checkpoint.run_key(other) != _checkpoint.run_key(plain)

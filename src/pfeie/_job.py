@@ -170,7 +170,7 @@ def _run(
     if ck is None:
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
-    ckw = CheckpointWriter(writer, run_key(job), every_s)
+    ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps)
     try:
         if a.static and ck is None:
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))

@@ -49,9 +49,10 @@ def run_key(job: Any) -> str:
     """The SHA-256 of what a run's results depend on, except its duration: the validated
     model file with its overrides, and the bytes of the mesh and record files. The keys
     of the storage that change no value are left out: ``output.compression`` and
-    ``compression_level`` (a resumed run keeps the file's own), and ``field_precision``
-    when it is "float64", the precision of every file written before these keys (so
-    their run keys stay the same: they resume)."""
+    ``compression_level`` (a resumed run keeps the file's own), ``field_precision``
+    when it is "float64", the precision of every file written before these keys, and
+    ``checkpoint_steps`` when it is 0 (so the run keys of earlier files stay the same:
+    they resume)."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
     out = spec.get("output", {})
@@ -59,6 +60,8 @@ def run_key(job: Any) -> str:
         out.pop(key, None)
     if out.get("field_precision") == "float64":
         out.pop("field_precision")
+    if not out.get("checkpoint_steps"):  # 0, the default: the keys of earlier files
+        out.pop("checkpoint_steps", None)
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]
@@ -72,17 +75,26 @@ class CheckpointWriter:
     """Writes the checkpoints of a run into its results file (see the module doc): call
     it with every :class:`~pfeie.dynamics.Checkpoint` of the run (``on_checkpoint`` of
     :meth:`pfeie.Dynamic.run`); it keeps the latest and writes it when ``interval``
-    seconds have passed since the last one, and on :meth:`close`."""
+    seconds have passed since the last one, or ``steps`` time steps (when > 0), and on
+    :meth:`close`."""
 
-    def __init__(self, writer: ResultsWriter, key: str, interval: float = 30.0) -> None:
+    def __init__(self, writer: ResultsWriter, key: str, interval: float = 30.0,
+                 steps: int = 0) -> None:  # fmt: skip
         self.writer, self.key, self.interval = writer, key, float(interval)
+        self.steps = int(steps)
         self._pending: Checkpoint | None = None
         self._last = time.perf_counter()
+        self._last_step: int | None = None
+        self.written: list[int] = []  # the time steps of the checkpoints written
         writer.f.attrs["run_key"] = key
 
     def __call__(self, ck: Checkpoint) -> None:
         self._pending = ck
-        if time.perf_counter() - self._last >= self.interval:
+        if self._last_step is None:  # the first step of this run (or of its resumption)
+            self._last_step = ck.state.step - 1
+        # every N steps: at the first recorded row at or after each multiple of N
+        due = self.steps > 0 and ck.state.step // self.steps > self._last_step // self.steps
+        if due or time.perf_counter() - self._last >= self.interval:
             self.write()
 
     def close(self) -> None:
@@ -135,6 +147,8 @@ class CheckpointWriter:
         f.flush()
         self._pending = None
         self._last = time.perf_counter()
+        self._last_step = st.step
+        self.written.append(st.step)
 
 
 def _grows(obj: Any) -> bool:

@@ -536,6 +536,12 @@ class Output(_Table):
               "0: at every recorded row, and each costs about 0.1 s on the demo, so 0 makes a "
               "run many times slower); `pfeie run --resume` continues from the last"),
     ] = 30.0  # fmt: skip
+    checkpoint_steps: Annotated[
+        int, Field(ge=0, le=10**9),
+        Field(description="also a checkpoint every this many time steps (at the first "
+              "recorded row after them; 0: by wall time only), e.g. for runs on a cluster "
+              "whose jobs may be stopped at any time"),
+    ] = 0  # fmt: skip
     compression: Annotated[
         Literal["gzip", "lzf", "none"],
         Field(description="compression of the arrays of results.h5 and of the ParaView "
