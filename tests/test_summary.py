@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 
 import pfeie as pf
-from pfeie._job import OPEN_CRACK_MIN_M, format_summary, summarize
+from pfeie._job import format_summary, summarize
 from pfeie.io import Job
+from pfeie.plot import OPEN_CRACK_MIN_M
 from pfeie.verification._models import block_on_base
 
 G = 9.81  # m/s², the builders' gravity

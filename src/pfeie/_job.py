@@ -52,17 +52,13 @@ from .io import (
     run_key,
     write_paraview,
 )  # fmt: skip
+from .plot import OPEN_CRACK_MIN_M
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
 
 #: m/s², the g of the accelerations the summary gives in g (as the records' units)
 G = 9.81
-#: m, the least opening of a pair that counts in the summary's open crack
-#: (``max_open_length_m``, ``max_open_area_m2``): 0.01 mm, the resolution of the printed
-#: maximum opening. A pair with no contact force but an opening below it (round-off,
-#: or the micro-gaps of the corner nodes of quadratic faces, 1e-7 m) is not an open crack.
-OPEN_CRACK_MIN_M = 1e-5
 
 
 class Progress:
@@ -270,7 +266,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     ``initially_broken_share`` (the pairs of ``initial = "broken"`` laws), shares of the
     joint's area; ``cracked_length_m`` (2D) or ``cracked_area_m2`` (3D), the broken
     pairs at the end; ``max_open_length_m`` or ``max_open_area_m2``, the largest extent
-    of the broken pairs that are open by more than :data:`OPEN_CRACK_MIN_M`, and when.
+    of the broken pairs that are open by more than ``pfeie.plot.OPEN_CRACK_MIN_M``
+    (1e-5 m), and when.
     """
     s: dict[str, Any] = {"model": job.summary(), "version": __version__}
     model = job.model

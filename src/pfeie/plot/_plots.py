@@ -11,7 +11,7 @@
   below :data:`OPENING_FLOOR_M` drawn as 0) histories of each interface, with the broken
   share, and its cracked length (2D; area in 3D: the broken pairs), the broken pairs in
   the open state and the open crack (those open by more than the summary's threshold,
-  ``pfeie._job.OPEN_CRACK_MIN_M``) over time;
+  :data:`OPEN_CRACK_MIN_M`) over time;
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
 - ``joint_map.png``: in 2D, along each interface, the largest opening and slip of the
@@ -231,8 +231,6 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     if cracks:  # the cracked extent over time
         cr = res.joint_cracks(name)
         two_d = res.f["mesh/points"].shape[1] == 2
-        from .._job import OPEN_CRACK_MIN_M
-
         ax[3].plot(t, cr["cracked"], lw=1.0, color="k", label="cracked (broken)")
         ax[3].plot(t, cr["open"], lw=0.8, color=STATE_COLOURS[3], ls=":",
                    label="broken and in the open state")  # fmt: skip
@@ -268,6 +266,13 @@ def _arc_label(x: np.ndarray, order: np.ndarray) -> str:
     start = ", ".join(f"{v + 0.0:.4g}" for v in x[order[0]])  # no "-0"
     return f"position along the joint (m), 0 at the pair at ({start}) m"
 
+
+#: m, the least opening of a pair that counts in the open crack of the summary
+#: (``max_open_length_m``, ``max_open_area_m2``) and of ``joint_<name>.png``: 0.01 mm, the
+#: resolution of the printed maximum opening. A pair with no contact force but an opening
+#: below it (round-off, or the micro-gaps of the corner nodes of quadratic faces, 1e-7 m)
+#: is not an open crack.
+OPEN_CRACK_MIN_M = 1e-5
 
 #: m, the least opening drawn as such in the joint figures: a smaller one (round-off of
 #: a closed pair, 1e-12 m and below) is drawn as 0. The figures only: the results file
