@@ -7,7 +7,9 @@ Outputs in the folder of ``[output]``:
   units), histories (probes, block rigid motions, every pair, energy), nodal fields;
 - ``blocks.xdmf``, ``interfaces.xdmf`` (+ ``.h5``): the ParaView series;
 - ``summary.json`` and ``summary.txt``: the model summary and the results summary (peak
-  probe motions; per joint: residual slip, maximum opening, broken share).
+  probe motions: the largest magnitude |u| and |a| and the per-axis peaks; per joint:
+  residual slip, maximum opening, broken share and the share broken from the start,
+  cracked extent and largest open crack; see :func:`summarize`).
 
 A run stopped by Ctrl-C or SIGTERM, or by an interface step that does not converge,
 keeps everything computed so far, and says so (``completed = false``).
@@ -50,9 +52,13 @@ from .io import (
     run_key,
     write_paraview,
 )  # fmt: skip
+from .plot import OPEN_CRACK_MIN_M
 from .solvers import StaticResult, solve_static
 
 log = logging.getLogger(__name__)
+
+#: m/s², the g of the accelerations the summary gives in g (as the records' units)
+G = 9.81
 
 
 class Progress:
@@ -247,7 +253,22 @@ def dynamic_analysis(job: Job) -> Dynamic:
 
 
 def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) -> dict[str, Any]:
-    """Peak probe motions; per joint: residual slip, maximum opening, share broken."""
+    """The results summary (the dict of ``summary.json``).
+
+    Per probe: ``peak_displacement_m``, the largest magnitude |u| (m) of the probe's
+    displacement relative to the ground and to its start, and when
+    (``peak_displacement_time_s``); ``peak_displacement_xyz_m``, the largest |u_x|,
+    |u_y| (, |u_z|), each at its own time; the same for the absolute acceleration in g
+    (``peak_abs_acceleration_g``: the largest |a|, ``..._time_s``, ``..._xyz_g``).
+
+    Per joint: slips (m; the magnitude of the tangential relative displacement since
+    the start), ``max_opening_m``, ``broken_share`` (at the end) and
+    ``initially_broken_share`` (the pairs of ``initial = "broken"`` laws), shares of the
+    joint's area; ``cracked_length_m`` (2D) or ``cracked_area_m2`` (3D), the broken
+    pairs at the end; ``max_open_length_m`` or ``max_open_area_m2``, the largest extent
+    of the broken pairs that are open by more than ``pfeie.plot.OPEN_CRACK_MIN_M``
+    (1e-5 m), and when.
+    """
     s: dict[str, Any] = {"model": job.summary(), "version": __version__}
     model = job.model
     if res is None:
@@ -265,14 +286,24 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                                  np.zeros(model.dim)) for t in res.t])  # fmt: skip
             u = u - base
         u = u - u[0]
+        a = res.probe_a_abs[:, k] / G
+        u_mag, a_mag = np.linalg.norm(u, axis=-1), np.linalg.norm(a, axis=-1)
+        ku, ka = int(np.argmax(u_mag)), int(np.argmax(a_mag))
         probes[name] = {
-            "peak_displacement_m": float(np.abs(u).max(axis=0).max()),
+            "peak_displacement_m": float(u_mag[ku]),
+            "peak_displacement_time_s": float(res.t[ku]),
             "peak_displacement_xyz_m": np.abs(u).max(axis=0).round(6).tolist(),
-            "peak_abs_acceleration_g": float(np.abs(res.probe_a_abs[:, k]).max() / 9.81),
+            "peak_abs_acceleration_g": float(a_mag[ka]),
+            "peak_abs_acceleration_time_s": float(res.t[ka]),
+            "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).round(6).tolist(),
         }
     s["probes"] = probes
     joints = {}
     if model.pairs is not None and res.X.shape[1]:
+        at_start = model.pair_laws.initially_broken
+        # the open crack: broken pairs open, and open by more than OPEN_CRACK_MIN_M
+        open_crack = model.joint_extent(
+            res.broken & (res.state == OPEN) & (res.opening > OPEN_CRACK_MIN_M))  # fmt: skip
         for name in model.pairs.names:
             idx = model.pairs.of(name)
             area = model.pairs.area[idx]
@@ -285,15 +316,16 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "residual_slip_mean_m": float((slip_mag[-1] * area).sum() / area.sum()),
                 "max_opening_m": float(res.opening[:, idx].max()),
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
+                "initially_broken_share": float((at_start[idx] * area).sum() / area.sum()),
             }
             # the cracked extent at the end: the broken pairs' length (2D) or area (3D);
-            # the largest open crack (broken and open pairs) and when
+            # the largest open crack (broken pairs open by more than OPEN_CRACK_MIN_M)
             jk = model.pairs.names.index(name)
             if res.joint_cracked.size:
-                cracked, opened = res.joint_cracked[:, jk], res.joint_open[:, jk]
+                cracked = res.joint_cracked[:, jk]
             else:  # a result without the series
-                cracked, opened = model.joint_extent(
-                    np.stack([res.broken, res.broken & (res.state == OPEN)]))[..., jk]  # fmt: skip
+                cracked = model.joint_extent(res.broken)[..., jk]
+            opened = open_crack[:, jk]
             kind = "length_m" if model.dim == 2 else "area_m2"
             joints[name][f"cracked_{kind}"] = float(cracked[-1])
             k_open = int(np.argmax(opened))
@@ -324,6 +356,25 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     return s
 
 
+def _components(p: dict[str, Any], key: str, scale: float, fmt: str, unit: str) -> str:
+    """The per-axis peaks of a probe, ``" (x 1.0, y 0.2 mm)"``; empty without them."""
+    if key not in p:
+        return ""
+    parts = ", ".join(f"{ax} {scale * v:{fmt}}" for ax, v in zip("xyz", p[key], strict=False))
+    return f" ({parts} {unit})"
+
+
+def _broken(j: dict[str, Any]) -> str:
+    """The broken share of a joint, saying which part was broken from the start (a
+    pre-existing joint, ``initial = "broken"``), so that it is not read as a failure."""
+    now, start = 100 * j["broken_share"], 100 * j.get("initially_broken_share", 0.0)
+    if start <= 0.0:
+        return f"broken {now:.0f} %"
+    if start >= 100.0:
+        return f"broken {now:.0f} % (starts broken: a pre-existing joint)"
+    return f"broken {now:.0f} % ({start:.0f} % broken from the start)"
+
+
 def format_summary(s: dict[str, Any]) -> str:
     """The results summary as aligned text lines."""
     mdl = s["model"]
@@ -339,14 +390,16 @@ def format_summary(s: dict[str, Any]) -> str:
                      f"{s['steps']} steps")  # fmt: skip
     for name, p in s.get("probes", {}).items():
         lines.append(
-            f"  {name:<12} peak displacement {1e3 * p['peak_displacement_m']:.1f} mm, "
-            f"peak absolute acceleration {p['peak_abs_acceleration_g']:.3f} g"
+            f"  {name:<12} peak |u| {1e3 * p['peak_displacement_m']:.1f} mm"
+            + _components(p, "peak_displacement_xyz_m", 1e3, ".1f", "mm")
+            + f", peak absolute |a| {p['peak_abs_acceleration_g']:.3f} g"
+            + _components(p, "peak_abs_acceleration_xyz_g", 1.0, ".3f", "g")
         )
     for name, j in s.get("joints", {}).items():
         lines.append(
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "
             f"(mean {1e3 * j['residual_slip_mean_m']:.2f}), max opening "
-            f"{1e3 * j['max_opening_m']:.2f} mm, broken {100 * j['broken_share']:.0f} %"
+            f"{1e3 * j['max_opening_m']:.2f} mm, {_broken(j)}"
             + (f", open crack up to {j['max_open_length_m']:.2f} m"
                if "max_open_length_m" in j else "")
             + (f", open crack up to {j['max_open_area_m2']:.3g} m²"

@@ -87,7 +87,9 @@ class Excitation:
         for g in self.ground:
             if g.direction.size != d:
                 raise ModelError(f"ground motion {g.name!r}: direction has {g.direction.size} "
-                                 f"components, the model is {d}D")  # fmt: skip
+                                 f"components, the model is {d}D; pfeie.io.read_record and "
+                                 "GroundMotion default to (1, 0), x in 2D: pass direction="
+                                 f"{(1, 0, 0) if d == 3 else (1, 0)} for x")  # fmt: skip
         if form not in ("relative", "absolute"):
             raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
         self.form, self.system, self.dim = form, system, d

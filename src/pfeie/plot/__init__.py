@@ -1,6 +1,7 @@
 """Figures and the HTML report of a results file."""
 
 from ._plots import (
+    OPEN_CRACK_MIN_M,
     plot_all,
     plot_energy,
     plot_joint,
@@ -12,8 +13,8 @@ from ._plots import (
 )
 from ._report import write_report
 
-__all__ = ["plot_all", "plot_energy", "plot_joint", "plot_probe", "plot_rigid", "plot_spectrum",
-           "plot_states", "plot_static", "write_report"]  # fmt: skip
+__all__ = ["OPEN_CRACK_MIN_M", "plot_all", "plot_energy", "plot_joint", "plot_probe",
+           "plot_rigid", "plot_spectrum", "plot_states", "plot_static", "write_report"]  # fmt: skip
 from ._study import plot_fragility, plot_ida, save_figure
 
 __all__ += ["plot_fragility", "plot_ida", "save_figure"]

@@ -7,9 +7,11 @@
 - ``input_motion.png``: the records and their 5 % PSa spectra;
 - ``probe_<name>.png``: displacement (relative to the ground) and absolute acceleration
   histories of each probe;
-- ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest)
-  histories of each interface, with the broken share, and its cracked length (2D; area
-  in 3D: the broken pairs) and open crack (the broken pairs that are open) over time;
+- ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest;
+  below :data:`OPENING_FLOOR_M` drawn as 0) histories of each interface, with the broken
+  share, and its cracked length (2D; area in 3D: the broken pairs), the broken pairs in
+  the open state and the open crack (those open by more than the summary's threshold,
+  :data:`OPEN_CRACK_MIN_M`) over time;
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
 - ``joint_map.png``: in 2D, along each interface, the largest opening and slip of the
@@ -217,8 +219,9 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     ax[0].plot(t, 1e3 * slip.max(axis=1), lw=1.0, label="largest")
     ax[0].plot(t, 1e3 * (slip * A).sum(axis=1) / A.sum(), lw=1.0, label="area mean")
     ax[0].set_ylabel("slip (mm)")
-    ax[1].plot(t, 1e3 * pr["opening"].max(axis=1), lw=1.0, color="C3", label="largest")
-    ax[1].set_ylabel("opening (mm)")
+    ax[1].plot(t, 1e3 * _shown_opening(pr["opening"].max(axis=1)), lw=1.0, color="C3",
+               label="largest")  # fmt: skip
+    ax[1].set_ylabel(f"opening (mm)\n(below {1e3 * OPENING_FLOOR_M:g} mm: 0)")
     ax[2].plot(t, 100 * (pr["broken"] * A).sum(axis=1) / A.sum(), lw=1.0, color="k",
                label="broken")  # fmt: skip
     for k, lab in ((2, "slide"), (3, "open")):
@@ -229,18 +232,57 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
         cr = res.joint_cracks(name)
         two_d = res.f["mesh/points"].shape[1] == 2
         ax[3].plot(t, cr["cracked"], lw=1.0, color="k", label="cracked (broken)")
-        ax[3].plot(t, cr["open"], lw=0.8, color=STATE_COLOURS[3], label="open crack")
+        ax[3].plot(t, cr["open"], lw=0.8, color=STATE_COLOURS[3], ls=":",
+                   label="broken and in the open state")  # fmt: skip
+        # the summary's open crack: of those, the pairs open by more than the threshold
+        # (the history's extent scaled by their share of its area: the same thickness)
+        gone = pr["broken"] & (pr["state"] == 3)
+        a_open = (gone * A).sum(axis=1)
+        a_wide = ((gone & (pr["opening"] > OPEN_CRACK_MIN_M)) * A).sum(axis=1)
+        wide = np.where(a_open > 0, cr["open"] * a_wide / np.where(a_open > 0, a_open, 1.0), 0.0)
+        ax[3].plot(t, wide, lw=1.0, color=STATE_COLOURS[3],
+                   label=f"open crack (open > {1e3 * OPEN_CRACK_MIN_M:g} mm)")  # fmt: skip
         ax[3].set_ylabel("crack length (m)" if two_d else "crack area (m²)")
     return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
 
 
 def _arc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Order of the pairs along a joint (its main direction) and their positions (m)."""
+    """Order of the pairs along a joint and their positions (m) along its main direction
+    (the first principal axis of the pair points), oriented so that its largest
+    component is positive: position 0 is the pair at the joint's end towards −x when
+    that direction is closest to x (a dam base, a 2D joint dipping less than 45°),
+    towards −y when closest to y, −z when closest to z. :func:`_arc_label` names that
+    end on the axis."""
     c = x - x.mean(axis=0)
     direction = np.linalg.svd(c, full_matrices=False)[2][0]
+    direction = direction * np.sign(direction[int(np.argmax(np.abs(direction)))])
     s = c @ direction
     order = np.argsort(s)
     return order, s[order] - s[order][0]
+
+
+def _arc_label(x: np.ndarray, order: np.ndarray) -> str:
+    """The axis label of a position along a joint (:func:`_arc`), naming position 0."""
+    start = ", ".join(f"{v + 0.0:.4g}" for v in x[order[0]])  # no "-0"
+    return f"position along the joint (m), 0 at the pair at ({start}) m"
+
+
+#: m, the least opening of a pair that counts in the open crack of the summary
+#: (``max_open_length_m``, ``max_open_area_m2``) and of ``joint_<name>.png``: 0.01 mm, the
+#: resolution of the printed maximum opening. A pair with no contact force but an opening
+#: below it (round-off, or the micro-gaps of the corner nodes of quadratic faces, 1e-7 m)
+#: is not an open crack.
+OPEN_CRACK_MIN_M = 1e-5
+
+#: m, the least opening drawn as such in the joint figures: a smaller one (round-off of
+#: a closed pair, 1e-12 m and below) is drawn as 0. The figures only: the results file
+#: and the summary keep the computed openings.
+OPENING_FLOOR_M = 1e-9
+
+
+def _shown_opening(w: np.ndarray) -> np.ndarray:
+    """Openings (m) as drawn: below :data:`OPENING_FLOOR_M` shown as 0."""
+    return np.where(w > OPENING_FLOOR_M, w, 0.0)
 
 
 def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
@@ -261,7 +303,7 @@ def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
     im = ax.pcolormesh(edges, tedges, st, cmap=cmap, norm=norm, shading="flat")
     cb = fig.colorbar(im, ax=ax, ticks=[0, 1, 2, 3])
     cb.ax.set_yticklabels(STATE_LABELS)
-    ax.set_xlabel("position along the joint (m)")
+    ax.set_xlabel(_arc_label(pr["x"], order))
     ax.set_ylabel("time (s)")
     ax.set_title(f"{title}\npair states along {name}", fontsize=10)
     return _finish(fig, path)
@@ -338,7 +380,7 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
             ax[1].scatter(s[hit], 1e-6 * shear[hit], s=18, color=STATE_COLOURS[k], label=lab,
                           zorder=3)  # fmt: skip
     ax[1].set_ylabel("shear stress (MPa)")
-    ax[1].set_xlabel("position along the joint (m)")
+    ax[1].set_xlabel(_arc_label(pr["x"], order))
     for a in ax:
         a.grid(alpha=0.3)
         a.legend(loc="upper right", fontsize=8)
@@ -478,8 +520,8 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
         pr = res.pairs(name)
         order, s = _arc(pr["x"])
         slip = np.linalg.norm(pr["slip"], axis=-1)[:, order]
-        ax.plot(s, 1e3 * pr["opening"][:, order].max(axis=0), ".-", lw=1.0, color="C3",
-                label="largest opening")  # fmt: skip
+        ax.plot(s, 1e3 * _shown_opening(pr["opening"][:, order].max(axis=0)), ".-", lw=1.0,
+                color="C3", label="largest opening")  # fmt: skip
         ax.plot(s, 1e3 * slip.max(axis=0), ".-", lw=1.0, color="C0", label="largest slip")
         ax.plot(s, 1e3 * slip[-1], "--", lw=1.0, color="C0", label="residual slip")
         ax.set_ylabel("mm")
@@ -496,7 +538,7 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
         strip.plot(s[broken], np.full(int(broken.sum()), 1.5), "kx", ms=4)
         strip.set_yticks([0.5, 1.5], ["static", "end"], fontsize=8)
         strip.set_xlim(ax.get_xlim())
-        strip.set_xlabel("position along the joint (m)")
+        strip.set_xlabel(_arc_label(pr["x"], order))
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
@@ -884,7 +926,7 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
         squares = uv[:, None, :] + np.sqrt(pr["area"])[:, None, None] * corners[None, :, :]
         first = (res.static_pairs(name)["state"] if "static/state" in res.f
                  else pr["state"][0])  # fmt: skip
-        opening = 1e3 * pr["opening"].max(axis=0)
+        opening = 1e3 * _shown_opening(pr["opening"].max(axis=0))
         residual = 1e3 * np.linalg.norm(pr["slip"][-1], axis=-1)
         broken = pr["broken"][-1]
         panels = (

@@ -30,25 +30,38 @@ from ..linalg import factorize
 from ..model import Model
 from ..typing import BoolArray, FloatArray
 
+#: ω² of a rigid-body mode, relative to the reference of :attr:`ModalResult.rigid`: the
+#: zero eigenvalue of a floating block comes out of the solve as round-off, of order
+#: 1e-16 of the largest eigenvalue of the mesh; an elastic mode would need a frequency
+#: below 1e-5 of the mesh's highest to fall under it
+RIGID_OMEGA2 = 1e-10
+
 
 @dataclass(frozen=True)
 class ModalResult:
     """Natural frequencies (Hz), mass-normalised mode shapes (n_modes, n_points, dim),
     and effective modal masses (n_modes, dim) in kg for unit ground motion along each
-    axis (Σ over all modes = the free mass, ``total_mass`` (dim,) kg)."""
+    axis (Σ over all modes = the free mass, ``total_mass`` (dim,) kg). ``omega2_scale``
+    (rad²/s²) is max diag K / max diag M, the order of the mesh's largest eigenvalue ω²
+    (0: unknown)."""
 
     frequencies: FloatArray
     shapes: FloatArray
     effective_mass: FloatArray
     total_mass: FloatArray = field(default_factory=lambda: np.zeros(0))  # (dim,) kg
+    omega2_scale: float = 0.0  # rad²/s²
 
     @property
     def rigid(self) -> BoolArray:
-        """The rigid-body modes (a block free on its joints): ω² below 1e-8 of the largest
-        computed, the round-off of a zero eigenvalue of K − σM in the shift-invert
-        solve; their frequency is 0 to round-off and their period infinite."""
-        f = np.asarray(self.frequencies, dtype=float)
-        return np.asarray(f < 1e-4 * max(float(f.max(initial=0.0)), 1e-300))
+        """The rigid-body modes (a block free on its joints): ω² = (2πf)² below
+        :data:`RIGID_OMEGA2` (1e-10) times the larger of ``omega2_scale`` and the
+        largest ω² computed. The reference is not the computed modes alone: when every
+        mode asked for is rigid (six of a free 3D block, three in 2D), the largest of
+        them is round-off too. Their frequency is 0 to round-off, their period
+        infinite."""
+        w2 = (2 * np.pi * np.asarray(self.frequencies, dtype=float)) ** 2
+        ref = max(float(w2.max(initial=0.0)), float(self.omega2_scale), 1e-300)
+        return np.asarray(w2 < RIGID_OMEGA2 * ref)
 
     @property
     def periods(self) -> FloatArray:
@@ -95,8 +108,8 @@ def modal(
     n = K.shape[0]
     if n_modes >= n:
         raise SolverError(f"asked for {n_modes} modes of a model with {n} free DOFs")
+    scale = float(abs(K.diagonal()).max() / max(abs(M.diagonal()).max(), 1e-300))
     if shift is None:
-        scale = float(abs(K.diagonal()).max() / max(abs(M.diagonal()).max(), 1e-300))
         shift = -1e-6 * scale
     spd = shift <= 0
     F = factorize((K - shift * M).tocsc(), spd=spd, backend=backend if spd else "superlu")
@@ -120,7 +133,7 @@ def modal(
     iota = influence[system.free]
     gamma = vec.T @ (M @ iota)  # participation factors (n_modes, d), φ mass-normalised
     total = np.einsum("ik,ik->k", iota, M @ iota)  # the free mass along each axis
-    return ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total)
+    return ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total, scale)
 
 
 def _bond(model: Model, free: np.ndarray, K: sp.spmatrix) -> tuple[sp.csr_matrix, sp.spmatrix]:

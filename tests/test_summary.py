@@ -1,0 +1,112 @@
+"""The results summary (``summary.json``, ``summary.txt``): what its numbers are.
+
+A block sliding down an incline from rest (β = 20°, φ = 10°, no ground motion): its
+slip at time t is the closed form s(t) = ½ g (sin β − cos β tan φ) t² (a rigid block
+on a Coulomb plane), and a probe on the block moves by the slip along the incline. The
+probe's peak displacement in the summary is the peak of the magnitude |u|, which must
+equal the joint's slip to the elastic shortening of the block (with E = 1e14 Pa, below
+1e-9 relative: measured 3.6e-10), the closed form to 1e-6 (the scheme's start from an
+unloaded state, measured 3.1e-7), and exceed its largest component |u_x| = |u| cos β.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie._job import format_summary, summarize
+from pfeie.io import Job
+from pfeie.plot import OPEN_CRACK_MIN_M
+from pfeie.verification._models import block_on_base
+
+G = 9.81  # m/s², the builders' gravity
+
+
+def _job(model: pf.Model, probe: int) -> Job:
+    """A job around a model built in Python (the summary reads its model, probes and
+    settings)."""
+    spec = {"title": "summary test", "analysis": {"dt": 0.002}, "output": {}}
+    return Job(Path("summary_test.toml"), spec, model, [], {"top": probe}, "0" * 64)
+
+
+def test_peak_displacement_is_the_magnitude_on_an_incline() -> None:
+    beta, phi, T = 20.0, 10.0, 0.5  # degrees, degrees, s
+    model = block_on_base(joint=pf.Joint(phi=phi), incline_deg=beta, E=1e14)
+    top = int(np.argmax(model.mesh.points[:, 1]))  # the block's upper corner
+    res = pf.Dynamic(model, 0.002).run(T, probes=[top])
+    s = summarize(_job(model, top), None, res)
+    p, j = s["probes"]["top"], s["joints"]["joint"]
+    b = np.radians(beta)
+    exact = 0.5 * G * (np.sin(b) - np.cos(b) * np.tan(np.radians(phi))) * T**2
+    assert p["peak_displacement_m"] == pytest.approx(j["residual_slip_max_m"], rel=1e-9)
+    assert p["peak_displacement_m"] == pytest.approx(exact, rel=1e-6)
+    assert p["peak_displacement_time_s"] == pytest.approx(T, abs=1e-12)  # slides on
+    # the per-axis peaks: the slip's components along the incline (rounded to 1 µm)
+    ux, uy = p["peak_displacement_xyz_m"]
+    assert ux == pytest.approx(exact * np.cos(b), abs=1e-6)
+    assert uy == pytest.approx(exact * np.sin(b), abs=1e-6)
+    assert p["peak_displacement_m"] > ux + 0.01  # 216 mm against 203 mm
+    line = next(x for x in format_summary(s).splitlines() if x.strip().startswith("top"))
+    assert f"peak |u| {1e3 * exact:.1f} mm (x {1e3 * exact * np.cos(b):.1f}" in line
+    # a pre-existing joint (initial = "broken", the default) says so
+    assert j["initially_broken_share"] == 1.0
+    assert "broken 100 % (starts broken" in format_summary(s)
+
+
+@pytest.mark.parametrize("gap", [1e-7, 1e-4])
+def test_open_crack_counts_pairs_open_beyond_the_threshold(gap: float) -> None:
+    """A 2 m block held apart from its base by an initial gap, no load: every pair is
+    broken and open (state OPEN) with opening = gap. The open crack counts the pairs
+    open by more than OPEN_CRACK_MIN_M (1e-5 m): the whole 2 m with a 0.1 mm gap, none
+    with 1e-7 m, whose pairs are open in name only; an intact joint is not
+    "starts broken"."""
+    model = block_on_base(joint=pf.Joint(phi=30.0, gap=gap), width=2.0, n=4, gravity=False)
+    top = int(np.argmax(model.mesh.points[:, 1]))
+    res = pf.Dynamic(model, 0.01).run(0.05, probes=[top])
+    j = summarize(_job(model, top), None, res)["joints"]["joint"]
+    assert j["max_opening_m"] == pytest.approx(gap, rel=1e-12)
+    expected = 2.0 if gap > OPEN_CRACK_MIN_M else 0.0  # m
+    assert j["max_open_length_m"] == pytest.approx(expected, rel=1e-14)
+    assert j["cracked_length_m"] == pytest.approx(2.0, rel=1e-14)
+
+
+def test_intact_joint_is_not_called_pre_existing() -> None:
+    """An intact joint that does not break: broken 0 %, without the 'starts broken'
+    note (a joint that starts intact is never so described)."""
+    model = block_on_base(joint=pf.Joint(c=1e6, phi=30.0, tensile=1e6, initial="intact"))
+    top = int(np.argmax(model.mesh.points[:, 1]))
+    res = pf.Dynamic(model, 0.01).run(0.05, probes=[top], start=pf.solve_static(model))
+    s = summarize(_job(model, top), None, res)
+    assert s["joints"]["joint"]["initially_broken_share"] == 0.0
+    assert s["joints"]["joint"]["broken_share"] == 0.0
+    assert "broken 0 %," in format_summary(s) and "starts broken" not in format_summary(s)
+
+
+@pytest.mark.parametrize(("dip", "start"), [(30.0, (0.0, 0.0)), (-30.0, (0.0, 0.0)),
+                                            (60.0, (1.0, -np.sqrt(3.0)))])  # fmt: skip
+def test_joint_map_position_zero(dip: float, start: tuple[float, float]) -> None:
+    """The joint figures' positions (``_arc``): for 5 points on a straight joint of
+    length 2 m from (0, 0) dipping ``dip`` towards +x (positive: downwards), whatever
+    their order, position 0 is the −x end for a joint within 45° of x and the −y end
+    otherwise; the positions are the distances from it (closed form: 0, 0.5, … 2 m, to
+    1e-15 m); the axis label names that end."""
+    from pfeie.plot._plots import _arc, _arc_label
+
+    d = np.array([np.cos(np.radians(dip)), -np.sin(np.radians(dip))])
+    x = np.outer(np.linspace(0.0, 2.0, 5), d)[[3, 0, 4, 1, 2]]
+    order, s = _arc(x)
+    np.testing.assert_allclose(x[order[0]], start, atol=1e-15)
+    np.testing.assert_allclose(s, np.linspace(0.0, 2.0, 5), atol=1e-15)
+    assert _arc_label(x, order).endswith(f"0 at the pair at ({start[0]:.4g}, {start[1]:.4g}) m")
+
+
+def test_round_off_openings_are_drawn_as_zero() -> None:
+    """The joint figures draw an opening of 1e-12 m (round-off of a closed pair) as 0,
+    and one of 1e-6 m as it is (OPENING_FLOOR_M = 1e-9 m)."""
+    from pfeie.plot._plots import OPENING_FLOOR_M, _shown_opening
+
+    w = np.array([0.0, 1e-12, 0.5 * OPENING_FLOOR_M, 2.0 * OPENING_FLOOR_M, 1e-6])
+    np.testing.assert_array_equal(_shown_opening(w), [0.0, 0.0, 0.0, 2.0 * OPENING_FLOOR_M, 1e-6])
