@@ -267,8 +267,7 @@ def test_checkpoints_every_n_steps(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     120 steps writes its checkpoints at steps 25, 50, 75 and 100 and at its end (120); the
     last one on disk is the end's, and a run key without the key (0, the default) is that
     of the files written before it."""
-    from pfeie.io import _checkpoint
-    from pfeie.io import load_job, parse_override
+    from pfeie.io import _checkpoint, load_job, parse_override
 
     seen: list[_checkpoint.CheckpointWriter] = []
     init = _checkpoint.CheckpointWriter.__init__
