@@ -110,3 +110,25 @@ def test_round_off_openings_are_drawn_as_zero() -> None:
 
     w = np.array([0.0, 1e-12, 0.5 * OPENING_FLOOR_M, 2.0 * OPENING_FLOOR_M, 1e-6])
     np.testing.assert_array_equal(_shown_opening(w), [0.0, 0.0, 0.0, 2.0 * OPENING_FLOOR_M, 1e-6])
+
+
+def test_static_joint_summary_is_the_limit_equilibrium() -> None:
+    """The static state per joint, for a 1 m block (2400 kg/m³) at rest on a 20° incline
+    with φ = 31°: normal force W cos β and shear W sin β (equilibrium, to round-off:
+    asserted 1e-12), FS = tan φ / tan β = 1.6509 (to 1e-12), mean normal stress
+    W cos β / A, no opening; the summary's line prints FS and the forces. Given in a
+    static-only run and before the dynamic summary alike."""
+    beta, phi = 20.0, 31.0
+    model = block_on_base(joint=pf.Joint(phi=phi), incline_deg=beta)
+    static = pf.solve_static(model)
+    s = summarize(_job(model, 0), static, None)
+    j = s["static_joints"]["joint"]
+    W, b = 2400.0 * G, np.radians(beta)
+    assert j["normal_force_N"] == pytest.approx(W * np.cos(b), rel=1e-12)
+    assert j["shear_force_N"] == pytest.approx(W * np.sin(b), rel=1e-12)
+    fs = np.tan(np.radians(phi)) / np.tan(b)
+    assert j["safety_factor"] == pytest.approx(fs, rel=1e-12)
+    assert j["mean_normal_stress_Pa"] == pytest.approx(W * np.cos(b) / 1.0, rel=1e-12)
+    assert j["max_opening_m"] == 0.0 and j["open_share"] == 0.0
+    line = next(x for x in format_summary(s).splitlines() if "static joint" in x)
+    assert f"FS {fs:.2f}, normal {W * np.cos(b) / 1e3:.4g} kN" in line

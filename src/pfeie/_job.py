@@ -52,6 +52,7 @@ from .io import (
     run_key,
     write_paraview,
 )  # fmt: skip
+from .model import Model
 from .plot import OPEN_CRACK_MIN_M
 from .solvers import StaticResult, solve_static
 
@@ -252,6 +253,32 @@ def dynamic_analysis(job: Job) -> Dynamic:
         raise InputError(f"{job.path}: analysis: {exc}") from None
 
 
+def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float]]:
+    """Per joint, the static state before any shaking: the sliding safety factor
+    Σ(cA + μN⁺)/‖ΣT‖ (∞ without shear), the normal and shear resultants (N; compression
+    +), the mean normal stress (Pa), the largest opening (m) and the shares of the
+    joint's area that slide, are open and are broken."""
+    P, st = model.pairs, static.pairs
+    assert P is not None and st is not None
+    fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path)
+    out = {}
+    for k, name in enumerate(P.names):
+        idx = P.of(name)
+        A = P.area[idx]
+        X = st.X[idx]
+        out[name] = {
+            "safety_factor": float(fs[k]),
+            "normal_force_N": float(X[:, -1].sum()),
+            "shear_force_N": float(np.linalg.norm(X[:, :-1].sum(axis=0))),
+            "mean_normal_stress_Pa": float(X[:, -1].sum() / A.sum()),
+            "max_opening_m": float(np.maximum(st.w[idx, -1], 0.0).max(initial=0.0)),
+            "sliding_share": float(A[st.state[idx] == SLIDE].sum() / A.sum()),
+            "open_share": float(A[st.state[idx] == OPEN].sum() / A.sum()),
+            "broken_share": float(A[st.broken[idx]].sum() / A.sum()),
+        }
+    return out
+
+
 def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) -> dict[str, Any]:
     """The results summary (the dict of ``summary.json``).
 
@@ -271,6 +298,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     """
     s: dict[str, Any] = {"model": job.summary(), "version": __version__}
     model = job.model
+    if static is not None and static.pairs is not None:
+        s["static_joints"] = _static_joints(model, static)
     if res is None:
         if static is not None and static.pairs is not None:
             s["static_pairs"] = static.pairs.counts()
@@ -394,6 +423,15 @@ def format_summary(s: dict[str, Any]) -> str:
             + _components(p, "peak_displacement_xyz_m", 1e3, ".1f", "mm")
             + f", peak absolute |a| {p['peak_abs_acceleration_g']:.3f} g"
             + _components(p, "peak_abs_acceleration_xyz_g", 1.0, ".3f", "g")
+        )
+    for name, j in s.get("static_joints", {}).items():
+        fs = j["safety_factor"]
+        lines.append(
+            f"  static {name:<9} FS {'∞' if not np.isfinite(fs) else f'{fs:.2f}'}, normal "
+            f"{j['normal_force_N'] / 1e3:.4g} kN, shear {j['shear_force_N'] / 1e3:.4g} kN "
+            f"(mean normal stress {j['mean_normal_stress_Pa'] / 1e6:.3g} MPa), max opening "
+            f"{1e3 * j['max_opening_m']:.2f} mm, sliding {100 * j['sliding_share']:.0f} %, "
+            f"open {100 * j['open_share']:.0f} %"
         )
     for name, j in s.get("joints", {}).items():
         lines.append(
