@@ -44,9 +44,22 @@ def test_free_block_rigid_modes(dim: int, n_rigid: int, extra: int) -> None:
 def test_bonded_block_has_no_rigid_mode() -> None:
     """The same 3D block with its joint bonded (rigid pairs tie it to the fixed base):
     no mode is rigid, and its lowest frequency is far above the rigid threshold
-    (ω² ≥ 1e-10 ω²_scale)."""
+    (ω² ≥ 1e-10 ω²_scale, 1000 times the threshold of 1e-13)."""
     model = block_on_base_3d(joint=pf.Joint(phi=30.0), n=2, gravity=False)
     res = pf.modal(model, 4)
     assert not res.rigid.any()
     w2 = (2 * np.pi * res.frequencies) ** 2
     assert w2.min() > 1e-10 * res.omega2_scale
+
+
+def test_a_slender_cantilever_has_no_rigid_mode() -> None:
+    """A clamped column 50 m × 0.5 m on 2 × 800 Q4 cells: its first bending mode (about
+    0.12 Hz; the mesh's highest frequencies are near 1e5 Hz) is elastic, not rigid. Under
+    the earlier threshold, 1e-10 of ω²_scale (0.17 Hz here), it was called rigid."""
+    mesh = pf.rectangle(0.5, 50.0, 2, 800)
+    model = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    model.fix("ymin")
+    res = pf.modal(model, 2)
+    assert not res.rigid.any() and np.all(np.isfinite(res.periods))
+    assert res.frequencies[0] < 0.2
+    assert (2 * np.pi * res.frequencies[0]) ** 2 < 1e-10 * res.omega2_scale  # the old cut

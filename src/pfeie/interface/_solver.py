@@ -872,7 +872,8 @@ class InterfaceSolver:
                     return st1, q1
         st2, q2, n_it = self._newton(st, q, prev, w_free, e)
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
-        if res <= self.tol:
+        # statics: the law's residual does not see the floating blocks' equilibrium
+        if res <= self.tol and self._balanced(st2.X, e):
             self.last = SolveInfo(it + n_it, res, "semismooth Newton")
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
             return st2, q2
@@ -881,7 +882,7 @@ class InterfaceSolver:
         cold.X[:] = 0.0
         st4, q4, n4 = self._newton(cold, np.zeros_like(q), prev, w_free, e)
         res4 = float(self.residual(st4, prev, w_free).max(initial=0.0))
-        if res4 <= self.tol:
+        if res4 <= self.tol and self._balanced(st4.X, e):
             self.last = SolveInfo(it + n_it + n4, res4, "semismooth Newton (cold start)")
             return st4, q4
         if self.E is None:

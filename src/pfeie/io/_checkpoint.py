@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from .._version import __version__
 from ..dynamics import Checkpoint, DynamicResult, State, StepState
 from ..errors import ResultsError
 from ..interface import PairState
@@ -50,9 +51,9 @@ def run_key(job: Any) -> str:
     model file with its overrides, and the bytes of the mesh and record files. The keys
     of the storage that change no value are left out: ``output.compression`` and
     ``compression_level`` (a resumed run keeps the file's own), ``field_precision``
-    when it is "float64", the precision of every file written before these keys, and
-    ``checkpoint_steps`` when it is 0 (so the run keys of earlier files stay the same:
-    they resume)."""
+    when it is "float64", the precision of every file written before these keys (so
+    their run keys stay the same), and ``checkpoint_steps`` (when to checkpoint: a
+    resumed run may checkpoint otherwise)."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
     out = spec.get("output", {})
@@ -60,8 +61,7 @@ def run_key(job: Any) -> str:
         out.pop(key, None)
     if out.get("field_precision") == "float64":
         out.pop("field_precision")
-    if not out.get("checkpoint_steps"):  # 0, the default: the keys of earlier files
-        out.pop("checkpoint_steps", None)
+    out.pop("checkpoint_steps", None)  # when to checkpoint changes no value
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]
@@ -249,6 +249,11 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
                 f"{p}: cannot resume: the model file, its --set overrides, the mesh or a "
                 f"record differ from those of the run ({job.path}); run without --resume"
             )
+        written = str(f.attrs.get("pfeie_version", "?"))
+        if written != __version__:  # another version may compute other numbers
+            raise ResultsError(f"{p}: cannot resume: the run was written by pfeie {written}, "
+                               f"this is pfeie {__version__} (results of two versions are not "
+                               "mixed in one file); run without --resume")  # fmt: skip
         ck = read_checkpoint(f)
         if "modified" not in ck.energy:  # its algorithmic sum holds Φ: not to be continued
             raise ResultsError(f"{p}: cannot resume: the checkpoint was written by an earlier "

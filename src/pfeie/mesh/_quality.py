@@ -53,6 +53,7 @@ DEGENERATE = 1e-10
 #: rectangle of aspect ratio 40, a triangle with an angle of about 3°
 POOR = 0.05
 _SHOW = 5
+_CHUNK = 8192  # cells a batch in shape_quality (Tet10: about 25 MB a batch)
 # the Jacobian of the ideal cell on each reference simplex (its edge vectors from the
 # first vertex as columns): the equilateral triangle and the regular tetrahedron
 _IDEAL = {
@@ -94,13 +95,16 @@ def shape_quality(points: np.ndarray, ctype: str, conn: np.ndarray) -> np.ndarra
     xi, _ = quadrature(ctype, 2 * ref.degree)
     xi = np.concatenate([xi, ref.nodes])
     _, dN = ref.shape_functions(xi)
-    J = np.einsum("cnd,qne->cqde", points[conn], dN)  # (c, q, d, d)
-    d = J.shape[-1]
-    T = J @ np.linalg.inv(_IDEAL[d]) if ref.simplex else J
-    det = np.linalg.det(T)
-    norm2 = np.einsum("cqij,cqij->cq", T, T)
-    eta = d * np.sign(det) * np.abs(det) ** (2.0 / d) / np.maximum(norm2, np.finfo(float).tiny)
-    return np.asarray(eta.min(axis=1), dtype=float)
+    out = np.empty(conn.shape[0])
+    for c0 in range(0, conn.shape[0], _CHUNK):  # bounded memory on large meshes
+        J = np.einsum("cnd,qne->cqde", points[conn[c0 : c0 + _CHUNK]], dN)  # (c, q, d, d)
+        d = J.shape[-1]
+        T = J @ np.linalg.inv(_IDEAL[d]) if ref.simplex else J
+        det = np.linalg.det(T)
+        norm2 = np.einsum("cqij,cqij->cq", T, T)
+        eta = d * np.sign(det) * np.abs(det) ** (2.0 / d) / np.maximum(norm2, np.finfo(float).tiny)
+        out[c0 : c0 + _CHUNK] = eta.min(axis=1)
+    return out
 
 
 def check_cells(mesh: Mesh, where: str = "") -> None:

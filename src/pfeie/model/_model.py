@@ -580,29 +580,35 @@ class Model:
             for g in names:
                 for ftype, conn in self.mesh.facet_group(g).items():
                     deg = reference(ftype).degree
-                    # C has a square-root singularity where the facet meets the surface:
-                    # there (2D) the wet part of the line with √ mapped out, or (3D) a
-                    # 25 × 25 rule (the error ∝ n⁻³: about 2e-6 of the nodal values);
-                    # elsewhere C is smooth and 2p + 8 integrates it to round-off
-                    top = self.mesh.points[conn, d - 1].max(axis=1)
-                    surface = top >= level - 1e-9 * max(H, 1.0)
-                    if (~surface).any():
-                        fv = asm.facet_values(self.mesh.points, ftype, conn[~surface],
-                                              2 * deg + 8, self.thickness)  # fmt: skip
-                        N = np.broadcast_to(fv.N, (*fv.dA.shape, fv.N.shape[1]))
-                        _westergaard_add(out, conn[~surface], N, fv.dA, fv.x, fv.normal,
-                                         level, H, rho_w)  # fmt: skip
-                    if surface.any():
-                        if d == 2:
-                            N, dA, x, nrm = _wet_line_rule(self.mesh.points, ftype,
-                                                           conn[surface], level,
-                                                           self.thickness)  # fmt: skip
-                        else:
-                            fv = asm.facet_values(self.mesh.points, ftype, conn[surface],
-                                                  2 * deg + 48, self.thickness)  # fmt: skip
-                            N = np.broadcast_to(fv.N, (*fv.dA.shape, fv.N.shape[1]))
-                            dA, x, nrm = fv.dA, fv.x, fv.normal
-                        _westergaard_add(out, conn[surface], N, dA, x, nrm, level, H, rho_w)
+                    # C has a square-root singularity where the depth vanishes: a Gauss
+                    # rule of degree 2p + 8 integrates it to round-off on a facet whose
+                    # top lies more than 4 of its heights below the level; nearer (2D)
+                    # the square root is mapped out (_wet_line_rule), or (3D) a 25 × 25
+                    # rule (the error ∝ n⁻³: about 2e-6 of the nodal values)
+                    z = self.mesh.points[conn, d - 1]
+                    top, span = z.max(axis=1), np.ptp(z, axis=1)
+                    near = (span > 0) & (level - top < 4.0 * span) & (z.min(axis=1) < level)
+                    rules = [(~near, 2 * deg + 8)]
+                    if d == 2 and near.any():
+                        N, dA, x, nrm, done = _wet_line_rule(self.mesh.points, ftype,
+                                                             conn[near], level,
+                                                             self.thickness)  # fmt: skip
+                        cn = conn[near][done]
+                        _westergaard_add(out, cn, N[done], dA[done], x[done], nrm[done],
+                                         level, H, rho_w, self.mesh.points[cn[:, :2]])  # fmt: skip
+                        curved = np.zeros_like(near)  # never reaching the level
+                        curved[np.flatnonzero(near)[~done]] = True
+                        rules.append((curved, 2 * deg + 400))
+                    elif near.any():
+                        rules.append((near, 2 * deg + 48))
+                    for sel, order in rules:
+                        if sel.any():
+                            fv = asm.facet_values(self.mesh.points, ftype, conn[sel], order,
+                                                  self.thickness)  # fmt: skip
+                            Nb = np.broadcast_to(fv.N, (*fv.dA.shape, fv.N.shape[1]))
+                            _westergaard_add(out, conn[sel], Nb, fv.dA, fv.x, fv.normal,
+                                             level, H, rho_w,
+                                             self.mesh.points[conn[sel][:, :2]])  # fmt: skip
         return out
 
     def add_nodal_force(
@@ -1100,8 +1106,8 @@ def _warn_unused_strength(itf: Interface) -> None:
     (cohesion or tension with ``initial="broken"``, the default, and no residual ones):
     a user who meant a bonded joint gets a frictional one without a word otherwise."""
     law = itf.joint
-    if not isinstance(law, MohrCoulomb) or law.initial != "broken":
-        return
+    if not isinstance(law, MohrCoulomb) or law.initial != "broken" or law.c_r or law.tensile_r:
+        return  # intact, or the residual strength given: the user knows which acts
     unused = [f"{k} = {v:g} Pa" for k, v in (("cohesion", law.c), ("tensile strength", law.tensile))
               if v > 0]  # fmt: skip
     if unused:
@@ -1148,34 +1154,50 @@ __all__ = ["LinearSystem", "Model"]
 
 def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatArray,
                      x: FloatArray, normal: FloatArray, level: float, H: float,
-                     rho_w: float) -> None:  # fmt: skip
+                     rho_w: float, corners: FloatArray | None = None) -> None:  # fmt: skip
     """Add the lumped Westergaard masses of the facets ``conn`` (f, n) to ``out`` (n_dof,)
     from their quadrature: shape functions N (f, q, n), measures dA (f, q), points x and
     unit normals (f, q, d). The masses are the row sums of ∫ C N_a N_b dA, i.e. the
     consistent nodal loads ∫ N_a C dA of Westergaard's pressure under a unit normal
     acceleration (Σ_b N_b = 1: a rigid motion of the base loads the face exactly as the
-    closed form does); HRZ row scaling on a facet whose row sums are not all ≥ 0 (a
-    quadratic facet cut by the surface), which keeps the facet's total. Each goes on the
-    diagonal by n_k² of the facet's mean normal."""
+    closed form does). A quadratic facet cut by the surface can have a negative row sum:
+    in 2D its load then goes to its two corners, split so that its total and its centre
+    of pressure are kept (both masses ≥ 0: the centre lies between them); in 3D HRZ row
+    scaling (total kept). Each goes on the diagonal by n_k² of the facet's mean normal."""
     d = x.shape[-1]
     depth = np.maximum(level - x[..., d - 1], 0.0)
     c = 0.875 * rho_w * np.sqrt(H * depth) * dA  # (f, q)
     me = np.einsum("fqa,fqb,fq->fab", N, N, c)
     rows = me.sum(axis=2)  # (f, n)
-    ml = np.where((rows >= 0).all(axis=1, keepdims=True), rows, asm.lump_hrz(me))
+    neg = ~(rows >= 0).all(axis=1)
+    ml = rows.copy()
+    if neg.any() and d == 2 and corners is not None:
+        total = c[neg].sum(axis=1)
+        centre = np.einsum("fq,fqd->fd", c[neg], x[neg]) / total[:, None]
+        edge = corners[neg, 1] - corners[neg, 0]
+        tau = np.einsum("fd,fd->f", centre - corners[neg, 0], edge) / (edge**2).sum(axis=1)
+        tau = np.clip(tau, 0.0, 1.0)
+        ml[neg] = 0.0
+        ml[neg, 0], ml[neg, 1] = total * (1.0 - tau), total * tau
+    elif neg.any():
+        ml[neg] = asm.lump_hrz(me[neg])
     nrm = normal.mean(axis=1)
     nrm = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
     np.add.at(out.reshape(-1, d), conn, ml[:, :, None] * (nrm**2)[:, None, :])
 
 
-def _wet_line_rule(points: FloatArray, ftype: str, conn: IntArray, level: float,
-                   thickness: float, n: int = 24) -> tuple[FloatArray, ...]:  # fmt: skip
-    """Quadrature of the wet part of 2D facets that reach the water level: the point ξ*
-    where the facet meets the level (bisection on y(ξ) = Σ N_i(ξ) y_i), then ξ = ξ* +
-    (ξ_w − ξ*) s², s ∈ [0, 1] with n Gauss points, ξ_w the wet end: the depth ≈ κ s²
-    there, so √depth is smooth in s and the rule converges fast (Westergaard's C to
-    round-off with n = 24). Returns N (f, n, nodes), dA (f, n), x (f, n, 2) and the unit
-    normals (f, n, 2)."""
+def _wet_line_rule(
+    points: FloatArray, ftype: str, conn: IntArray, level: float, thickness: float, n: int = 24
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, BoolArray]:
+    """Quadrature of the wet part of 2D facets near the water level, with the square root
+    of Westergaard's C mapped out. ξ* is where the facet's map y(ξ) = Σ N_i(ξ) y_i
+    reaches the level (bisection, on the facet or on its extension beyond its upper end);
+    with ξ_w the facet's wet (lower) end, ξ = ξ* + (ξ_w − ξ*) s² makes the depth κ s²
+    (exactly, on a straight facet), so √depth = √κ s and the integrand is a polynomial in
+    s: n Gauss points on s ∈ [s₀, 1] (s₀ = 0 where the level cuts the facet, else the
+    facet's upper end) integrate it to round-off. Returns N (f, n, nodes), dA (f, n),
+    x (f, n, 2), the unit normals (f, n, 2), and a mask (f,) of the facets done (the
+    others, curved facets that never reach the level, are left to the caller)."""
     ref = reference(ftype)
     X = points[conn]  # (f, m, 2)
     y = X[..., 1]
@@ -1184,24 +1206,31 @@ def _wet_line_rule(points: FloatArray, ftype: str, conn: IntArray, level: float,
         Nx, _ = ref.shape_functions(xi.reshape(-1, 1))
         return np.asarray(np.einsum("fm,fm->f", Nx.reshape(xi.size, -1), y))
 
-    lo_end, hi_end = height(np.full(len(conn), -1.0)), height(np.full(len(conn), 1.0))
+    f = len(conn)
+    lo_end, hi_end = height(np.full(f, -1.0)), height(np.full(f, 1.0))
     wet = np.where(lo_end <= hi_end, -1.0, 1.0)  # the lower end
-    a, b = wet.copy(), -wet  # y(a) ≤ level; y(b) ≥ level or the whole facet is wet
-    whole = np.maximum(lo_end, hi_end) <= level
-    for _ in range(60):
+    far = wet - 20.0 * wet  # the search reaches 9 facet lengths beyond the upper end
+    done = height(far) >= level
+    a, b = wet.copy(), far.copy()  # y(a) ≤ level ≤ y(b)
+    for _ in range(80):
         mid = 0.5 * (a + b)
         below = height(mid) <= level
         a, b = np.where(below, mid, a), np.where(below, b, mid)
-    star = np.where(whole, -wet, 0.5 * (a + b))
-    s, w = np.polynomial.legendre.leggauss(n)
-    s, w = 0.5 * (s + 1.0), 0.5 * w
-    xi = star[:, None] + (wet - star)[:, None] * s[None, :] ** 2  # (f, n)
-    jac_s = 2.0 * np.abs(wet - star)[:, None] * s[None, :]  # dξ/ds
+    star = np.where(done, 0.5 * (a + b), -wet)
+    # the end of the wet part: ξ* if the level cuts the facet, else its upper end
+    inside = np.abs(star) <= 1.0
+    end = np.where(inside, star, -wet)
+    s0 = np.sqrt(np.clip((end - star) / (wet - star), 0.0, 1.0))
+    u, w = np.polynomial.legendre.leggauss(n)
+    u, w = 0.5 * (u + 1.0), 0.5 * w
+    s = s0[:, None] + (1.0 - s0)[:, None] * u[None, :]  # (f, n)
+    xi = star[:, None] + (wet - star)[:, None] * s**2
+    jac_s = 2.0 * np.abs(wet - star)[:, None] * s * (1.0 - s0)[:, None]  # dξ/du
     Nq, dNq = ref.shape_functions(xi.reshape(-1, 1))
-    Nq = Nq.reshape(len(conn), n, -1)
-    dNq = dNq.reshape(len(conn), n, -1)
+    Nq = Nq.reshape(f, n, -1)
+    dNq = dNq.reshape(f, n, -1)
     x = np.einsum("fqm,fmd->fqd", Nq, X)
     t = np.einsum("fqm,fmd->fqd", dNq, X)
     jac = np.linalg.norm(t, axis=-1)
     nvec = np.stack([t[..., 1], -t[..., 0]], axis=-1) / jac[..., None]
-    return Nq, jac * jac_s * w[None, :] * thickness, x, nvec
+    return Nq, jac * jac_s * w[None, :] * thickness, x, nvec, done
