@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from pfeie.cli import main
-from pfeie.errors import InputError, ModelError
+from pfeie.errors import InputError, ModelError, RecordError
 from pfeie.study import RecordSource, Study, StudyTable
 from test_robustness import msh22
 
@@ -310,3 +310,37 @@ threshold = 0.002
                               'demand = "joint.neck.slip"'))  # fmt: skip
     with pytest.raises(InputError, match=r"joint\.neck\.slip"):
         Study.from_file(p).run()
+
+
+def test_study_records_are_filtered_as_a_model_files(tmp_path: Path) -> None:
+    """A study's ``[[records]]`` take the same ``filter`` table as a model file's
+    ``[[ground_motion]]``: the records a study reads equal, bit for bit, the API's
+    ``read_record(...).filtered(...)``, and a study of one record at one PGA gives the
+    row of `pfeie run` on the model file with that record, filter and PGA (to 1e-12, as
+    the unfiltered rows above). A corner above the record's Nyquist frequency (50 Hz at
+    Δt = 0.01 s) is refused, naming the file."""
+    from pfeie.io import read_record
+
+    study = STUDY.replace('units = "g"\n', 'units = "g"\nfilter = { highpass = 0.5, order = 2 }\n')
+    study = study.replace("values = [0.2, 0.5]", "values = [0.3]")
+    p = setup(tmp_path, study, n=1)
+    st = Study.from_file(p)
+    rec = st.records[0]
+    assert (rec.highpass, rec.lowpass, rec.order) == (0.5, None, 2)
+    raw = read_record(tmp_path / "rec" / "r0.csv", units="g", direction=[1.0, 0.0])
+    np.testing.assert_array_equal(rec.read(2).acceleration,
+                                  raw.filtered(highpass=0.5, order=2).acceleration)
+    table = st.run()
+    model = (tmp_path / "model.toml").read_text() + (
+        '[[ground_motion]]\nfile = "rec/r0.csv"\nunits = "g"\npga = 0.3\n'
+        "filter = { highpass = 0.5, order = 2 }\n"
+    )
+    (tmp_path / "one.toml").write_text(model.replace('folder = "out"', 'folder = "one"'))
+    assert main(["run", str(tmp_path / "one.toml"), "--quiet"]) == 0
+    s = json.loads((tmp_path / "one" / "summary.json").read_text())
+    got = table.column("joint.joint.residual_slip_max_m")[0]
+    assert got == pytest.approx(s["joints"]["joint"]["residual_slip_max_m"], rel=1e-12)
+    (tmp_path / "bad").mkdir()
+    bad = setup(tmp_path / "bad", study.replace("highpass = 0.5", "highpass = 60.0"), n=1)
+    with pytest.raises(RecordError, match=r"r0\.csv"):
+        Study.from_file(bad).run()

@@ -253,11 +253,12 @@ def dynamic_analysis(job: Job) -> Dynamic:
         raise InputError(f"{job.path}: analysis: {exc}") from None
 
 
-def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float]]:
+def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float | None]]:
     """Per joint, the static state before any shaking: the sliding safety factor
-    Σ(cA + μN⁺)/‖ΣT‖ (∞ without shear), the normal and shear resultants (N; compression
-    +), the mean normal stress (Pa), the largest opening (m) and the shares of the
-    joint's area that slide, are open and are broken."""
+    Σ(cA + μN⁺)/‖ΣT‖ (None without shear, or with a shear at the forces' round-off),
+    the normal and shear resultants (N; compression +), the mean normal stress (Pa), the
+    largest opening (m) and the shares of the joint's area that slide, are open and are
+    broken."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path)
@@ -266,10 +267,13 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
         idx = P.of(name)
         A = P.area[idx]
         X = st.X[idx]
-        out[name] = {
-            "safety_factor": float(fs[k]),
+        shear = float(np.linalg.norm(X[:, :-1].sum(axis=0)))
+        cap = float(np.abs(X).sum())
+        ok = shear > 1e-12 * cap and np.isfinite(fs[k])
+        out[name] = {  # no shear (or at the round-off of the forces): no FS, null (∞)
+            "safety_factor": float(fs[k]) if ok else None,
             "normal_force_N": float(X[:, -1].sum()),
-            "shear_force_N": float(np.linalg.norm(X[:, :-1].sum(axis=0))),
+            "shear_force_N": shear,
             "mean_normal_stress_Pa": float(X[:, -1].sum() / A.sum()),
             "max_opening_m": float(np.maximum(st.w[idx, -1], 0.0).max(initial=0.0)),
             "sliding_share": float(A[st.state[idx] == SLIDE].sum() / A.sum()),
@@ -427,7 +431,7 @@ def format_summary(s: dict[str, Any]) -> str:
     for name, j in s.get("static_joints", {}).items():
         fs = j["safety_factor"]
         lines.append(
-            f"  static {name:<9} FS {'∞' if not np.isfinite(fs) else f'{fs:.2f}'}, normal "
+            f"  static {name:<9} FS {'∞' if fs is None else f'{fs:.2f}'}, normal "
             f"{j['normal_force_N'] / 1e3:.4g} kN, shear {j['shear_force_N'] / 1e3:.4g} kN "
             f"(mean normal stress {j['mean_normal_stress_Pa'] / 1e6:.3g} MPa), max opening "
             f"{1e3 * j['max_opening_m']:.2f} mm, sliding {100 * j['sliding_share']:.0f} %, "

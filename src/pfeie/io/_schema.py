@@ -451,6 +451,11 @@ class RecordReading(_Table):
     baseline: Annotated[
         bool, Field(description="remove the drift of the final velocity (absolute form)")
     ] = False
+    filter: Annotated[
+        RecordFilter | None,
+        Field(description="zero-phase Butterworth filter (a table: highpass, lowpass (Hz), "
+              "order), applied after scale and before baseline"),
+    ] = None  # fmt: skip
 
 
 class GroundMotionRecord(RecordReading):
@@ -471,11 +476,6 @@ class GroundMotionRecord(RecordReading):
         TargetSa | None,
         Field(description="scale the record to a pseudo-spectral acceleration Sa(T, ζ) (a "
               "table: period (s), value (g), damping), instead of scale or pga"),
-    ] = None  # fmt: skip
-    filter: Annotated[
-        RecordFilter | None,
-        Field(description="zero-phase Butterworth filter (a table: highpass, lowpass (Hz), "
-              "order), applied after scale and before baseline"),
     ] = None  # fmt: skip
 
 

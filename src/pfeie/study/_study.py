@@ -149,6 +149,9 @@ class RecordSource:
     component: str = "x"
     direction: tuple[float, ...] | None = None
     baseline: bool = False
+    highpass: float | None = None  # Hz: a zero-phase Butterworth filter, as read_record
+    lowpass: float | None = None
+    order: int = 4
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "path", Path(self.path))
@@ -171,8 +174,9 @@ class RecordSource:
 
         direction = self.direction_in(dim)
         return read_record(self.path, fmt=self.format, dt=self.dt, units=self.units,
-                           direction=direction, baseline=self.baseline,
-                           name=self.name)  # fmt: skip
+                           direction=direction, baseline=self.baseline, name=self.name,
+                           highpass=self.highpass, lowpass=self.lowpass,
+                           order=self.order)  # fmt: skip
 
     def fingerprint(self) -> str:
         """SHA-256 of the record's bytes and reading options."""
@@ -305,6 +309,8 @@ def _job_of_run(job: Job, spec: RunSpec, rec: GroundMotion) -> Job:
         "scale": spec.factor, "component": r.component,
         "direction": None if r.direction is None else list(r.direction),
         "baseline": r.baseline,
+        "filter": (None if r.highpass is None and r.lowpass is None else
+                   {"highpass": r.highpass, "lowpass": r.lowpass, "order": r.order}),
     }]  # fmt: skip
     return dataclasses.replace(job, spec=spec_, records=[rec])
 
@@ -545,9 +551,12 @@ class Study:
                 if first != entry:
                     raise InputError(f"{p}: {first} and {entry} both give the record file "
                                      f"{f}; expected each record file once")  # fmt: skip
+                flt = r.filter
                 records.append(RecordSource(
                     f.stem, f, r.format, r.units, r.dt, r.component,
                     None if r.direction is None else tuple(r.direction), r.baseline,
+                    None if flt is None else flt.highpass, None if flt is None else flt.lowpass,
+                    4 if flt is None else flt.order,
                 ))  # fmt: skip
         names = record_names([r.path for r in records], base)
         records = [dataclasses.replace(r, name=n) for r, n in zip(records, names, strict=True)]
