@@ -12,12 +12,17 @@ the 3D analysis with a mechanism at a factor of safety of 1.01.
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import pfeie as pf
+from pfeie.cli import main
 from pfeie.errors import MechanismError
 from pfeie.verification._models import block_on_base, block_on_base_3d
+from test_cli import SMALL, _write
 
 PHI = 30.0
 
@@ -96,3 +101,26 @@ def test_cohesion_of_a_joint_that_starts_broken_is_flagged(
     assert st.pairs.broken.tolist() == [True, False, False]  # the heel (x = 0), in tension
     assert abs(X[:, 0].sum()) / X[:, 1].sum() == pytest.approx(np.tan(np.radians(35.0)),
                                                                rel=1e-13)  # fmt: skip
+
+
+@pytest.mark.parametrize(("kh", "kv"), [(0.2, 0.0), (0.3, 0.1), (0.1, -0.1)])
+def test_pseudo_static_coefficients_in_a_model_file(
+    tmp_path: Path, kh: float, kv: float
+) -> None:
+    """``loads.pseudo_static = {kh, kv}`` on two blocks cut by a level joint with
+    φ = 26.565° (μ = tan φ ≈ 0.5): the joint carries N = W (1 − k_v) and T = k_h W, so the
+    static safety factor in summary.json is μ (1 − k_v) / k_h (limit equilibrium; to
+    1e-12, measured at round-off); k_h = μ (1 − k_v) is the yield coefficient. A direction that
+    is not horizontal is refused."""
+    text = SMALL.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
+    text = text.replace("[analysis]", f"[loads]\npseudo_static = {{ kh = {kh}, kv = {kv} }}\n"
+                        "[analysis]\ndynamic = false")  # fmt: skip
+    p = _write(tmp_path, text)
+    assert main(["run", str(p), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    j = s["static_joints"]["joint"]
+    mu = np.tan(np.radians(26.565))
+    assert j["safety_factor"] == pytest.approx(mu * (1 - kv) / kh, rel=1e-12)
+    assert j["shear_force_N"] / j["normal_force_N"] == pytest.approx(kh / (1 - kv), rel=1e-12)
+    bad = _write(tmp_path, text.replace("kv = ", "direction = [1.0, 1.0], kv = "))
+    assert main(["run", str(bad), "--quiet"]) == 2

@@ -327,6 +327,30 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             model.add_gravity(loads.gravity, direction=direction)
         except ModelError as exc:
             raise InputError(f"{p}: loads.gravity_direction: {exc}") from None
+    ps = loads.pseudo_static
+    if ps is not None:
+        if not loads.gravity:
+            raise InputError(f"{p}: loads.pseudo_static: the seismic coefficients are "
+                             "fractions of the weight; expected loads.gravity > 0")  # fmt: skip
+        upward = np.zeros(mesh.dim)
+        upward[-1] = 1.0
+        if loads.gravity_direction is not None:
+            gdir = np.asarray(loads.gravity_direction, dtype=float)
+            upward = -gdir / np.linalg.norm(gdir)
+        horiz = (np.eye(mesh.dim)[0] if ps.direction is None
+                 else np.asarray(ps.direction, dtype=float))  # fmt: skip
+        if horiz.shape != (mesh.dim,) or not np.linalg.norm(horiz) > 0:
+            raise InputError(f"{p}: loads.pseudo_static.direction: expected {mesh.dim} "
+                             f"components, not all 0, found {ps.direction!r}")  # fmt: skip
+        horiz = horiz / np.linalg.norm(horiz)
+        if abs(float(horiz @ upward)) > 1e-9:
+            raise InputError(f"{p}: loads.pseudo_static.direction: expected a horizontal "
+                             f"direction (normal to gravity), found {ps.direction!r}")  # fmt: skip
+        if ps.kh:
+            model.add_gravity(ps.kh * loads.gravity, direction=horiz.tolist())
+        if ps.kv:
+            model.add_gravity(abs(ps.kv) * loads.gravity,
+                              direction=(np.sign(ps.kv) * upward).tolist())  # fmt: skip
 
     def faces(key: str, groups: list[str]) -> None:
         """Each of ``groups`` must be a facet group of the mesh (``key`` names the list)."""

@@ -350,6 +350,26 @@ class UpliftTable(_Table):
     density: Annotated[FluidDensity, Field(description="water density ρ_w (kg/m³)")] = 1000.0
 
 
+class PseudoStatic(_Table):
+    """``loads.pseudo_static``: the seismic coefficients of a pseudo-static analysis: a
+    body force k_h W along a horizontal direction and k_v W upward, W the weight (ρ g with
+    ``loads.gravity``)."""
+
+    kh: Annotated[
+        float, Field(ge=0.0, le=2.0),
+        Field(description="horizontal seismic coefficient k_h (a fraction of g)"),
+    ]  # fmt: skip
+    kv: Annotated[
+        float, Field(ge=-2.0, le=2.0),
+        Field(description="vertical seismic coefficient k_v (a fraction of g, + upward: it "
+              "unloads the joints)"),
+    ] = 0.0  # fmt: skip
+    direction: Annotated[
+        Vector | None,
+        Field(description="horizontal direction of k_h W (normalised); default +x"),
+    ] = None  # fmt: skip
+
+
 class Loads(_Table):
     """``[loads]``: gravity, pressures, water, silt."""
 
@@ -360,6 +380,12 @@ class Loads(_Table):
     gravity_direction: Annotated[
         Vector | None, Field(description="unit vector of gravity; default −y (2D), −z (3D)")
     ] = None
+    pseudo_static: Annotated[
+        PseudoStatic | None,
+        Field(description="seismic coefficients of a pseudo-static analysis (a table: kh, "
+              "kv, direction): body forces k_h W horizontal and k_v W upward, in the static "
+              "analysis and, as constant loads, in a dynamic one"),
+    ] = None  # fmt: skip
     pressure: Annotated[list[Pressure], Field(description="uniform pressures")] = []
     hydrostatic: Annotated[
         list[Hydrostatic], Field(description="hydrostatic pressure ρ_w g (level − z)⁺ on faces")
