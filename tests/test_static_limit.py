@@ -124,3 +124,21 @@ def test_pseudo_static_coefficients_in_a_model_file(
     assert j["shear_force_N"] / j["normal_force_N"] == pytest.approx(kh / (1 - kv), rel=1e-12)
     bad = _write(tmp_path, text.replace("kv = ", "direction = [1.0, 1.0], kv = "))
     assert main(["run", str(bad), "--quiet"]) == 2
+
+
+def test_pseudo_static_with_a_tilted_gravity_and_the_report(tmp_path: Path) -> None:
+    """With ``gravity_direction = [0.1, -1]`` the default direction of k_h W is +x made
+    normal to gravity, so the total body force turns by atan k_h from gravity: on the
+    level joint T/N = (0.1 + k_h)/(1 − 0.1 k_h) (0.306122 for k_h = 0.2; to 1e-12). The
+    report's loads table lists the pseudo-static load with its resultant."""
+    from pfeie.plot import write_report
+
+    text = SMALL.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
+    text = text.replace("[analysis]", "[loads]\ngravity_direction = [0.1, -1.0]\n"
+                        "pseudo_static = { kh = 0.2 }\n[analysis]\ndynamic = false")  # fmt: skip
+    p = _write(tmp_path, text)
+    assert main(["run", str(p), "--quiet"]) == 0
+    j = json.loads((tmp_path / "out" / "summary.json").read_text())["static_joints"]["joint"]
+    assert j["shear_force_N"] / j["normal_force_N"] == pytest.approx(0.3 / 0.98, rel=1e-12)
+    html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
+    assert "pseudo-static" in html and "k_h = 0.2 along +x" in html

@@ -132,3 +132,19 @@ def test_static_joint_summary_is_the_limit_equilibrium() -> None:
     assert j["max_opening_m"] == 0.0 and j["open_share"] == 0.0
     line = next(x for x in format_summary(s).splitlines() if "static joint" in x)
     assert f"FS {fs:.2f}, normal {W * np.cos(b) / 1e3:.4g} kN" in line
+
+
+def test_a_joint_without_shear_has_no_safety_factor() -> None:
+    """A block on a level joint without gravity or ground motion: its joint never carries
+    shear, so neither the static nor the run's minimum safety factor exists: null in
+    summary.json (strict JSON: no Infinity), ∞ in the text."""
+    import json
+
+    model = block_on_base(joint=pf.Joint(phi=30.0), gravity=False)
+    static = pf.solve_static(model)
+    res = pf.Dynamic(model, 0.002).run(0.02, start=static, probes=[0])
+    s = summarize(_job(model, 0), static, res)
+    assert s["static_joints"]["joint"]["safety_factor"] is None
+    assert s["joints"]["joint"]["min_safety_factor"] is None
+    json.dumps(s, allow_nan=False, default=str)
+    assert "min FS ∞" in format_summary(s) and "FS ∞" in format_summary(s)

@@ -233,7 +233,9 @@ def _run(
     writer.close(stopped is None, stopped, summary)
     if job.output.paraview and result is not None:
         write_paraview(out / "results.h5", model, out)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str) + "\n")
+    (out / "summary.json").write_text(
+        json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
+    )  # strict JSON
     (out / "summary.txt").write_text(format_summary(summary) + "\n")
     return summary
 
@@ -331,7 +333,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).round(6).tolist(),
         }
     s["probes"] = probes
-    joints = {}
+    joints: dict[str, dict[str, float | None]] = {}
     if model.pairs is not None and res.X.shape[1]:
         at_start = model.pair_laws.initially_broken
         # the open crack: broken pairs open, and open by more than OPEN_CRACK_MIN_M
@@ -367,7 +369,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
                 k = int(np.argmin(fs))
-                joints[name]["min_safety_factor"] = float(fs[k])
+                # a joint that never carries shear has no FS: null (printed ∞)
+                joints[name]["min_safety_factor"] = float(fs[k]) if np.isfinite(fs[k]) else None
                 joints[name]["min_safety_factor_time_s"] = float(res.t[k])
     s["joints"] = joints
     stress = envelope_extremes(res.envelope, model.mesh.points)
@@ -446,7 +449,8 @@ def format_summary(s: dict[str, Any]) -> str:
                if "max_open_length_m" in j else "")
             + (f", open crack up to {j['max_open_area_m2']:.3g} m²"
                if "max_open_area_m2" in j else "")
-            + (f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
+            + (", min FS ∞" if j.get("min_safety_factor", 0.0) is None else
+               f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
     if "stress" in s:

@@ -339,6 +339,8 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             upward = -gdir / np.linalg.norm(gdir)
         horiz = (np.eye(mesh.dim)[0] if ps.direction is None
                  else np.asarray(ps.direction, dtype=float))  # fmt: skip
+        if ps.direction is None:  # +x, made horizontal (normal to a tilted gravity)
+            horiz = horiz - float(horiz @ upward) * upward
         if horiz.shape != (mesh.dim,) or not np.linalg.norm(horiz) > 0:
             raise InputError(f"{p}: loads.pseudo_static.direction: expected {mesh.dim} "
                              f"components, not all 0, found {ps.direction!r}")  # fmt: skip

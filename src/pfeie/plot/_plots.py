@@ -606,8 +606,9 @@ def plot_loads(res: Results, model: Any, spec: dict[str, Any], path: Path,
     loads: list[Load] = list(model.loads)
     gravity = None
     for ld in loads:
-        if ld.kind == "gravity":
-            gravity = np.asarray(ld.value, dtype=float)
+        if ld.kind == "gravity":  # the first: pseudo-static forces come after it
+            if gravity is None:
+                gravity = np.asarray(ld.value, dtype=float)
         elif ld.kind == "pressure" and ld.target is not None:
             for pts, n in _facet_polylines(model, ld.target):
                 v = (np.asarray(ld.value(pts), dtype=float) if callable(ld.value)
@@ -1016,8 +1017,9 @@ def plot_loads_3d(res: Results, model: Any, spec: dict[str, Any], path: Path,
 
     gravity = None
     for ld in model.loads:
-        if ld.kind == "gravity":
-            gravity = np.asarray(ld.value, dtype=float)
+        if ld.kind == "gravity":  # the first: pseudo-static forces come after it
+            if gravity is None:
+                gravity = np.asarray(ld.value, dtype=float)
         elif ld.kind in ("pressure", "silt") and ld.target is not None:
             for i, rows in group_faces(ld.target):
                 c = x[faces[i][rows]].mean(axis=1)

@@ -374,7 +374,9 @@ def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
         return ", ".join(g)
 
     rows: list[dict[str, Any]] = []
-    consistent = len(model.loads) == (int(bool(spec["gravity"])) + len(spec["pressure"])
+    ps = spec.get("pseudo_static") if spec["gravity"] else None
+    n_ps = 0 if ps is None else int(bool(ps["kh"])) + int(bool(ps.get("kv")))
+    consistent = len(model.loads) == (int(bool(spec["gravity"])) + n_ps + len(spec["pressure"])
                                       + sum(len(h["groups"]) for h in spec["hydrostatic"])
                                       + sum(len(s_["groups"]) for s_ in spec["silt"]))  # fmt: skip
     if not consistent:  # not built by a model file as known here: the resultants omitted
@@ -389,6 +391,12 @@ def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
         rows.append({"load": "gravity", "where": "all blocks",
                      "parameters": f"g = {spec['gravity']:g} m/s² along {where}",
                      **resultant(1)})  # fmt: skip
+    if n_ps and ps is not None:  # added right after gravity (io._modelfile)
+        towards = "+x" if ps["direction"] is None else str(ps["direction"])
+        rows.append({"load": "pseudo-static", "where": "all blocks",
+                     "parameters": f"k_h = {ps['kh']:g} along {towards}, k_v = "
+                                   f"{ps.get('kv', 0.0):g} (upward +)",
+                     **resultant(n_ps)})  # fmt: skip
     for pr in spec["pressure"]:
         rows.append({"load": "pressure", "where": pr["group"],
                      "parameters": f"{pr['value']:g} Pa", **resultant(1)})  # fmt: skip

@@ -334,8 +334,8 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
         row[f"probe.{name}.peak_abs_acceleration_g"] = p["peak_abs_acceleration_g"]
     for name, j in s.get("joints", {}).items():
         for k in JOINT_KEYS:
-            if k in j:
-                row[f"joint.{name}.{k}"] = j[k]
+            if k in j:  # a joint that never carries shear has no FS: NaN in the table
+                row[f"joint.{name}.{k}"] = float("nan") if j[k] is None else j[k]
     if "stress" in s:
         row["stress.max_principal_Pa"] = s["stress"]["max_principal_Pa"]
         row["stress.min_principal_Pa"] = s["stress"]["min_principal_Pa"]
