@@ -190,12 +190,8 @@ class Job:
 def _floating_blocks(m: Model) -> list[str]:
     """The bodies with no support (held by their joints, or free): their rigid motion is
     what the mass-proportional damping brakes."""
-    held = np.zeros(m.n_dof, dtype=bool)
-    held[m.system().prescribed] = True
-    body = m.body_of_node
     names = m.body_names()
-    return [names[b] for b in range(m.n_bodies)
-            if not held.reshape(-1, m.dim)[body == b].any()]  # fmt: skip
+    return [names[b] for b in m.floating_bodies()]
 
 
 def _quality(mesh: Mesh) -> dict[str, dict[str, Any]]:

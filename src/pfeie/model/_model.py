@@ -849,6 +849,17 @@ class Model:
             out.append(n if names.count(n) == 1 else f"{n}#{seen[n]}")
         return out
 
+    def floating_bodies(self) -> IntArray:
+        """The bodies without a support (no prescribed DOF): held by their joints, or
+        free; indices into :meth:`body_names`."""
+        _, pres, _ = self._dofmap
+        held = np.zeros(self.n_dof, dtype=bool)
+        held[pres] = True
+        on = np.bincount(self.body_of_node[self.active_nodes],
+                         held.reshape(-1, self.dim)[self.active_nodes].any(axis=1),
+                         minlength=self.n_bodies)  # fmt: skip
+        return np.flatnonzero(on == 0).astype(np.int64)
+
     def unrestrained_modes(self) -> str:
         """The rigid modes that the supports leave free, per body without interface pairs,
         as text ("body 'a+b': translation y"), or "" when every such body is held. A body

@@ -117,18 +117,12 @@ def _floating(model: Model) -> str:
     """What a static mechanism means for this model: the floating bodies (no support)
     and the joints that must hold them, with what to check."""
     assert model.pairs is not None
-    system = model.system()
-    held = np.zeros(model.n_dof, dtype=bool)
-    held[system.prescribed] = True
     body = model.body_of_node
     names = model.body_names()
     P = model.pairs
     parts = []
-    for b in range(model.n_bodies):
-        nodes = np.flatnonzero(body == b)
-        if not nodes.size or held.reshape(-1, model.dim)[nodes].any():
-            continue
-        on = np.isin(P.node_a, nodes) | np.isin(P.node_b, nodes)
+    for b in model.floating_bodies():
+        on = (body[P.node_a] == b) | (body[P.node_b] == b)
         joints = [n for n in P.names if on[P.of(n)].any()]
         parts.append(f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}")
     which = "; ".join(parts) if parts else "none found"
