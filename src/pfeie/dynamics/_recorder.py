@@ -144,8 +144,9 @@ class StressEnvelope:
     per node the largest σ₁ and the smallest σ₃ of the nodal stress
     (:meth:`pfeie.Model.nodal_stress`), per cell those over its quadrature points, each
     with the time it was reached (Pa, tension positive; s). The stress is the small-strain
-    stress of the total displacement (the static state included), one sparse product a
-    row (:attr:`pfeie.Model.stress_operators`); cells of no block and their nodes hold NaN.
+    stress of the total displacement (the static state included), two sparse products a
+    row (:attr:`pfeie.Model.stress_operators`: the points, then the nodes from them);
+    cells of no block and their nodes hold NaN.
 
     Where the cells' materials have a tensile strength f_t
     (:attr:`pfeie.Model.cell_tensile_strength`), the envelope also keeps the measures of
@@ -188,9 +189,7 @@ class StressEnvelope:
             slice(None) if np.array_equal(self._cells, np.arange(n_cells)) else self._cells
         )
         # plane states: the yz and xz rows of the operators are empty (σ₁, σ₃ in closed form)
-        self._plane = all(
-            not np.diff(A.indptr)[k::6].any() for A in (self.op.nodes, self.op.points)
-            for k in (3, 4))  # fmt: skip
+        self._plane = not any(np.diff(self.op.points.indptr)[k::6].any() for k in (3, 4))
         ft = np.asarray(model.cell_tensile_strength)
         self._ft = ft[self._cells] if np.isfinite(ft).any() else None
         self.tensile = ft
@@ -217,18 +216,24 @@ class StressEnvelope:
         if not self._plane:
             return principal_extremes(s)
         xx, yy, zz, xy = s[:, 0], s[:, 1], s[:, 2], s[:, 5]
-        c = 0.5 * (xx + yy)
-        R = np.hypot(0.5 * (xx - yy), xy)
-        return np.maximum(c + R, zz), np.minimum(c - R, zz)
+        c = xx + yy
+        c *= 0.5
+        R = xx - yy
+        R *= 0.5
+        np.hypot(R, xy, out=R)
+        hi = np.add(c, R)
+        np.subtract(c, R, out=c)
+        return np.maximum(hi, zz, out=hi), np.minimum(c, zz, out=c)
 
     def update(self, t: float, u: FloatArray) -> None:
         """Fold in the stress of the full displacement vector ``u`` at time ``t``."""
         v = self.values
-        sn = (self.op.nodes @ u).reshape(-1, 6)
+        sq = self.op.at_points(u)
+        sn = self.op.at_nodes(sq)
         if not isinstance(self._node_idx, slice):
             sn = sn[self._nodes]
         hi_n, lo_n = self._extremes(sn)
-        hi_q, lo_q = self._extremes((self.op.points @ u).reshape(-1, 6))
+        hi_q, lo_q = self._extremes(sq)
         if self._nq:  # point by point, in the order of reduceat (the same bits)
             hi_c, lo_c = hi_q[:: self._nq].copy(), lo_q[:: self._nq].copy()
             for j in range(1, self._nq):

@@ -53,13 +53,27 @@ class StressOperators:
     elastic laws): ``points`` (6 n_q × n_dof) gives the Voigt components (order
     :data:`pfeie.assembly.VOIGT`: xx, yy, zz, yz, xz, xy; Pa) at the stiffness
     quadrature points of every block cell, row 6 i + k for point i and component k;
-    ``nodes`` (6 n_points × n_dof) the nodal stress of :meth:`Model.nodal_stress`;
+    ``extrapolation`` (n_points × n_q) maps the point values to the nodal stress of
+    :meth:`Model.nodal_stress` (each cell's least-squares corner fit evaluated at its
+    nodes, averaged over the cells at a node), the same weights for every component;
     ``cell`` (n_q,) the cell of each point, numbered over the mesh's cells type after type
-    in ``mesh.cells`` order. Built once: a step's stress is then one sparse product."""
+    in ``mesh.cells`` order. Built once: a step's stress is one sparse product, its nodal
+    stress a second one with the n_q × 6 point values (:meth:`at_nodes`), a sixth of the
+    entries of the nodal operator written out over the DOFs."""
 
     points: sp.csr_matrix
-    nodes: sp.csr_matrix
+    extrapolation: sp.csr_matrix
     cell: IntArray
+
+    def at_points(self, u: FloatArray) -> FloatArray:
+        """The Voigt stress at the quadrature points (n_q, 6), Pa, of the full DOF vector
+        ``u``."""
+        return np.asarray(self.points @ u).reshape(-1, 6)
+
+    def at_nodes(self, point_values: FloatArray) -> FloatArray:
+        """The nodal stress (n_points, 6), Pa, of the point values (n_q, 6)
+        (:meth:`at_points`); zero at nodes of no block cell."""
+        return np.asarray(self.extrapolation @ point_values)
 
 
 @dataclass(frozen=True)
@@ -1038,10 +1052,9 @@ class Model:
             Nq, _ = lin.shape_functions(xi)
             Nn, _ = lin.shape_functions(reference(cs.cell_type).nodes)
             extrap = Nn @ np.linalg.pinv(Nq)  # (nen, nq)
-            for k in range(6):
-                ext_r.append(np.repeat(6 * cs.conn + k, nq, axis=1).ravel())
-                ext_c.append(np.tile(6 * qid + k, (1, nen)).ravel())
-                ext_v.append(np.broadcast_to(extrap.ravel(), (c, nen * nq)).ravel())
+            ext_r.append(np.repeat(cs.conn, nq, axis=1).ravel())
+            ext_c.append(np.tile(qid, (1, nen)).ravel())
+            ext_v.append(np.broadcast_to(extrap.ravel(), (c, nen * nq)).ravel())
             cnt += np.bincount(cs.conn.ravel(), minlength=self.mesh.n_points)
             q0 += c * nq
         vals_all = np.concatenate(vals)
@@ -1049,17 +1062,18 @@ class Model:
         S = sp.csr_matrix((vals_all[keep], (np.concatenate(rows)[keep],
                            np.concatenate(cols)[keep])), shape=(6 * q0, n_dof))  # fmt: skip
         er = np.concatenate(ext_r)
-        scale = 1.0 / np.maximum(cnt, 1.0)[er // 6]
+        scale = 1.0 / np.maximum(cnt, 1.0)[er]
         E = sp.csr_matrix((np.concatenate(ext_v) * scale, (er, np.concatenate(ext_c))),
-                          shape=(6 * self.mesh.n_points, 6 * q0))  # fmt: skip
-        return StressOperators(S, (E @ S).tocsr(), np.concatenate(cells))
+                          shape=(self.mesh.n_points, q0))  # fmt: skip
+        return StressOperators(S, E, np.concatenate(cells))
 
     def nodal_stress(self, u: FloatArray) -> FloatArray:
         """Nodal stresses (n_points, 3, 3), Pa: per cell, a least-squares fit of the
         Gauss-point values by the corner (linear) shape functions, evaluated at the
-        nodes, then averaged over the cells sharing each node (one sparse product with
+        nodes, then averaged over the cells sharing each node (two sparse products,
         :attr:`stress_operators`)."""
-        v = (self.stress_operators.nodes @ np.asarray(u, dtype=float).ravel()).reshape(-1, 6)
+        op = self.stress_operators
+        v = op.at_nodes(op.at_points(np.asarray(u, dtype=float).ravel()))
         out = np.empty((v.shape[0], 3, 3))
         for k, (i, j) in enumerate(asm.VOIGT):
             out[:, i, j] = out[:, j, i] = v[:, k]
