@@ -103,6 +103,15 @@ def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> No
     assert "interface    dam_rock: 37 pairs" in out and "interface    neck: 9 pairs" in out
     assert "record       elcentro_1940_ns_chopra: PGA 0.191 g" in out
     assert "memory" in out
+    assert ("brakes the rigid motion of the floating block(s) dam_lower, dam_upper" in out
+            and "deformation_only = true spares it" in out)  # fmt: skip
+    koyna = str(ROOT / "examples" / "koyna" / "koyna.toml")
+    assert main(["check", koyna, "--set", "damping.deformation_only=true"]) == 0
+    out = capsys.readouterr().out
+    assert "the rigid motion of the floating block(s) dam_lower, dam_upper is not damped" in out
+    assert main(["check", koyna, "--set", "damping.deformation_only=1"]) == 2
+    assert "damping.deformation_only (from --set damping.deformation_only=1): expected a " \
+        "boolean" in capsys.readouterr().err
 
 
 def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:

@@ -589,9 +589,13 @@ def _format_check(s: dict[str, object]) -> str:
         floating = damping["floating"]
         line = (f"damping      Rayleigh alpha = {damping['alpha']:.4g} 1/s, "
                 f"beta = {damping['beta']:.4g} s")  # fmt: skip
-        if damping["alpha"] > 0 and floating:
+        if damping["alpha"] > 0 and floating and damping["deformation_only"]:
+            line += (f"; the deformation only: the rigid motion of the floating block(s) "
+                     f"{', '.join(floating)} is not damped")  # fmt: skip
+        elif damping["alpha"] > 0 and floating:
             line += (f"; the mass-proportional part brakes the rigid motion of the floating "
-                     f"block(s) {', '.join(floating)} (docs/model-file.md, Damping)")  # fmt: skip
+                     f"block(s) {', '.join(floating)} (docs/model-file.md, Damping; "
+                     f"deformation_only = true spares it)")  # fmt: skip
         lines.append(line)
     records = s["records"]
     assert isinstance(records, list)

@@ -16,7 +16,15 @@ from ._corotation import Corotation
 from ._driver import Checkpoint, Dynamic, RunStopped, StepState
 from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean
-from ._newmark import History, MatrixSystem, Newmark, SecondOrderSystem, State
+from ._newmark import (
+    History,
+    MatrixSystem,
+    Newmark,
+    SecondOrderSystem,
+    State,
+    damping_product,
+    factorize_step,
+)
 from ._nsga import NonsmoothAlpha
 from ._recorder import (
     CID_LIMIT,
@@ -37,6 +45,6 @@ __all__ = [
     "CID_LIMIT", "DCR_KEYS", "DCR_LIMIT", "ENVELOPE_KEYS", "OVERSTRESSED_LIMIT", "Checkpoint",
     "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
     "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
-    "SecondOrderSystem", "State", "StepState", "StressEnvelope", "demand_capacity",
-    "envelope_extremes", "shorter_than_a_step",
+    "SecondOrderSystem", "State", "StepState", "StressEnvelope", "damping_product",
+    "demand_capacity", "envelope_extremes", "factorize_step", "shorter_than_a_step",
 ]  # fmt: skip

@@ -37,6 +37,7 @@ from ..coupling import GatheredDelassus, NodalFlexibility, PairOperator
 from ..linalg import Factorization
 from ..model import BodyFrames, LinearSystem, Model
 from ..typing import FloatArray, IntArray
+from ._newmark import damping_product
 
 log = logging.getLogger(__name__)
 
@@ -291,11 +292,10 @@ class Corotation:
         self, v: FloatArray, u: FloatArray, R: FloatArray | None = None
     ) -> FloatArray:
         """Q C₀ Qᵀ v (N) with the frames R (default: those of the configuration u)."""
-        C = self.system.C
-        if C is None:
+        if self.system.C is None:
             return np.zeros_like(v)
         R = self.rotations(u) if R is None else R
-        return self.rotate(C @ self.rotate(v, R, transpose=True), R)
+        return self.rotate(damping_product(self.system, self.rotate(v, R, transpose=True)), R)
 
     def strain_energy(self, u: FloatArray, R: FloatArray | None = None) -> float:
         """½ ũᵀ K₀ ũ in the body frames R (default: those of u) (J); the last four

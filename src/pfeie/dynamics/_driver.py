@@ -55,7 +55,7 @@ from ..typing import BoolArray, FloatArray, IntArray
 from ._corotation import Corotation
 from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean, impulse_laws
-from ._newmark import Newmark, State
+from ._newmark import Newmark, State, damping_product
 from ._nsga import NonsmoothAlpha
 from ._recorder import DynamicResult, Recorder
 from ._settings import DynamicSettings, settings_message
@@ -314,8 +314,7 @@ class Dynamic:
         """C v, or Q C₀ Qᵀ v with large rotations (N)."""
         if self.corot is not None:
             return self.corot.damping_force(v, u, R)
-        C = self.system.C
-        return np.zeros_like(v) if C is None else np.asarray(C @ v)
+        return damping_product(self.system, v)
 
     def mass_product(self, v: FloatArray) -> float:
         """vᵀ M v (twice the kinetic energy, J; M lumped, with a finite-element

@@ -42,9 +42,8 @@ import scipy.sparse as sp
 
 from ..errors import ModelError
 from ..interface import JointLaw, PairLaws, Strength
-from ..linalg import factorize
 from ..typing import BoolArray, FloatArray
-from ._newmark import SecondOrderSystem, State
+from ._newmark import SecondOrderSystem, State, damping_product, factorize_step
 
 
 class MoreauJean:
@@ -76,7 +75,7 @@ class MoreauJean:
         if system.C is not None:
             What = What + h * th * system.C
         self.What = sp.csc_matrix(What)
-        self.factor = factorize(self.What, spd=True, backend=backend)
+        self.factor = factorize_step(system, self.What, h * th, backend)
 
     def free_velocity(self, state: State, f_theta: FloatArray) -> FloatArray:
         """v_free = Ŵ⁻¹ r: the velocity at t_{n+1} without pair impulses."""
@@ -85,7 +84,7 @@ class MoreauJean:
         u, v = state.u, state.v
         r = s.M @ v - s.K @ (h * (u + h * th * (1 - th) * v)) + h * f_theta
         if s.C is not None:
-            r = r - h * (1 - th) * (s.C @ v)
+            r = r - h * (1 - th) * damping_product(s, v)
         return self.factor.solve(r)
 
     def advance(self, state: State, v_next: FloatArray, f_next: FloatArray) -> State:

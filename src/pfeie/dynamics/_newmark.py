@@ -61,14 +61,18 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..linalg import factorize
+from ..linalg import Factorization, LowRankTerm, UpdatedFactorization, factorize
 from ..typing import FloatArray, IntArray
 
 log = logging.getLogger(__name__)
 
 
 class SecondOrderSystem(Protocol):
-    """What a time integrator needs: M, K, optional C (sparse, n × n) and f(t)."""
+    """What a time integrator needs: M, K, optional damping and f(t). The damping is
+    C + U B Uᵀ: ``C`` sparse (n × n) and ``C_update`` an optional symmetric low-rank term
+    (:class:`pfeie.linalg.LowRankTerm`; the damping of the deformation only removes the
+    floating bodies' rigid modes from C this way, :meth:`pfeie.Model.system`). Integrators
+    apply it with :func:`damping_product` and factorise with :func:`factorize_step`."""
 
     @property
     def M(self) -> sp.spmatrix: ...
@@ -76,6 +80,8 @@ class SecondOrderSystem(Protocol):
     def K(self) -> sp.spmatrix: ...
     @property
     def C(self) -> sp.spmatrix | None: ...
+    @property
+    def C_update(self) -> LowRankTerm | None: ...
 
     def load(self, t: float) -> FloatArray: ...
 
@@ -88,9 +94,32 @@ class MatrixSystem:
     K: sp.spmatrix
     C: sp.spmatrix | None = None
     f: Callable[[float], FloatArray] | None = None
+    C_update: LowRankTerm | None = None
 
     def load(self, t: float) -> FloatArray:
         return np.zeros(self.K.shape[0]) if self.f is None else np.asarray(self.f(t), float)
+
+
+def damping_product(system: SecondOrderSystem, v: FloatArray) -> FloatArray:
+    """The damping force (C + U B Uᵀ) v of ``system`` (N; zero without damping)."""
+    if system.C is None:
+        return np.zeros_like(v)
+    out = np.asarray(system.C @ v)
+    if system.C_update is not None:
+        out = out + system.C_update @ v
+    return out
+
+
+def factorize_step(
+    system: SecondOrderSystem, A: sp.spmatrix, c: float, backend: str = "auto"
+) -> Factorization:
+    """Factorise a step's effective matrix A, which holds c C (the sparse damping, c the
+    scheme's weight of it); with a low-rank damping term the factor is that of
+    A + c U B Uᵀ, by Woodbury on the factor of A (:class:`pfeie.linalg.UpdatedFactorization`)."""
+    F = factorize(sp.csc_matrix(A), spd=True, backend=backend)
+    if system.C is None or system.C_update is None or c == 0.0:
+        return F
+    return UpdatedFactorization(F, system.C_update.scaled(c))
 
 
 @dataclass
@@ -201,7 +230,7 @@ class Newmark:
         if system.C is not None:
             Khat = Khat + s * a1 * system.C
         self.Khat = sp.csc_matrix(Khat)
-        self.factor = factorize(self.Khat, spd=True, backend=backend)
+        self.factor = factorize_step(system, self.Khat, s * a1, backend)
 
     @property
     def n(self) -> int:
@@ -215,9 +244,7 @@ class Newmark:
         u = np.zeros(n) if u0 is None else np.array(u0, dtype=float)
         v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)
         f = self.system.load(t0)
-        r = f - self.system.K @ u
-        if self.system.C is not None:
-            r -= self.system.C @ v
+        r = f - self.system.K @ u - damping_product(self.system, v)
         # at rest in equilibrium (the usual start from a static state) no solve is needed
         a = factorize(sp.csc_matrix(self.system.M), spd=True).solve(r) if np.any(r) else 0 * r
         return State(t0, u, v, a, f)
@@ -233,7 +260,7 @@ class Newmark:
         else:
             rhs += self.system.M @ (a0 * u + a2 * v + a3 * a)
         if self.system.C is not None:
-            rhs += self.system.C @ ((1 - af) * (a1 * u + a4 * v + a5 * a) - af * v)
+            rhs += damping_product(self.system, (1 - af) * (a1 * u + a4 * v + a5 * a) - af * v)
         if af:
             rhs -= af * (self.system.K @ u)
         return rhs
@@ -297,9 +324,7 @@ class Newmark:
                 du = new.u - st.u
                 E["kinetic"][i], E["strain"][i] = self.energies(new)
                 E["external_work"][i] = E["external_work"][i - 1] + 0.5 * du @ (st.f + new.f)
-                damp = 0.0
-                if self.system.C is not None:
-                    damp = 0.5 * du @ (self.system.C @ (st.v + new.v))
+                damp = 0.5 * du @ damping_product(self.system, st.v + new.v)
                 E["damping"][i] = E["damping"][i - 1] + damp
             st = new
             put(i, st)

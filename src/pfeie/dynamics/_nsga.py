@@ -59,9 +59,14 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..linalg import factorize
 from ..typing import FloatArray
-from ._newmark import SecondOrderSystem, State, scheme_parameters
+from ._newmark import (
+    SecondOrderSystem,
+    State,
+    damping_product,
+    factorize_step,
+    scheme_parameters,
+)
 
 
 class NonsmoothAlpha:
@@ -92,7 +97,7 @@ class NonsmoothAlpha:
         if system.C is not None:
             S = S + g * h * system.C
         self.S = sp.csc_matrix(S)
-        self.factor = factorize(self.S, spd=True, backend=backend)
+        self.factor = factorize_step(system, self.S, g * h, backend)
         self._known: tuple[State, tuple[FloatArray, FloatArray, FloatArray]] | None = None
 
     def initial_state(
@@ -130,7 +135,7 @@ class NonsmoothAlpha:
         sys_ = self.system
         r = f_next - sys_.K @ q_hat
         if sys_.C is not None:
-            r = r - sys_.C @ v_hat
+            r = r - damping_product(sys_, v_hat)
         return self.factor.solve(self.s * r)
 
     def advance(self, state: State, acc: FloatArray, f_next: FloatArray) -> State:

@@ -427,7 +427,7 @@ class EnergyAccount:
         v_th = (1 - th) * cur.kin.v + th * nxt.kin.v
         acc["external_work"] += float(du @ ((1 - th) * cur.kin.f + th * nxt.kin.f))
         if an.system.C is not None:
-            acc["damping"] += float(du @ (an.system.C @ v_th))
+            acc["damping"] += float(du @ an.damping_force(v_th, cur.kin.u))
         if an.m:
             P = nxt.pairs.X * an.dt
             U_th = an.op.relative(v_th)

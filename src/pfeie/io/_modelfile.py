@@ -180,6 +180,7 @@ class Job:
             "quality": _quality(m.mesh),
             "damping": {"alpha": m.damping.alpha if m.damping else 0.0,
                         "beta": m.damping.beta if m.damping else 0.0,
+                        "deformation_only": bool(m.damping and m.damping.deformation_only),
                         "floating": _floating_blocks(m)},
             "records": [g.summary() for g in self.records], "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
@@ -292,11 +293,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     if damp.ratio is not None and damp.frequencies is not None:
         f1, f2 = damp.frequencies
         try:
-            damping = Rayleigh.from_ratio(damp.ratio, f1, f2)
+            damping = Rayleigh.from_ratio(damp.ratio, f1, f2, damp.deformation_only)
         except ModelError as exc:
             raise InputError(f"{p}: damping: {exc}") from None
     elif damp.alpha or damp.beta:
-        damping = Rayleigh(damp.alpha, damp.beta)
+        damping = Rayleigh(damp.alpha, damp.beta, damp.deformation_only)
     try:
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
                       damping=damping, interfaces=interfaces)  # fmt: skip

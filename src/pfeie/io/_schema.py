@@ -145,6 +145,12 @@ class Damping(_Table):
         list[float] | None, Field(min_length=2, max_length=2),
         Expect("an array of 2 numbers"), Field(description="the two frequencies (Hz) for 'ratio'"),
     ] = None  # fmt: skip
+    deformation_only: Annotated[
+        bool,
+        Field(description="the mass-proportional part spares the rigid motion of the "
+              "floating blocks (no drag on sliding or rocking; their deformation keeps its "
+              "ratio)"),
+    ] = False  # fmt: skip
 
     @model_validator(mode="after")
     def _ratio_or_coefficients(self) -> Damping:

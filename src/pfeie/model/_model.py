@@ -25,6 +25,7 @@ from .. import assembly as asm
 from ..element import quadrature, reference
 from ..errors import MeshError, ModelError
 from ..interface import MohrCoulomb, PairGeometry, PairLaws, SplitMesh, split
+from ..linalg import LowRankTerm
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
@@ -95,6 +96,8 @@ class LinearSystem:
     _amplitudes: tuple[Amplitude | None, ...]
     _constant: FloatArray
     n_pairs: int = 0  # the model's interface pairs, which these operators do not couple
+    #: the low-rank part of the damping, C + U B Uᵀ (Rayleigh's ``deformation_only``)
+    C_update: LowRankTerm | None = None
 
     @property
     def n(self) -> int:
@@ -784,14 +787,35 @@ class Model:
         constant = shift + pf_[:, [a is None for a in amps]].sum(axis=1)
         varying = [i for i, a in enumerate(amps) if a is not None]
         C = None
+        Mff = M[free][:, free].tocsr()
         if self.damping is not None and (self.damping.alpha or self.damping.beta):
             C = (self.damping.alpha * M + self.damping.beta * K)[free][:, free].tocsr()
         return LinearSystem(
-            M=M[free][:, free].tocsr(), K=Kff, C=C, free=free, n_dof=self.n_dof,
+            M=Mff, K=Kff, C=C, free=free, n_dof=self.n_dof,
             prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
             n_pairs=0 if self.pairs is None else int(self.pairs.n),
+            C_update=self._rigid_damping(Mff, free) if C is not None else None,
         )  # fmt: skip
+
+    def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
+        """−α Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M over the floating bodies, on the free DOFs
+        (U = M R, B = −α (RᵀMR)⁻¹ per body; :class:`Rayleigh` ``deformation_only``), or
+        None."""
+        rd = self.damping
+        if rd is None or not rd.deformation_only or not rd.alpha:
+            return None
+        floating = self.floating_bodies()
+        if not floating.size:
+            return None
+        r = 3 if self.dim == 2 else 6
+        cols = (floating[:, None] * r + np.arange(r)).ravel()
+        R = self.rigid_modes()[:, cols].tocsr()[free]  # a floating body's DOFs are all free
+        U = sp.csc_matrix(Mff @ R)
+        A = np.asarray((R.T @ U).toarray())
+        blocks = np.stack([A[j * r : (j + 1) * r, j * r : (j + 1) * r]
+                           for j in range(floating.size)])  # fmt: skip
+        return LowRankTerm(U, -rd.alpha * np.linalg.inv(blocks))
 
     # -- interfaces and bodies -------------------------------------------------------------
     @property

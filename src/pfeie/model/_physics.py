@@ -108,6 +108,18 @@ class Block:
 class Rayleigh:
     """Rayleigh damping C = α M + β K (α in 1/s, β in s).
 
+    With ``deformation_only`` the mass-proportional part spares the rigid motion of the
+    floating bodies (those without a support, held by their joints or free):
+
+        C = α (M − Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M) + β K,
+
+    R_b the rigid modes of body b (:meth:`Model.rigid_modes`), so that C R_b = 0: a block
+    sliding or rocking on its joints feels no viscous drag α m v, while every deformation
+    mode φ (R_bᵀ M φ = 0) keeps the ratio ζ(ω) = α/(2ω) + βω/2. The term is of rank 3 (2D)
+    or 6 (3D) per floating body; the time steps keep their sparse factor and add it by
+    Woodbury (:class:`pfeie.linalg.UpdatedFactorization`). Bodies with a support keep the
+    full α M.
+
     >>> d = Rayleigh.from_ratio(0.05, 1.0, 10.0)
     >>> round(d.ratio(1.0), 12), round(d.ratio(10.0), 12)
     (0.05, 0.05)
@@ -115,15 +127,18 @@ class Rayleigh:
 
     alpha: float = 0.0
     beta: float = 0.0
+    deformation_only: bool = False
 
     @classmethod
-    def from_ratio(cls, zeta: float, f1: float, f2: float) -> Rayleigh:
+    def from_ratio(
+        cls, zeta: float, f1: float, f2: float, deformation_only: bool = False
+    ) -> Rayleigh:
         """The α, β giving damping ratio ζ at the frequencies f1 and f2 (Hz):
         ζ(ω) = α/(2ω) + βω/2, so α = 2ζω₁ω₂/(ω₁ + ω₂), β = 2ζ/(ω₁ + ω₂)."""
         if not (f1 > 0 and f2 > 0 and f1 != f2 and zeta >= 0):
             raise ModelError("Rayleigh.from_ratio needs zeta >= 0 and two distinct f > 0")
         w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
-        return cls(2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2))
+        return cls(2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2), deformation_only)
 
     def ratio(self, f: float) -> float:
         """Damping ratio at frequency f (Hz)."""

@@ -296,12 +296,18 @@ def model_rows(res: Results, job: Job | None) -> list[tuple[str, str]]:
                          f"{spec['thickness']:g} m (forces and masses per this "
                          "thickness)"))  # fmt: skip
         d = spec.get("damping", {})
+        spared = (
+            ", the deformation only (the floating blocks' rigid motion undamped)"
+            if d.get("deformation_only")
+            else ""
+        )
         if d.get("ratio") is not None and d.get("frequencies") is not None:
             f1, f2 = d["frequencies"]
             rows.append(("damping", f"Rayleigh, {100 * d['ratio']:g} % at {f1:g} and "
-                         f"{f2:g} Hz"))  # fmt: skip
+                         f"{f2:g} Hz{spared}"))  # fmt: skip
         elif d.get("alpha") or d.get("beta"):
-            rows.append(("damping", f"Rayleigh, α = {d['alpha']:g} 1/s, β = {d['beta']:g} s"))
+            rows.append(("damping", f"Rayleigh, α = {d['alpha']:g} 1/s, β = {d['beta']:g} s"
+                         f"{spared}"))  # fmt: skip
         else:
             rows.append(("damping", "none"))
     return rows
