@@ -265,3 +265,7 @@ def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     assert [ln.split()[1] for ln in lines[:3]] == ["rigid"] * 3 and float(lines[3].split()[1]) > 1
     rows = list(csv.DictReader((tmp_path / "f" / "modes.csv").open()))
     assert [r["period_s"] for r in rows[:3]] == ["inf"] * 3 and float(rows[3]["period_s"]) < 1
+    # the rigid modes are the floating block's rigid motion (share 1), the elastic mode is
+    # M-orthogonal to it (share 0; both to round-off)
+    share = np.array([float(r["rigid_share"]) for r in rows])
+    np.testing.assert_allclose(share, [1, 1, 1, 0], atol=2e-15)  # measured 2.2e-16

@@ -355,8 +355,10 @@ def _modal(args: argparse.Namespace, job: object) -> int:
         return EXIT_INPUT
     axes = "xyz"[: model.dim]
     total = res.total_mass
+    damped = bool(np.isfinite(res.damping_ratios).any())
     head = (f"{'mode':>4} {'f (Hz)':>10} {'T (s)':>9} "
-            + " ".join(f"{'m_' + a + ' %':>8} {'cum %':>7}" for a in axes))  # fmt: skip
+            + " ".join(f"{'m_' + a + ' %':>8} {'cum %':>7}" for a in axes)
+            + (f" {'zeta %':>7}" if damped else ""))  # fmt: skip
     print(head)
     print("-" * len(head))
     cum = np.cumsum(res.effective_mass, axis=0)
@@ -366,7 +368,15 @@ def _modal(args: argparse.Namespace, job: object) -> int:
                         f"{100 * cum[k, i] / max(total[i], 1e-300):>7.2f}"
                         for i in range(model.dim))  # fmt: skip
         ft = f"{'rigid':>10} {'-':>9}" if rigid[k] else f"{f:>10.4f} {1 / f:>9.4f}"
-        print(f"{k + 1:>4} {ft} {cols}")
+        z = res.damping_ratios[k]
+        zt = (f" {'-':>7}" if not np.isfinite(z) else f" {100 * z:>7.2f}") if damped else ""
+        print(f"{k + 1:>4} {ft} {cols}{zt}")
+    if damped:
+        d = model.damping
+        what = ("the deformation only: no α on the floating blocks' rigid motion"
+                if d.deformation_only else "α/(2ω) + βω/2")  # fmt: skip
+        print(f"zeta: the Rayleigh damping ratio of each mode, {what} (docs/model-file.md, "
+              f"Damping)")  # fmt: skip
     n_res = len(model.reservoirs) + len(model.fe_reservoirs)
     some = f"{n_res} reservoir{'s' if n_res > 1 else ''} ([[loads.westergaard]])"
     if not n_res:

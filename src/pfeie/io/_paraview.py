@@ -287,7 +287,9 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
     (``modes.xdmf``: one frame per mode, "time" = the mode number; point data ``shape``,
     scaled to a largest displacement of 1, and cell data ``body``) and ``modes.csv``
     (mode, frequency (Hz), period (s), effective modal mass (kg) and its share of the free
-    mass along each axis)."""
+    mass along each axis, the Rayleigh damping ratio (empty without damping or for a rigid
+    mode) and the share of the mode's kinetic energy in the floating bodies' rigid
+    motion)."""
     try:
         from meshio.xdmf import TimeSeriesWriter
     except ImportError:  # pragma: no cover
@@ -310,13 +312,18 @@ def write_modes(result: Any, model: Any, folder: str | Path) -> list[Path]:
     csv_path = out / "modes.csv"
     total = np.asarray(result.total_mass)
     rows = ["mode,frequency_hz,period_s," + ",".join(
-        f"mass_{a}_kg,share_{a}" for a in axes)]  # fmt: skip
+        f"mass_{a}_kg,share_{a}" for a in axes) + ",damping_ratio,rigid_share"]  # fmt: skip
     periods = result.periods
+    n = len(result.frequencies)
+    zeta = np.asarray(result.damping_ratios) if len(result.damping_ratios) else np.full(n, np.nan)
+    rigid = np.asarray(result.rigid_share) if len(result.rigid_share) else np.zeros(n)
     for k, f in enumerate(result.frequencies):
         me = result.effective_mass[k]
         share = me / np.maximum(total, 1e-300) if total.size else np.full(me.shape, np.nan)
+        z = f"{zeta[k]:.6g}" if np.isfinite(zeta[k]) else ""
         rows.append(f"{k + 1},{f:.9g},{periods[k]:.9g}," + ",".join(
-            f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True)))  # fmt: skip
+            f"{m:.9g},{s:.6g}" for m, s in zip(me, share, strict=True))
+            + f",{z},{rigid[k]:.6g}")  # fmt: skip
     csv_path.write_text("\n".join(rows) + "\n")
     return [path, csv_path]
 

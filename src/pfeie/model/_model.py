@@ -800,22 +800,31 @@ class Model:
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
         """−α Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M over the floating bodies, on the free DOFs
-        (U = M R, B = −α (RᵀMR)⁻¹ per body; :class:`Rayleigh` ``deformation_only``), or
-        None."""
+        (:class:`Rayleigh` ``deformation_only``), or None."""
         rd = self.damping
         if rd is None or not rd.deformation_only or not rd.alpha:
             return None
+        term = self.floating_rigid_projector(Mff, free)
+        return None if term is None else term.scaled(-rd.alpha)
+
+    def floating_rigid_projector(self, M: sp.spmatrix, free: IntArray) -> LowRankTerm | None:
+        """Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M over the floating bodies b
+        (:meth:`floating_bodies`; R_b their rigid modes, :meth:`rigid_modes`) on the DOFs
+        ``free``, as U B Uᵀ with U = M R and B = (RᵀMR)⁻¹ per body; ``M`` (kg) on the same
+        DOFs. For a mass-normalised φ, φᵀ(U B Uᵀ)φ is the share of its kinetic energy in
+        the rigid motion of the floating bodies (the M-orthogonal projection). None when no
+        body floats."""
         floating = self.floating_bodies()
         if not floating.size:
             return None
         r = 3 if self.dim == 2 else 6
         cols = (floating[:, None] * r + np.arange(r)).ravel()
         R = self.rigid_modes()[:, cols].tocsr()[free]  # a floating body's DOFs are all free
-        U = sp.csc_matrix(Mff @ R)
+        U = sp.csc_matrix(M @ R)
         A = np.asarray((R.T @ U).toarray())
         blocks = np.stack([A[j * r : (j + 1) * r, j * r : (j + 1) * r]
                            for j in range(floating.size)])  # fmt: skip
-        return LowRankTerm(U, -rd.alpha * np.linalg.inv(blocks))
+        return LowRankTerm(U, np.linalg.inv(blocks))
 
     # -- interfaces and bodies -------------------------------------------------------------
     @property

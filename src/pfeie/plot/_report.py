@@ -502,6 +502,9 @@ def modal_tables(
             for i, a in enumerate(axes):
                 row[f"m_{a} (%)"] = f"{100 * r.effective_mass[k, i] / total[i]:.2f}"
                 row[f"cumulative {a} (%)"] = f"{100 * cum[k, i] / total[i]:.2f}"
+            if np.isfinite(r.damping_ratios).any():
+                z = r.damping_ratios[k]
+                row["ζ (%)"] = f"{100 * z:.2f}" if np.isfinite(z) else "–"
             rows.append(row)
         out.append((label, rows))
     return out, ""
@@ -739,7 +742,8 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     if modes:
         parts.append("<p>The joints bonded (rigid joints tie their faces, joints with "
                      "stiffnesses act as springs); effective modal masses as shares of the "
-                     "free mass (<code>pfeie modal</code> gives more modes and their "
+                     "free mass; ζ the Rayleigh damping ratio of each mode "
+                     "(<code>pfeie modal</code> gives more modes and their "
                      "shapes).</p>")  # fmt: skip
     parts += [_heading(2, "Analysis", "analysis"), *_pairs_table(analysis)]
     parts.append(_heading(2, "Histories", "histories"))

@@ -18,7 +18,7 @@ mass lowers the frequencies: ω² = φᵀKφ / φᵀ(M + M_a)φ at the wet mode.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -51,6 +51,15 @@ class ModalResult:
     effective_mass: FloatArray
     total_mass: FloatArray = field(default_factory=lambda: np.zeros(0))  # (dim,) kg
     omega2_scale: float = 0.0  # rad²/s²
+    #: the model's Rayleigh damping ratio of each mode (n_modes,), φᵀCφ/(2ω) for the
+    #: mass-normalised φ: α/(2ω) + βω/2 where C = αM + βK acts in full; with
+    #: ``deformation_only`` the share ρ of the mode's kinetic energy in the floating
+    #: bodies' rigid motion gets no α: (α(1 − ρ) + β φᵀKφ)/(2ω). NaN for rigid modes and
+    #: without damping
+    damping_ratios: FloatArray = field(default_factory=lambda: np.zeros(0))
+    #: ρ per mode (n_modes,): the share of its kinetic energy in the rigid motion of the
+    #: floating bodies (:meth:`pfeie.Model.floating_rigid_projector`; 0 without any)
+    rigid_share: FloatArray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def rigid(self) -> BoolArray:
@@ -134,7 +143,21 @@ def modal(
     iota = influence[system.free]
     gamma = vec.T @ (M @ iota)  # participation factors (n_modes, d), φ mass-normalised
     total = np.einsum("ik,ik->k", iota, M @ iota)  # the free mass along each axis
-    return ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total, scale)
+    proj = model.floating_rigid_projector(M, system.free)
+    share = (np.zeros(n_modes) if proj is None
+             else np.einsum("ik,ik->k", vec, proj @ vec))  # fmt: skip
+    res = ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total, scale)
+    zeta = np.full(n_modes, np.nan)
+    rd = model.damping
+    if rd is not None and (rd.alpha or rd.beta):
+        m_part = np.einsum("ik,ik->k", vec, M @ vec)  # 1: φ mass-normalised
+        if rd.deformation_only:
+            m_part = m_part - share
+        k_part = np.einsum("ik,ik->k", vec, system.K @ vec)  # the blocks' K: ω² if bonded
+        w = 2 * np.pi * freqs
+        live = ~res.rigid
+        zeta[live] = (rd.alpha * m_part[live] + rd.beta * k_part[live]) / (2 * w[live])
+    return replace(res, damping_ratios=zeta, rigid_share=share)
 
 
 def _bond(model: Model, free: np.ndarray, K: sp.spmatrix) -> tuple[sp.csr_matrix, sp.spmatrix]:
