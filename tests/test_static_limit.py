@@ -21,6 +21,7 @@ import pytest
 import pfeie as pf
 from pfeie.cli import main
 from pfeie.errors import MechanismError
+from pfeie.interface import OPEN
 from pfeie.verification._models import block_on_base, block_on_base_3d
 from test_cli import SMALL, _write
 
@@ -142,3 +143,29 @@ def test_pseudo_static_with_a_tilted_gravity_and_the_report(tmp_path: Path) -> N
     assert j["shear_force_N"] / j["normal_force_N"] == pytest.approx(0.3 / 0.98, rel=1e-12)
     html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
     assert "pseudo-static" in html and "k_h = 0.2 along +x" in html
+
+
+@pytest.mark.parametrize("cell", ["tetra10", "hexahedron"])
+def test_safety_factor_of_a_joint_with_round_off_in_its_normals(cell: str) -> None:
+    """A level 3D joint whose node heights carry round-off (1e-13 m, as gmsh writes them),
+    gravity tilted by θ = 20° along y: every pair shares the interface's frame (one t₁),
+    so the joint's shear adds up and FS = tan φ / tan θ = 1.58626 (3e-12; measured 3.3e-13
+    and 2.0e-13). With one frame per pair, from the axis least aligned with each pair's
+    own normal, t₁ flipped between x and y from pair to pair and FS read 2.19 and 2.13."""
+    from pfeie.verification._models import _groups, _model
+
+    mesh = pf.box(1.0, 1.0, 1.5, 4, 4, 6, cell=cell)
+    mesh.points[:, 2] -= 0.5
+    on = np.abs(mesh.points[:, 2]) < 1e-9
+    mesh.points[on, 2] += 1e-13 * np.random.default_rng(1).standard_normal(on.sum())
+    _groups(mesh, 2)
+    m = _model(mesh, pf.Joint(phi=PHI), pf.Elastic(30e9, 0.2, 2400.0), False)
+    t = np.radians(20.0)
+    m.add_gravity(direction=[0.0, np.sin(t), -np.cos(t)])
+    assert m.pairs is not None
+    assert len(np.unique(np.round(m.pairs.frame[:, 0], 9), axis=0)) == 1
+    st = pf.solve_static(m)
+    assert st.pairs is not None
+    P = st.pairs
+    fs = m.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path)[0]
+    assert fs == pytest.approx(np.tan(np.radians(PHI)) / np.tan(t), rel=3e-12)

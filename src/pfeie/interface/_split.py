@@ -11,7 +11,11 @@ Conventions (all arrays have the pair index first):
 - side a and side b: the unit normal n of a pair points from side a into side b;
 - local frame ``frame`` (m, d, d), rows (t₁, n) in 2D and (t₁, t₂, n) in 3D, so a local
   vector is ``frame @ global``; in 2D t₁ = (n_y, −n_x), in 3D t₁ is the normalised
-  projection of the global axis least aligned with n and t₂ = n × t₁;
+  projection on the pair's plane of one global axis per interface, the axis least
+  aligned with the interface's mean normal (so that the pairs of a plane joint share
+  their frame, whatever the round-off in their normals, and their local components add
+  up), and t₂ = n × t₁; a pair whose normal lies within 25° of that axis (a joint that
+  turns) takes the axis least aligned with its own normal;
 - ``area`` (m,): tributary area of the pair, the HRZ-lumped facet "mass" ∫ N_a N_b dA
   (× thickness in 2D), positive for linear and quadratic facets;
 - the normal of an interface is made consistent along it by orienting every facet normal
@@ -117,14 +121,22 @@ class SplitMesh:
     n_bodies: int
 
 
-def _frames(normal: FloatArray) -> FloatArray:
+def _frames(normal: FloatArray, which: IntArray) -> FloatArray:
+    """The local frames (m, d, d) of pairs with unit normals (m, d) on the interfaces
+    ``which`` (m,) (see the module docstring)."""
     m, d = normal.shape
     F = np.zeros((m, d, d))
     F[:, -1] = normal
     if d == 2:
         F[:, 0, 0], F[:, 0, 1] = normal[:, 1], -normal[:, 0]
         return F
-    axis = np.argmin(np.abs(normal), axis=1)
+    n_if = int(which.max(initial=-1)) + 1
+    mean = np.stack([np.bincount(which, normal[:, i], n_if) for i in range(3)], axis=1)
+    size = np.abs(mean)
+    size[size < 1e-9 * size.max(axis=1, keepdims=True)] = 0.0  # round-off: ties go to x, y
+    axis = np.argmin(size, axis=1)[which]
+    own = np.argmin(np.abs(normal), axis=1)
+    axis = np.where(np.abs(normal[np.arange(m), axis]) > np.cos(np.radians(25.0)), own, axis)
     e = np.zeros((m, 3))
     e[np.arange(m), axis] = 1.0
     t1 = e - np.einsum("md,md->m", e, normal)[:, None] * normal
@@ -292,7 +304,8 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     normal: FloatArray = summed / np.linalg.norm(summed, axis=1)[:, None]
     which = np.zeros(m_pairs, dtype=np.int64)
     which[pinv] = pj
-    pairs = PairGeometry(tuple(names), which, uniq[:, 0], uniq[:, 1], _frames(normal), area,
+    pairs = PairGeometry(tuple(names), which, uniq[:, 0], uniq[:, 1], _frames(normal, which),
+                         area,
                          points[uniq[:, 0]])  # fmt: skip
     # facet groups on the split mesh
     cell_a = np.full(fcount.size, -1, dtype=np.int64)
