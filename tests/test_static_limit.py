@@ -66,6 +66,26 @@ def test_refused_beyond_the_limit(dim: int) -> None:
         pf.solve_static(_tilted(dim, 30.5))
 
 
+def test_refused_when_the_solver_finds_no_pattern() -> None:
+    """A Tet10 block at θ = 35° > φ: the state iteration and the Newtons end without an
+    answer (no singular pattern on the way); the static analysis says that no equilibrium
+    was found for the floating block on its joint, and gives no time-step advice (a time
+    step means nothing there)."""
+    from pfeie.verification._models import _groups, _model
+
+    mesh = pf.box(1.0, 1.0, 1.5, 3, 3, 4, cell="tetra10")
+    mesh.points[:, 2] -= 0.375
+    _groups(mesh, 2)
+    m = _model(mesh, pf.Joint(phi=PHI), pf.Elastic(30e9, 0.2, 2400.0), False)
+    t = np.radians(35.0)
+    m.add_gravity(direction=[np.sin(t), 0.0, -np.cos(t)])
+    with pytest.raises(MechanismError) as info:
+        pf.solve_static(m)
+    msg = str(info.value)
+    assert "did not converge" in msg and "time step" not in msg
+    assert "No static equilibrium was found for the floating block(s) ('block' on 'joint')" in msg
+
+
 def test_cohesion_of_a_joint_that_starts_broken_is_flagged(
     caplog: pytest.LogCaptureFixture,
 ) -> None:

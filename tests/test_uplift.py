@@ -15,7 +15,7 @@ import pytest
 
 import pfeie as pf
 from pfeie.cli import main
-from pfeie.errors import ModelError
+from pfeie.errors import MechanismError, ModelError
 from pfeie.interface import OPEN
 from pfeie.model import Uplift
 
@@ -263,3 +263,29 @@ def test_resume_with_uplift_that_follows() -> None:
     assert int((full.state == OPEN).sum(axis=1).max()) > int((st.pairs.state == OPEN).sum())
     np.testing.assert_array_equal(rest.rigid[-1], full.rigid[-1])
     np.testing.assert_array_equal(rest.X[-1], full.X[-1])
+
+
+def test_a_crack_that_runs_through_under_its_own_uplift() -> None:
+    """The limit of the cracked base: with full headwater in the crack and none beyond
+    the toe, the 10 m × 20 m block overturns about its toe once the crack reaches it, when
+    W B/2 = U B/2 + T h/3 with W = ρ_c g H B, U = ρ_w g h B and T = ρ_w g h²/2:
+    h* = 20.26 m (rigid block, no-tension base). Elastic blocks, 1 m pairs: at h = 20.2 m
+    (0.3 % below) the crack settles at 9 m, the last pair before the toe; at h = 20.3 m
+    (0.2 % above) it runs on, and the static analysis says so (a relaxed step of the crack
+    iteration could not shorten it), naming the block and its joint."""
+    h_star = 20.0  # the root of 2400 H B²/2 − 1000 (h B²/2 + h³/6) = 0, by bisection
+    lo, hi = 20.0, 21.0
+    for _ in range(60):
+        h_star = 0.5 * (lo + hi)
+        if 2400 * H * B**2 / 2 - 1000 * (h_star * B**2 / 2 + h_star**3 / 6) > 0:
+            lo = h_star
+        else:
+            hi = h_star
+    assert h_star == pytest.approx(20.26, abs=0.005)
+    model, _ = dam(h_star - 0.06, pf.Joint(phi=45.0, initial="broken"))
+    st = pf.solve_static(model)
+    assert st.cracks == (9.0,)
+    model, _ = dam(h_star + 0.04, pf.Joint(phi=45.0, initial="broken"))
+    with pytest.raises(MechanismError, match=r"the crack from the heel grows under its own "
+                       r"uplift .* floating block\(s\) \('dam' on 'base'\)"):  # fmt: skip
+        pf.solve_static(model)

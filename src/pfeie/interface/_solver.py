@@ -1346,10 +1346,11 @@ class InterfaceSolver:
         worst = np.argsort(res)[::-1][:5]
         cyc_txt = ", ".join(f"{k} ({'/'.join(STATE_NAMES[s] for s in sorted(set(H[:, k])))})"
                             for k in cyc[:10]) if cyc.size else "none"  # fmt: skip
+        advice = "" if self.E is not None else " Try a smaller time step."  # statics: none
         return (
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
-            f"{cyc_txt}; largest residuals at pairs {worst.tolist()}. Try a smaller time step."
+            f"{cyc_txt}; largest residuals at pairs {worst.tolist()}.{advice}"
         )
 
     def _natural_map(

@@ -7,16 +7,20 @@ interface problem of method.md §5.2 with the rigid unknowns of the floating blo
 
 from __future__ import annotations
 
+import logging
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
-from ..errors import MechanismError, SolverError
+from ..errors import InterfaceError, MechanismError, SolverError
 from ..interface import OPEN, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
 from ..typing import FloatArray
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -79,23 +83,54 @@ def solve_static(
             return problem.solve(f)
         except MechanismError as exc:
             raise MechanismError(f"{exc}. {_floating(model)}") from None
+        except InterfaceError as exc:
+            if not model.floating_bodies().size:
+                raise
+            # with floating blocks, a static problem without a solution ends here too: the
+            # state iteration and the Newton find no pattern that balances them
+            raise MechanismError(f"{exc} {_floating(model, found=False)}") from None
 
     p, cracks = model.uplift_pressure()
     f_up = model.uplift_load(p)
     u_free, st = solve(f_free + f_up[system.free])
+    exact = True  # p is the pressure of the crack ``cracks`` (not a relaxed step towards it)
+    unheld: tuple[float, ...] | None = None  # a crack whose full uplift nothing held
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
         p_new, new = model.uplift_pressure(st.state == OPEN)
-        if new == cracks:
+        if new == cracks and exact:
             break
-        p, cracks, f_up = p_new, new, model.uplift_load(p_new)
-        u_free, st = solve(f_free + f_up[system.free])
+        if unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True)):
+            # a relaxed step did not shorten the crack: it runs on under its own uplift
+            raise MechanismError(
+                "static analysis: the crack from the heel grows under its own uplift "
+                f"(full headwater in the open part) to {_lengths(new)} m, where no "
+                f"equilibrium holds. {_floating(model, found=False)}"
+            )
+        # a full step can overshoot the settled crack into loads that no equilibrium
+        # holds (the whole base opening at once); then relax: p + ω (p_new − p), ω halved
+        # down to 1/16, before concluding that the joint cannot hold its block
+        omega = 1.0
+        while True:
+            p_try = p_new if omega == 1.0 else p + omega * (p_new - p)
+            f_try = model.uplift_load(p_try)
+            try:
+                u_free, st = solve(f_free + f_try[system.free])
+                break
+            except MechanismError:
+                if omega <= 1.0 / 16.0:
+                    raise
+                omega *= 0.5
+                log.info("static analysis: uplift of the crack %s m not held; relaxed step "
+                         "%g", _lengths(new), omega)  # fmt: skip
+        unheld = None if omega == 1.0 else tuple(new)
+        p, cracks, f_up, exact = p_try, new, f_try, omega == 1.0
     else:
         if model.uplifts:
             raise SolverError(
                 f"uplift: the crack from the heel did not settle in {_CRACK_ITERATIONS} "
-                f"static solves (crack lengths {', '.join(f'{c:.4g}' for c in cracks)} m): "
+                f"static solves (crack lengths {_lengths(cracks)} m): "
                 "the joint may be on the verge of opening through"
             )
     G = relative_operator(model.pairs, model.n_dof)
@@ -113,9 +148,15 @@ def solve_static(
 _CRACK_ITERATIONS = 50
 
 
-def _floating(model: Model) -> str:
+def _lengths(cracks: Sequence[float]) -> str:
+    return ", ".join(f"{c:.4g}" for c in cracks)
+
+
+def _floating(model: Model, found: bool = True) -> str:
     """What a static mechanism means for this model: the floating bodies (no support)
-    and the joints that must hold them, with what to check."""
+    and the joints that must hold them, with what to check; ``found`` False when the
+    solver ended without an answer rather than on a singular pattern (then the loads are
+    beyond the limit of equilibrium, or so near it that no answer was found)."""
     assert model.pairs is not None
     body = model.body_of_node
     names = model.body_names()
@@ -126,10 +167,14 @@ def _floating(model: Model) -> str:
         joints = [n for n in P.names if on[P.of(n)].any()]
         parts.append(f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}")
     which = "; ".join(parts) if parts else "none found"
+    head = ("No static equilibrium holds the floating block(s) (" + which + ") under the "
+            "static loads: their joints' strength is exceeded, so they would slide or "
+            "open." if found else
+            "No static equilibrium was found for the floating block(s) (" + which + "): "
+            "the static loads exceed their joints' strength (they would slide or open), "
+            "or are at the limit of equilibrium.")  # fmt: skip
     return (
-        "No static equilibrium holds the floating block(s) (" + which + ") under the "
-        "static loads: their joints' strength is exceeded, so they would slide or "
-        "open. Check the friction angles and cohesions (a joint that starts broken, "
+        head + " Check the friction angles and cohesions (a joint that starts broken, "
         'initial = "broken", the default, has only its residual strength: '
         'initial = "intact" for a bonded joint) and the loads'
     )
