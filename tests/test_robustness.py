@@ -637,3 +637,38 @@ def test_python_api_mistakes_get_typed_errors() -> None:
         an.run(0.01, ground=[blip])
     with pytest.raises(ModelError, match=r"thickness = 2.0 m is a 2D setting"):
         pf.Model(pf.box(1.0, 1.0, 1.0, 1, 1, 1), [pf.Block("all", mat)], thickness=2.0)
+
+
+def test_plausibility_warnings(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Valid input that is probably not what was meant gets a warning naming the key: a
+    volume group in no block (its cells left out), a modulus written in GPa without its
+    exponent, a mesh drawn in millimetres, a water level above the faces it loads; the
+    summary of ``check`` gives the model's extent and mass (a 2 m × 1 m plate of
+    2000 kg/m³, 1 m thick: 4000 kg)."""
+    names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
+    elements = [*ELEMENTS[:-2], (10, 3, 1, [1, 2, 5, 4]), (11, 3, 2, [2, 3, 6, 5])]
+    text = MODEL.replace('all = "rock"', 'left = "rock"\nright = "rock"')
+    p = model(tmp_path, text=text, elements=elements, names=names)
+    assert main(["check", str(p)]) == 0
+    assert "extent       2 x 1 m; mass 4000 kg" in capsys.readouterr().out
+    cases = [
+        (text.replace('right = "rock"\n', ""), {},
+         "the mesh's volume group(s) 'right' (1 cells) are in no block"),
+        (text.replace("E = 1e9", "E = 25"), {},
+         "materials.rock.E = 25 Pa lies outside 1e+06 to 1e+13 Pa (concrete and rock: 1e9 to "
+         "1e11 Pa); pfeie takes SI units: did you mean 2.5e+10 (GPa)"),
+        (text, {"nodes": [(2e4 * x, 2e4 * y, 0) for x, y, _ in NODES]},
+         "the mesh spans 4e+04 m; pfeie takes coordinates in metres"),
+        (text.replace("[analysis]", '[[loads.hydrostatic]]\ngroups = ["top"]\nwater_level = '
+                      "3.0\n[analysis]"), {},
+         "loads.hydrostatic[0].water_level = 3 m lies 2 m above the top of its faces (1 m)"),
+    ]  # fmt: skip
+    for text_k, mesh_k, warning in cases:
+        caplog.clear()
+        p = model(tmp_path, text=text_k, elements=elements, names=names, **mesh_k)
+        with caplog.at_level("WARNING"):
+            assert main(["check", str(p)]) == 0
+        assert warning in caplog.text
+        capsys.readouterr()

@@ -582,6 +582,12 @@ def _format_check(s: dict[str, object]) -> str:
         lines.append(
             f"block        {name}: E = {mat.E:.4g} Pa, nu = {mat.nu}, rho = {mat.rho} kg/m³"
         )
+    extent = s.get("extent_m")
+    if isinstance(extent, list):
+        lines.append(f"extent       {' x '.join(f'{v:.4g}' for v in extent)} m; mass "
+                     f"{float(s['mass_kg']):.4g} kg"  # type: ignore[arg-type]
+                     + (" (2D: the slice of the model's thickness)" if s["dimension"] == 2
+                        else ""))  # fmt: skip
     lines.append(f"bodies       {s['bodies']}")
     lines.append(f"cells        {s['cells']}")
     lines.append(f"nodes        {s['nodes']}, DOF {s['dof']} ({s['free_dof']} free)")

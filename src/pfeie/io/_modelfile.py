@@ -182,10 +182,69 @@ class Job:
                         "beta": m.damping.beta if m.damping else 0.0,
                         "deformation_only": bool(m.damping and m.damping.deformation_only),
                         "floating": _floating_blocks(m)},
+            "extent_m": [round(float(v), 6) for v in np.ptp(m.mesh.points, axis=0)],
+            "mass_kg": float(m.total_mass()),
             "records": [g.summary() for g in self.records], "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
             "estimated_memory_mb": round(mem / 2**20, 1),
         }  # fmt: skip
+
+
+#: Young's moduli outside this range (Pa) get a warning: concrete and rock lie within
+#: 1 to 100 GPa, soils and weak rock down to some MPa (a modulus in GPa or MPa, written
+#: without its exponent, falls far below)
+_E_RANGE = (1e6, 1e13)
+#: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
+_EXTENT_MAX = 1e4
+
+
+def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
+    """Warnings for input that is valid but probably not what was meant: volume groups of
+    the mesh (as read) in no block (their cells are left out), moduli in the wrong unit, a
+    mesh in millimetres, and a water level above the faces it loads (an overtopped
+    crest)."""
+    covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
+    for b in cfg.blocks:
+        for t, idx in mesh.cell_groups.get(b, {}).items():
+            covered[t][idx] = True
+    left = []
+    for g, parts in sorted(mesh.cell_groups.items()):
+        n = sum(int((~covered[t][idx]).sum()) for t, idx in parts.items())
+        if g not in cfg.blocks and n:
+            left.append(f"{g!r} ({n} cells)")
+    total = sum(int((~c).sum()) for c in covered.values())
+    if left:
+        log.warning("%s: the mesh's volume group(s) %s are in no block: their cells are left "
+                    "out of the model (list them under [blocks] with a material to include "
+                    "them)", p, ", ".join(left))  # fmt: skip
+    elif total:
+        log.warning("%s: %d cell(s) of the mesh belong to no block and are left out of the "
+                    "model", p, total)  # fmt: skip
+    lo, hi = _E_RANGE
+    for name, mt in cfg.materials.items():
+        if not lo <= mt.E <= hi:
+            log.warning("%s: materials.%s.E = %g Pa lies outside %g to %g Pa (concrete and "
+                        "rock: 1e9 to 1e11 Pa); pfeie takes SI units: did you mean %g "
+                        "(GPa) or %g (MPa)?", p, name, mt.E, lo, hi, mt.E * 1e9,
+                        mt.E * 1e6)  # fmt: skip
+    extent = float(np.ptp(mesh.points, axis=0).max(initial=0.0))
+    if extent > _EXTENT_MAX:
+        log.warning("%s: the mesh spans %.4g m; pfeie takes coordinates in metres (a mesh "
+                    "drawn in millimetres must be scaled by 1e-3)", p, extent)  # fmt: skip
+    up = mesh.dim - 1
+    loads = cfg.loads
+    for key, items in (("hydrostatic", loads.hydrostatic), ("westergaard", loads.westergaard)):
+        for i, item in enumerate(items):
+            conns = [c.ravel() for g in item.groups if g in mesh.facet_groups
+                     for c in mesh.facet_group(g).values()]  # fmt: skip
+            if not conns or not sum(c.size for c in conns):
+                continue  # the groups are checked with the loads
+            top = float(mesh.points[np.concatenate(conns), up].max())
+            if item.water_level > top + 1e-9:
+                log.warning("%s: loads.%s[%d].water_level = %g m lies %.4g m above the top "
+                            "of its faces (%g m): the structure is overtopped; intended?",
+                            p, key, i, item.water_level, item.water_level - top,
+                            top)  # fmt: skip
 
 
 def _floating_blocks(m: Model) -> list[str]:
@@ -298,6 +357,7 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             raise InputError(f"{p}: damping: {exc}") from None
     elif damp.alpha or damp.beta:
         damping = Rayleigh(damp.alpha, damp.beta, damp.deformation_only)
+    _plausibility(p, cfg, mesh)  # before the model: its errors follow from these
     try:
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
                       damping=damping, interfaces=interfaces)  # fmt: skip
