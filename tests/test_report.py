@@ -233,6 +233,20 @@ def test_report_without_the_model_file(run: tuple[Path, str], tmp_path: Path) ->
     assert images(s["Joint maps"])[0] == "joint_map" and "time step Δt" in s["Analysis"]
 
 
+def test_settings_added_by_a_later_version_do_not_stop_the_rebuild() -> None:
+    """A run recorded before a setting existed (here ``damping.deformation_only``, whose
+    default is false) rebuilds its model: only real changes count, named by their keys."""
+    from pfeie.plot._report import _differs
+
+    old = {"ratio": 0.05, "frequencies": [2.5, 15.0]}
+    new = {**old, "deformation_only": False}
+    assert _differs(new, old, "damping") == []
+    assert _differs({**new, "deformation_only": True}, old, "damping") == [
+        "damping.deformation_only"]  # fmt: skip
+    assert _differs({**new, "frequencies": [2.5, 16.0]}, old, "damping") == [
+        "damping.frequencies[1]"]  # fmt: skip
+
+
 # -- a 3D model: every section holds its figure, drawn in 3D ---------------------------------
 #: two stacked blocks of Hex8 cells (a rock block and a dam block), NX × NY × NZ cells each
 NX, NY, NZ = 4, 3, 2

@@ -148,3 +148,20 @@ def test_a_joint_without_shear_has_no_safety_factor() -> None:
     assert s["joints"]["joint"]["min_safety_factor"] is None
     json.dumps(s, allow_nan=False, default=str)
     assert "min FS ∞" in format_summary(s) and "FS ∞" in format_summary(s)
+
+
+def test_energy_lines_of_the_summary() -> None:
+    """The energy line gives the input and every dissipated term; a position correction
+    above 1 % of the input gets a line of its own with its share (the Koyna demo's
+    energies at Δt = 10 ms: 83.8 kJ, 11.1 % of 757 kJ), none below."""
+    e = {"external_work": 756858.8, "interface": 30289.9, "impact": 32560.2,
+         "damping": 707908.2, "algorithmic": 58628.1, "correction": 83783.3,
+         "balance": -3.3e-10}  # fmt: skip
+    model = {"title": "t", "file": "t.toml", "sha256": "0" * 64, "blocks": {}, "bodies": 1,
+             "dof": 2, "pairs": {}, "records": []}  # fmt: skip
+    text = format_summary({"model": model, "version": "0", "energy_J": e})
+    assert ("energy       input 7.569e+05 J; friction/contact 3.029e+04, impact 3.256e+04, "
+            "damping 7.079e+05, algorithmic 5.863e+04 J; balance -3.30e-10 J") in text
+    assert "added 8.378e+04 J, 11.1 % of the input" in text
+    quiet = {"model": model, "version": "0", "energy_J": {**e, "correction": 7000.0}}
+    assert "corrections" not in format_summary(quiet)

@@ -209,6 +209,25 @@ STRUCTURE = ("mesh", "plane", "thickness", "materials", "blocks", "interfaces", 
              "loads", "damping")  # fmt: skip
 
 
+def _differs(new: Any, old: Any, key: str) -> list[str]:
+    """The dotted keys where the settings ``new`` (as this pfeie reads the model file)
+    differ from ``old`` (as the run recorded them); a key that only one side has, with a
+    value that means "not given" (None, False, 0, empty) on the other, is a setting added
+    or dropped by a pfeie version, not a change."""
+    unset: tuple[object, ...] = (None, False, 0, 0.0, "", [], {})
+    if isinstance(new, dict) and isinstance(old, dict):
+        out = []
+        for k in sorted(set(new) | set(old)):
+            if (k not in old and new[k] in unset) or (k not in new and old[k] in unset):
+                continue
+            out += _differs(new.get(k), old.get(k), f"{key}.{k}")
+        return out
+    if isinstance(new, list) and isinstance(old, list) and len(new) == len(old):
+        return [d for i, (a, b) in enumerate(zip(new, old, strict=True))
+                for d in _differs(a, b, f"{key}[{i}]")]  # fmt: skip
+    return [] if new == old else [key]
+
+
 def model_of_run(res: Results) -> tuple[Job | None, str]:
     """The model of a run rebuilt from its model file, or None and why not.
 
@@ -252,14 +271,17 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
             job = load_job(path)
             if spec is not None:
                 plain = json.loads(json.dumps(job.spec, default=str))
-                changed = [k for k in STRUCTURE if plain.get(k) != spec.get(k)]
+                changed = [k for k in STRUCTURE if _differs(plain.get(k), spec.get(k), k)]
                 if changed:
                     job = load_job(path, [Override(k, spec[k], "the results file")
-                                          for k in changed])  # fmt: skip
+                                          for k in changed if k in spec])  # fmt: skip
                     plain = json.loads(json.dumps(job.spec, default=str))
-                    if any(plain.get(k) != spec.get(k) for k in STRUCTURE):
-                        return None, (f"the model of {path} with the run's overrides does "
-                                      "not rebuild as run")  # fmt: skip
+                    still = [d for k in STRUCTURE for d in _differs(plain.get(k), spec.get(k), k)]
+                    if still:
+                        return None, (f"the model of {path} does not rebuild as run: "
+                                      f"{', '.join(still[:3])} differ(s) from the run's "
+                                      f"settings (written by pfeie "
+                                      f"{meta.get('pfeie_version', '?')})")  # fmt: skip
         except PfeieError as exc:
             return None, f"the model file {path} does not build: {exc}"
         if spec is None and key is not None and run_key(job) != key:
