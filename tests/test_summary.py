@@ -165,3 +165,24 @@ def test_energy_lines_of_the_summary() -> None:
     assert "added 8.378e+04 J, 11.1 % of the input" in text
     quiet = {"model": model, "version": "0", "energy_J": {**e, "correction": 7000.0}}
     assert "corrections" not in format_summary(quiet)
+
+
+def test_static_open_share_ignores_corner_pairs_parted_by_round_off() -> None:
+    """A Tet10 block resting on its base under its weight: 9 of the 81 pairs (corners of
+    the quadratic facets, which carry little of a uniform pressure) end open by 3e-9 m;
+    the static summary's open share counts openings beyond 0.01 mm only: 0, and the joint
+    carries the weight (W = ρ g V to 1e-12)."""
+    from pfeie._job import _static_joints
+    from pfeie.interface import OPEN
+    from pfeie.verification._models import _groups, _model
+
+    mesh = pf.box(2.0, 2.0, 3.0, 4, 4, 6, cell="tetra10")
+    mesh.points[:, 2] -= 1.0
+    _groups(mesh, 2)
+    m = _model(mesh, pf.Joint(phi=45.0), pf.Elastic(30e9, 0.2, 2400.0), True)
+    st = pf.solve_static(m)
+    assert st.pairs is not None
+    assert int((st.pairs.state == OPEN).sum()) > 0 and st.pairs.w[:, -1].max() < 1e-8
+    j = _static_joints(m, st)["joint"]
+    assert j["open_share"] == 0.0
+    assert j["normal_force_N"] == pytest.approx(2400.0 * G * 2.0 * 2.0 * 2.0, rel=1e-12)
