@@ -438,8 +438,8 @@ class Model:
         added mass of a face is ∫ C N_a N_b n nᵀ dA (the normal-direction form, for
         inclined faces too; Kuo 1982), lumped by row sums, m_a = ∫ N_a C dA: under a
         uniform acceleration of the face the nodal forces are the consistent loads of
-        Westergaard's pressure (HRZ row scaling, positive with the total kept, on a
-        quadratic facet that the surface cuts, where a row sum can be negative), and kept
+        Westergaard's pressure (on a quadratic facet with a negative row sum, a split
+        over its corners that keeps its total and centre of pressure, all ≥ 0), and kept
         on its diagonal (n_x², n_y², n_z² of the face's mean normal n): the
         coupling n_x n_y of an inclined face is dropped. It adds to M in the time
         stepping, the ground motion's inertia load, the modal analysis and the kinetic
@@ -592,40 +592,51 @@ class Model:
         """Westergaard's lumped added mass (n_dof,), kg (:meth:`add_westergaard`)."""
         d = self.dim
         out = np.zeros(self.n_dof)
+        pts = self.mesh.points
         for names, level, zb, rho_w in self.reservoirs:
             H = level - zb
             for g in names:
                 for ftype, conn in self.mesh.facet_group(g).items():
-                    deg = reference(ftype).degree
+                    ref = reference(ftype)
+                    # the corners of the lines (2D) and triangles (3D) for the corner
+                    # split of a facet with a negative row sum (_westergaard_add)
+                    nc = d if (d == 2 or ref.simplex) else 0
                     # C has a square-root singularity where the depth vanishes: a Gauss
                     # rule of degree 2p + 8 integrates it to round-off on a facet whose
-                    # top lies more than 4 of its heights below the level; nearer (2D)
-                    # the square root is mapped out (_wet_line_rule), or (3D) a 25 × 25
-                    # rule (the error ∝ n⁻³: about 2e-6 of the nodal values)
-                    z = self.mesh.points[conn, d - 1]
+                    # top lies more than 4 of its heights below the level; nearer the
+                    # square root is mapped out (_wet_line_rule in 2D, _wet_face_rule in
+                    # 3D), to round-off
+                    z = pts[conn, d - 1]
                     top, span = z.max(axis=1), np.ptp(z, axis=1)
                     near = (span > 0) & (level - top < 4.0 * span) & (z.min(axis=1) < level)
-                    rules = [(~near, 2 * deg + 8)]
+                    rules = [(~near, 2 * ref.degree + 8)]
                     if d == 2 and near.any():
-                        N, dA, x, nrm, done = _wet_line_rule(self.mesh.points, ftype,
-                                                             conn[near], level,
+                        N, dA, x, nrm, done = _wet_line_rule(pts, ftype, conn[near], level,
                                                              self.thickness)  # fmt: skip
                         cn = conn[near][done]
                         _westergaard_add(out, cn, N[done], dA[done], x[done], nrm[done],
-                                         level, H, rho_w, self.mesh.points[cn[:, :2]])  # fmt: skip
+                                         level, H, rho_w, pts[cn[:, :2]])  # fmt: skip
                         curved = np.zeros_like(near)  # never reaching the level
                         curved[np.flatnonzero(near)[~done]] = True
-                        rules.append((curved, 2 * deg + 400))
+                        rules.append((curved, 2 * ref.degree + 400))
                     elif near.any():
-                        rules.append((near, 2 * deg + 48))
+                        # strongly curved facets, where the level curves can touch the
+                        # inner lines: a 25 × 25 rule (about 1e-4 near the level)
+                        fits = near.copy()
+                        fits[near] = _face_rule_fits(pts, ftype, conn[near])
+                        if fits.any():
+                            cn = conn[fits]
+                            N, dA, x, nrm = _wet_face_rule(pts, ftype, cn, level)
+                            _westergaard_add(out, cn, N, dA, x, nrm, level, H, rho_w,
+                                             pts[cn[:, :nc]] if nc else None)  # fmt: skip
+                        rules.append((near & ~fits, 2 * ref.degree + 48))
                     for sel, order in rules:
                         if sel.any():
-                            fv = asm.facet_values(self.mesh.points, ftype, conn[sel], order,
-                                                  self.thickness)  # fmt: skip
+                            fv = asm.facet_values(pts, ftype, conn[sel], order, self.thickness)
                             Nb = np.broadcast_to(fv.N, (*fv.dA.shape, fv.N.shape[1]))
                             _westergaard_add(out, conn[sel], Nb, fv.dA, fv.x, fv.normal,
                                              level, H, rho_w,
-                                             self.mesh.points[conn[sel][:, :2]])  # fmt: skip
+                                             pts[conn[sel][:, :nc]] if nc else None)  # fmt: skip
         return out
 
     def add_nodal_force(
@@ -1218,10 +1229,17 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
     unit normals (f, q, d). The masses are the row sums of ∫ C N_a N_b dA, i.e. the
     consistent nodal loads ∫ N_a C dA of Westergaard's pressure under a unit normal
     acceleration (Σ_b N_b = 1: a rigid motion of the base loads the face exactly as the
-    closed form does). A quadratic facet cut by the surface can have a negative row sum:
-    in 2D its load then goes to its two corners, split so that its total and its centre
-    of pressure are kept (both masses ≥ 0: the centre lies between them); in 3D HRZ row
-    scaling (total kept). Each goes on the diagonal by n_k² of the facet's mean normal."""
+    closed form does). A quadratic facet can have a negative row sum (in 2D where the
+    surface cuts it; a 6-node triangle wherever C varies over it, its corner loads being
+    A/60 (2p_i − p_j − p_k) under a linear p): in 2D its load then goes to its two
+    corners, split so that its total and its centre of pressure are kept (both masses
+    ≥ 0: the centre lies between them). On a 3D triangle (``corners`` (f, 3, 3)) the
+    corner split puts the total on the corners by the barycentric coordinates λ of the
+    centre of pressure (≥ 0 on a straight facet, where C ≥ 0; clipped on a curved one),
+    and the masses are the least step m + β (split − m), β ∈ [0, 1], from the consistent
+    loads m towards it that makes every mass ≥ 0: both keep the total and the centre of
+    pressure, so does every step between them. Other facets: HRZ row scaling (total
+    kept). Each goes on the diagonal by n_k² of the facet's mean normal."""
     d = x.shape[-1]
     depth = np.maximum(level - x[..., d - 1], 0.0)
     c = 0.875 * rho_w * np.sqrt(H * depth) * dA  # (f, q)
@@ -1237,6 +1255,23 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
         tau = np.clip(tau, 0.0, 1.0)
         ml[neg] = 0.0
         ml[neg, 0], ml[neg, 1] = total * (1.0 - tau), total * tau
+    elif neg.any() and corners is not None and corners.shape[1] == 3:
+        total = c[neg].sum(axis=1)
+        centre = np.einsum("fq,fqd->fd", c[neg], x[neg]) / total[:, None]
+        e = corners[neg, 1:] - corners[neg, :1]  # (f, 2, 3)
+        gram = np.einsum("fid,fjd->fij", e, e)
+        rhs = np.einsum("fid,fd->fi", e, centre - corners[neg, 0])
+        lam = np.linalg.solve(gram, rhs[..., None])[..., 0]
+        bary = np.clip(np.concatenate([1.0 - lam.sum(axis=1, keepdims=True), lam], axis=1),
+                       0.0, None)  # fmt: skip
+        split = np.zeros_like(rows[neg])
+        split[:, :3] = total[:, None] * bary / bary.sum(axis=1, keepdims=True)
+        # the least step from the consistent loads towards the corner split that makes
+        # every mass ≥ 0 (both have the total and the centre of pressure)
+        low = rows[neg] < 0.0
+        beta = np.where(low, -rows[neg] / np.where(low, split - rows[neg], 1.0), 0.0)
+        blend = rows[neg] + beta.max(axis=1, keepdims=True) * (split - rows[neg])
+        ml[neg] = np.maximum(blend, 0.0)  # the round-off of the zeroed row
     elif neg.any():
         ml[neg] = asm.lump_hrz(me[neg])
     nrm = normal.mean(axis=1)
@@ -1292,3 +1327,202 @@ def _wet_line_rule(
     jac = np.linalg.norm(t, axis=-1)
     nvec = np.stack([t[..., 1], -t[..., 0]], axis=-1) / jac[..., None]
     return Nq, jac * jac_s * w[None, :] * thickness, x, nvec, done
+
+
+def _wet_face_rule(
+    points: FloatArray, ftype: str, conn: IntArray, level: float, n_in: int = 8, n_out: int = 12
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Quadrature of the wet part of 3D facets near the water level, with the square root
+    of Westergaard's C mapped out (the 3D form of :func:`_wet_line_rule`).
+
+    Each facet is parametrised by the square (r, q) ∈ [−1, 1]² through a bilinear map Φ
+    of its reference coordinates ξ = Φ(r, q) (the Q4 interpolation of four corner
+    images): a quad takes ξ = (r, q) or (q, r), r along the reference direction in which
+    the height z changes more (across the facet's middle); a triangle takes the collapsed
+    (Duffy) map, corners A, B, V, V with V the corner of middle height, r running parallel
+    to the opposite edge AB, and |det Φ'| = (1 − q)/8 a polynomial. On a bilinear quad
+    and on a straight-sided triangle z is then linear in r at fixed q.
+
+    Inner lines (r at fixed q): with r_w the line's wet (lower) end and r* where the line
+    (extended up to 9 lengths beyond its upper end) first reaches the level (the roots of
+    z(r) = level, z a polynomial of degree p in r), r = r* + (r_w − r*) s² makes the depth
+    κ s², so √depth = √κ s and the integrand is a polynomial in s: n_in Gauss points on
+    s ∈ [s₀, 1] (s₀ = 0 where the level cuts the line, else s₀ = √((r_u − r*)/(r_w − r*)),
+    r_u the upper end) integrate it to round-off. A line that never reaches the level is
+    wholly wet (r* is then the far end of the search, where the depth is still positive:
+    the integrand is smooth), one whose wet end is above the level is dry (weight 0).
+
+    Outer direction q: the line integral I(q) is analytic except where the level crosses
+    a line's end, the edges r = ±1 (their extensions too: the real roots of
+    z(±1, q) = level, z a polynomial of degree p ≤ 2 in q there), where it behaves as
+    |q − q_c|^{3/2}. [−1, 1] is split at the crossings inside it into k + 1 pieces (k the
+    most crossings of a facet, ≤ 2 on straight facets; some empty). On a piece, I is
+    singular only at some crossings: those of the wet-end edge r = r_w if its lines are
+    cut (I = ∫ from r_w to r*, analytic where r* passes the other end), those of both
+    edges if they are wholly wet. Each half of a piece is mapped from the nearest such
+    crossing q_A beyond its end (else one 20 away), q = q_A ± (q_m − q_A) τ², τ ∈ [τ₀, 1]
+    (q_m the piece's middle, τ₀ = 0 at a split), as the inner lines are:
+    |q − q_A|^{3/2} ∝ τ³ becomes analytic, also when q_A lies just outside the facet (a
+    level just above a corner), and n_out Gauss points in τ reach round-off. The measure
+    is dA = |∂x/∂ξ₁ × ∂x/∂ξ₂| |det Φ'| dr dq.
+
+    On a curved 6-node triangle z is quadratic along the lines: the depth is κ s² g(s),
+    g analytic and > 0 where z is monotone along them (:func:`_face_rule_fits`), and the
+    same rule converges fast instead of being exact (1.8e-15 of the total on faces whose
+    inner nodes are moved by up to 0.15 of a cell). Where z is not monotone the level
+    curves can touch the lines: such facets are left to the caller.
+
+    Returns N (f, Q, nodes), dA (f, Q) in m², the points x (f, Q, 3) and unit normals
+    (f, Q, 3), Q = 2 (k + 1) n_out n_in, k ≤ 2p the most splits of a facet; dry points
+    have dA = 0."""
+    ref = reference(ftype)
+    X = points[conn]  # (f, m, 3)
+    z = X[..., 2]
+    f = len(conn)
+    corners = ref.nodes[: ref.n_corners]  # reference corners
+    zc = z[:, : ref.n_corners]
+    # the corner images K (f, 4, dim) of the square's corners (−1,−1), (1,−1), (1,1), (−1,1)
+    if ref.simplex:
+        order = np.argsort(zc, axis=1)  # V, the middle corner, collapses the side q = 1
+        lo, middle, hi = (corners[order[:, k]] for k in range(3))
+        K = np.stack([lo, hi, middle, middle], axis=1)
+    else:
+        # z across the middle: ξ from −1 to 1 (corners 1, 2 minus 0, 3), η likewise
+        dxi = np.abs(zc[:, 1] + zc[:, 2] - zc[:, 0] - zc[:, 3])
+        deta = np.abs(zc[:, 2] + zc[:, 3] - zc[:, 0] - zc[:, 1])
+        swap = deta > dxi
+        K = np.broadcast_to(corners, (f, 4, 2)).copy()
+        K[swap] = corners[[0, 3, 2, 1]]  # (r, q) ↦ ξ = (q, r)
+    # Φ(r, q) = a + r b + q c + r q d (f, 1, dim) from the corner images
+    signs = np.array([[1, 1, 1, 1], [-1, 1, 1, -1], [-1, -1, 1, 1], [1, -1, 1, -1]]) / 4.0
+    a, b, c, d = np.einsum("vk,fkd->vfd", signs, K)[:, :, None]
+
+    def phi(r: FloatArray, q: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """ξ = Φ(r, q) (f, k, dim) and |det Φ'| (f, k) at r, q (f, k)."""
+        r, q = r[..., None], q[..., None]
+        xi = a + r * b + q * c + r * q * d
+        dr, dq = b + q * d, c + r * d
+        return xi, np.abs(dr[..., 0] * dq[..., 1] - dr[..., 1] * dq[..., 0])
+
+    def height(r: FloatArray, q: FloatArray) -> FloatArray:
+        xi, _ = phi(r, q)
+        Nx, _ = ref.shape_functions(xi.reshape(-1, ref.dim))
+        return np.einsum("fkm,fm->fk", Nx.reshape(*r.shape, -1), z)
+
+    # z is a polynomial of degree p in r at fixed q, and in q on the edges r = ±1: its
+    # coefficients (…, p + 1) from p + 1 samples, for the roots where it meets the level
+    nodes = np.linspace(-1.0, 1.0, ref.degree + 1)
+    vinv = np.linalg.inv(np.vander(nodes, increasing=True))
+
+    def horner(c: FloatArray, v: FloatArray | float) -> FloatArray:
+        out = c[..., -1]
+        for k in range(c.shape[-1] - 2, -1, -1):
+            out = out * v + c[..., k]
+        return out
+
+    # the outer splits and anchors: where the level crosses the edge lines r = ±1
+    # (extended 9 lengths beyond the facet), the real roots of z(±1, q) = level
+    sides = np.repeat([-1.0, 1.0], nodes.size)
+    edge = height(np.broadcast_to(sides, (f, sides.size)),
+                  np.broadcast_to(np.tile(nodes, 2), (f, sides.size)))  # fmt: skip
+    c_edge = edge.reshape(f, 2, -1) @ vinv.T  # (f, 2, p + 1)
+    roots = _quadratic_roots(c_edge, level).reshape(f, -1)  # (f, 4), NaN for none
+    roots = np.where(np.abs(roots) <= 19.0, roots, np.nan)
+    inside = np.abs(roots) < 1.0
+    k = int(inside.sum(axis=1).max())  # the most splits of a facet (≤ 2 on straight ones)
+    splits = np.sort(np.where(inside, roots, 1.0), axis=1)[:, :k]
+    brk = np.concatenate([-np.ones((f, 1)), splits, np.ones((f, 1))], axis=1)
+    qa, qb = brk[:, :-1], brk[:, 1:]  # (f, k + 1): the pieces, some empty
+    # each piece's anchors: its nearest crossing at or below its lower end (else 20 below
+    # it) and at or above its upper end, among those where its I(q) is singular: on a
+    # piece of cut lines (I = ∫ from r_w to r*, analytic where r* passes r = ±1) those
+    # of the wet-end edge r = r_w, on a wholly wet piece those of both edges
+    mid = 0.5 * (qa + qb)
+    z_mid = horner(c_edge[:, :, None, :], mid[:, None, :])  # (f, 2, k + 1)
+    cut_mid = (z_mid.min(axis=1) < level) & (level < z_mid.max(axis=1))
+    wet_edge = (z_mid[:, 1] < z_mid[:, 0]).astype(int)  # 0: r = −1, 1: r = +1
+    edge_of_root = np.repeat([0, 1], roots.shape[1] // 2)
+    keep = ~cut_mid[..., None] | (edge_of_root == wet_edge[..., None])  # (f, k + 1, 4)
+    rt = np.where(keep, roots[:, None, :], np.nan)
+    lo_anchor = np.fmax(np.nanmax(np.where(rt <= qa[..., None], rt, -np.inf), axis=2), qa - 20.0)
+    hi_anchor = np.fmin(np.nanmin(np.where(rt >= qb[..., None], rt, np.inf), axis=2), qb + 20.0)
+    t, wt = np.polynomial.legendre.leggauss(n_out)
+    t, wt = 0.5 * (t + 1.0), 0.5 * wt
+    halves = []
+    for anchor, end, sign in ((lo_anchor, qa, 1.0), (hi_anchor, qb, -1.0)):
+        reach = sign * (mid - anchor)  # ≥ 0
+        tau0 = np.sqrt(np.divide(sign * (end - anchor), reach, out=np.ones_like(reach),
+                                 where=reach > 0.0))  # fmt: skip
+        tau = tau0[..., None] + (1.0 - tau0)[..., None] * t  # (f, k + 1, n_out)
+        dq = 2.0 * reach[..., None] * tau * (1.0 - tau0)[..., None] * wt
+        halves.append((anchor[..., None] + sign * reach[..., None] * tau**2, dq))
+    q = np.concatenate([h[0] for h in halves], axis=2).reshape(f, -1)  # (f, L)
+    wq = np.concatenate([h[1] for h in halves], axis=2).reshape(f, -1)
+    n_lines = q.shape[1]
+    # the inner lines: wet end, root r*, start s₀
+    line = height(np.broadcast_to(nodes, (f, n_lines, nodes.size)).reshape(f, -1),
+                  np.repeat(q, nodes.size, axis=1))  # fmt: skip
+    c_line = line.reshape(f, n_lines, -1) @ vinv.T  # (f, L, p + 1)
+    z_lo, z_hi = horner(c_line, -1.0), horner(c_line, 1.0)
+    wet = np.where(z_lo <= z_hi, -1.0, 1.0)
+    dry = np.minimum(z_lo, z_hi) >= level
+    # r*: the root nearest the wet end towards the upper end, up to 9 line lengths beyond
+    far = -19.0 * wet
+    ahead = -wet[..., None] * (_quadratic_roots(c_line, level) - wet[..., None])
+    ahead = np.where((ahead > 0.0) & (ahead <= 20.0), ahead, np.inf).min(axis=2)
+    star = np.where(np.isfinite(ahead), wet - wet * ahead, far)
+    end = np.where(np.abs(star) <= 1.0, star, -wet)
+    span = np.where(dry, 1.0, wet - star)
+    s0 = np.sqrt(np.clip((end - star) / span, 0.0, 1.0))
+    u, wu = np.polynomial.legendre.leggauss(n_in)
+    u, wu = 0.5 * (u + 1.0), 0.5 * wu
+    s = s0[..., None] + (1.0 - s0)[..., None] * u  # (f, L, n_in)
+    r = star[..., None] + (wet - star)[..., None] * s**2
+    dr = 2.0 * np.abs(span)[..., None] * s * (1.0 - s0)[..., None] * wu
+    w = np.where(dry[..., None], 0.0, dr * wq[..., None])
+    xi, det = phi(r.reshape(f, -1), np.repeat(q, n_in, axis=1))
+    Nx, dNx = ref.shape_functions(xi.reshape(-1, 2))
+    Q = n_lines * n_in
+    Nx, dNx = Nx.reshape(f, Q, -1), dNx.reshape(f, Q, -1, 2)
+    x = Nx @ X
+    T = np.swapaxes(dNx, 2, 3) @ X[:, None]  # (f, Q, 2, 3): ∂x/∂ξ₁, ∂x/∂ξ₂
+    nvec = np.cross(T[..., 0, :], T[..., 1, :])
+    jac = np.linalg.norm(nvec, axis=-1)
+    return Nx, jac * det * w.reshape(f, Q), x, nvec / jac[..., None]
+
+
+def _quadratic_roots(c: FloatArray, level: float) -> FloatArray:
+    """The real roots (…, 2) of c₀ + c₁ q + c₂ q² = level for coefficients c (…, k),
+    k ≤ 3 (NaN where there are none; one root for a linear polynomial), by the stable
+    form q = −(c₁ + sgn c₁ √D)/2 and the roots q/c₂, (c₀ − level)/q."""
+    c0 = c[..., 0] - level
+    c1 = c[..., 1]
+    c2 = c[..., 2] if c.shape[-1] > 2 else np.zeros_like(c0)
+    disc = c1**2 - 4.0 * c2 * c0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        qq = -0.5 * (c1 + np.where(c1 >= 0.0, 1.0, -1.0) * np.sqrt(disc))
+        out = np.stack([qq / c2, c0 / qq], axis=-1)
+    out[~np.isfinite(out) | (disc < 0.0)[..., None]] = np.nan
+    return out
+
+
+def _face_rule_fits(points: FloatArray, ftype: str, conn: IntArray) -> BoolArray:
+    """Which facets (f,) :func:`_wet_face_rule` integrates to round-off: those where the
+    height z changes monotonically along its inner lines, so that the level meets each
+    line once and never touches one (its level curves are then graphs r*(q)). Straight-
+    sided triangles and bilinear quads always; a curved 6-node triangle if its slope along
+    AB (the inner direction: A, B its lowest and highest corners) keeps its sign and
+    varies by less than a factor 2 over the facet (on a 6 × 6 grid)."""
+    ref = reference(ftype)
+    if ref.degree == 1 or not ref.simplex:
+        return np.ones(len(conn), dtype=bool)
+    X = points[conn]
+    zc = X[:, : ref.n_corners, 2]
+    order = np.argsort(zc, axis=1)
+    direction = ref.nodes[order[:, 2]] - ref.nodes[order[:, 0]]  # (f, 2): from A to B
+    g = np.linspace(0.0, 1.0, 6)
+    grid = np.array([(u, v) for u in g for v in g if u + v <= 1.0 + 1e-12])
+    _, dN = ref.shape_functions(grid)
+    slope = np.einsum("qmk,fm,fk->fq", dN, X[..., 2], direction)
+    lo, hi = slope.min(axis=1), slope.max(axis=1)
+    return np.asarray((lo > 0.0) & (hi < 2.0 * lo))
