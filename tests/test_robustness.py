@@ -644,7 +644,7 @@ def test_plausibility_warnings(
 ) -> None:
     """Valid input that is probably not what was meant gets a warning naming the key: a
     volume group in no block (its cells left out), a modulus written in GPa without its
-    exponent, a mesh drawn in millimetres, a water level above the faces it loads; the
+    exponent, a mesh drawn in millimetres, a water level above the whole model; the
     summary of ``check`` gives the model's extent and mass (a 2 m × 1 m plate of
     2000 kg/m³, 1 m thick: 4000 kg)."""
     names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
@@ -657,13 +657,14 @@ def test_plausibility_warnings(
         (text.replace('right = "rock"\n', ""), {},
          "the mesh's volume group(s) 'right' (1 cells) are in no block"),
         (text.replace("E = 1e9", "E = 25"), {},
-         "materials.rock.E = 25 Pa lies outside 1e+06 to 1e+13 Pa (concrete and rock: 1e9 to "
-         "1e11 Pa); pfeie takes SI units: did you mean 2.5e+10 (GPa)"),
+         "materials.rock.E = 25 Pa lies below 1e+06 Pa (concrete and rock: 1e9 to 1e11 Pa); "
+         "pfeie takes SI units: did you mean 2.5e+10 (GPa)"),
+        (text.replace("E = 1e9", "E = 3e14"), {}, "materials.rock.E = 3e+14 Pa lies above"),
         (text, {"nodes": [(2e4 * x, 2e4 * y, 0) for x, y, _ in NODES]},
          "the mesh spans 4e+04 m; pfeie takes coordinates in metres"),
         (text.replace("[analysis]", '[[loads.hydrostatic]]\ngroups = ["top"]\nwater_level = '
                       "3.0\n[analysis]"), {},
-         "loads.hydrostatic[0].water_level = 3 m lies 2 m above the top of its faces (1 m)"),
+         "loads.hydrostatic[0].water_level = 3 m lies 2 m above the top of the model (1 m)"),
     ]  # fmt: skip
     for text_k, mesh_k, warning in cases:
         caplog.clear()

@@ -20,7 +20,7 @@ import pytest
 
 import pfeie as pf
 from pfeie.cli import main
-from pfeie.errors import MechanismError
+from pfeie.errors import InterfaceError, MechanismError
 from pfeie.interface import OPEN
 from pfeie.verification._models import block_on_base, block_on_base_3d
 from test_cli import SMALL, _write
@@ -79,7 +79,7 @@ def test_refused_when_the_solver_finds_no_pattern() -> None:
     m = _model(mesh, pf.Joint(phi=PHI), pf.Elastic(30e9, 0.2, 2400.0), False)
     t = np.radians(35.0)
     m.add_gravity(direction=[np.sin(t), 0.0, -np.cos(t)])
-    with pytest.raises(MechanismError) as info:
+    with pytest.raises(InterfaceError) as info:  # a solver's failure, with what to check
         pf.solve_static(m)
     msg = str(info.value)
     assert "did not converge" in msg and "time step" not in msg
@@ -189,3 +189,20 @@ def test_safety_factor_of_a_joint_with_round_off_in_its_normals(cell: str) -> No
     P = st.pairs
     fs = m.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path)[0]
     assert fs == pytest.approx(np.tan(np.radians(PHI)) / np.tan(t), rel=3e-12)
+
+
+def test_safety_factor_sums_the_shears_as_global_vectors() -> None:
+    """Two pairs of one 3D joint whose frames differ by a quarter turn about the normal
+    (as on a joint that turns, where a pair takes its own axis): the same global shear of
+    10 N along x reads (10, 0) and (0, −10) in their frames. Added as global vectors the
+    shear is 20 N and FS = (2 × 100 N × tan 45°)/20 = 10; adding local components would
+    give 200/14.14."""
+    from pfeie.interface import MohrCoulomb, PairLaws
+
+    law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
+                                   [MohrCoulomb(phi=45.0)], 3)  # fmt: skip
+    frames = np.array([np.eye(3), [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]])
+    X = np.array([[10.0, 0.0, 100.0], [0.0, -10.0, 100.0]])
+    no = np.zeros(2, dtype=bool)
+    assert law.safety_factor(X, no, ~no, np.zeros(2), frames)[0] == pytest.approx(10.0, 1e-15)
+    assert law.safety_factor(X, no, ~no, np.zeros(2))[0] == pytest.approx(200 / np.sqrt(200))

@@ -267,7 +267,7 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
     than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
-    fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path)
+    fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame)
     out = {}
     for k, name in enumerate(P.names):
         idx = P.of(name)
@@ -286,8 +286,9 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
             # open by more than the crack threshold: a quadratic facet's corner pairs, which
             # carry little of a uniform pressure, part by microns (1e-6 m) under
             # compression
-            "open_share": float(A[(st.state[idx] == OPEN)
-                                  & (st.w[idx, -1] > OPEN_CRACK_MIN_M)].sum() / A.sum()),
+            "open_share": float(
+                A[(st.state[idx] == OPEN) & (st.w[idx, -1] > OPEN_CRACK_MIN_M)].sum() / A.sum()
+            ),
             "broken_share": float(A[st.broken[idx]].sum() / A.sum()),
         }
     return out
@@ -493,9 +494,10 @@ def format_summary(s: dict[str, Any]) -> str:
         work, corr = abs(e.get("external_work", 0.0)), e.get("correction", 0.0)
         if work > 0 and abs(corr) > CORRECTION_SHARE * work:
             lines.append(
-                f"  corrections  the position corrections of penetrating pairs added "
-                f"{corr:.4g} J, {100 * corr / work:.1f} % of the input: impacts this time "
-                "step does not resolve (the share falls with Δt; docs/results.md)"
+                f"  corrections  the position corrections of penetrating pairs "
+                f"{'added' if corr > 0 else 'took'} {abs(corr):.4g} J, "
+                f"{100 * abs(corr) / work:.1f} % of the input: impacts this time step does "
+                "not resolve (the share falls with Δt; docs/results.md)"
             )
     if "solver" in s:
         sv = s["solver"]

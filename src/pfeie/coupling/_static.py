@@ -111,7 +111,8 @@ class StaticInterfaceProblem:
         E = self.op.G @ self.Phi if k else None
         self.solver = InterfaceSolver(self.W.matrix(), model.pair_laws, border=E,
                                       settings=settings,
-                                      regularize=model.pairs.regularization)  # fmt: skip
+                                      regularize=model.pairs.regularization,
+                                      hint="")  # fmt: skip
 
     def solve(self, f_free: FloatArray, label: str = "static analysis") -> tuple[
         FloatArray, PairState

@@ -72,7 +72,8 @@ class SecondOrderSystem(Protocol):
     C + U B Uᵀ: ``C`` sparse (n × n) and ``C_update`` an optional symmetric low-rank term
     (:class:`pfeie.linalg.LowRankTerm`; the damping of the deformation only removes the
     floating bodies' rigid modes from C this way, :meth:`pfeie.Model.system`). Integrators
-    apply it with :func:`damping_product` and factorise with :func:`factorize_step`."""
+    apply it with :func:`damping_product` and factorise with :func:`factorize_step`
+    (a system without the attribute ``C_update`` has none)."""
 
     @property
     def M(self) -> sp.spmatrix: ...
@@ -80,8 +81,6 @@ class SecondOrderSystem(Protocol):
     def K(self) -> sp.spmatrix: ...
     @property
     def C(self) -> sp.spmatrix | None: ...
-    @property
-    def C_update(self) -> LowRankTerm | None: ...
 
     def load(self, t: float) -> FloatArray: ...
 
@@ -105,8 +104,9 @@ def damping_product(system: SecondOrderSystem, v: FloatArray) -> FloatArray:
     if system.C is None:
         return np.zeros_like(v)
     out = np.asarray(system.C @ v)
-    if system.C_update is not None:
-        out = out + system.C_update @ v
+    update: LowRankTerm | None = getattr(system, "C_update", None)
+    if update is not None:
+        out = out + update @ v
     return out
 
 
@@ -117,9 +117,10 @@ def factorize_step(
     scheme's weight of it); with a low-rank damping term the factor is that of
     A + c U B Uᵀ, by Woodbury on the factor of A (:class:`pfeie.linalg.UpdatedFactorization`)."""
     F = factorize(sp.csc_matrix(A), spd=True, backend=backend)
-    if system.C is None or system.C_update is None or c == 0.0:
+    update: LowRankTerm | None = getattr(system, "C_update", None)
+    if system.C is None or update is None or c == 0.0:
         return F
-    return UpdatedFactorization(F, system.C_update.scaled(c))
+    return UpdatedFactorization(F, update.scaled(c))
 
 
 @dataclass

@@ -504,11 +504,15 @@ class Recorder:
             self.X[i], self.w[i], self.s[i] = st.pairs.X, st.pairs.w, st.pairs.s
             # on the smooth pair forces (impulses of an impact aside) where the scheme has them
             force = st.pairs.X if st.lam is None else st.lam
+            assert an.model.pairs is not None
             self.fs[i] = an.model.pair_laws.safety_factor(
-                force, st.pairs.state == OPEN, st.pairs.broken, st.pairs.path
+                force,
+                st.pairs.state == OPEN,
+                st.pairs.broken,
+                st.pairs.path,
+                an.model.pairs.frame,
             )
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
-            assert an.model.pairs is not None
             self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
             broken = st.pairs.broken
             self.jc[i], self.jo[i] = an.model.joint_extent(

@@ -279,8 +279,9 @@ class PairLaws:
         return np.asarray(self.compliance.any(axis=1))
 
     def safety_factor(
-        self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray
-    ) -> FloatArray:
+        self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
+        frames: FloatArray | None = None,
+    ) -> FloatArray:  # fmt: skip
         """The sliding safety factor of each interface (n_interfaces,), the ratio of the
         joint's shear capacity to its shear force (USACE EM 1110-2-2100; FERC Ch. III):
 
@@ -288,7 +289,9 @@ class PairLaws:
 
         over its pairs, with each pair's current strength (intact or residual, the slip
         path for slip-dependent laws), N its normal force (compression +) and T its shear
-        force (vector sum: the joint slides as a whole); open pairs carry nothing, in the
+        force (vector sum: the joint slides as a whole; with the pairs' ``frames`` (m, d, d)
+        the shears are summed as global vectors, Σ t_iᵀ T_i, as a joint whose frames turn
+        along it needs, else their local components are added); open pairs carry nothing, in the
         capacity and in the shear (a force recorded on a pair that ends its step open is an
         impact impulse over the step, not a shear the joint carries). ∞ when the joint
         carries no shear.
@@ -306,6 +309,8 @@ class PairLaws:
         c, mu, _ = self.strength(broken, path)
         cap = np.where(open_, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
         T = np.where(open_[:, None], 0.0, X[:, :-1])
+        if frames is not None:  # the tangential rows of the frames: local → global
+            T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
         out = np.full(len(self.index), np.inf)
         for k, idx in enumerate(self.index):
             shear = float(np.linalg.norm(T[idx].sum(axis=0)))

@@ -190,6 +190,8 @@ class InterfaceSolver:
         systems are solved on it by iterative refinement (see the module docstring)
         instead of a factorisation of this W_c; ignored (this W_c is factorised) when the
         reference has no W_c⁻¹, or with a border, a regularisation or a sparse W.
+    hint: what the message of a problem that does not converge advises (a time step, in
+        dynamics; statics pass "").
     """
 
     def __init__(
@@ -201,7 +203,9 @@ class InterfaceSolver:
         settings: SolverSettings | None = None,
         regularize: float = 0.0,
         reference: InterfaceSolver | None = None,
+        hint: str = "Try a smaller time step.",
     ) -> None:
+        self.hint = hint
         settings = SolverSettings() if settings is None else settings
         props = laws
         self.props = laws
@@ -1346,11 +1350,11 @@ class InterfaceSolver:
         worst = np.argsort(res)[::-1][:5]
         cyc_txt = ", ".join(f"{k} ({'/'.join(STATE_NAMES[s] for s in sorted(set(H[:, k])))})"
                             for k in cyc[:10]) if cyc.size else "none"  # fmt: skip
-        advice = "" if self.E is not None else " Try a smaller time step."  # statics: none
         return (
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
-            f"{cyc_txt}; largest residuals at pairs {worst.tolist()}.{advice}"
+            f"{cyc_txt}; largest residuals at pairs {worst.tolist()}."
+            + (f" {self.hint}" if self.hint else "")
         )
 
     def _natural_map(

@@ -52,8 +52,9 @@ def run_key(job: Any) -> str:
     of the storage that change no value are left out: ``output.compression`` and
     ``compression_level`` (a resumed run keeps the file's own), ``field_precision``
     when it is "float64", the precision of every file written before these keys (so
-    their run keys stay the same), and ``checkpoint_steps`` (when to checkpoint: a
-    resumed run may checkpoint otherwise)."""
+    their run keys stay the same), ``checkpoint_steps`` (when to checkpoint: a
+    resumed run may checkpoint otherwise), and ``damping.deformation_only`` when false
+    (the default, as before the option existed)."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
     out = spec.get("output", {})
@@ -62,6 +63,9 @@ def run_key(job: Any) -> str:
     if out.get("field_precision") == "float64":
         out.pop("field_precision")
     out.pop("checkpoint_steps", None)  # when to checkpoint changes no value
+    damping = spec.get("damping", {})
+    if damping.get("deformation_only") is False:  # the default: keys as before the option
+        damping.pop("deformation_only")
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]

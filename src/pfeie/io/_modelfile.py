@@ -201,7 +201,7 @@ _EXTENT_MAX = 1e4
 def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
     """Warnings for input that is valid but probably not what was meant: volume groups of
     the mesh (as read) in no block (their cells are left out), moduli in the wrong unit, a
-    mesh in millimetres, and a water level above the faces it loads (an overtopped
+    mesh in millimetres, and a water level above the whole model (an overtopped
     crest)."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
     for b in cfg.blocks:
@@ -222,27 +222,29 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                     "model", p, total)  # fmt: skip
     lo, hi = _E_RANGE
     for name, mt in cfg.materials.items():
-        if not lo <= mt.E <= hi:
-            log.warning("%s: materials.%s.E = %g Pa lies outside %g to %g Pa (concrete and "
-                        "rock: 1e9 to 1e11 Pa); pfeie takes SI units: did you mean %g "
-                        "(GPa) or %g (MPa)?", p, name, mt.E, lo, hi, mt.E * 1e9,
-                        mt.E * 1e6)  # fmt: skip
+        modulus = float(mt.E)
+        if modulus < lo:
+            log.warning("%s: materials.%s.E = %g Pa lies below %g Pa (concrete and rock: 1e9 "
+                        "to 1e11 Pa); pfeie takes SI units: did you mean %g (GPa) or %g "
+                        "(MPa)?", p, name, modulus, lo, modulus * 1e9,
+                        modulus * 1e6)  # fmt: skip
+        elif modulus > hi:
+            log.warning("%s: materials.%s.E = %g Pa lies above %g Pa (concrete and rock: 1e9 "
+                        "to 1e11 Pa); pfeie takes SI units (Pa)", p, name, modulus,
+                        hi)  # fmt: skip
     extent = float(np.ptp(mesh.points, axis=0).max(initial=0.0))
     if extent > _EXTENT_MAX:
         log.warning("%s: the mesh spans %.4g m; pfeie takes coordinates in metres (a mesh "
                     "drawn in millimetres must be scaled by 1e-3)", p, extent)  # fmt: skip
-    up = mesh.dim - 1
+    # the water above the whole model: an overtopped structure (a reservoir floor given as
+    # an item of its own lies below the level, as it should)
+    top = float(mesh.points[:, mesh.dim - 1].max(initial=0.0))
     loads = cfg.loads
     for key, items in (("hydrostatic", loads.hydrostatic), ("westergaard", loads.westergaard)):
         for i, item in enumerate(items):
-            conns = [c.ravel() for g in item.groups if g in mesh.facet_groups
-                     for c in mesh.facet_group(g).values()]  # fmt: skip
-            if not conns or not sum(c.size for c in conns):
-                continue  # the groups are checked with the loads
-            top = float(mesh.points[np.concatenate(conns), up].max())
             if item.water_level > top + 1e-9:
                 log.warning("%s: loads.%s[%d].water_level = %g m lies %.4g m above the top "
-                            "of its faces (%g m): the structure is overtopped; intended?",
+                            "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
 

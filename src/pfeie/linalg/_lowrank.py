@@ -1,8 +1,8 @@
 """A symmetric low-rank term U B Uᵀ and the factorisation of A + U B Uᵀ from that of A.
 
-The rigid modes of the floating bodies make such a term: mass-proportional damping of the
-deformation only subtracts α M R (Rᵀ M R)⁻¹ Rᵀ M per body (:meth:`pfeie.Model.system`),
-rank 3 in 2D and 6 in 3D per body. The effective matrix of a time step then differs from
+The rigid motions that the supports leave free make such a term: mass-proportional
+damping of the deformation only subtracts α M R (Rᵀ M R)⁻¹ Rᵀ M (:meth:`pfeie.Model.system`),
+rank 3 in 2D and 6 in 3D per floating body. The effective matrix of a time step then differs from
 the sparse one by a low-rank term, and the Sherman–Morrison–Woodbury identity
 
     (A + U B Uᵀ)⁻¹ = A⁻¹ − Y (B⁻¹ + Uᵀ Y)⁻¹ Yᵀ,   Y = A⁻¹ U,

@@ -810,32 +810,62 @@ class Model:
         )  # fmt: skip
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
-        """−α Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M over the floating bodies, on the free DOFs
-        (:class:`Rayleigh` ``deformation_only``), or None."""
+        """−α M R (RᵀMR)⁻¹ RᵀM over the rigid motions that the supports leave free
+        (:meth:`rigid_motion_projector`), on the free DOFs (:class:`Rayleigh`
+        ``deformation_only``), or None."""
         rd = self.damping
         if rd is None or not rd.deformation_only or not rd.alpha:
             return None
-        term = self.floating_rigid_projector(Mff, free)
+        term = self.rigid_motion_projector(Mff, free)
         return None if term is None else term.scaled(-rd.alpha)
 
-    def floating_rigid_projector(self, M: sp.spmatrix, free: IntArray) -> LowRankTerm | None:
-        """Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M over the floating bodies b
-        (:meth:`floating_bodies`; R_b their rigid modes, :meth:`rigid_modes`) on the DOFs
-        ``free``, as U B Uᵀ with U = M R and B = (RᵀMR)⁻¹ per body; ``M`` (kg) on the same
-        DOFs. For a mass-normalised φ, φᵀ(U B Uᵀ)φ is the share of its kinetic energy in
-        the rigid motion of the floating bodies (the M-orthogonal projection). None when no
-        body floats."""
-        floating = self.floating_bodies()
-        if not floating.size:
+    def free_rigid_modes(self) -> sp.csc_matrix:
+        """R (n_dof × r): the rigid motions that the supports leave free, body by body:
+        all the rigid modes of a floating body (:meth:`floating_bodies`), and of a body with
+        supports the combinations of its rigid modes (:meth:`rigid_modes`) that move none
+        of its prescribed DOFs (the null space of the modes on those DOFs: a block on a
+        roller keeps the motions along it, a block pinned at a node in 2D its rotation
+        about the node); none for a body its supports hold."""
+        k = 3 if self.dim == 2 else 6
+        Phi = self.rigid_modes().tocsc()
+        _, pres, _ = self._dofmap
+        held = np.zeros(self.n_dof, dtype=bool)
+        held[pres] = True
+        on = Phi[held]  # the modes on the prescribed DOFs
+        cols = []
+        for b in range(self.n_bodies):  # once per model, over the bodies
+            Rb = Phi[:, b * k : (b + 1) * k]
+            C = on[:, b * k : (b + 1) * k].toarray()
+            if not C.any():
+                cols.append(Rb)
+                continue
+            _, sv, Vt = np.linalg.svd(C, full_matrices=True)
+            rank = int((sv > 1e-10 * sv.max()).sum())
+            if rank < k:
+                cols.append(sp.csc_matrix(Rb @ Vt[rank:].T))
+        return sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n_dof, 0))
+
+    def rigid_motion_projector(self, M: sp.spmatrix, free: IntArray) -> LowRankTerm | None:
+        """M R (Rᵀ M R)⁻¹ Rᵀ M over the rigid motions R that the supports leave free
+        (:meth:`free_rigid_modes`) on the DOFs ``free``, as U B Uᵀ with U = M R and
+        B = (RᵀMR)⁻¹, one dense block (a finite-element reservoir's added mass couples the
+        wet blocks, so RᵀMR need not be block-diagonal); ``M`` (kg) on the same DOFs. For a
+        mass-normalised φ, φᵀ(U B Uᵀ)φ is the share of its kinetic energy in those rigid
+        motions (the M-orthogonal projection). None when the supports hold every body."""
+        R = self.free_rigid_modes().tocsr()[free]  # the free motions move no prescribed DOF
+        if not R.shape[1]:
             return None
-        r = 3 if self.dim == 2 else 6
-        cols = (floating[:, None] * r + np.arange(r)).ravel()
-        R = self.rigid_modes()[:, cols].tocsr()[free]  # a floating body's DOFs are all free
         U = sp.csc_matrix(M @ R)
         A = np.asarray((R.T @ U).toarray())
-        blocks = np.stack([A[j * r : (j + 1) * r, j * r : (j + 1) * r]
-                           for j in range(floating.size)])  # fmt: skip
-        return LowRankTerm(U, np.linalg.inv(blocks))
+        try:
+            B = np.linalg.inv(A)
+        except np.linalg.LinAlgError:
+            raise ModelError(
+                "the rigid motions of the unsupported blocks have no mass (a massless "
+                "floating block): damping of the deformation only and the modal rigid "
+                "shares need the blocks' mass"
+            ) from None
+        return LowRankTerm(U, B[None])
 
     # -- interfaces and bodies -------------------------------------------------------------
     @property

@@ -108,19 +108,19 @@ class Block:
 class Rayleigh:
     """Rayleigh damping C = α M + β K (α in 1/s, β in s).
 
-    With ``deformation_only`` the mass-proportional part spares the rigid motion of the
-    floating bodies (those without a support, held by their joints or free):
+    With ``deformation_only`` the mass-proportional part spares the rigid motions that the
+    supports leave free (all those of a floating body, held by its joints or free; those
+    along a roller; :meth:`Model.free_rigid_modes`, R):
 
-        C = α (M − Σ_b M R_b (R_bᵀ M R_b)⁻¹ R_bᵀ M) + β K,
+        C = α (M − M R (Rᵀ M R)⁻¹ Rᵀ M) + β K,
 
-    R_b the rigid modes of body b (:meth:`Model.rigid_modes`), so that C R_b = 0: a block
-    sliding or rocking on its joints feels no viscous drag α m v, while every deformation
-    mode φ (R_bᵀ M φ = 0) keeps the ratio ζ(ω) = α/(2ω) + βω/2. The term is of rank 3 (2D)
-    or 6 (3D) per floating body; the time steps keep their sparse factor and add it by
-    Woodbury (:class:`pfeie.linalg.UpdatedFactorization`). Bodies with a support keep the
-    full α M. The modes of a bonded structure, in which floating blocks also move rigidly,
-    lose the α share of that motion (:attr:`pfeie.solvers.ModalResult.damping_ratios`;
-    the Koyna demo's first mode: 5.09 % → 0.75 %).
+    so that C R = 0: a block sliding or rocking on its joints feels no viscous drag α m v,
+    while every deformation mode φ (Rᵀ M φ = 0) keeps the ratio ζ(ω) = α/(2ω) + βω/2. The
+    term is of rank 3 (2D) or 6 (3D) per floating body; the time steps keep their sparse
+    factor and add it by Woodbury (:class:`pfeie.linalg.UpdatedFactorization`). The modes
+    of a bonded structure, in which floating blocks also move rigidly, lose the α share of
+    that motion (:attr:`pfeie.solvers.ModalResult.damping_ratios`; the Koyna demo's first
+    mode: 5.09 % → 0.75 %).
 
     >>> d = Rayleigh.from_ratio(0.05, 1.0, 10.0)
     >>> round(d.ratio(1.0), 12), round(d.ratio(10.0), 12)

@@ -130,7 +130,7 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         X = np.asarray(res.f["static/X"])
         fs_static = job.model.pair_laws.safety_factor(
             X, np.asarray(res.f["static/state"]) == OPEN, np.asarray(res.f["static/broken"]),
-            np.zeros(X.shape[0]))  # fmt: skip
+            np.zeros(X.shape[0]), job.model.pairs.frame)  # fmt: skip
     rows = []
     for name in res.interface_names:
         pr = res.static_pairs(name)

@@ -53,12 +53,13 @@ class ModalResult:
     omega2_scale: float = 0.0  # rad²/s²
     #: the model's Rayleigh damping ratio of each mode (n_modes,), φᵀCφ/(2ω) for the
     #: mass-normalised φ: α/(2ω) + βω/2 where C = αM + βK acts in full; with
-    #: ``deformation_only`` the share ρ of the mode's kinetic energy in the floating
-    #: bodies' rigid motion gets no α: (α(1 − ρ) + β φᵀKφ)/(2ω). NaN for rigid modes and
-    #: without damping
+    #: ``deformation_only`` the share ρ of the mode's kinetic energy in the rigid motions
+    #: that the supports leave free gets no α: (α(1 − ρ) + β φᵀKφ)/(2ω). NaN for rigid
+    #: modes and without damping
     damping_ratios: FloatArray = field(default_factory=lambda: np.zeros(0))
-    #: ρ per mode (n_modes,): the share of its kinetic energy in the rigid motion of the
-    #: floating bodies (:meth:`pfeie.Model.floating_rigid_projector`; 0 without any)
+    #: ρ per mode (n_modes,): the share of its kinetic energy in the rigid motions that
+    #: the supports leave free, those of the floating bodies
+    #: (:meth:`pfeie.Model.rigid_motion_projector`; 0 without any)
     rigid_share: FloatArray = field(default_factory=lambda: np.zeros(0))
 
     @property
@@ -143,7 +144,7 @@ def modal(
     iota = influence[system.free]
     gamma = vec.T @ (M @ iota)  # participation factors (n_modes, d), φ mass-normalised
     total = np.einsum("ik,ik->k", iota, M @ iota)  # the free mass along each axis
-    proj = model.floating_rigid_projector(M, system.free)
+    proj = model.rigid_motion_projector(M, system.free)
     share = (np.zeros(n_modes) if proj is None
              else np.einsum("ik,ik->k", vec, proj @ vec))  # fmt: skip
     res = ModalResult(freqs, shapes.reshape(n_modes, -1, d), gamma**2, total, scale)

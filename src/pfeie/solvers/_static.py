@@ -86,9 +86,10 @@ def solve_static(
         except InterfaceError as exc:
             if not model.floating_bodies().size:
                 raise
-            # with floating blocks, a static problem without a solution ends here too: the
-            # state iteration and the Newton find no pattern that balances them
-            raise MechanismError(f"{exc} {_floating(model, found=False)}") from None
+            # with floating blocks, a static problem without a solution ends here too (no
+            # pattern balances them), as may one the solver fails on: say what to check,
+            # without a verdict
+            raise InterfaceError(f"{exc} {_floating(model, found=False)}") from None
 
     p, cracks = model.uplift_pressure()
     f_up = model.uplift_load(p)
@@ -118,7 +119,7 @@ def solve_static(
             try:
                 u_free, st = solve(f_free + f_try[system.free])
                 break
-            except MechanismError:
+            except (MechanismError, InterfaceError):
                 if omega <= 1.0 / 16.0:
                     raise
                 omega *= 0.5
@@ -171,8 +172,8 @@ def _floating(model: Model, found: bool = True) -> str:
             "static loads: their joints' strength is exceeded, so they would slide or "
             "open." if found else
             "No static equilibrium was found for the floating block(s) (" + which + "): "
-            "the static loads exceed their joints' strength (they would slide or open), "
-            "or are at the limit of equilibrium.")  # fmt: skip
+            "the static loads may exceed their joints' strength (they would slide or "
+            "open), or be at the limit of equilibrium.")  # fmt: skip
     return (
         head + " Check the friction angles and cohesions (a joint that starts broken, "
         'initial = "broken", the default, has only its residual strength: '

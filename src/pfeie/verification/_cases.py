@@ -1476,7 +1476,9 @@ def v11a(fast: bool) -> CaseResult:
     mu = float(np.tan(np.radians(phi)))
     fs_hand = (c * B + mu * (W - U)) / T
     P = st.pairs
-    fs = float(model.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path)[0])
+    fs = float(
+        model.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path, model.pairs.frame)[0]
+    )
     # the hand computation takes the whole base intact and in compression: so is every
     # pair (with c = 0.1 MPa the heel's pair breaks, at the corner's stress concentration,
     # and FS falls by its lost cohesion, c A = 33 kN/m: 0.4 %)
