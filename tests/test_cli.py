@@ -116,7 +116,7 @@ def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> No
 
 def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--version"]) == 0
-    assert "pfeie 0.2.0" in capsys.readouterr().out
+    assert "pfeie 0.3.0" in capsys.readouterr().out
     for cmd in (["--help"], ["run", "--help"], ["check", "--help"], ["schema", "--help"]):
         assert main(cmd) == 0
         out = capsys.readouterr().out

@@ -43,6 +43,9 @@ G_STANDARD = 9.80665
 #: the filter's zero pads at each end last PAD_PERIODS × order / (lowest corner) seconds
 PAD_PERIODS = 1.5
 G_UNITS = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
+#: the lowest high-pass corner, in cycles per record duration (a period of at most 100
+#: record lengths)
+HIGHPASS_MIN_CYCLES = 0.01
 
 
 @dataclass(frozen=True)
@@ -201,7 +204,8 @@ class GroundMotion:
                        order: int = 4) -> tuple[str, str] | None:  # fmt: skip
         """What is wrong with these settings of :meth:`filtered` for this record, as
         (setting, what was expected and found), the setting "" for the record itself; None
-        if they are valid: 0 < highpass < lowpass < 1/(2Δt), order an integer in [1, 8],
+        if they are valid: 0.01/duration ≤ highpass < lowpass < 1/(2Δt), order an integer
+        in [1, 8],
         at least one corner, equally spaced samples."""
         integer = isinstance(order, int | np.integer) and not isinstance(order, bool)
         if not (integer and 1 <= order <= 8):
@@ -219,6 +223,13 @@ class GroundMotion:
                 return key, (f"expected a corner frequency in (0, {nyquist:g}) Hz (below the "
                              f"Nyquist frequency 1/(2Δt) of the record {self.name!r}, "
                              f"Δt = {dt:g} s), found {fc!r}")  # fmt: skip
+        low = HIGHPASS_MIN_CYCLES / float(self.duration)
+        if highpass is not None and highpass < low:
+            # a corner period beyond 100 record lengths filters nothing the record holds,
+            # and its padding (1.5 n periods) would not fit in memory
+            return "highpass", (f"expected a corner of at least {low:g} Hz (a period of at "
+                                f"most 100 times the record's duration, "
+                                f"{float(self.duration):g} s), found {highpass!r}")  # fmt: skip
         if highpass is not None and lowpass is not None and not highpass < lowpass:
             return "lowpass", (f"expected a corner above highpass = {highpass:g} Hz (a "
                                f"band-pass), found {lowpass:g} Hz")  # fmt: skip
