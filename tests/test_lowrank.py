@@ -29,10 +29,10 @@ def test_woodbury_solve_equals_the_dense_solve(backend: str) -> None:
     U[n1:, k:] = rng.standard_normal((n2, k))
     # −2 times the projector on each block's columns (A's eigenvalues are ≥ 4), as the
     # damping of the deformation only removes α M R (RᵀMR)⁻¹ RᵀM
-    B = -2.0 * np.linalg.inv(np.stack([U[:n1, :k].T @ U[:n1, :k], U[n1:, k:].T @ U[n1:, k:]]))
-    term = LowRankTerm(sp.csc_matrix(U), B)
     dense_B = np.zeros((2 * k, 2 * k))
-    dense_B[:k, :k], dense_B[k:, k:] = B
+    dense_B[:k, :k] = -2.0 * np.linalg.inv(U[:n1, :k].T @ U[:n1, :k])
+    dense_B[k:, k:] = -2.0 * np.linalg.inv(U[n1:, k:].T @ U[n1:, k:])
+    term = LowRankTerm(sp.csc_matrix(U), dense_B)
     full = A.toarray() + U @ dense_B @ U.T
     assert np.all(np.linalg.eigvalsh(full) > 0)
     F = UpdatedFactorization(factorize(A, backend=backend), term)

@@ -16,7 +16,7 @@ negative); it is regular whenever A and A + U B Uᵀ are.
 >>> import numpy as np, scipy.sparse as sp
 >>> from pfeie.linalg import factorize
 >>> A = sp.csc_matrix(np.diag([2.0, 3.0, 4.0]))
->>> term = LowRankTerm(sp.csc_matrix(np.ones((3, 1))), np.array([[[-1.0]]]))
+>>> term = LowRankTerm(sp.csc_matrix(np.ones((3, 1))), np.array([[-1.0]]))
 >>> F = UpdatedFactorization(factorize(A), term)
 >>> b = np.array([1.0, 2.0, 3.0])
 >>> bool(np.allclose((A.toarray() - 1.0) @ F.solve(b), b))
@@ -40,8 +40,7 @@ _CHUNK = 64
 
 @dataclass(frozen=True)
 class LowRankTerm:
-    """The symmetric term U B Uᵀ: U (n × p·k, sparse), B block-diagonal with p blocks of
-    k × k (``B`` of shape (p, k, k); block j acts on the columns j·k … j·k + k − 1)."""
+    """The symmetric term U B Uᵀ: U (n × r, sparse), B (r × r, dense, symmetric)."""
 
     U: sp.csc_matrix
     B: FloatArray
@@ -54,15 +53,9 @@ class LowRankTerm:
         """The term c U B Uᵀ."""
         return LowRankTerm(self.U, c * self.B)
 
-    def core(self, z: FloatArray) -> FloatArray:
-        """B z for z of shape (p·k,) or (p·k, m)."""
-        p, k, _ = self.B.shape
-        zz = z.reshape(p, k, -1)
-        return np.einsum("pij,pjm->pim", self.B, zz).reshape(z.shape)
-
     def __matmul__(self, v: FloatArray) -> FloatArray:
         """U B Uᵀ v for v of shape (n,) or (n, m)."""
-        return np.asarray(self.U @ self.core(np.asarray(self.U.T @ v)))
+        return np.asarray(self.U @ (self.B @ np.asarray(self.U.T @ v)))
 
 
 class UpdatedFactorization:
@@ -78,12 +71,7 @@ class UpdatedFactorization:
             Yj = base.solve(U[:, j : j + _CHUNK].toarray())
             cols.append(sp.csc_matrix(Yj))  # exact zeros off the bodies' DOFs drop out
         self.Y = sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n, 0))
-        p, k, _ = term.B.shape
-        Binv = np.linalg.inv(term.B)
-        cap = np.asarray((U.T @ self.Y).toarray())
-        for j in range(p):
-            cap[j * k : (j + 1) * k, j * k : (j + 1) * k] += Binv[j]
-        self._cap = sla.lu_factor(cap)
+        self._cap = sla.lu_factor(np.linalg.inv(term.B) + (U.T @ self.Y).toarray())
 
     def solve(self, b: FloatArray) -> FloatArray:
         x = self.base.solve(b)

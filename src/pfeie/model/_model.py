@@ -865,7 +865,7 @@ class Model:
                 "floating block): damping of the deformation only and the modal rigid "
                 "shares need the blocks' mass"
             ) from None
-        return LowRankTerm(U, B[None])
+        return LowRankTerm(U, B)
 
     # -- interfaces and bodies -------------------------------------------------------------
     @property

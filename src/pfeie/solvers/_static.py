@@ -94,13 +94,14 @@ def solve_static(
     p, cracks = model.uplift_pressure()
     f_up = model.uplift_load(p)
     u_free, st = solve(f_free + f_up[system.free])
-    exact = True  # p is the pressure of the crack ``cracks`` (not a relaxed step towards it)
-    unheld: tuple[float, ...] | None = None  # a crack whose full uplift nothing held
+    # a crack whose full uplift nothing held (then p is a relaxed step towards its
+    # pressure, not the pressure of ``cracks``)
+    unheld: tuple[float, ...] | None = None
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
         p_new, new = model.uplift_pressure(st.state == OPEN)
-        if new == cracks and exact:
+        if new == cracks and unheld is None:
             break
         if unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True)):
             # a relaxed step did not shorten the crack: it runs on under its own uplift
@@ -126,7 +127,7 @@ def solve_static(
                 log.info("static analysis: uplift of the crack %s m not held; relaxed step "
                          "%g", _lengths(new), omega)  # fmt: skip
         unheld = None if omega == 1.0 else tuple(new)
-        p, cracks, f_up, exact = p_try, new, f_try, omega == 1.0
+        p, cracks, f_up = p_try, new, f_try
     else:
         if model.uplifts:
             raise SolverError(
