@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import pfeie as pf
-from pfeie.assembly import VOIGT, principal_stresses
+from pfeie.assembly import VOIGT, principal_extremes, principal_stresses
 from pfeie.element import quadrature, reference
 from pfeie.verification._models import block_on_base
 
@@ -87,6 +87,26 @@ def test_principal_stresses_equal_lapack() -> None:
     R = np.linalg.qr(rng.standard_normal((3, 3)))[0]
     uni = R @ np.diag([5.0, 0.0, 0.0]) @ R.T
     np.testing.assert_allclose(principal_stresses(_voigt(uni[None]))[0], [5, 0, 0], atol=2e-7)
+
+
+@pytest.mark.parametrize("rows", ["general", "mixed", "plane"])
+def test_principal_extremes_are_those_of_the_sorted_roots(rows: str) -> None:
+    """The envelope's σ₁ and σ₃ without the sort equal the first and the last of
+    :func:`principal_stresses` to the bit: random general states (the 3D path, no plane
+    row), and mixed with plane, hydrostatic, uniaxial-diagonal and zero rows."""
+    rng = np.random.default_rng(7)
+    s = 1e6 * rng.standard_normal((5000, 6))
+    if rows != "general":
+        s[:1000, 3:5] = 0.0  # plane states
+        s[1000:1100] = 0.0
+        s[1100:1200, 1:3] = s[1100:1200, :1]  # hydrostatic
+        s[1100:1300, 3:] = 0.0  # diagonal
+    if rows == "plane":
+        s = s[:1000]
+    hi, lo = principal_extremes(s)
+    p3 = principal_stresses(s)
+    np.testing.assert_array_equal(hi, p3[:, 0])
+    np.testing.assert_array_equal(lo, p3[:, 2])
 
 
 def test_envelope_of_a_run_equals_its_recorded_states() -> None:

@@ -21,8 +21,9 @@ import pytest
 
 import pfeie as pf
 import pfeie.interface._solver as solver_module
+from pfeie.coupling import SolveStats
 from pfeie.coupling._static import StaticInterfaceProblem
-from pfeie.interface import InterfaceSolver
+from pfeie.interface import InterfaceSolver, SolveInfo
 from test_planted import _model_3d, natural_map, plant, solve_planted
 
 
@@ -104,6 +105,9 @@ def test_newton_through_the_inverse_equals_the_dense_path(
         st, _ = solver.solve(w_free, pl.prev, breaking=False)
         assert not calls and solver.last.residual <= 1e-8
         assert solver.last.method == "semismooth Newton"
+        stats = SolveStats()  # the designed second stage, not a fallback
+        stats.add(solver.last)
+        assert (stats.newton, stats.fallbacks, stats.solves) == (1, 0, 1)
         monkeypatch.undo()
         with monkeypatch.context() as mp:
             mp.setattr(solver_module, "NEWTON_WOODBURY_MIN", 10**9)
@@ -159,3 +163,18 @@ def test_bordered_static_problem_on_the_inverse(
     _same_states(st, ref)
     if kx:
         assert (st.state == pf.interface.SLIDE).sum() > 100
+
+
+def test_solve_statistics_tell_the_newton_from_the_fallbacks() -> None:
+    """The per-step counters: the state iteration counts as neither, the semismooth
+    Newton after it as ``newton``, the cold start, the proximal-point Newton and projected
+    Gauss-Seidel as fallbacks; iterations add up, the residual is the worst."""
+    stats = SolveStats()
+    methods = ["state iteration", "semismooth Newton", "semismooth Newton (cold start)",
+               "proximal Newton", "projected Gauss-Seidel", "semismooth Newton"]
+    for k, method in enumerate(methods):
+        stats.add(SolveInfo(k + 1, 1e-10 * (k + 1), method))
+    assert (stats.newton, stats.fallbacks, stats.solves, stats.iterations) == (2, 3, 6, 21)
+    assert stats.residual == 6e-10
+    stats.reset()
+    assert (stats.newton, stats.fallbacks, stats.solves, stats.residual) == (0, 0, 0, 0.0)

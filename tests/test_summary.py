@@ -186,3 +186,20 @@ def test_static_open_share_ignores_corner_pairs_parted_by_round_off() -> None:
     j = _static_joints(m, st)["joint"]
     assert j["open_share"] == 0.0
     assert j["normal_force_N"] == pytest.approx(2400.0 * G * 2.0 * 2.0 * 2.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(("share", "shown", "unresolved"),
+                         [(0.005, False, False), (0.18, True, False), (1.45, True, True)])
+def test_correction_energy_lines(share: float, shown: bool, unresolved: bool) -> None:
+    """The position corrections' energy: no line up to 1 % of the input; its share above
+    that; above half the input (the 3D monolith's 145 % at Δt = 10 ms), that the run is not
+    converged in Δt."""
+    work = 3.4e6
+    model = {"title": "t", "file": "m.toml", "sha256": "0" * 64, "blocks": ["a"],
+             "bodies": 1, "dof": 6, "pairs": {}, "records": []}
+    s = {"model": model, "version": pf.__version__,
+         "energy_J": {"external_work": work, "correction": share * work, "balance": 0.0}}
+    text = format_summary(s)
+    assert ("corrections" in text) == shown
+    assert (f"{100 * share:.1f} % of the input" in text) == shown
+    assert ("not converged in Δt" in text) == unresolved

@@ -236,41 +236,59 @@ def principal_stresses(s: FloatArray) -> FloatArray:
         out[plane] = -np.sort(-three, axis=1)
     gen = ~plane
     if gen.any():
-        a = s[gen]
-        q = a[:, :3].sum(axis=1) / 3.0
-        d = a[:, :3] - q[:, None]
-        off2 = (a[:, 3:] ** 2).sum(axis=1)
-        p = np.sqrt(((d**2).sum(axis=1) + 2.0 * off2) / 6.0)
-        safe = np.where(p > 0, p, 1.0)
-        b = d / safe[:, None]
-        o = a[:, 3:] / safe[:, None]  # yz, xz, xy over p
-        det = (b[:, 0] * (b[:, 1] * b[:, 2] - o[:, 0] ** 2)
-               - o[:, 2] * (o[:, 2] * b[:, 2] - o[:, 0] * o[:, 1])
-               + o[:, 1] * (o[:, 2] * o[:, 0] - b[:, 1] * o[:, 1]))  # fmt: skip
-        phi = np.arccos(np.clip(0.5 * det, -1.0, 1.0)) / 3.0
-        k = np.arange(3) * (2.0 * np.pi / 3.0)
-        out[gen] = q[:, None] + 2.0 * p[:, None] * np.cos(phi[:, None] - k[None, :])
-        out[gen] = -np.sort(-out[gen], axis=1)
+        out[gen] = -np.sort(-np.stack(_cubic_roots(s[gen]), axis=1), axis=1)
     return out
+
+
+def _cubic_roots(a: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The three roots q + 2p cos(φ − 2πk/3), k = 0, 1, 2, of general Voigt vectors
+    ``a`` (N, 6) (:func:`principal_stresses`); for φ ∈ [0, π/3] k = 0 is the largest and
+    k = 2 the smallest (they coincide where p = 0)."""
+    q = a[:, :3].sum(axis=1) / 3.0
+    d = a[:, :3] - q[:, None]
+    off2 = (a[:, 3:] ** 2).sum(axis=1)
+    p = np.sqrt(((d**2).sum(axis=1) + 2.0 * off2) / 6.0)
+    safe = np.where(p > 0, p, 1.0)
+    b = d / safe[:, None]
+    o = a[:, 3:] / safe[:, None]  # yz, xz, xy over p
+    det = (b[:, 0] * (b[:, 1] * b[:, 2] - o[:, 0] ** 2)
+           - o[:, 2] * (o[:, 2] * b[:, 2] - o[:, 0] * o[:, 1])
+           + o[:, 1] * (o[:, 2] * o[:, 0] - b[:, 1] * o[:, 1]))  # fmt: skip
+    phi = np.arccos(np.clip(0.5 * det, -1.0, 1.0)) / 3.0
+    two_p = 2.0 * p
+    k = np.arange(3) * (2.0 * np.pi / 3.0)
+    r0, r1, r2 = (q + two_p * np.cos(phi - k[j]) for j in range(3))
+    return r0, r1, r2
 
 
 def principal_extremes(s: FloatArray) -> tuple[FloatArray, FloatArray]:
     """The largest and the smallest principal stress (σ₁, σ₃), each (N,), of Voigt
     vectors ``s`` (N, 6): the closed forms of :func:`principal_stresses` without the
-    middle root and the sort (the per-row cost of a stress envelope). In plane states
-    σ₁ = max(c + R, σ_zz), σ₃ = min(c − R, σ_zz).
+    sort (the per-row cost of a stress envelope), to the same bits. In plane states
+    σ₁ = max(c + R, σ_zz), σ₃ = min(c − R, σ_zz); otherwise the extremes of the three
+    trigonometric roots (k = 0 gives σ₁ and k = 2 gives σ₃ unless p = 0, where the
+    roots coincide).
 
     >>> principal_extremes(np.array([[0.0, 0.0, 0.5, 0.0, 0.0, 2.0]]))
     (array([2.]), array([-2.]))
     """
     s = np.asarray(s, dtype=float)
     xx, yy, zz, yz, xz, xy = s.T
+    general = (yz != 0.0) | (xz != 0.0)
+    if general.all():  # 3D: no row is plane; no plane forms, no gather or scatter
+        return _cubic_extremes(s)
     c = 0.5 * (xx + yy)
     R = np.hypot(0.5 * (xx - yy), xy)
     hi = np.maximum(c + R, zz)
     lo = np.minimum(c - R, zz)
-    gen = np.flatnonzero((yz != 0.0) | (xz != 0.0))
+    gen = np.flatnonzero(general)
     if gen.size:
-        p3 = principal_stresses(s[gen])
-        hi[gen], lo[gen] = p3[:, 0], p3[:, 2]
+        hi[gen], lo[gen] = _cubic_extremes(s[gen])
     return hi, lo
+
+
+def _cubic_extremes(a: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """σ₁ and σ₃ of general Voigt vectors ``a`` (N, 6): the extremes of
+    :func:`_cubic_roots` without a sort."""
+    r0, r1, r2 = _cubic_roots(a)
+    return np.maximum(np.maximum(r0, r1), r2), np.minimum(np.minimum(r0, r1), r2)

@@ -817,12 +817,14 @@ class Dynamic:
         if resume is not None:
             rec.account.acc.update(resume.energy)
         # the cost of the pair problems of every step: iterations, solves that needed a
-        # fallback, the worst residual (also summed per recorded row for the results file)
+        # fallback, the worst residual, solves the semismooth Newton finished (also summed
+        # per recorded row for the results file)
         iters = np.zeros(n + 1, dtype=np.int32)
         falls = np.zeros(n + 1, dtype=np.int32)
         resid = np.zeros(n + 1)
+        newton = np.zeros(n + 1, dtype=np.int32)
         stats = self.istep.stats if m and self.istep is not None else None
-        since = [0, 0, 0.0]
+        since: list[Any] = [0, 0, 0.0, 0]
         if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
         rec.record(0, cur, emit=resume is None)
@@ -853,14 +855,15 @@ class Dynamic:
                 ex.follow(nxt.pairs.state == OPEN)
             if stats is not None:
                 iters[i], falls[i], resid[i] = stats.iterations, stats.fallbacks, stats.residual
+                newton[i] = stats.newton
                 since = [since[0] + stats.iterations, since[1] + stats.fallbacks,
-                         max(since[2], stats.residual)]  # fmt: skip
+                         max(since[2], stats.residual), since[3] + stats.newton]  # fmt: skip
             cur = nxt
             on_grid = cur.step % every == 0
             if on_grid:
                 j += 1
                 rec.record(j, cur, solver=since)
-                since = [0, 0, 0.0]
+                since = [0, 0, 0.0, 0]
             stop: str | None = None
             if callback is not None:
                 try:
@@ -880,7 +883,7 @@ class Dynamic:
                 checkpoint()
         wall = _time.perf_counter() - t_wall
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
-                                         "residual": resid}  # fmt: skip
+                                         "residual": resid, "newton": newton}  # fmt: skip
         return rec.result(j + 1, cur, iters, wall, completed, reason, solver)
 
 

@@ -479,7 +479,8 @@ class Recorder:
                solver: list[Any] | None = None) -> None:  # fmt: skip
         """Row i of the histories from the state ``st``; ``emit`` False keeps it from
         ``on_record`` (the row a resumed run starts from is already on disk); ``solver``
-        the pair problems' iterations, fallbacks and worst residual since the last row."""
+        the pair problems' iterations, fallbacks, worst residual and solves finished by
+        the semismooth Newton since the last row."""
         an, ex, probes, d, m = self.an, self.ex, self.probes, self.an.d, self.an.m
         system = an.system
         k = st.kin
@@ -537,7 +538,7 @@ class Recorder:
                 "w": st.pairs.w, "s": st.pairs.s, "state": st.pairs.state,
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
                 "a": full_a.reshape(-1, d),
-                "solver": [0, 0, 0.0] if solver is None else list(solver),
+                "solver": [0, 0, 0.0, 0] if solver is None else list(solver),
                 "safety_factor": self.fs[i].copy(), "joint_force": self.jf[i].copy(),
                 "joint_moment": self.jm[i].copy(), "joint_cracked": self.jc[i].copy(),
                 "joint_open": self.jo[i].copy(),

@@ -16,11 +16,13 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
 - ``/history``: ``time`` (n_t), ``probes/{u,v,a,a_abs}`` (n_t, k, d) with attributes
   ``names`` and ``nodes``, ``rigid`` (n_t, n_bodies, 3 or 6), ``pairs/{X,w,s}``
   (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
-  ``pairs/broken``, ``energy/<term>`` (n_t), ``solver/{iterations,fallbacks,residual}``
-  (n_t: the pair problems' iterations and solves that needed a fallback since the
-  previous row, and their worst final residual), ``joints/{safety_factor,force,moment}``
-  (n_t, n_joints[, d or 1 or 3]: the sliding safety factor, the resultant force on side
-  b in global axes and its moment about the joint's centroid), ``joints/{cracked,open}``
+  ``pairs/broken``, ``energy/<term>`` (n_t),
+  ``solver/{iterations,fallbacks,residual,newton}`` (n_t: the pair problems' iterations,
+  solves that needed a fallback since the previous row, their worst final residual, and
+  the solves the semismooth Newton finished after the state iteration),
+  ``joints/{safety_factor,force,moment}`` (n_t, n_joints[, d or 1 or 3]: the sliding
+  safety factor, the resultant force on side b in global axes and its moment about the
+  joint's centroid), ``joints/{cracked,open}``
   (n_t, n_joints: the length in 2D, area in 3D, of the broken pairs and of the broken
   pairs that are open);
 - ``/envelope``: ``{nodes,cells}/{max,min}_principal`` and their ``_time``: the stress
@@ -70,8 +72,10 @@ UNITS = {
 #: run_key; 1.2: /envelope, history/joints/{force,moment}; 1.3: the attributes
 #: compression, compression_level, field_precision, and fields that may be float32;
 #: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; 1.5: the attributes
-#: model_spec and model_path; files without the attribute are 1.0)
-FORMAT_VERSION = "1.5"
+#: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
+#: no longer counts the solves the semismooth Newton finished; files without the
+#: attribute are 1.0)
+FORMAT_VERSION = "1.6"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
@@ -274,6 +278,7 @@ class ResultsWriter:
         self._grow(hs, "iterations", (), "count", np.int64)
         self._grow(hs, "fallbacks", (), "count", np.int64)
         self._grow(hs, "residual", (), "1")
+        self._grow(hs, "newton", (), "count", np.int64)
         he = h.create_group("energy")
         for key in ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                     "impact", "algorithmic", "correction", "balance"):  # fmt: skip
@@ -388,9 +393,11 @@ class ResultsWriter:
                     self._extend(f["history/joints/cracked"], [r["joint_cracked"] for r in buf])
                     self._extend(f["history/joints/open"], [r["joint_open"] for r in buf])
             if "solver" in f["history"]:
-                for k, key in enumerate(("iterations", "fallbacks", "residual")):
-                    self._extend(f[f"history/solver/{key}"],
-                                 [r.get("solver", [0, 0, 0.0])[k] for r in buf])  # fmt: skip
+                hs = f["history/solver"]
+                for k, key in enumerate(("iterations", "fallbacks", "residual", "newton")):
+                    if key in hs:  # (files of format 1.5 and older lack `newton`)
+                        self._extend(hs[key], [r.get("solver", [0, 0, 0.0, 0])[k]
+                                               for r in buf])  # fmt: skip
             for key in buf[0]["energy"]:
                 if key in f["history/energy"]:  # (older files lack `modified`)
                     self._extend(f[f"history/energy/{key}"], [r["energy"][key] for r in buf])

@@ -11,10 +11,11 @@ from ._plots import (
     plot_states,
     plot_static,
 )
-from ._report import write_report
+from ._report import solver_line, write_report
 
 __all__ = ["OPEN_CRACK_MIN_M", "plot_all", "plot_energy", "plot_joint", "plot_probe",
-           "plot_rigid", "plot_spectrum", "plot_states", "plot_static", "write_report"]  # fmt: skip
+           "plot_rigid", "plot_spectrum", "plot_states", "plot_static", "solver_line",
+           "write_report"]  # fmt: skip
 from ._study import plot_fragility, plot_ida, save_figure
 
 __all__ += ["plot_fragility", "plot_ida", "save_figure"]

@@ -178,12 +178,26 @@ def analysis_rows(res: Results) -> list[tuple[str, str]]:
         out.append(("pair solver tolerance", f"{a['tolerance']:g}"))
     sv = summ.get("solver")
     if sv:
-        out.append(("pair solver", f"{sv['iterations_mean']} iterations a step; "
-                    f"{sv['fallback_steps']} step(s) needed a fallback; worst residual "
-                    f"{sv['worst_residual']:.1e}"))  # fmt: skip
+        out.append(("pair solver", solver_line(sv)))
     if "wall_time_s" in summ:
         out.append(("wall time", f"{summ['wall_time_s']:.1f} s"))
     return out
+
+
+def solver_line(sv: dict[str, Any]) -> str:
+    """The pair solver's statistics in words, as the summary and the report give them.
+
+    >>> print(solver_line({"iterations_mean": 7.8, "fallback_steps": 0, "newton_steps": 446,
+    ...                    "worst_residual": 8.1e-9}))  # doctest: +NORMALIZE_WHITESPACE
+    7.8 iterations a step; the semismooth Newton finished 446 step(s);
+    0 step(s) needed a fallback; worst residual 8.1e-09
+    """
+    newton = ""
+    if "newton_steps" in sv:
+        newton = f"the semismooth Newton finished {sv['newton_steps']} step(s); "
+    return (f"{sv['iterations_mean']:.1f} iterations a step; {newton}"
+            f"{sv['fallback_steps']} step(s) needed a fallback; worst residual "
+            f"{sv['worst_residual']:.1e}")  # fmt: skip
 
 
 def record_rows(res: Results) -> list[dict[str, Any]]:

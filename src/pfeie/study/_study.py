@@ -79,7 +79,7 @@ JOINT_KEYS_2D = tuple(k for k in JOINT_KEYS if not k.endswith("_area_m2"))
 JOINT_KEYS_3D = tuple(k for k in JOINT_KEYS if not k.endswith("_length_m"))
 STRESS_KEYS = ("max_principal_Pa", "min_principal_Pa", "max_dcr", "max_cid_s",
                "overstressed_share")  # fmt: skip
-SOLVER_KEYS = ("fallback_steps", "worst_residual")
+SOLVER_KEYS = ("fallback_steps", "newton_steps", "worst_residual")
 
 #: demand columns that hold a signed value: the principal stresses (tension > 0,
 #: compression < 0), so that a threshold of either sign is meaningful. Every other
@@ -344,8 +344,9 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
             row["stress.max_dcr"], row["stress.max_cid_s"] = dc["max_dcr"], dc["max_cid_s"]
             row["stress.overstressed_share"] = dc["overstressed_share"]
     if "solver" in s:
-        row["solver.fallback_steps"] = s["solver"]["fallback_steps"]
-        row["solver.worst_residual"] = s["solver"]["worst_residual"]
+        for k in SOLVER_KEYS:
+            if k in s["solver"]:
+                row[f"solver.{k}"] = s["solver"][k]
     row["wall_s"] = round(wall, 3)
     row["key"] = spec.key
     return row
