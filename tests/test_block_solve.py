@@ -99,3 +99,41 @@ def test_a_block_solve_that_disagrees_is_not_used(
     assert "differs from its column solve" in caplog.text
     np.testing.assert_array_equal(X, F._solve_columns(B))
     assert F._block() is None
+
+
+def test_a_failing_block_solve_falls_back_to_columns(
+    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    """CHOLMOD failing after the check (here: an ArithmeticError, as for a NULL result
+    when it runs out of memory) costs a warning, not the run: the block is solved one
+    column at a time (cvxopt's bits), and so are later blocks."""
+    solver = block_solver()
+    if solver is None:
+        pytest.skip("no block solve here")
+    F: Any = factorize(_stiffness(50), backend="cholmod")
+    assert F._block() is not None
+
+    def fail(self, L, B):  # type: ignore[no-untyped-def]
+        raise ArithmeticError("cholmod_l_solve returned no solution")
+
+    monkeypatch.setattr(type(solver), "solve", fail)
+    B = np.random.default_rng(3).standard_normal((F.n, 5))
+    with caplog.at_level("WARNING"):
+        X = F.solve(B)
+    assert "block solve failed" in caplog.text
+    np.testing.assert_array_equal(X, F._solve_columns(B))
+    assert F._block() is None
+
+
+def test_cholmod_errors_come_back_quietly(capfd: pytest.CaptureFixture[str]) -> None:
+    """A CHOLMOD error (right-hand sides of the wrong length) is an ArithmeticError, and
+    nothing is printed on the C stdout (its print level is set to 0 at start)."""
+    solver = block_solver()
+    if solver is None:
+        pytest.skip("no block solve here")
+    F: Any = factorize(_stiffness(50), backend="cholmod")
+    L = solver.factor_pointer(F._F)
+    with pytest.raises(ArithmeticError):
+        solver.solve(L, np.ones((F.n + 1, 4)))
+    out, err = capfd.readouterr()
+    assert "CHOLMOD" not in out + err

@@ -274,3 +274,56 @@ def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     # M-orthogonal to it (share 0; both to round-off)
     share = np.array([float(r["rigid_share"]) for r in rows])
     np.testing.assert_allclose(share, [1, 1, 1, 0], atol=2e-15)  # measured 2.2e-16
+
+
+def test_solver_counters_count_steps_through_a_resume(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The pair solver's counters count steps, whatever the recorded rows: the solves of
+    every 4th step relabelled as finished by the semismooth Newton and those of every
+    10th step (from the 4th) as needing the proximal fallback give the summary 30 and 12
+    steps over the 120 steps of 0.6 s, with ``output.every = 3`` (a row holds 3 steps);
+    a run of 0.3 s extended to 0.6 s by ``--resume`` (its summary read back from the
+    file's rows) gives the same counters and mean iterations a step as one run."""
+    from pfeie.dynamics import Dynamic
+    from pfeie.interface import InterfaceSolver, SolveInfo
+
+    current = {"step": 0}
+    real_step, real_solve = Dynamic.step, InterfaceSolver.solve
+
+    def step(self, cur, ex):  # type: ignore[no-untyped-def]
+        current["step"] = cur.step + 1
+        return real_step(self, cur, ex)
+
+    def solve(self, *args, **kw):  # type: ignore[no-untyped-def]
+        out = real_solve(self, *args, **kw)
+        k, last = current["step"], self.last
+        if k % 4 == 1:
+            self.last = SolveInfo(last.iterations, last.residual, "semismooth Newton")
+        elif k % 10 == 4:  # (never a 4th step's: 4, 14, 24, ... are not 1 modulo 4)
+            self.last = SolveInfo(last.iterations, last.residual, "proximal Newton")
+        return out
+
+    monkeypatch.setattr(Dynamic, "step", step)
+    monkeypatch.setattr(InterfaceSolver, "solve", solve)
+    text = SMALL.replace('folder = "out"', 'folder = "out"\nevery = 3')
+    summaries = []
+    for name, runs in (("one", [[]]), ("resumed", [["--duration", "0.3"], ["--resume"]])):
+        (tmp_path / name).mkdir()
+        p = _write(tmp_path / name, text, duration=0.6)
+        for extra in runs:
+            current["step"] = 0
+            assert main(["run", str(p), "--quiet", *extra]) == 0
+        summaries.append(json.loads((tmp_path / name / "out" / "summary.json").read_text()))
+        with Results(tmp_path / name / "out" / "results.h5") as res:
+            assert len(res.time) == 41  # 120 steps in rows of 3
+            newton = np.asarray(res.f["history/solver/newton"])
+            fallbacks = np.asarray(res.f["history/solver/fallbacks"])
+        assert newton.sum() == 30 and fallbacks.sum() == 12 and newton.max() == 1
+    one, resumed = summaries
+    assert one["steps"] == resumed["steps"] == 120
+    for s in summaries:
+        assert s["solver"]["newton_steps"] == 30 and s["solver"]["fallback_steps"] == 12
+    assert resumed["solver"]["iterations_mean"] == one["solver"]["iterations_mean"] >= 1.0
+    assert "the semismooth Newton finished 30 step(s); 12 step(s) needed a fallback" in (
+        tmp_path / "one" / "out" / "summary.txt").read_text()

@@ -327,7 +327,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         return s
     s["completed"] = res.completed
     s["time_reached_s"] = float(res.t[-1])
-    s["steps"] = len(res.t) - 1
+    # steps, not recorded rows (output.every may be above 1)
+    s["steps"] = round(float(res.t[-1] - res.t[0]) / job.analysis.dt)
     probes = {}
     for k, (name, _node) in enumerate(job.probes.items()):
         u = res.probe_u[:, k]
@@ -398,14 +399,17 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             s["stress"]["demand_capacity"] = dc
     s["energy_J"] = {k: float(v[-1]) for k, v in res.energy.items()}
     if res.solver:
+        # per step in a run's own result, per recorded row in one read back from its file
+        # (a resumed run): sums of steps and of iterations are the same in both
         fb, it = res.solver["fallbacks"], res.solver["iterations"]
+        steps = max(s["steps"], 1)
         s["solver"] = {
-            "fallback_steps": int(np.count_nonzero(fb)),
-            "iterations_mean": round(float(it[1:].mean()) if it.size > 1 else 0.0, 2),
+            "fallback_steps": int(fb.sum()),
+            "iterations_mean": round(float(it.sum()) / steps, 2),
             "worst_residual": float(res.solver["residual"].max(initial=0.0)),
         }
         if "newton" in res.solver:  # (results files of format 1.5 and older lack it)
-            s["solver"]["newton_steps"] = int(np.count_nonzero(res.solver["newton"]))
+            s["solver"]["newton_steps"] = int(res.solver["newton"].sum())
     return s
 
 

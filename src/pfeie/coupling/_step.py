@@ -265,6 +265,7 @@ class InterfaceStep:
                                          breaking=breaking, inactive=inactive)  # fmt: skip
             self._track(self.solver, n0)
             self._last = self.solver
+            self.stats.add(self.solver.last)
         else:
             active = ~inactive
             trial = prev.copy()
@@ -278,6 +279,7 @@ class InterfaceStep:
                                     breaking=breaking)  # fmt: skip
                 self._track(sub, n0, active.tobytes())
                 self._last = sub
+                self.stats.add(sub.last)
                 for name in ("state", "broken", "X", "slip_dir"):
                     getattr(trial, name)[active] = getattr(part, name)
             X = trial.X.ravel()
@@ -286,7 +288,6 @@ class InterfaceStep:
             trial.s[:, -1] += self.laws.gap
             trial.w = trial.s - self.laws.compliance * trial.X
             trial.w[:, -1] -= self.laws.gap
-        self.stats.add(self._last.last)
         if not correct:
             return StepSolution(trial, np.zeros(0))
         du = self.W.correct(trial.X.ravel() * self.scale)

@@ -816,9 +816,9 @@ class Dynamic:
                        envelope_values=None if resume is None else resume.envelope)  # fmt: skip
         if resume is not None:
             rec.account.acc.update(resume.energy)
-        # the cost of the pair problems of every step: iterations, solves that needed a
-        # fallback, the worst residual, solves the semismooth Newton finished (also summed
-        # per recorded row for the results file)
+        # the cost of the pair problems of every step: iterations, whether a solve needed
+        # a fallback, the worst residual, whether the semismooth Newton finished a solve
+        # (summed per recorded row for the results file: steps since the previous row)
         iters = np.zeros(n + 1, dtype=np.int32)
         falls = np.zeros(n + 1, dtype=np.int32)
         resid = np.zeros(n + 1)
@@ -854,10 +854,10 @@ class Dynamic:
             if m and ex.follows_pairs:
                 ex.follow(nxt.pairs.state == OPEN)
             if stats is not None:
-                iters[i], falls[i], resid[i] = stats.iterations, stats.fallbacks, stats.residual
-                newton[i] = stats.newton
-                since = [since[0] + stats.iterations, since[1] + stats.fallbacks,
-                         max(since[2], stats.residual), since[3] + stats.newton]  # fmt: skip
+                iters[i], resid[i] = stats.iterations, stats.residual
+                falls[i], newton[i] = stats.fallbacks > 0, stats.newton > 0
+                since = [since[0] + stats.iterations, since[1] + int(falls[i]),
+                         max(since[2], stats.residual), since[3] + int(newton[i])]  # fmt: skip
             cur = nxt
             on_grid = cur.step % every == 0
             if on_grid:

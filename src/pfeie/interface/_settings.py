@@ -23,7 +23,8 @@ class SolverSettings(BaseModel):
     )] = 1e-8  # fmt: skip
     max_iter: Annotated[int, Field(
         gt=0, le=10_000, description="state-iteration limit of the interface solver before "
-        "its fallbacks (semismooth Newton, projected Gauss-Seidel) take over",
+        "its semismooth Newton, then its fallbacks (proximal Newton, projected Gauss-Seidel), "
+        "take over",
     )] = 60  # fmt: skip
 
 

@@ -878,7 +878,11 @@ class InterfaceSolver:
         res = float(self.residual(st2, prev, w_free).max(initial=0.0))
         # statics: the law's residual does not see the floating blocks' equilibrium
         if res <= self.tol and self._balanced(st2.X, e):
-            self.last = SolveInfo(it + n_it, res, "semismooth Newton")
+            # after the Newton through W_c⁻¹ (its second stage here), the dense one is a
+            # fallback
+            method = "dense semismooth Newton" if self._vectorised_newton else (
+                "semismooth Newton")  # fmt: skip
+            self.last = SolveInfo(it + n_it, res, method)
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
             return st2, q2
         # a cold start (X = 0, every closed pair sticking) where the last iterate failed

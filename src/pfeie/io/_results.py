@@ -17,9 +17,9 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
   ``names`` and ``nodes``, ``rigid`` (n_t, n_bodies, 3 or 6), ``pairs/{X,w,s}``
   (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
   ``pairs/broken``, ``energy/<term>`` (n_t),
-  ``solver/{iterations,fallbacks,residual,newton}`` (n_t: the pair problems' iterations,
-  solves that needed a fallback since the previous row, their worst final residual, and
-  the solves the semismooth Newton finished after the state iteration),
+  ``solver/{iterations,fallbacks,residual,newton}`` (n_t: since the previous row, the pair
+  problems' iterations, the steps that needed a fallback, the worst final residual, and
+  the steps with a solve that the semismooth Newton finished after the state iteration),
   ``joints/{safety_factor,force,moment}`` (n_t, n_joints[, d or 1 or 3]: the sliding
   safety factor, the resultant force on side b in global axes and its moment about the
   joint's centroid), ``joints/{cracked,open}``
@@ -73,8 +73,8 @@ UNITS = {
 #: compression, compression_level, field_precision, and fields that may be float32;
 #: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; 1.5: the attributes
 #: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
-#: no longer counts the solves the semismooth Newton finished; files without the
-#: attribute are 1.0)
+#: counts steps, no longer solves, and not those the semismooth Newton finished; files
+#: without the attribute are 1.0)
 FORMAT_VERSION = "1.6"
 
 #: what makes an HDF5 file a pfeie results file

@@ -22,8 +22,10 @@ AMD ordering 42 s / 384 ms and 3.3 GB. The environment variable ``PFEIE_SOLVER``
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import os
+import threading
 from typing import Protocol
 
 import numpy as np
@@ -127,6 +129,7 @@ class _Cholmod:
         self._cvx = cvxopt
         self._cm = cholmod
         self._checked = False
+        self._check_lock = threading.Lock()
         self._block_solver: tuple[BlockSolver, int] | None = None
         self.n = A.shape[0]
         low = sp.tril(A, format="coo")
@@ -170,17 +173,28 @@ class _Cholmod:
         return np.asarray(B)
 
     def _solve_blocks(self, cols: FloatArray) -> FloatArray:
-        """CHOLMOD's solve of :data:`._block.BLOCK` columns at a time (:mod:`._block`)."""
+        """CHOLMOD's solve of :data:`._block.BLOCK` columns at a time (:mod:`._block`); if
+        CHOLMOD fails (out of memory, say), one column at a time from then on."""
         solver, L = self._block()  # type: ignore[misc]
         k = cols.shape[1]
-        return np.hstack([solver.solve(L, cols[:, j : j + BLOCK]) for j in range(0, k, BLOCK)])
+        try:
+            return np.hstack([solver.solve(L, cols[:, j : j + BLOCK])
+                              for j in range(0, k, BLOCK)])  # fmt: skip
+        except (ArithmeticError, ctypes.ArgumentError) as exc:
+            log.warning("CHOLMOD's block solve failed (%s); solving one column at a time", exc)
+            self._block_solver = None
+            return self._solve_columns(cols)
 
     def _block(self) -> tuple[BlockSolver, int] | None:
         """The block solver and this factor's pointer, once it has reproduced the
         column-by-column solve here (two random columns to 1e-12); None otherwise."""
-        if self._checked:
-            return self._block_solver
-        self._checked = True
+        with self._check_lock:  # threads wait for the check, not take the column path
+            if not self._checked:
+                self._block_solver = self._check()
+                self._checked = True
+        return self._block_solver
+
+    def _check(self) -> tuple[BlockSolver, int] | None:
         solver = block_solver()
         if solver is None:
             return None
@@ -189,15 +203,14 @@ class _Cholmod:
             probe = np.random.default_rng(20261126).standard_normal((self.n, 2))
             ref = self._solve_columns(probe)
             err = float(np.abs(solver.solve(L, probe) - ref).max())
-        except (TypeError, ArithmeticError, ValueError) as exc:
+        except (TypeError, ArithmeticError, ValueError, ctypes.ArgumentError) as exc:
             log.debug("CHOLMOD block solve not used: %s", exc)
             return None
         if not err <= 1e-12 * float(np.abs(ref).max()):
             log.warning("CHOLMOD's block solve differs from its column solve by %.1e here; "
                         "solving one column at a time", err)  # fmt: skip
             return None
-        self._block_solver = (solver, L)
-        return self._block_solver
+        return solver, L
 
 
 def available_backends() -> list[str]:
