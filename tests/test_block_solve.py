@@ -28,6 +28,15 @@ def _stiffness(nx: int) -> sp.csr_matrix:
     return sp.csr_matrix(sp.kron(L, np.array([[2.0, 0.5], [0.5, 2.0]])))
 
 
+def _fresh() -> tuple[Any, Any]:
+    """The block solver (the test is skipped without one) and a new factor of 5,000 DOF
+    (``BLOCK_MIN_DOF``), not yet checked."""
+    solver = block_solver()
+    if solver is None:
+        pytest.skip("no block solve here")
+    return solver, factorize(_stiffness(50), backend="cholmod")
+
+
 @pytest.fixture(scope="module")
 def factor():  # type: ignore[no-untyped-def]
     return factorize(_stiffness(60), backend="cholmod")
@@ -87,10 +96,7 @@ def test_a_block_solve_that_disagrees_is_not_used(
     """The check on the first block: a block solve that does not reproduce the column
     solve (here: perturbed by 1e-9) is dropped with a warning, and the columns are then
     solved one at a time (the same bits as cvxopt's)."""
-    solver = block_solver()
-    if solver is None:
-        pytest.skip("no block solve here")
-    F: Any = factorize(_stiffness(50), backend="cholmod")  # 5,000 DOF: BLOCK_MIN_DOF
+    solver, F = _fresh()
     real = type(solver).solve
     monkeypatch.setattr(type(solver), "solve", lambda self, L, B: real(self, L, B) * (1 + 1e-9))
     B = np.random.default_rng(2).standard_normal((F.n, 4))
@@ -107,10 +113,7 @@ def test_a_failing_block_solve_falls_back_to_columns(
     """CHOLMOD failing after the check (here: an ArithmeticError, as for a NULL result
     when it runs out of memory) costs a warning, not the run: the block is solved one
     column at a time (cvxopt's bits), and so are later blocks."""
-    solver = block_solver()
-    if solver is None:
-        pytest.skip("no block solve here")
-    F: Any = factorize(_stiffness(50), backend="cholmod")
+    solver, F = _fresh()
     assert F._block() is not None
 
     def fail(self, L, B):  # type: ignore[no-untyped-def]
@@ -128,10 +131,7 @@ def test_a_failing_block_solve_falls_back_to_columns(
 def test_cholmod_errors_come_back_quietly(capfd: pytest.CaptureFixture[str]) -> None:
     """A CHOLMOD error (right-hand sides of the wrong length) is an ArithmeticError, and
     nothing is printed on the C stdout (its print level is set to 0 at start)."""
-    solver = block_solver()
-    if solver is None:
-        pytest.skip("no block solve here")
-    F: Any = factorize(_stiffness(50), backend="cholmod")
+    solver, F = _fresh()
     L = solver.factor_pointer(F._F)
     with pytest.raises(ArithmeticError):
         solver.solve(L, np.ones((F.n + 1, 4)))
