@@ -90,40 +90,38 @@ def test_the_rule_on_sizes() -> None:
     assert not pays(SMALL_BLOCK_MIN_DOF - 1, 3) and pays(SMALL_BLOCK_MIN_DOF, 2)
 
 
-def test_a_block_solve_that_disagrees_is_not_used(
-    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
-) -> None:
-    """The check on the first block: a block solve that does not reproduce the column
-    solve (here: perturbed by 1e-9) is dropped with a warning, and the columns are then
-    solved one at a time (the same bits as cvxopt's)."""
-    solver, F = _fresh()
-    real = type(solver).solve
-    monkeypatch.setattr(type(solver), "solve", lambda self, L, B: real(self, L, B) * (1 + 1e-9))
-    B = np.random.default_rng(2).standard_normal((F.n, 4))
-    with caplog.at_level("WARNING"):
-        X = F.solve(B)
-    assert "differs from its column solve" in caplog.text
-    np.testing.assert_array_equal(X, F._solve_columns(B))
-    assert F._block() is None
+def _perturbed(real):  # type: ignore[no-untyped-def]
+    return lambda self, L, B: real(self, L, B) * (1 + 1e-9)
 
 
-def test_a_failing_block_solve_falls_back_to_columns(
-    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
-) -> None:
-    """CHOLMOD failing after the check (here: an ArithmeticError, as for a NULL result
-    when it runs out of memory) costs a warning, not the run: the block is solved one
-    column at a time (cvxopt's bits), and so are later blocks."""
-    solver, F = _fresh()
-    assert F._block() is not None
-
+def _failing(real):  # type: ignore[no-untyped-def]
     def fail(self, L, B):  # type: ignore[no-untyped-def]
         raise ArithmeticError("cholmod_l_solve returned no solution")
 
-    monkeypatch.setattr(type(solver), "solve", fail)
-    B = np.random.default_rng(3).standard_normal((F.n, 5))
+    return fail
+
+
+@pytest.mark.parametrize(("fake", "checked", "message"), [
+    (_perturbed, False, "differs from its column solve"),
+    (_failing, True, "block solve failed"),
+])  # fmt: skip
+def test_a_block_solve_that_disagrees_or_fails_is_not_used(
+    fake, checked: bool, message: str,  # type: ignore[no-untyped-def]
+    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture,
+) -> None:  # fmt: skip
+    """A block solve that does not reproduce the column solve at the check on the first
+    block (here: perturbed by 1e-9), or CHOLMOD failing after the check (an
+    ArithmeticError, as for a NULL result when it runs out of memory), costs a warning,
+    not the run: the block is solved one column at a time (cvxopt's bits), and so are
+    later blocks."""
+    solver, F = _fresh()
+    if checked:
+        assert F._block() is not None
+    monkeypatch.setattr(type(solver), "solve", fake(type(solver).solve))
+    B = np.random.default_rng(2).standard_normal((F.n, 5))
     with caplog.at_level("WARNING"):
         X = F.solve(B)
-    assert "block solve failed" in caplog.text
+    assert message in caplog.text
     np.testing.assert_array_equal(X, F._solve_columns(B))
     assert F._block() is None
 

@@ -824,7 +824,13 @@ class Dynamic:
         resid = np.zeros(n + 1)
         newton = np.zeros(n + 1, dtype=np.int32)
         stats = self.istep.stats if m and self.istep is not None else None
-        since: list[Any] = [0, 0, 0.0, 0]
+        first = 1  # the first step of the row being gathered
+
+        def since(i: int) -> list[Any]:
+            """The solver's counters of steps ``first`` to i, for their recorded row."""
+            rows = slice(first, i + 1)
+            return [int(iters[rows].sum()), int(falls[rows].sum()),
+                    float(resid[rows].max(initial=0.0)), int(newton[rows].sum())]  # fmt: skip
         if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
         rec.record(0, cur, emit=resume is None)
@@ -856,14 +862,12 @@ class Dynamic:
             if stats is not None:
                 iters[i], resid[i] = stats.iterations, stats.residual
                 falls[i], newton[i] = stats.fallbacks > 0, stats.newton > 0
-                since = [since[0] + stats.iterations, since[1] + int(falls[i]),
-                         max(since[2], stats.residual), since[3] + int(newton[i])]  # fmt: skip
             cur = nxt
             on_grid = cur.step % every == 0
             if on_grid:
                 j += 1
-                rec.record(j, cur, solver=since)
-                since = [0, 0, 0.0, 0]
+                rec.record(j, cur, solver=since(i))
+                first = i + 1
             stop: str | None = None
             if callback is not None:
                 try:
@@ -876,7 +880,7 @@ class Dynamic:
                 completed, reason = False, stop
                 if not on_grid:
                     j += 1
-                    rec.record(j, cur, solver=since)
+                    rec.record(j, cur, solver=since(i))
                 checkpoint()
                 break
             if on_grid:
