@@ -831,6 +831,7 @@ class Dynamic:
             rows = slice(first, i + 1)
             return [int(iters[rows].sum()), int(falls[rows].sum()),
                     float(resid[rows].max(initial=0.0)), int(newton[rows].sum())]  # fmt: skip
+
         if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
         rec.record(0, cur, emit=resume is None)
