@@ -36,7 +36,7 @@ from typing import Literal, Protocol
 import numpy as np
 import scipy.sparse as sp
 
-from ..linalg import Factorization
+from ..linalg import Factorization, symmetric_product
 from ..typing import FloatArray
 
 
@@ -93,7 +93,7 @@ class _StoredW:
         return self.W
 
     def apply(self, X: FloatArray) -> FloatArray:
-        return np.asarray(self.W @ X)
+        return symmetric_product(self.W, X)
 
 
 @dataclass

@@ -58,6 +58,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..linalg import symmetric_product
 from ..typing import BoolArray, FloatArray
 
 log = logging.getLogger(__name__)
@@ -155,7 +156,7 @@ class ShiftedOperator:
         """W x."""
         if self.sparse is not None:
             return np.asarray(self.sparse @ x)
-        return self.W @ x
+        return symmetric_product(self.W, x)
 
     def solve(self, A: FloatArray, B: FloatArray, shift: FloatArray, rhs: FloatArray) -> FloatArray:
         """The solution of (A (W + S) + B) x = rhs, S = diag(shift) (M,); raises
