@@ -114,6 +114,28 @@ def test_column_records_malformed(tmp_path: Path, text: str, kw: dict, match: st
         read_record(p, **kw)
 
 
+@pytest.mark.parametrize(("header", "units", "named"), [
+    ("time,acc (g)", "m/s2", "g"), ("t [s], a [m/s2]", "g", "m/s2"),
+    ("Time(s) Acc(cm/s²)", "g", "cm/s2"), ("time, accel in g", "cm/s2", "g"),
+    ("time,acc (g)", "g", None), ("time,acc", "m/s2", None),
+])  # fmt: skip
+def test_header_units_that_contradict_the_given_ones_are_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, header: str, units: str,
+    named: str | None,
+) -> None:  # fmt: skip
+    """A header naming other units than those given (a record in g read as m/s² is 9.81
+    times too weak) gets a warning naming the file, the line and both units."""
+    p = tmp_path / "rec.csv"
+    p.write_text(f"{header}\n0,0\n0.01,0.1\n0.02,-0.2\n")
+    with caplog.at_level("WARNING"):
+        read_record(p, units=units)
+    if named is None:
+        assert "check the units" not in caplog.text
+    else:
+        assert (f"rec.csv: line 1: the header {header!r} names the units {named} but the "
+                f"record is read in {units}") in caplog.text  # fmt: skip
+
+
 def test_missing_record_file(tmp_path: Path) -> None:
     with pytest.raises(RecordError, match="not found"):
         read_record(tmp_path / "none.at2")

@@ -565,8 +565,9 @@ def test_mechanism_names_the_free_modes(tmp_path: Path, capsys: pytest.CaptureFi
 
 
 def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """``pga = 0.3`` scales a record to a peak of 0.3 g (to round-off); with ``scale`` too,
-    or on a record of zeros, exit 2 naming the record."""
+    """``pga = 0.3`` scales a record to a peak of 0.3 g (to round-off); ``scale = -1``
+    beside it flips the record first (its polarity, named in the record's line); with
+    another ``scale`` too, or on a record of zeros, exit 2 naming the record."""
     from pfeie.io import load_job
 
     p = model(tmp_path)
@@ -576,6 +577,11 @@ def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFix
     rec = load_job(p).records[0]
     assert rec.pga == pytest.approx(0.3 * 9.81, rel=1e-14)
     assert rec.acceleration[1] < 0  # the sign is kept
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n'
+                 "scale = -1\n")  # fmt: skip
+    flipped = load_job(p).records[0]
+    np.testing.assert_array_equal(flipped.acceleration, -rec.acceleration)
+    assert "flipped (scale -1), scaled ×2.5 to a PGA of 0.3 g" in flipped.summary()
     p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n'
                  "scale = 2.0\n")  # fmt: skip
     assert main(["check", str(p)]) == 2
@@ -665,6 +671,20 @@ def test_plausibility_warnings(
         (text.replace("[analysis]", '[[loads.hydrostatic]]\ngroups = ["top"]\nwater_level = '
                       "3.0\n[analysis]"), {},
          "loads.hydrostatic[0].water_level = 3 m lies 2 m above the top of the model (1 m)"),
+        (text, {}, "the mesh's facet group 'mid' lies between the blocks 'left' and 'right' "
+         "but is not in [interfaces]: the blocks share its nodes and move as one body there "
+         "(add [interfaces.mid] to model it as a joint)"),
+        (text.replace("rho = 2000.0", "rho = 2.6"), {},
+         "materials.rock.rho = 2.6 kg/m³ lies below 500 kg/m³ (concrete and rock: 1800 to "
+         "3200); pfeie takes SI units: did you mean 2600 kg/m³ (t/m³ × 1000)?"),
+        (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n"
+                      '[[loads.uplift]]\ninterface = "mid"\nheadwater = 0.0\ntailwater = 0.0\n'
+                      '[[supports]]'), {},
+         "loads.uplift[0]: the uplift in 'mid' is zero at every pair: the joint (z from 0 to "
+         "1 m) lies above the headwater (0 m) and tailwater (0 m) levels"),
+        (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.6\n[[supports]]"),
+         {}, "interfaces.mid.friction_angle = 0.6° is very low (joints in concrete and rock: "
+         "20° to 60°); the angle is in degrees: a friction coefficient μ = 0.6 is φ = 31.0°"),
     ]  # fmt: skip
     for text_k, mesh_k, warning in cases:
         caplog.clear()
@@ -672,4 +692,14 @@ def test_plausibility_warnings(
         with caplog.at_level("WARNING"):
             assert main(["check", str(p)]) == 0
         assert warning in caplog.text
+        # a declared joint, or one block only: no warning
+        between = 'right = "rock"' in text_k and "[interfaces.mid]" not in text_k
+        assert ("'mid' lies between" in caplog.text) == between
         capsys.readouterr()
+    caplog.clear()
+    two = (text.replace('right = "rock"', 'right = "soft"')
+           + "[materials.soft]\nE = 1e9\nnu = 0.25\nrho = 20.0\n")
+    p = model(tmp_path, text=two, elements=elements, names=names)
+    with caplog.at_level("WARNING"):
+        assert main(["check", str(p)]) == 0
+    assert "rho" not in caplog.text  # a practically massless block beside a normal one

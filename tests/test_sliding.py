@@ -158,3 +158,30 @@ def test_sliding_safety_factor_of_a_joint() -> None:
         res = pf.Dynamic(model, 0.002).run(0.1, start=start)
         fs = res.safety_factor[1:, 0]
         np.testing.assert_allclose(fs, ref, rtol=5e-14)
+
+
+def test_safety_factor_of_a_joint_whose_smooth_force_is_round_off() -> None:
+    """A pair that closes by an impulse within the step while its smooth force λ is
+    round-off (seen on a rock slope: λ = (4.6e-16, 1.4e-17) N, the step's force X at the
+    friction limit): FS is taken from X, 1 for a pair sliding at its limit (it was
+    μ λ_n/|λ_t| = 0.017, the ratio of round-off); with every pair's λ resolved, FS is λ's."""
+    from types import SimpleNamespace
+
+    from pfeie.dynamics._recorder import Recorder
+
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    an = pf.Dynamic(model, 0.002)
+    m, mu = an.m, np.tan(np.radians(30.0))
+    pairs = an.initial().pairs.copy()
+    pairs.state[:] = OPEN
+    pairs.state[0] = 2  # SLIDE
+    pairs.broken[:] = True
+    pairs.X[:] = 0.0
+    pairs.X[0] = (-mu * 17198.0, 17198.0)
+    lam = np.zeros((m, 2))
+    lam[0] = (4.55e-16, 1.36e-17)
+    fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
+    np.testing.assert_allclose(fs, 1.0, rtol=1e-14)
+    lam[0] = (-0.5 * mu * 1000.0, 1000.0)  # a resolved smooth force: FS = 2 from λ
+    fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
+    np.testing.assert_allclose(fs, 2.0, rtol=1e-14)

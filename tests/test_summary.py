@@ -54,6 +54,14 @@ def test_peak_displacement_is_the_magnitude_on_an_incline() -> None:
     # a pre-existing joint (initial = "broken", the default) says so
     assert j["initially_broken_share"] == 1.0
     assert "broken 100 % (starts broken" in format_summary(s)
+    # the slip against the spacing of the pairs (1 m wide, 2 cells: 0.5 m): 0.43 of it,
+    # below LARGE_SLIP; past it the summary says that node-to-node pairs do not hold
+    assert j["pair_spacing_m"] == pytest.approx(0.5, rel=1e-12)
+    assert j["peak_slip_to_spacing"] == pytest.approx(j["peak_slip_max_m"] / 0.5, rel=1e-12)
+    assert "large slip" not in format_summary(s)
+    s["joints"]["joint"]["peak_slip_to_spacing"] = 1.6
+    assert ("large slip   joint joint: the slip reaches 1.6 × the spacing of its pairs "
+            "(0.5 m)") in format_summary(s)  # fmt: skip
 
 
 @pytest.mark.parametrize("gap", [1e-7, 1e-4])

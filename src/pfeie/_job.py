@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ._version import __version__
 from .dynamics import (
@@ -55,6 +56,7 @@ from .io import (
 from .model import Model
 from .plot import OPEN_CRACK_MIN_M, solver_line
 from .solvers import StaticResult, solve_static
+from .typing import FloatArray
 
 log = logging.getLogger(__name__)
 
@@ -67,6 +69,12 @@ CORRECTION_SHARE = 0.01
 #: 145, 18 and 2.9 % at Δt = 10, 5 and 2.5 ms, its crest peak 23.1, 21.5 and 20.4 mm and
 #: the lift joint's residual slip 3.42, 0.51 and 0.97 mm
 CORRECTION_UNRESOLVED = 0.5
+
+#: a joint whose slip exceeds this share of the spacing of its pairs (the distance from a
+#: pair to the nearest other pair of the joint) gets a line in the summary: the faces are
+#: paired node to node (small sliding, docs/theory.md), and past half a spacing a node
+#: faces its neighbour's partner more than its own
+LARGE_SLIP = 0.5
 
 #: m/s², the g of the accelerations the summary gives in g (as the records' units)
 G = 9.81
@@ -360,9 +368,16 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             area = model.pairs.area[idx]
             slip = res.slip[:, idx]
             slip_mag = np.linalg.norm(slip, axis=-1)
+            spacing = _pair_spacing(model.pairs.x[idx])
+            ratio = slip_mag.max(axis=0) / spacing
+            k_big = int(np.argmax(ratio)) if ratio.size else 0
             joints[name] = {
                 "pairs": int(idx.size),
                 "peak_slip_max_m": float(slip_mag.max()),
+                # the largest slip over the spacing of the pairs (node to node: small
+                # sliding), at the pair where it is largest
+                "peak_slip_to_spacing": float(ratio[k_big]) if ratio.size else 0.0,
+                "pair_spacing_m": float(spacing[k_big]) if ratio.size else 0.0,
                 "residual_slip_max_m": float(slip_mag[-1].max()),
                 "residual_slip_mean_m": float((slip_mag[-1] * area).sum() / area.sum()),
                 "max_opening_m": float(res.opening[:, idx].max()),
@@ -411,6 +426,15 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         if "newton" in res.solver:  # (results files of format 1.5 and older lack it)
             s["solver"]["newton_steps"] = int(res.solver["newton"].sum())
     return s
+
+
+def _pair_spacing(x: FloatArray) -> FloatArray:
+    """The distance from each pair (positions ``x`` (m, d) of one joint) to the nearest
+    other pair of the joint (∞ for a joint of one pair)."""
+    if x.shape[0] < 2:
+        return np.full(x.shape[0], np.inf)
+    dist, _ = cKDTree(x).query(x, k=2)
+    return np.asarray(dist[:, 1], dtype=float)
 
 
 def _components(p: dict[str, Any], key: str, scale: float, fmt: str, unit: str) -> str:
@@ -474,6 +498,14 @@ def format_summary(s: dict[str, Any]) -> str:
                f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
+    for name, j in s.get("joints", {}).items():
+        if j.get("peak_slip_to_spacing", 0.0) > LARGE_SLIP:
+            lines.append(
+                f"  large slip   joint {name}: the slip reaches {j['peak_slip_to_spacing']:.2g} "
+                f"× the spacing of its pairs ({j['pair_spacing_m']:.3g} m); the faces are "
+                "paired node to node (small sliding), so past half a spacing the result is "
+                "not reliable (docs/results.md)"
+            )
     if "stress" in s:
         st = s["stress"]
 

@@ -238,7 +238,7 @@ CASES: list[Case] = [
     C("mesh-table-missing", M, "mesh: missing (required)",
       edit=drop('[mesh]\nfile = "plate.msh"\n')),
     C("mesh-file-missing", M, "mesh.file: missing (required)", edit=drop('file = "plate.msh"\n')),
-    C("mesh-file-not-found", "none.msh", "mesh file not found",
+    C("mesh-file-not-found", M, "mesh.file", "none.msh", "mesh file not found",
       edit=sub('"plate.msh"', '"none.msh"')),
     C("mesh-file-number", M, "mesh.file: expected a string", edit=sub('"plate.msh"', "3")),
     C("mesh-file-nul", M, "mesh.file", "NUL", edit=sub('"plate.msh"', '"pl\\u0000ate.msh"')),

@@ -58,6 +58,11 @@ if TYPE_CHECKING:
 ENERGY_TERMS = ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                 "impact", "algorithmic", "correction")  # fmt: skip
 _INPUTS = ("external_work", "correction")  # the right-hand side of the balance
+FS_RESOLUTION = 1e3
+"""A joint's shear force counts for its safety factor above FS_RESOLUTION times the force
+the pair solver resolves per pair (its tolerance times the largest pair force): each
+pair meets its strength only to that accuracy, so the ratio is then good to about
+1/FS_RESOLUTION."""
 
 
 @dataclass
@@ -503,16 +508,8 @@ class Recorder:
         self.rigid[i] = an.rigid(full_u, R)
         if m:
             self.X[i], self.w[i], self.s[i] = st.pairs.X, st.pairs.w, st.pairs.s
-            # on the smooth pair forces (impulses of an impact aside) where the scheme has them
-            force = st.pairs.X if st.lam is None else st.lam
+            self.fs[i] = self._safety_factor(an, st)
             assert an.model.pairs is not None
-            self.fs[i] = an.model.pair_laws.safety_factor(
-                force,
-                st.pairs.state == OPEN,
-                st.pairs.broken,
-                st.pairs.path,
-                an.model.pairs.frame,
-            )
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
             self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
             broken = st.pairs.broken
@@ -543,6 +540,28 @@ class Recorder:
                 "joint_moment": self.jm[i].copy(), "joint_cracked": self.jc[i].copy(),
                 "joint_open": self.jo[i].copy(),
             })  # fmt: skip
+
+    @staticmethod
+    def _safety_factor(an: Dynamic, st: StepState) -> FloatArray:
+        """The sliding safety factor of each joint at the state ``st``
+        (:meth:`~pfeie.interface.PairLaws.safety_factor`), on the smooth pair forces λ
+        where the scheme has them (an impact's impulses aside), else on the step's forces
+        X. A joint whose smooth shear is not resolved (below :data:`FS_RESOLUTION` times
+        the solver's accuracy, e.g. a pair that closes by an impulse in this step while its
+        smooth force is zero) takes its factor from X: the step's impulses meet the
+        velocity-level law, so the factor is that of the force it carried."""
+        assert an.model.pairs is not None
+        P, laws = st.pairs, an.model.pair_laws
+        scale = float(np.abs(P.X).max(initial=0.0))
+        if st.lam is not None:
+            scale = max(scale, float(np.abs(st.lam).max(initial=0.0)))
+        noise = FS_RESOLUTION * an.settings.tolerance * scale
+        args = (P.state == OPEN, P.broken, P.path, an.model.pairs.frame, noise)
+        on_x = laws.safety_factor(P.X, *args)
+        if st.lam is None:
+            return on_x
+        on_lam = laws.safety_factor(st.lam, *args)
+        return np.where(np.isinf(on_lam), on_x, on_lam)
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
         """A :class:`Checkpoint` of the state ``st``, recorded as row ``row`` of the

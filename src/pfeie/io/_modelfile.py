@@ -196,6 +196,14 @@ class Job:
 _E_RANGE = (1e6, 1e13)
 #: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
 _EXTENT_MAX = 1e4
+#: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
+#: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
+#: density beside normal ones is taken for a massless foundation and not warned)
+_RHO_RANGE = (500.0, 2e4)
+#: friction angles below this (degrees) get a warning: joints in concrete and rock have
+#: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ entered as the
+#: angle falls below 2°)
+_PHI_MIN = 5.0
 
 
 def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
@@ -232,6 +240,29 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
             log.warning("%s: materials.%s.E = %g Pa lies above %g Pa (concrete and rock: 1e9 "
                         "to 1e11 Pa); pfeie takes SI units (Pa)", p, name, modulus,
                         hi)  # fmt: skip
+    lo, hi = _RHO_RANGE
+    # a low density beside materials of normal density is a practically massless
+    # foundation, a common choice: warned only when no material has a normal density
+    normal = any(lo <= float(mt.rho) <= hi for mt in cfg.materials.values())
+    for name, mt in cfg.materials.items():
+        rho = float(mt.rho)
+        if 0.0 < rho < lo and not normal:
+            log.warning("%s: materials.%s.rho = %g kg/m³ lies below %g kg/m³ (concrete and "
+                        "rock: 1800 to 3200); pfeie takes SI units: did you mean %g kg/m³ "
+                        "(t/m³ × 1000)?", p, name, rho, lo, rho * 1e3)  # fmt: skip
+        elif rho > hi:
+            log.warning("%s: materials.%s.rho = %g kg/m³ lies above %g kg/m³ (concrete and "
+                        "rock: 1800 to 3200); pfeie takes SI units (kg/m³)", p, name, rho,
+                        hi)  # fmt: skip
+    for group, js in cfg.interfaces.items():
+        for key in ("friction_angle", "residual_friction_angle"):
+            phi = getattr(js, key, None)
+            if phi is not None and 0.0 < float(phi) < _PHI_MIN:
+                log.warning("%s: interfaces.%s.%s = %g° is very low (joints in concrete and "
+                            "rock: 20° to 60°); the angle is in degrees: a friction "
+                            "coefficient μ = %g is φ = %.1f°", p, group, key, float(phi),
+                            float(phi), float(np.degrees(np.arctan(float(phi)))))  # fmt: skip
+    _undeclared_joints(p, cfg, mesh)
     extent = float(np.ptp(mesh.points, axis=0).max(initial=0.0))
     if extent > _EXTENT_MAX:
         log.warning("%s: the mesh spans %.4g m; pfeie takes coordinates in metres (a mesh "
@@ -247,6 +278,36 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                             "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
+
+
+def _undeclared_joints(p: Path, cfg: Any, mesh: Mesh) -> None:
+    """A warning for each facet group of the mesh that lies between two blocks but is not
+    in [interfaces]: the blocks share its nodes, so they are joined there and move as one
+    body (a joint left out of the model file, or misspelt under another name). A facet lies
+    between two blocks when its nodes belong to cells of both."""
+    blocks = [b for b in cfg.blocks if b in mesh.cell_groups]
+    if len(blocks) < 2:
+        return
+    in_block = np.zeros((len(blocks), mesh.n_points), dtype=bool)
+    for k, b in enumerate(blocks):
+        for t, idx in mesh.cell_groups[b].items():
+            in_block[k, mesh.cells[t][idx].ravel()] = True
+    for g, parts in sorted(mesh.facet_groups.items()):
+        if g in cfg.interfaces:
+            continue
+        conn = [np.asarray(c) for c in parts.values() if len(c)]
+        if not conn:
+            continue
+        # (blocks, facets): whether each facet's nodes all belong to the block
+        full = np.concatenate([in_block[:, c].all(axis=2) for c in conn], axis=1)
+        between = full.sum(axis=0) >= 2
+        if between.sum() * 2 <= between.size:
+            continue
+        names = [repr(blocks[k]) for k in np.flatnonzero(full[:, between].any(axis=1))]
+        log.warning("%s: the mesh's facet group %r lies between the blocks %s but is not in "
+                    "[interfaces]: the blocks share its nodes and move as one body there "
+                    "(add [interfaces.%s] to model it as a joint)", p, g,
+                    ", ".join(names[:-1]) + " and " + names[-1], g)  # fmt: skip
 
 
 def _floating_blocks(m: Model) -> list[str]:
@@ -318,6 +379,9 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     cfg = _validate(p, raw, overrides)
     digest = hashlib.sha256(raw).hexdigest()
     base = p.parent
+    if not (base / cfg.mesh.file).is_file():
+        raise InputError(f"{p}: mesh.file: {base / cfg.mesh.file}: mesh file not found (a "
+                         "relative path is taken from the model file's folder)")  # fmt: skip
     mesh = read_mesh(base / cfg.mesh.file)
     if mesh.dim == 3:
         for key in ("plane", "thickness"):
@@ -464,6 +528,22 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                              g=loads.gravity or 9.81)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: loads.uplift[{i}]: {exc}") from None
+    if loads.uplift:
+        # an uplift that is zero at every pair of its joint: the joint lies above both
+        # water levels (a slope's joint with a dam's levels), probably not what was meant
+        pressure, _ = model.uplift_pressure()
+        assert model.pairs is not None
+        for i, ut in enumerate(loads.uplift):
+            idx = model.pairs.of(ut.interface)
+            if idx.size and not np.any(pressure[idx] > 0):
+                z = model.pairs.x[idx, mesh.dim - 1]
+                log.warning("%s: loads.uplift[%d]: the uplift in %r is zero at every pair: "
+                            "the joint (z from %.4g to %.4g m) lies above the headwater "
+                            "(%g m) and tailwater (%g m) levels where they apply; the levels "
+                            "are elevations (m), and the pressure runs linearly from the "
+                            "headwater at the upstream end to the tailwater at the other",
+                            p, i, ut.interface, float(z.min()), float(z.max()), ut.headwater,
+                            ut.tailwater)  # fmt: skip
     records = []
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:
@@ -477,15 +557,24 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                 raise InputError(f"{p}: ground_motion[{i}].component: 'z' in a 2D model")
             direction = [0.0] * mesh.dim
             direction[k] = 1.0
-        given = [k for k in ("scale", "pga", "target_sa") if k in gm.model_fields_set
-                 and (k == "scale" or getattr(gm, k) is not None)]  # fmt: skip
+        # scale = -1 beside pga or target_sa is the polarity (the record flipped, then
+        # scaled to its target); another factor would be overridden by the target
+        factor = "scale" in gm.model_fields_set and abs(gm.scale) != 1.0
+        given = (["scale"] if factor else []) + [
+            k for k in ("pga", "target_sa") if getattr(gm, k) is not None
+        ]
         if len(given) > 1:
             pair = f"either {given[0]} or {given[1]}, not both" if len(given) == 2 else (
                 "only one of scale, pga and target_sa")  # fmt: skip
-            raise InputError(f"{p}: ground_motion[{i}]: give {pair}")
+            extra = (" (with pga or target_sa, scale may only be -1: the record flipped)"
+                     if "scale" in given else "")  # fmt: skip
+            raise InputError(f"{p}: ground_motion[{i}]: give {pair}{extra}")
         try:  # scale, filter, baseline (as read_record), then to the pga or target_sa
             rec = read_record(base / gm.file, fmt=gm.format, dt=gm.dt, units=gm.units,
                               scale=gm.scale, direction=direction)  # fmt: skip
+            if gm.scale != 1.0:
+                how = "flipped (scale -1)" if gm.scale == -1.0 else f"scaled ×{gm.scale:g}"
+                rec = dataclasses.replace(rec, scaling=how)
             rec = _filtered(p, i, rec, gm.filter)
             rec = rec.baseline_corrected() if gm.baseline else rec
             rec = _scaled(rec, gm)
@@ -607,8 +696,9 @@ def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
     if not np.isfinite(factor):
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
+    flipped = f"{rec.scaling}, " if rec.scaling else ""  # the polarity, scale = -1
     return dataclasses.replace(rec, acceleration=rec.acceleration * factor,
-                               scaling=f"scaled ×{factor:.6g} to {what}")  # fmt: skip
+                               scaling=f"{flipped}scaled ×{factor:.6g} to {what}")  # fmt: skip
 
 
 def _slip_weakening(p: Path, group: str, joint: Joint, distance: float | None) -> Any:

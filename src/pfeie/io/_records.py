@@ -27,6 +27,7 @@ and, where it applies, the line.
 
 from __future__ import annotations
 
+import logging
 import math
 import re
 from collections.abc import Sequence
@@ -38,10 +39,17 @@ from ..errors import ModelError, RecordError
 from ..model import GroundMotion
 from ..typing import FloatArray
 
+log = logging.getLogger(__name__)
 MAX_DT = 10.0  # s: the largest sampling step of a record (as for the analysis' Δt)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
 _SEP = re.compile(r"[,;\s]+")
 _ALLOWED = re.compile(r"^[\s0-9eEdD.+\-,;]*$")
+# units named in a header line: "acc (g)", "[m/s2]", "m/s^2", "cm/s²", "gal", "in g"
+_HEADER_UNITS = {
+    "cm/s2": re.compile(r"cm\s*/\s*s(?:\s*\^?\s*2|²|\*\*2|/s)|\bgals?\b"),
+    "m/s2": re.compile(r"(?<![a-z])m\s*/\s*s(?:\s*\^?\s*2|²|\*\*2|/s)|\bmps2\b"),
+    "g": re.compile(r"[(\[]\s*g\s*[)\]]|\bin\s+g\b|\bunits?\s*[:=]?\s*g\b|_g\b"),
+}
 
 
 def _numbers(line: str, path: Path, lineno: int) -> list[float]:
@@ -113,6 +121,22 @@ def _data_lines(path: Path, lines: list[str]) -> tuple[list[tuple[int, list[floa
     return rows, header
 
 
+def _header_units(path: Path, lines: list[str], units: str) -> None:
+    """A warning when the text header line names other units than ``units`` (a record in
+    g read as m/s² is 9.81 times too weak, and runs without any other sign)."""
+    for i, line in enumerate(lines, start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        if _ALLOWED.match(line):
+            return  # no header line
+        named = [u for u, pat in _HEADER_UNITS.items() if pat.search(line.lower())]
+        if len(named) == 1 and named[0] != units.lower():
+            log.warning("%s: line %d: the header %r names the units %s but the record is "
+                        "read in %s (units = %r): check the units", path, i,
+                        line.strip()[:60], named[0], units, units)  # fmt: skip
+        return
+
+
 def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]]) -> None:
     """Refuse a table read as one column: several numbers per line are a wrapped sequence
     only when blanks separate them; commas, semicolons or tabs make a table (time and
@@ -179,7 +203,9 @@ def read_record(
     else:
         if units is None:
             raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")
-        rows, _ = _data_lines(p, lines)
+        rows, header = _data_lines(p, lines)
+        if header:
+            _header_units(p, lines, units)
         if kind == "two-column":
             bad = [i for i, r in rows if len(r) != 2]
             if bad:

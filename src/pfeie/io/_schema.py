@@ -496,7 +496,10 @@ class GroundMotionRecord(RecordReading):
     file: Annotated[PathText, Field(description="record file")]
     scale: Annotated[
         float,
-        Field(description="scale factor (not 0; negative flips the record)"),
+        Field(
+            description="scale factor (not 0; negative flips the record; beside pga or "
+            "target_sa only -1, the polarity)"
+        ),
         AfterValidator(_nonzero),
     ] = 1.0
     pga: Annotated[
