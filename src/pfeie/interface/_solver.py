@@ -241,9 +241,6 @@ class InterfaceSolver:
         self._wscale = 0.0
         self._eye: FloatArray | None = None
         self._gathered: tuple[bytes, FloatArray, FloatArray] | None = None
-        # the Cholesky factor of the capacitance rows of the pairs held open
-        # (:meth:`_held_solve`), kept while they do not change
-        self._held: tuple[bytes, tuple[FloatArray, bool]] | None = None
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
@@ -289,7 +286,7 @@ class InterfaceSolver:
                 cf = sla.cho_factor(self.Wc, check_finite=False)
             except (np.linalg.LinAlgError, sla.LinAlgError):
                 cf = None
-        self._gathered = self._held = None  # blocks of an earlier W_c⁻¹
+        self._gathered = None  # blocks of an earlier W_c⁻¹
         if cf is not None:
             # the identity is overwritten by the inverse (one M × M array less at the peak)
             self._winv = sla.cho_solve(cf, np.eye(self.Wc.shape[0]), overwrite_b=True,
@@ -1174,79 +1171,22 @@ class InterfaceSolver:
             cols_o = symmetric_columns(Winv, o)
             self._gathered = (okey, cols_o[cols].reshape(k, d, k), cols_o)
         _, Wco, Wo = self._gathered
+        cap = np.einsum("kj,kjl->kl", Lo, Wco)
+        pos = np.full(m * d, -1)
+        pos[o] = np.arange(k)
+        pc = pos[cols].reshape(k, d)
+        has = pc >= 0
+        rows = np.broadcast_to(np.arange(k)[:, None], pc.shape)
+        np.add.at(cap, (rows[has], pc[has]), Ro[has])
+        cap /= r
         rhs = (B[o] - np.einsum("kj,kjc->kc", Lo, z[cols].reshape(k, d, c))
                - np.einsum("kj,kjc->kc", Ro, ds[cols].reshape(k, d, c)))  # fmt: skip
-        # the rows X_j = 0 (L a unit row on its own component, R = 0): the pairs held
-        # open, and the separated pairs (their normal row, and their tangential rows,
-        # whose cone has shrunk to 0)
-        held = (Lo == np.eye(d)[o % d]).all(axis=1) & ~Ro.any(axis=1)
-        y = None
-        if held.any():
-            y = self._held_solve(o, held, Lo, Ro, Wco, Wo, rhs)
-        if y is None:
-            cap = self._capacitance_rows(o, np.arange(k), Lo, Ro, Wco, cols)
-            y = np.linalg.solve(cap, rhs)
+        y = np.linalg.solve(cap, rhs)
         x = z + (Wo @ y) / r
         ds[o] += y / r
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(ds))):
             raise np.linalg.LinAlgError("singular Newton capacitance system")
         return x, ds
-
-    def _capacitance_rows(
-        self, o: np.ndarray, sel: np.ndarray, Lo: FloatArray, Ro: FloatArray,
-        Wco: FloatArray, cols: np.ndarray,
-    ) -> FloatArray:  # fmt: skip
-        """The rows ``sel`` of the capacitance matrix of :meth:`_woodbury_step`,
-        (L_o W_c⁻¹[:, o] + R_o[:, o])/ρ, gathered pair by pair (|sel| × |o|)."""
-        m, d = self.m, self.d
-        k = o.size
-        cap = np.einsum("kj,kjl->kl", Lo[sel], Wco[sel])
-        pos = np.full(m * d, -1)
-        pos[o] = np.arange(k)
-        pc = pos[cols.reshape(k, d)[sel]]
-        has = pc >= 0
-        rows = np.broadcast_to(np.arange(sel.size)[:, None], pc.shape)
-        np.add.at(cap, (rows[has], pc[has]), Ro[sel][has])
-        return np.asarray(cap / self.rho)
-
-    def _held_solve(
-        self, o: np.ndarray, held: np.ndarray, Lo: FloatArray, Ro: FloatArray,
-        Wco: FloatArray, Wo: FloatArray, rhs: FloatArray,
-    ) -> FloatArray | None:  # fmt: skip
-        """The capacitance system of :meth:`_woodbury_step` by block elimination of the
-        rows ``held``, X_j = 0 (pairs held open, separated pairs). Their rows are those of
-        W_c⁻¹/ρ (L = I, R = 0): C_hh = W_c⁻¹[h, h]/ρ, symmetric positive definite and the
-        same for every iterate while the set h stays (its Cholesky factor is kept), so
-        only the Schur complement S = C_aa − C_ah C_hh⁻¹ C_ha of the other rows a
-        (sliding and fixed rows) is factorised per iteration: a Cholesky of n_h and an LU
-        of k_a, O(n_h³/3 + n_h² k_a + n_h k_a² + 2k_a³/3), against the LU of n_h + k_a
-        (a 3D joint opening over much of its length: n_h of 400 to 2,600 against k_a of
-        100 to 600). None when C_hh is not numerically positive definite (the caller
-        solves the whole system)."""
-        hkey = o[held].tobytes()
-        if self._held is None or self._held[0] != hkey:
-            Chh = Wo[o[held]][:, held] / self.rho
-            try:
-                cf = sla.cho_factor(Chh, check_finite=False)
-            except (np.linalg.LinAlgError, sla.LinAlgError):
-                return None
-            self._held = (hkey, cf)
-        cf = self._held[1]
-        a = np.flatnonzero(~held)
-        y = np.empty_like(rhs)
-        wh = sla.cho_solve(cf, rhs[held], check_finite=False)
-        if not a.size:
-            y[held] = wh
-            return y
-        Cha = Wo[o[held]][:, a] / self.rho  # rows of W_c⁻¹/ρ, as C_hh
-        Ca = self._capacitance_rows(o, a, Lo, Ro, Wco, (o // self.d)[:, None] * self.d
-                                    + np.arange(self.d))  # fmt: skip
-        Cah, Caa = Ca[:, held], Ca[:, a]
-        Zm = sla.cho_solve(cf, Cha, check_finite=False)
-        ya = np.linalg.solve(Caa - Cah @ Zm, rhs[a] - Cah @ wh)
-        y[a] = ya
-        y[held] = wh - Zm @ ya
-        return y
 
     def _bordered_step(
         self, L: FloatArray, R: FloatArray, kin: np.ndarray, bF: FloatArray, beq: FloatArray
