@@ -49,8 +49,20 @@ def test_small_matrices_keep_the_plain_products_bits() -> None:
     assert np.array_equal(symmetric_product(A, x), A @ x)
 
 
+@pytest.mark.parametrize("M", [300, SYMMETRIC_MIN])
 @pytest.mark.parametrize("order", ["C", "F"])
-def test_symmetric_columns(order: str) -> None:
-    A = _symmetric(300, order)
-    idx = np.array([3, 0, 299, 17, 17])
-    np.testing.assert_array_equal(symmetric_columns(A, idx), A[:, idx])
+def test_symmetric_columns(order: str, M: int) -> None:
+    """The columns, gathered along the contiguous axis from SYMMETRIC_MIN rows; below,
+    bit for bit what the callers took before (the columns, or the rows transposed: a
+    computed inverse is symmetric only to round-off, so the two differ in the last
+    bits)."""
+    A = _symmetric(M, order)
+    A[0, 1] += 1e-3  # no longer symmetric: which entries are read shows
+    idx = np.array([3, 0, M - 1, 17, 17])
+    if M < SYMMETRIC_MIN:
+        np.testing.assert_array_equal(symmetric_columns(A, idx), A[:, idx])
+        np.testing.assert_array_equal(symmetric_columns(A, idx, small="rows"), A[idx].T)
+    else:  # along the contiguous axis, whatever the caller's habit
+        ref = A[:, idx] if order == "F" else A[idx].T
+        for small in ("columns", "rows"):
+            np.testing.assert_array_equal(symmetric_columns(A, idx, small=small), ref)

@@ -117,7 +117,8 @@ def test_column_records_malformed(tmp_path: Path, text: str, kw: dict, match: st
 @pytest.mark.parametrize(("header", "units", "named"), [
     ("time,acc (g)", "m/s2", "g"), ("t [s], a [m/s2]", "g", "m/s2"),
     ("Time(s) Acc(cm/s²)", "g", "cm/s2"), ("time, accel in g", "cm/s2", "g"),
-    ("time,acc (g)", "g", None), ("time,acc", "m/s2", None),
+    ("time,acc (g)", "g", None), ("time,acc", "m/s2", None), ("acc (gal)", "gal", None),
+    ("t, a (m/s^2)", "m/s^2", None), ("a (cm/s2)", "gal", None),
 ])  # fmt: skip
 def test_header_units_that_contradict_the_given_ones_are_warned(
     tmp_path: Path, caplog: pytest.LogCaptureFixture, header: str, units: str,

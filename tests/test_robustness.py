@@ -696,6 +696,12 @@ def test_plausibility_warnings(
         between = 'right = "rock"' in text_k and "[interfaces.mid]" not in text_k
         assert ("'mid' lies between" in caplog.text) == between
         capsys.readouterr()
+    caplog.clear()  # a group the model file uses (here as a support) is no joint left out
+    p = model(tmp_path, text=text.replace('group = "bottom"', 'group = "mid"'),
+              elements=elements, names=names)  # fmt: skip
+    with caplog.at_level("WARNING"):
+        assert main(["check", str(p)]) == 0
+    assert "lies between" not in caplog.text
     caplog.clear()
     two = (text.replace('right = "rock"', 'right = "soft"')
            + "[materials.soft]\nE = 1e9\nnu = 0.25\nrho = 20.0\n")

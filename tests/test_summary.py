@@ -211,3 +211,16 @@ def test_correction_energy_lines(share: float, shown: bool, unresolved: bool) ->
     assert ("corrections" in text) == shown
     assert (f"{100 * share:.1f} % of the input" in text) == shown
     assert ("not converged in Δt" in text) == unresolved
+
+
+def test_pair_spacing_skips_pairs_at_one_point() -> None:
+    """Where a joint meets two blocks on one side it has two pairs at one point: the
+    spacing is the distance to the nearest pair elsewhere (0 would make the summary's
+    slip ratio infinite or NaN, which summary.json cannot hold)."""
+    from pfeie._job import _pair_spacing
+
+    x = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 0.0], [1.5, 0.0], [2.0, 0.0]])
+    np.testing.assert_array_equal(_pair_spacing(x), 0.5)
+    np.testing.assert_array_equal(_pair_spacing(np.array([[0.0, 0.0], [0.0, 0.0], [0.0, 0.0],
+                                                           [1.0, 0.0]])), 1.0)  # fmt: skip
+    assert np.all(np.isinf(_pair_spacing(np.zeros((2, 2)))))  # one position: no spacing

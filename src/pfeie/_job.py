@@ -369,7 +369,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             slip = res.slip[:, idx]
             slip_mag = np.linalg.norm(slip, axis=-1)
             spacing = _pair_spacing(model.pairs.x[idx])
-            ratio = slip_mag.max(axis=0) / spacing
+            ratio = slip_mag.max(axis=0) / spacing  # finite: spacing > 0 (∞ gives 0)
             k_big = int(np.argmax(ratio)) if ratio.size else 0
             joints[name] = {
                 "pairs": int(idx.size),
@@ -430,11 +430,26 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
 
 def _pair_spacing(x: FloatArray) -> FloatArray:
     """The distance from each pair (positions ``x`` (m, d) of one joint) to the nearest
-    other pair of the joint (∞ for a joint of one pair)."""
-    if x.shape[0] < 2:
-        return np.full(x.shape[0], np.inf)
-    dist, _ = cKDTree(x).query(x, k=2)
-    return np.asarray(dist[:, 1], dtype=float)
+    pair of the joint at another position (∞ for a joint of one position). Pairs at one
+    point (where a joint meets two blocks on one side: a pair for each) are not a
+    spacing: the nearest distance above 1e-9 of the joint's extent counts."""
+    n = x.shape[0]
+    if n < 2:
+        return np.full(n, np.inf)
+    tol = 1e-9 * max(float(np.ptp(x, axis=0).max()), 1e-300)
+    out = np.full(n, np.inf)
+    todo = np.arange(n)
+    k = 2
+    while todo.size:
+        dist, _ = cKDTree(x).query(x[todo], k=min(k, n))
+        dist = dist.reshape(todo.size, -1)
+        far = dist > tol
+        found = far.any(axis=1)
+        out[todo[found]] = np.where(far, dist, np.inf)[found].min(axis=1)
+        if k >= n:
+            break
+        todo, k = todo[~found], 2 * k  # all neighbours so far at the same point
+    return out
 
 
 def _components(p: dict[str, Any], key: str, scale: float, fmt: str, unit: str) -> str:

@@ -58,11 +58,11 @@ if TYPE_CHECKING:
 ENERGY_TERMS = ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                 "impact", "algorithmic", "correction")  # fmt: skip
 _INPUTS = ("external_work", "correction")  # the right-hand side of the balance
-FS_RESOLUTION = 1e3
-"""A joint's shear force counts for its safety factor above FS_RESOLUTION times the force
-the pair solver resolves per pair (its tolerance times the largest pair force): each
-pair meets its strength only to that accuracy, so the ratio is then good to about
-1/FS_RESOLUTION."""
+FS_ROUNDOFF = 1e-10
+"""A joint's shear force counts for its safety factor above FS_ROUNDOFF times the sum of
+the magnitudes of its own pair forces (smooth and step forces): below, it is round-off
+(a pair closed by an impulse within the step has a smooth force of 1e-16 to 1e-20 of
+its step force), and the ratio would be round-off too."""
 
 
 @dataclass
@@ -546,16 +546,16 @@ class Recorder:
         """The sliding safety factor of each joint at the state ``st``
         (:meth:`~pfeie.interface.PairLaws.safety_factor`), on the smooth pair forces λ
         where the scheme has them (an impact's impulses aside), else on the step's forces
-        X. A joint whose smooth shear is not resolved (below :data:`FS_RESOLUTION` times
-        the solver's accuracy, e.g. a pair that closes by an impulse in this step while its
-        smooth force is zero) takes its factor from X: the step's impulses meet the
+        X. A joint whose smooth shear is round-off (below :data:`FS_ROUNDOFF` of its pair
+        forces, e.g. a pair that closes by an impulse in this step while its smooth force
+        is zero) takes its factor from X: the step's impulses meet the
         velocity-level law, so the factor is that of the force it carried."""
         assert an.model.pairs is not None
         P, laws = st.pairs, an.model.pair_laws
-        scale = float(np.abs(P.X).max(initial=0.0))
+        size = np.abs(P.X).sum(axis=1)
         if st.lam is not None:
-            scale = max(scale, float(np.abs(st.lam).max(initial=0.0)))
-        noise = FS_RESOLUTION * an.settings.tolerance * scale
+            size = size + np.abs(st.lam).sum(axis=1)
+        noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
         args = (P.state == OPEN, P.broken, P.path, an.model.pairs.frame, noise)
         on_x = laws.safety_factor(P.X, *args)
         if st.lam is None:

@@ -280,7 +280,7 @@ class PairLaws:
 
     def safety_factor(
         self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
-        frames: FloatArray | None = None, noise: float = 0.0,
+        frames: FloatArray | None = None, noise: float | FloatArray = 0.0,
     ) -> FloatArray:  # fmt: skip
         """The sliding safety factor of each interface (n_interfaces,), the ratio of the
         joint's shear capacity to its shear force (USACE EM 1110-2-2100; FERC Ch. III):
@@ -294,10 +294,9 @@ class PairLaws:
         along it needs, else their local components are added); open pairs carry nothing, in the
         capacity and in the shear (a force recorded on a pair that ends its step open is an
         impact impulse over the step, not a shear the joint carries). ∞ when the joint
-        carries no shear: ‖Σ T‖ ≤ ``noise`` × its number of pairs, ``noise`` (N) the force
-        the solver resolves (its tolerance times the problem's force scale). Each pair's
-        force meets its strength only to that accuracy, so a shear of that order gives a
-        ratio of round-off (0.02 was seen on a pair whose smooth force was 5e-16 N).
+        carries no shear: ‖Σ T‖ ≤ ``noise`` (N; a number, or one per interface), the
+        round-off of its forces: a shear of that order gives a ratio of round-off (0.02
+        was seen on a pair whose smooth force was 5e-16 N).
 
         >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
         ...                                [MohrCoulomb(phi=45.0)], 2)
@@ -315,9 +314,10 @@ class PairLaws:
         if frames is not None:  # the tangential rows of the frames: local → global
             T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
         out = np.full(len(self.index), np.inf)
+        floor = np.broadcast_to(np.asarray(noise, dtype=float), out.shape)
         for k, idx in enumerate(self.index):
             shear = float(np.linalg.norm(T[idx].sum(axis=0)))
-            if shear > noise * len(idx) and shear > 0:
+            if shear > floor[k] and shear > 0:
                 out[k] = float(cap[idx].sum()) / shear
         return out
 

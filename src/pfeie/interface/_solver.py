@@ -532,7 +532,7 @@ class InterfaceSolver:
             if fr.size:
                 cy[rows_fr] -= coef[:, None] * Y[nidx]
                 cy[rows_fr, 0] -= x0
-            Y -= symmetric_columns(Winv, oth) @ _lu_solve(lu, cy)
+            Y -= symmetric_columns(Winv, oth, small="rows") @ _lu_solve(lu, cy)
         Y[zero] = 0.0  # open: zero, not the round-off of the update
         X0, T = Y[:, 0], Y[:, 1:]
         S = E.T @ T
@@ -1168,7 +1168,7 @@ class InterfaceSolver:
             # the blocks of W_c⁻¹ that the rows o need, kept while o does not change (the
             # Newton's last iterations): its columns o, gathered along the contiguous
             # axis, and W_c⁻¹[cols, o] from them
-            cols_o = symmetric_columns(Winv, o)
+            cols_o = symmetric_columns(Winv, o, small="rows")
             self._gathered = (okey, cols_o[cols].reshape(k, d, k), cols_o)
         _, Wco, Wo = self._gathered
         cap = np.einsum("kj,kjl->kl", Lo, Wco)

@@ -292,11 +292,30 @@ def _undeclared_joints(p: Path, cfg: Any, mesh: Mesh) -> None:
     for k, b in enumerate(blocks):
         for t, idx in mesh.cell_groups[b].items():
             in_block[k, mesh.cells[t][idx].ravel()] = True
+    # groups the model file names anywhere (supports, loads, ...) are meant as what they
+    # are used for; a group on the nodes of declared interfaces is one of them again
+    referenced: set[str] = set()
+
+    def strings(v: Any) -> None:
+        if isinstance(v, str):
+            referenced.add(v)
+        elif isinstance(v, dict):
+            for x in v.values():
+                strings(x)
+        elif isinstance(v, (list, tuple)):
+            for x in v:
+                strings(x)
+
+    strings(cfg.model_dump())
+    on_joint = np.zeros(mesh.n_points, dtype=bool)
+    for g in cfg.interfaces:
+        for c in mesh.facet_groups.get(g, {}).values():
+            on_joint[np.asarray(c).ravel()] = True
     for g, parts in sorted(mesh.facet_groups.items()):
-        if g in cfg.interfaces:
+        if g in cfg.interfaces or g in referenced:
             continue
         conn = [np.asarray(c) for c in parts.values() if len(c)]
-        if not conn:
+        if not conn or all(on_joint[c].all() for c in conn):
             continue
         # (blocks, facets): whether each facet's nodes all belong to the block
         full = np.concatenate([in_block[:, c].all(axis=2) for c in conn], axis=1)

@@ -130,7 +130,8 @@ def _header_units(path: Path, lines: list[str], units: str) -> None:
         if _ALLOWED.match(line):
             return  # no header line
         named = [u for u, pat in _HEADER_UNITS.items() if pat.search(line.lower())]
-        if len(named) == 1 and named[0] != units.lower():
+        given = {"gal": "cm/s2", "m/s^2": "m/s2"}.get(units.lower(), units.lower())
+        if len(named) == 1 and named[0] != given:
             log.warning("%s: line %d: the header %r names the units %s but the record is "
                         "read in %s (units = %r): check the units", path, i,
                         line.strip()[:60], named[0], units, units)  # fmt: skip

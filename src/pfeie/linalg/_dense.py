@@ -4,8 +4,7 @@ A product ``A @ x`` with a dense (M, M) matrix streams all M² entries from memo
 sizes where this matters (thousands of pair components, 3D) the product is bound by
 memory bandwidth, not arithmetic. A symmetric matrix needs only one triangle: BLAS's
 ``dsymv`` reads the upper triangle and gives the same product in about half the time
-(measured on the development machine, one thread: M = 6,348, 14.2 → 7.6 ms; 2,000,
-1.08 → 0.48 ms; 804, 0.070 → 0.046 ms).
+(docs/benchmarks.md, "Dense products on one triangle").
 
 :func:`symmetric_product` takes that route from :data:`SYMMETRIC_MIN` rows on, and the
 plain product below, by size only: one installation always takes the same path for one
@@ -32,14 +31,14 @@ from scipy.linalg import blas
 from ..typing import FloatArray
 
 SYMMETRIC_MIN = 1500
-"""Rows from which :func:`symmetric_product` reads one triangle (``dsymv``): at 1,200
-rows it takes 0.58 of the plain product, 0.10 ms against 0.18 ms, at 804 rows 0.65 but
-0.02 ms saved, below the noise of a step."""
+"""Rows from which :func:`symmetric_product` reads one triangle (``dsymv``) and
+:func:`symmetric_columns` gathers along the contiguous axis; below, a product costs less
+than the noise of a step (docs/benchmarks.md has the timings)."""
 
 _COLUMN_LOOP_MAX = 8
 """Up to this many right-hand sides, one ``dsymv`` per column (each half a sweep); beyond,
-``dsymm`` (measured at M = 6,348: 2 columns 16 ms by ``dsymv`` against 55 ms by
-``dsymm`` and 67 ms by the plain product; 17 columns 78 ms by ``dsymm``)."""
+``dsymm`` (docs/benchmarks.md: ``dsymm`` is slower than ``dsymv`` column by column for
+few columns)."""
 
 
 def symmetric_product(A: FloatArray, X: FloatArray) -> FloatArray:
@@ -64,11 +63,16 @@ def symmetric_product(A: FloatArray, X: FloatArray) -> FloatArray:
     return np.asarray(blas.dsymm(1.0, AF, np.asfortranarray(Xf)))
 
 
-def symmetric_columns(A: FloatArray, idx: np.ndarray) -> FloatArray:
+def symmetric_columns(A: FloatArray, idx: np.ndarray, small: str = "columns") -> FloatArray:
     """The columns ``idx`` of a symmetric array ``A``, (M, len(idx)), gathered along its
-    contiguous axis: in a C-ordered array its rows (equal to the columns to round-off),
-    in a Fortran-ordered one its columns. A strided gather costs ten times more
-    (measured: 630 of 6,348, 28 ms against 2.7 ms)."""
+    contiguous axis from :data:`SYMMETRIC_MIN` rows on: in a C-ordered array its rows
+    (equal to the columns to round-off), in a Fortran-ordered one its columns (a strided
+    gather costs ten times more: docs/benchmarks.md). Below, the columns themselves
+    (``small = "columns"``) or the rows transposed (``"rows"``), as the caller took them
+    before, so that small problems keep their bits (a computed inverse is symmetric only
+    to round-off)."""
+    if A.shape[0] < SYMMETRIC_MIN:
+        return np.asarray(A[idx].T if small == "rows" else A[:, idx])
     if A.flags.f_contiguous and not A.flags.c_contiguous:
         return np.asarray(A[:, idx])
     return np.asarray(A[idx].T)
