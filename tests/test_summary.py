@@ -51,6 +51,16 @@ def test_peak_displacement_is_the_magnitude_on_an_incline() -> None:
     assert p["peak_displacement_m"] > ux + 0.01  # 216 mm against 203 mm
     line = next(x for x in format_summary(s).splitlines() if x.strip().startswith("top"))
     assert f"peak |u| {1e3 * exact:.1f} mm (x {1e3 * exact * np.cos(b):.1f}" in line
+    # the block's permanent displacement (its centroid's rigid motion): the slip, to the
+    # closed form's 1e-6 (measured 3.1e-7, as the probe), no rotation; the base stays
+    blk, base = s["bodies"]["block"], s["bodies"]["base"]
+    assert blk["floating"] and not base["floating"]
+    assert blk["residual_displacement_m"] == pytest.approx(exact, rel=1e-6)
+    assert blk["peak_displacement_m"] == pytest.approx(exact, rel=1e-6)
+    assert blk["residual_rotation_deg"] < 5e-8  # measured 4.4e-9 (E = 1e14 Pa)
+    assert base["peak_displacement_m"] == 0.0  # fixed at its base, rigid
+    assert (f"block block      residual displacement {1e3 * exact:.1f} mm (x "
+            f"{1e3 * blk['residual_displacement_xyz_m'][0]:.1f}") in format_summary(s)  # fmt: skip
     # a pre-existing joint (initial = "broken", the default) says so
     assert j["initially_broken_share"] == 1.0
     assert "broken 100 % (starts broken" in format_summary(s)

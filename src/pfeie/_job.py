@@ -76,6 +76,10 @@ CORRECTION_UNRESOLVED = 0.5
 #: faces its neighbour's partner more than its own
 LARGE_SLIP = 0.5
 
+#: the floating blocks (held by their joints) whose motion the text summary lists; all
+#: bodies are in summary.json
+BODY_LINES = 10
+
 #: m/s², the g of the accelerations the summary gives in g (as the records' units)
 G = 9.81
 
@@ -357,6 +361,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).round(6).tolist(),
         }
     s["probes"] = probes
+    s["bodies"] = _body_motions(job, res)
     joints: dict[str, dict[str, float | None]] = {}
     if model.pairs is not None and res.X.shape[1]:
         at_start = model.pair_laws.initially_broken
@@ -428,6 +433,35 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     return s
 
 
+def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
+    """Per body (its blocks' names), the rigid motion of its centroid relative to the
+    start of the run (and to the ground in the absolute form): the peak and the residual
+    displacement magnitude (m), the residual per axis, and the residual rotation (degrees;
+    in 3D the magnitude of the rotation vector). The permanent displacement of a block
+    that slides on its joints, the result a Newmark sliding-block analysis estimates."""
+    model, d = job.model, job.model.dim
+    if not res.rigid.size:
+        return {}
+    q = res.rigid - res.rigid[:1]
+    if job.analysis.form == "absolute":
+        base = np.array([sum((g.direction * g.motion(t)[0] for g in job.records),
+                             np.zeros(d)) for t in res.t])  # fmt: skip
+        q[..., :d] -= (base - base[:1])[:, None, :]
+    u = np.linalg.norm(q[..., :d], axis=-1)  # (n_t, bodies)
+    rot = np.degrees(np.linalg.norm(q[-1, :, d:], axis=-1))
+    out = {}
+    floating = set(model.floating_bodies().tolist())
+    for b, name in enumerate(model.body_names()):
+        out[name] = {
+            "floating": b in floating,
+            "peak_displacement_m": float(u[:, b].max()),
+            "residual_displacement_m": float(u[-1, b]),
+            "residual_displacement_xyz_m": q[-1, b, :d].round(6).tolist(),
+            "residual_rotation_deg": float(rot[b]),
+        }
+    return out
+
+
 def _pair_spacing(x: FloatArray) -> FloatArray:
     """The distance from each pair (positions ``x`` (m, d) of one joint) to the nearest
     pair of the joint at another position (∞ for a joint of one position). Pairs at one
@@ -491,6 +525,18 @@ def format_summary(s: dict[str, Any]) -> str:
             + f", peak absolute |a| {p['peak_abs_acceleration_g']:.3f} g"
             + _components(p, "peak_abs_acceleration_xyz_g", 1.0, ".3f", "g")
         )
+    floating = [(n, b) for n, b in s.get("bodies", {}).items() if b["floating"]]
+    for name, b in floating[:BODY_LINES]:
+        xyz = ", ".join(f"{ax} {1e3 * v:.1f}" for ax, v in
+                        zip("xyz", b["residual_displacement_xyz_m"], strict=False))  # fmt: skip
+        lines.append(
+            f"  block {name:<10} residual displacement {1e3 * b['residual_displacement_m']:.1f} "
+            f"mm ({xyz} mm), peak {1e3 * b['peak_displacement_m']:.1f} mm, rotation "
+            f"{b['residual_rotation_deg']:.3g}°"
+        )
+    if len(floating) > BODY_LINES:
+        lines.append(f"  blocks       {len(floating) - BODY_LINES} more floating block(s) in "
+                     "summary.json (bodies)")  # fmt: skip
     for name, j in s.get("static_joints", {}).items():
         fs = j["safety_factor"]
         lines.append(
