@@ -285,17 +285,18 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
     than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
-    fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame)
+    # a shear at the round-off of the joint's forces (1e-12 of their sum) is no shear
+    noise = 1e-12 * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
+    fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
+                                       noise)  # fmt: skip
     out = {}
     for k, name in enumerate(P.names):
         idx = P.of(name)
         A = P.area[idx]
         X = st.X[idx]
         shear = float(np.linalg.norm(X[:, :-1].sum(axis=0)))
-        cap = float(np.abs(X).sum())
-        ok = shear > 1e-12 * cap and np.isfinite(fs[k])
         out[name] = {  # no shear (or at the round-off of the forces): no FS, null (∞)
-            "safety_factor": float(fs[k]) if ok else None,
+            "safety_factor": float(fs[k]) if np.isfinite(fs[k]) else None,
             "normal_force_N": float(X[:, -1].sum()),
             "shear_force_N": shear,
             "mean_normal_stress_Pa": float(X[:, -1].sum() / A.sum()),
@@ -345,9 +346,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     for k, (name, _node) in enumerate(job.probes.items()):
         u = res.probe_u[:, k]
         if job.analysis.form == "absolute":
-            base = np.array([sum((g.direction * g.motion(t)[0] for g in job.records),
-                                 np.zeros(model.dim)) for t in res.t])  # fmt: skip
-            u = u - base
+            u = u - _ground_displacement(job, res.t)
         u = u - u[0]
         a = res.probe_a_abs[:, k] / G
         u_mag, a_mag = np.linalg.norm(u, axis=-1), np.linalg.norm(a, axis=-1)
@@ -444,8 +443,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
         return {}
     q = res.rigid - res.rigid[:1]
     if job.analysis.form == "absolute":
-        base = np.array([sum((g.direction * g.motion(t)[0] for g in job.records),
-                             np.zeros(d)) for t in res.t])  # fmt: skip
+        base = _ground_displacement(job, res.t)
         q[..., :d] -= (base - base[:1])[:, None, :]
     u = np.linalg.norm(q[..., :d], axis=-1)  # (n_t, bodies)
     rot = np.degrees(np.linalg.norm(q[-1, :, d:], axis=-1))
@@ -462,28 +460,28 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
     return out
 
 
+def _ground_displacement(job: Job, t: FloatArray) -> FloatArray:
+    """The ground's displacement (n_t, d) at the times ``t``: the records' sum along
+    their directions (the absolute form's support motion)."""
+    return np.array([sum((g.direction * g.motion(ti)[0] for g in job.records),
+                         np.zeros(job.model.dim)) for ti in t])  # fmt: skip
+
+
 def _pair_spacing(x: FloatArray) -> FloatArray:
     """The distance from each pair (positions ``x`` (m, d) of one joint) to the nearest
     pair of the joint at another position (∞ for a joint of one position). Pairs at one
     point (where a joint meets two blocks on one side: a pair for each) are not a
-    spacing: the nearest distance above 1e-9 of the joint's extent counts."""
-    n = x.shape[0]
-    if n < 2:
-        return np.full(n, np.inf)
+    spacing: positions within 1e-9 of the joint's extent are one."""
+    if x.shape[0] < 2:
+        return np.full(x.shape[0], np.inf)
     tol = 1e-9 * max(float(np.ptp(x, axis=0).max()), 1e-300)
-    out = np.full(n, np.inf)
-    todo = np.arange(n)
-    k = 2
-    while todo.size:
-        dist, _ = cKDTree(x).query(x[todo], k=min(k, n))
-        dist = dist.reshape(todo.size, -1)
-        far = dist > tol
-        found = far.any(axis=1)
-        out[todo[found]] = np.where(far, dist, np.inf)[found].min(axis=1)
-        if k >= n:
-            break
-        todo, k = todo[~found], 2 * k  # all neighbours so far at the same point
-    return out
+    _, first, at = np.unique(np.round(x / tol), axis=0, return_index=True,
+                             return_inverse=True)  # fmt: skip
+    if first.size < 2:
+        return np.full(x.shape[0], np.inf)
+    points = x[first]  # one pair for each position
+    dist, _ = cKDTree(points).query(points, k=2)
+    return np.asarray(dist[at.ravel(), 1], dtype=float)
 
 
 def _components(p: dict[str, Any], key: str, scale: float, fmt: str, unit: str) -> str:

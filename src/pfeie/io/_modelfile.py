@@ -398,10 +398,10 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     cfg = _validate(p, raw, overrides)
     digest = hashlib.sha256(raw).hexdigest()
     base = p.parent
-    if not (base / cfg.mesh.file).is_file():
-        raise InputError(f"{p}: mesh.file: {base / cfg.mesh.file}: mesh file not found (a "
-                         "relative path is taken from the model file's folder)")  # fmt: skip
-    mesh = read_mesh(base / cfg.mesh.file)
+    try:  # a mesh that cannot be read: the model file and its key too
+        mesh = read_mesh(base / cfg.mesh.file)
+    except MeshError as exc:
+        raise MeshError(f"{p}: mesh.file: {exc}") from None
     if mesh.dim == 3:
         for key in ("plane", "thickness"):
             if key in cfg.model_fields_set:

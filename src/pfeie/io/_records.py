@@ -105,15 +105,18 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
     return np.asarray(values, dtype=float), dt, name
 
 
-def _data_lines(path: Path, lines: list[str]) -> tuple[list[tuple[int, list[float]]], bool]:
-    """Numeric rows (line number, numbers), skipping one header line and blank lines."""
+def _data_lines(
+    path: Path, lines: list[str]
+) -> tuple[list[tuple[int, list[float]]], tuple[int, str] | None]:
+    """Numeric rows (line number, numbers), skipping one header line and blank lines;
+    the header line (its number and text), if any."""
     rows: list[tuple[int, list[float]]] = []
-    header = False
+    header: tuple[int, str] | None = None
     for i, line in enumerate(lines, start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
-        if not rows and not header and not _ALLOWED.match(line):
-            header = True  # a text header line
+        if not rows and header is None and not _ALLOWED.match(line):
+            header = (i, line)  # a text header line
             continue
         rows.append((i, _numbers(line, path, i)))
     if not rows:
@@ -121,21 +124,17 @@ def _data_lines(path: Path, lines: list[str]) -> tuple[list[tuple[int, list[floa
     return rows, header
 
 
-def _header_units(path: Path, lines: list[str], units: str) -> None:
-    """A warning when the text header line names other units than ``units`` (a record in
-    g read as m/s² is 9.81 times too weak, and runs without any other sign)."""
-    for i, line in enumerate(lines, start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        if _ALLOWED.match(line):
-            return  # no header line
-        named = [u for u, pat in _HEADER_UNITS.items() if pat.search(line.lower())]
-        given = {"gal": "cm/s2", "m/s^2": "m/s2"}.get(units.lower(), units.lower())
-        if len(named) == 1 and named[0] != given:
-            log.warning("%s: line %d: the header %r names the units %s but the record is "
-                        "read in %s (units = %r): check the units", path, i,
-                        line.strip()[:60], named[0], units, units)  # fmt: skip
-        return
+def _header_units(path: Path, header: tuple[int, str], units: str) -> None:
+    """A warning when the text header line (number, text) names other units than
+    ``units`` (a record in g read as m/s² is 9.81 times too weak, and runs without any
+    other sign)."""
+    i, line = header
+    named = [u for u, pat in _HEADER_UNITS.items() if pat.search(line.lower())]
+    given = {"gal": "cm/s2", "m/s^2": "m/s2"}.get(units.lower(), units.lower())
+    if len(named) == 1 and named[0] != given:
+        log.warning("%s: line %d: the header %r names the units %s but the record is read "
+                    "in %s (units = %r): check the units", path, i, line.strip()[:60],
+                    named[0], units, units)  # fmt: skip
 
 
 def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]]) -> None:
@@ -205,8 +204,8 @@ def read_record(
         if units is None:
             raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")
         rows, header = _data_lines(p, lines)
-        if header:
-            _header_units(p, lines, units)
+        if header is not None:
+            _header_units(p, header, units)
         if kind == "two-column":
             bad = [i for i, r in rows if len(r) != 2]
             if bad:

@@ -234,19 +234,19 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
         ax[3].plot(t, cr["cracked"], lw=1.0, color="k", label="cracked (broken)")
         ax[3].plot(t, cr["open"], lw=0.8, color=STATE_COLOURS[3], ls=":",
                    label="broken and in the open state")  # fmt: skip
-        wide = open_crack(res, name)
+        wide = open_crack(pr, cr)
         ax[3].plot(t, wide, lw=1.0, color=STATE_COLOURS[3],
                    label=f"open crack (open > {1e3 * OPEN_CRACK_MIN_M:g} mm)")  # fmt: skip
         ax[3].set_ylabel("crack length (m)" if two_d else "crack area (m²)")
     return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
 
 
-def open_crack(res: Results, name: str) -> np.ndarray:
-    """The open crack of joint ``name`` over time (n_t,), as the summary counts it
+def open_crack(pr: dict[str, np.ndarray], cr: dict[str, np.ndarray]) -> np.ndarray:
+    """The open crack of a joint over time (n_t,), as the summary counts it
     (``max_open_length_m``, ``max_open_area_m2``): its broken pairs in the open state and
     open by more than :data:`OPEN_CRACK_MIN_M`; the history's extent of the broken open
-    pairs scaled by their share of its area (the same thickness)."""
-    pr, cr = res.pairs(name), res.joint_cracks(name)
+    pairs scaled by their share of its area (the same thickness). ``pr`` and ``cr``: the
+    joint's :meth:`Results.pairs` and :meth:`Results.joint_cracks`."""
     A = pr["area"]
     gone = pr["broken"] & (pr["state"] == 3)
     a_open = (gone * A).sum(axis=1)

@@ -62,7 +62,7 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
             unit = "m" if res.f["mesh/points"].shape[1] == 2 else "m²"
             rows[-1][f"cracked at the end ({unit})"] = float(cr["cracked"][-1])
             # as the summary: the broken pairs open by more than OPEN_CRACK_MIN_M
-            rows[-1][f"largest open crack ({unit})"] = float(open_crack(res, name).max())
+            rows[-1][f"largest open crack ({unit})"] = float(open_crack(pr, cr).max())
         if "joints/force" in res.f["history"]:
             jr = res.joint_resultants(name)
             rows[-1]["peak |F_x| (kN)"] = 1e-3 * float(np.abs(jr["force"][:, 0]).max())
