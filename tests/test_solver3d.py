@@ -189,7 +189,7 @@ def test_newton_step_with_held_rows_equals_the_dense_solve(
     rows (random L and R) and kinematic rows (L = 0, R = ρI), by the capacitance system
     of the rows that are not kinematic: equal to the dense solve of the formed J to
     5e-14 of the largest entry of x (measured ≤ 1.1e-14), and W_c x the returned one to
-    2e-13 (measured ≤ 2.3e-14), without and with held rows, a few or most of o."""
+    2e-13 (measured ≤ 2.5e-14), without and with held rows, a few or most of o."""
     step = dynamic.istep
     assert step is not None
     W = step.scale * step.W.matrix()
@@ -223,3 +223,46 @@ def test_newton_step_with_held_rows_equals_the_dense_solve(
     ref = np.linalg.solve(J, B)
     assert np.abs(x - ref).max() <= 5e-14 * np.abs(ref).max()
     assert np.abs(ds - solver.Wc @ x).max() <= 2e-13 * np.abs(ds).max()
+
+
+def test_large_state_system_equals_the_cached_lu_path(
+    dynamic: pf.Dynamic, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A state system of more than ``LARGE_CAPACITANCE`` open and sliding components (300
+    open pairs, 200 sliding in random directions, the rest sticking: k = 1,300 of
+    M = 1,521), assembled in work arrays with the sliding rows last and solved by the
+    single-precision LU refined in double, equals the LU path that smaller systems take
+    (the capacitance gathered from W_c⁻¹ and factorised in double precision) to 1e-14 of
+    the largest force (measured 1.1e-15), and the state system's rows hold: the open
+    components carry no force (exactly), the sliding ones X_t = −(c + μ X_n) ŝ (to 1e-14;
+    measured 1.0e-15)."""
+    step = dynamic.istep
+    assert step is not None
+    W = step.scale * step.W.matrix()
+    laws = step.laws
+    m, d = laws.n, dynamic.d
+    rng = np.random.default_rng(11)
+    prev = laws.initial_state(d)
+    prev.broken[:] = True
+    st = prev.copy()
+    kind = rng.permutation(np.repeat([0, 1, 2], [300, 200, m - 500]))
+    st.state[kind == 0] = pf.interface.OPEN
+    st.state[kind == 1] = pf.interface.SLIDE
+    st.state[kind == 2] = pf.interface.STICK
+    sdir = rng.standard_normal((m, d - 1))
+    st.slip_dir = sdir / np.linalg.norm(sdir, axis=1)[:, None]
+    w_free = rng.standard_normal((m, d)) * 1e-4
+    w_free[:, -1] = -np.abs(w_free[:, -1])  # closing: compressive normal forces
+    solver = InterfaceSolver(W, laws)
+    X, _ = solver._linear(st, prev, w_free, None)
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "LARGE_CAPACITANCE", 10**9)
+        ref_solver = InterfaceSolver(W, laws)
+        ref, _ = ref_solver._linear(st, prev, w_free, None)
+    assert np.abs(X - ref).max() <= 1e-14 * np.abs(ref).max()
+    scale = np.abs(ref).max()
+    assert not X[kind == 0].any()
+    c, mu, _ = laws.strength(st.broken, prev.path)
+    sl = kind == 1
+    expect = -mu[sl, None] * X[sl, -1:] * st.slip_dir[sl] - c[sl, None] * st.slip_dir[sl]
+    assert np.abs(X[sl, :-1] - expect).max() <= 1e-14 * scale

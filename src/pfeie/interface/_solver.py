@@ -106,7 +106,7 @@ from scipy.linalg.lapack import dgetrf as _getrf
 from scipy.linalg.lapack import dgetrs as _getrs
 
 from ..errors import InterfaceError, MechanismError
-from ..linalg import symmetric_columns, symmetric_product
+from ..linalg import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ..typing import FloatArray
 from ._laws import PairLaws
 from ._proximal import PairLaw, ShiftedOperator, proximal_newton
@@ -123,6 +123,12 @@ NEWTON_WOODBURY_MIN = 300
 """Smallest W (rows) whose semismooth-Newton steps go through the once-inverted W_c (in 3D,
 with the Jacobian kept per pair and the Newton taking over from the state iteration as
 soon as a slip direction turns; a 3D border problem is then solved on W_c⁻¹ too)."""
+LARGE_CAPACITANCE = 1000
+"""Rows of a capacitance system (open and sliding components) from which, in a W of
+:data:`~pfeie.linalg.SYMMETRIC_MIN` rows or more, the Newton step through W_c⁻¹ and the
+state systems gather and solve it in work arrays, by a single-precision LU refined in
+double (:meth:`InterfaceSolver._woodbury_step_large`; below, the O(k³) of its LU costs
+less than the refinement and the second product: docs/benchmarks.md)."""
 REFINE_TOL = 1e-15
 """Iterative refinement on a reference W_c⁻¹: the state system is solved when the last
 correction, or the error it predicts (q/(1 − q) of it), is at most this fraction of X
@@ -137,12 +143,13 @@ REFINE_MAX_ITER = 40
 """Corrections of one refinement before the solver factorises its own W_c."""
 
 
-def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
+def _lu_factor(a: FloatArray, overwrite: bool = False) -> tuple[FloatArray, np.ndarray]:
     """LAPACK's getrf, as :func:`scipy.linalg.lu_factor` calls it (the same bits), without
-    its per-call wrappers (the state systems are small and many)."""
+    its per-call wrappers (the state systems are small and many); ``overwrite``: a
+    Fortran-ordered ``a`` is factorised in place."""
     if not a.size:
         return sla.lu_factor(a, check_finite=False)
-    lu, piv, info = _getrf(a)
+    lu, piv, info = _getrf(a, overwrite_a=overwrite)
     if info < 0:
         raise ValueError(f"illegal value in {-info}th argument of internal getrf (lu_factor)")
     if info > 0:
@@ -160,6 +167,12 @@ def _lu_solve(lu: tuple[FloatArray, np.ndarray], b: FloatArray) -> FloatArray:
     if info != 0:
         raise ValueError(f"illegal value in {-info}th argument of internal gesv|posv")
     return x
+
+
+def _cap_solve(f: tuple[FloatArray, np.ndarray] | MixedLU, b: FloatArray) -> FloatArray:
+    """The solution of a capacitance system (:meth:`InterfaceSolver._capacitance`) for
+    ``b`` (overwritten)."""
+    return f.solve(b) if isinstance(f, MixedLU) else _lu_solve(f, b)
 
 
 def _rownorm(a: FloatArray) -> FloatArray:
@@ -241,6 +254,7 @@ class InterfaceSolver:
         self._wscale = 0.0
         self._eye: FloatArray | None = None
         self._gathered: tuple[bytes, FloatArray, FloatArray] | None = None
+        self._work = Workspace()
         # dynamics without redundant constraints: W_c⁻¹ once, then each state pattern costs
         # a k × k capacitance system, k = open + sliding-tangential components (Woodbury)
         self._winv: FloatArray | None = None
@@ -498,13 +512,14 @@ class InterfaceSolver:
         y = symmetric_product(Winv, b)
         if oth.size == 0:
             return y.reshape(self.m, d)
-        lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
+        Wo = self._columns(Winv, oth)
+        lu = self._capacitance(key, Winv, Wo, oth, fr, coef, rows_fr, nidx)
         cy = y[oth]
         if fr.size:
             cy[rows_fr] -= coef * y[nidx]
             cy[rows_fr] -= x0  # the constraints' right-hand side b_o
-        corr = _lu_solve(lu, cy)
-        return (y - symmetric_columns(Winv, oth) @ corr).reshape(self.m, d)
+        corr = _cap_solve(lu, cy)
+        return (y - Wo @ corr).reshape(self.m, d)
 
     def _woodbury_bordered(
         self, key: bytes, fr: np.ndarray, coef: FloatArray, x0: FloatArray, target: FloatArray,
@@ -527,12 +542,13 @@ class InterfaceSolver:
         B[oth] = 0.0  # the replaced rows take no part (as in :meth:`_woodbury`)
         Y = symmetric_product(Winv, B)
         if oth.size:
-            lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
+            Wo = self._columns(Winv, oth, small="rows")
+            lu = self._capacitance(key, Winv, Wo, oth, fr, coef, rows_fr, nidx)
             cy = Y[oth]
             if fr.size:
                 cy[rows_fr] -= coef[:, None] * Y[nidx]
                 cy[rows_fr, 0] -= x0
-            Y -= symmetric_columns(Winv, oth, small="rows") @ _lu_solve(lu, cy)
+            Y -= Wo @ _cap_solve(lu, cy)
         Y[zero] = 0.0  # open: zero, not the round-off of the update
         X0, T = Y[:, 0], Y[:, 1:]
         S = E.T @ T
@@ -548,14 +564,50 @@ class InterfaceSolver:
         qs = sla.lu_solve(luS, E.T @ X0 - self._escale * e, check_finite=False)
         return (X0 - T @ qs).reshape(self.m, self.d), qs * self._escale
 
+    def _columns(self, Winv: FloatArray, oth: np.ndarray, small: str = "columns") -> FloatArray:
+        """The columns ``oth`` of W_c⁻¹ (:func:`~pfeie.linalg.symmetric_columns`); for
+        :data:`LARGE_CAPACITANCE` columns or more of a Fortran-ordered W_c⁻¹ of
+        :data:`~pfeie.linalg.SYMMETRIC_MIN` rows or more, the same entries gathered into a
+        work array (Fortran-ordered, valid until the next state system): M × k entries,
+        hundreds of MB at a few thousand open and sliding components."""
+        M = Winv.shape[0]
+        if M < SYMMETRIC_MIN or oth.size < LARGE_CAPACITANCE or not Winv.flags.f_contiguous:
+            return symmetric_columns(Winv, oth, small=small)
+        # the rows oth of the C-ordered Winvᵀ (whole rows, contiguous), transposed
+        out = self._work.get("columns of the state system", (oth.size, M))
+        return np.take(Winv.T, oth, axis=0, out=out, mode="clip").T
+
     def _capacitance(
-        self, key: bytes, Winv: FloatArray, oth: np.ndarray, fr: np.ndarray,
+        self, key: bytes, Winv: FloatArray, Wo: FloatArray, oth: np.ndarray, fr: np.ndarray,
         coef: FloatArray, rows_fr: np.ndarray, nidx: np.ndarray,
-    ) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
-        """The LU factors of the capacitance system C W_c⁻¹ Cᵀ of the replaced rows
-        ``oth`` (their constraints C: X_j = 0, or X_t − coef X_n for the sliding rows
-        ``rows_fr`` of normals ``nidx``), cached by the pattern ``key``: they depend on
-        W_c⁻¹, the pattern and coef only (a refined solver shares its reference's)."""
+    ) -> tuple[FloatArray, np.ndarray] | MixedLU:  # fmt: skip
+        """The factors of the capacitance system C W_c⁻¹ Cᵀ of the replaced rows ``oth``
+        (their constraints C: X_j = 0, or X_t − coef X_n for the sliding rows ``rows_fr``
+        of normals ``nidx``; solved by :func:`_cap_solve`). ``Wo``: the columns ``oth``
+        of W_c⁻¹ (:func:`~pfeie.linalg.symmetric_columns`), which the caller gathered for
+        its correction.
+
+        LU factors cached by the pattern ``key`` (they depend on W_c⁻¹, the pattern and
+        coef only; a refined solver shares its reference's); but from
+        :data:`LARGE_CAPACITANCE` rows in a W_c⁻¹ of :data:`~pfeie.linalg.SYMMETRIC_MIN`
+        rows or more, where the patterns seldom repeat (3 cache hits in 610 systems of
+        ``benchmarks/interfaces3d.py``), the system is assembled in a work array, valid
+        until the next system: its transpose gathered from the rows of Woᵀ (the
+        contiguous axis), the sliding rows last (their correction a slice), factorised by
+        :class:`~pfeie.linalg.MixedLU`."""
+        if (Winv.shape[0] >= SYMMETRIC_MIN and oth.size >= LARGE_CAPACITANCE
+                and Wo.flags.f_contiguous):  # fmt: skip
+            k, nf = oth.size, fr.size
+            WoT = Wo.T
+            perm = np.r_[np.setdiff1d(np.arange(k), rows_fr, assume_unique=True), rows_fr]
+            capT = self._work.get("state", (k, k))
+            np.take(WoT, oth[perm], axis=1, out=capT, mode="clip")
+            if nf:
+                corr = np.take(WoT, nidx, axis=1, out=self._work.get("scaled", (k, nf)),
+                               mode="clip")  # fmt: skip
+                corr *= coef[None, :]
+                capT[:, k - nf :] -= corr
+            return MixedLU(capT.T, self._work, "state single", perm)
         cached = self._cache.get(b"w" + key)
         if cached is not None:
             return cast("tuple[FloatArray, np.ndarray]", cached[0])
@@ -586,10 +638,10 @@ class InterfaceSolver:
         bo = np.zeros(oth.size)
         if fr.size:
             bo[rows_fr] = x0
-        lu: tuple[FloatArray, np.ndarray] | None = None
-        Wo = symmetric_columns(Winv, oth)
+        lu: tuple[FloatArray, np.ndarray] | MixedLU | None = None
+        Wo = self._columns(Winv, oth)
         if oth.size:
-            lu = self._capacitance(key, Winv, oth, fr, coef, rows_fr, nidx)
+            lu = self._capacitance(key, Winv, Wo, oth, fr, coef, rows_fr, nidx)
 
         def constraints(X: FloatArray) -> FloatArray:
             cx = X[oth]
@@ -602,7 +654,7 @@ class InterfaceSolver:
             y = symmetric_product(Winv, r)
             if lu is None:
                 return np.asarray(y)
-            return np.asarray(y - Wo @ _lu_solve(lu, constraints(y) - ro))
+            return np.asarray(y - Wo @ _cap_solve(lu, constraints(y) - ro))
 
         X = ref_solve(b, bo)
         last = 0.0
@@ -1158,11 +1210,13 @@ class InterfaceSolver:
         ds = b0 / r
         if not o.size:
             return z, ds
-        k, c = o.size, B.shape[1]
+        k = o.size
         po = o // d  # the pair of each row o
         cols = (po[:, None] * d + np.arange(d)).ravel()  # the components of those pairs
         Lo = L.reshape(m * d, d)[o]  # (k, d): row o of L_k on its pair's components
         Ro = R.reshape(m * d, d)[o]
+        if Winv.shape[0] >= SYMMETRIC_MIN and o.size >= LARGE_CAPACITANCE:
+            return self._woodbury_step_large(Winv, o, cols, Lo, Ro, B, b0, z, ds)
         okey = o.tobytes()
         if self._gathered is None or self._gathered[0] != okey:
             # the blocks of W_c⁻¹ that the rows o need, kept while o does not change (the
@@ -1172,17 +1226,89 @@ class InterfaceSolver:
             self._gathered = (okey, cols_o[cols].reshape(k, d, k), cols_o)
         _, Wco, Wo = self._gathered
         cap = np.einsum("kj,kjl->kl", Lo, Wco)
-        pos = np.full(m * d, -1)
+        rhs = self._close_capacitance(cap, o, cols, Lo, Ro, B, z, ds)
+        y = np.linalg.solve(cap, rhs)
+        x = z + (Wo @ y) / r
+        ds[o] += y / r
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(ds))):
+            raise np.linalg.LinAlgError("singular Newton capacitance system")
+        return x, ds
+
+    def _close_capacitance(
+        self, cap: FloatArray, o: np.ndarray, cols: np.ndarray, Lo: FloatArray,
+        Ro: FloatArray, B: FloatArray, z: FloatArray, ds: FloatArray,
+    ) -> FloatArray:  # fmt: skip
+        """The Newton's capacitance system of :meth:`_woodbury_step` from ``cap`` =
+        L_o W_c⁻¹[:, o]: R_o's entries in the columns o added, divided by ρ (in place);
+        returns its right-hand side b_o − L_o z − R_o b₀/ρ (k, c), ``ds`` = b₀/ρ."""
+        d, k, c = self.d, o.size, B.shape[1]
+        pos = np.full(self.m * d, -1)
         pos[o] = np.arange(k)
         pc = pos[cols].reshape(k, d)
         has = pc >= 0
         rows = np.broadcast_to(np.arange(k)[:, None], pc.shape)
         np.add.at(cap, (rows[has], pc[has]), Ro[has])
-        cap /= r
-        rhs = (B[o] - np.einsum("kj,kjc->kc", Lo, z[cols].reshape(k, d, c))
-               - np.einsum("kj,kjc->kc", Ro, ds[cols].reshape(k, d, c)))  # fmt: skip
-        y = np.linalg.solve(cap, rhs)
-        x = z + (Wo @ y) / r
+        cap /= self.rho
+        return np.asarray(B[o] - np.einsum("kj,kjc->kc", Lo, z[cols].reshape(k, d, c))
+                          - np.einsum("kj,kjc->kc", Ro, ds[cols].reshape(k, d, c)))  # fmt: skip
+
+    def _woodbury_step_large(
+        self, Winv: FloatArray, o: np.ndarray, cols: np.ndarray, Lo: FloatArray,
+        Ro: FloatArray, B: FloatArray, b0: FloatArray, z: FloatArray, ds: FloatArray,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        """:meth:`_woodbury_step` with :data:`LARGE_CAPACITANCE` rows o or more in a W_c⁻¹
+        of :data:`~pfeie.linalg.SYMMETRIC_MIN` rows or more, where the capacitance
+        system's k × k entries and the M × k columns of W_c⁻¹ cost more to gather than to
+        use, and its LU dominates: the system is gathered by the nonzeros of L_o only (a row of a
+        held-open component is one row of W_c⁻¹, a sliding one at most d), along
+        W_c⁻¹'s contiguous axis (W_c⁻¹[j, o] = W_c⁻¹[o, j] to round-off), with the gather
+        kept while o and L_o's pattern do not change; it is solved by an LU in single
+        precision refined in double (:class:`~pfeie.linalg.MixedLU`: the same answer to
+        round-off, the LU in half the time); and x = W_c⁻¹ (b₀ + E_o y)/ρ is a second
+        product with W_c⁻¹ instead of a product with its gathered columns. The large
+        temporaries live in work arrays kept between calls
+        (:class:`~pfeie.linalg.Workspace`): fresh arrays of hundreds of MB cost page
+        faults that can exceed the arithmetic (docs/benchmarks.md)."""
+        d, r = self.d, self.rho
+        k = o.size
+        # the nonzeros of L_o by level: level t holds the t-th nonzero of each row that
+        # has more than t (level 0: every row), so that each level adds a slice of the
+        # gathered rows to distinct rows of the system
+        nzi, nzj = np.nonzero(Lo)
+        first = np.r_[True, nzi[1:] != nzi[:-1]]
+        level = np.arange(nzi.size) - np.maximum.accumulate(np.where(first, np.arange(nzi.size), 0))
+        order = np.argsort(level, kind="stable")
+        nzi, nzj, level = nzi[order], nzj[order], level[order]
+        key = o.tobytes() + nzi.tobytes() + nzj.tobytes()
+        if self._gathered is None or self._gathered[0] != key:
+            WT = Winv.T if Winv.flags.f_contiguous else Winv  # rows along the contiguous axis
+            src = cols.reshape(k, d)[nzi, nzj]
+            # W_c⁻¹[src, o] in two gathers into work arrays (the columns o of every row,
+            # then the rows src): a third of the time of one fancy-indexed gather
+            cols_o = np.take(WT, o, axis=1, out=self._work.get("columns", (WT.shape[0], k)),
+                           mode="clip")  # fmt: skip
+            G = np.take(cols_o, src, axis=0, out=self._work.get("gathered", (src.size, k)),
+                        mode="clip")  # fmt: skip
+            self._gathered = (key, G, np.zeros(0))
+        G = self._gathered[1]
+        coef = Lo[nzi, nzj][:, None]
+        ends = np.searchsorted(level, np.arange(1, d + 1))
+        cap = self._work.get("capacitance", (k, k))
+        if ends[0] == k:  # every row o has an L (all rows in the laws of :meth:`_local_map`)
+            np.multiply(G[:k], coef[:k], out=cap)
+        else:
+            cap[:] = 0.0
+            cap[nzi[: ends[0]]] = G[: ends[0]] * coef[: ends[0]]
+        for t in range(1, d):
+            lo, hi = ends[t - 1], ends[t]
+            if hi > lo:
+                scaled = self._work.get("scaled", (hi - lo, k))
+                cap[nzi[lo:hi]] += np.multiply(G[lo:hi], coef[lo:hi], out=scaled)
+        rhs = self._close_capacitance(cap, o, cols, Lo, Ro, B, z, ds)
+        y = MixedLU(cap, self._work, "newton").solve(rhs)
+        e = b0.copy()
+        e[o] += y
+        x = symmetric_product(Winv, e) / r
         ds[o] += y / r
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(ds))):
             raise np.linalg.LinAlgError("singular Newton capacitance system")

@@ -25,8 +25,11 @@ True
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 from scipy.linalg import blas
+from scipy.linalg.lapack import dgetrf, dgetrs, sgetrf, sgetrs
 
 from ..typing import FloatArray
 
@@ -34,6 +37,17 @@ SYMMETRIC_MIN = 1500
 """Rows from which :func:`symmetric_product` reads one triangle (``dsymv``) and
 :func:`symmetric_columns` gathers along the contiguous axis; below, a product costs less
 than the noise of a step (docs/benchmarks.md has the timings)."""
+
+log = logging.getLogger(__name__)
+
+MIXED_TOL = 1e-15
+"""A refinement of :class:`MixedLU` has converged when its last correction is at most
+this fraction of the solution (max norms): round-off."""
+MIXED_FLOOR = 1e-12
+"""Corrections that stop contracting below this fraction of the solution have reached
+the round-off of the residual (ε times the condition of the system): accepted."""
+MIXED_MAX_ITER = 10
+"""Corrections of a refinement before :class:`MixedLU` factorises in double precision."""
 
 _COLUMN_LOOP_MAX = 8
 """Up to this many right-hand sides, one ``dsymv`` per column (each half a sweep); beyond,
@@ -76,3 +90,106 @@ def symmetric_columns(A: FloatArray, idx: np.ndarray, small: str = "columns") ->
     if A.flags.f_contiguous and not A.flags.c_contiguous:
         return np.asarray(A[:, idx])
     return np.asarray(A[idx].T)
+
+
+class Workspace:
+    """Work arrays kept between calls, one per name, for the large temporaries of a
+    repeated dense computation (the 3D Newton's capacitance systems). A fresh array of
+    hundreds of MB is mapped anew by the allocator at each call, and its first touch
+    costs page faults that, on a virtual machine, can exceed the arithmetic done in it
+    (docs/benchmarks.md); a work array is mapped once. :meth:`get` returns a view of the
+    array ``name``, grown when a larger shape is asked for; its contents are undefined,
+    and the view is valid until the next :meth:`get` of the same name.
+
+    >>> w = Workspace()
+    >>> a = w.get("x", (2, 3)); a[:] = 1.0
+    >>> b = w.get("x", (3, 2))
+    >>> bool(np.shares_memory(a, b)), b.shape
+    (True, (3, 2))
+    """
+
+    def __init__(self) -> None:
+        self._arrays: dict[str, np.ndarray] = {}
+
+    def get(self, name: str, shape: tuple[int, ...], dtype: type = np.float64) -> np.ndarray:
+        """A C-ordered array of ``shape`` and ``dtype`` in the work array ``name``."""
+        n = int(np.prod(shape))
+        a = self._arrays.get(name)
+        if a is None or a.size < n or a.dtype != dtype:
+            grow = int(1.25 * a.size) if a is not None and a.dtype == dtype else n
+            a = np.empty(max(n, grow), dtype=dtype)
+            self._arrays[name] = a
+        return a[:n].reshape(shape)
+
+    def __getstate__(self) -> dict[str, object]:
+        return {"_arrays": {}}  # work arrays are not state: a copy starts empty
+
+
+class MixedLU:
+    """A large dense square system a y = b for a few solves: an LU of ``a`` in single
+    precision (LAPACK sgetrf, about half the time of dgetrf), each solve refined in double
+    precision, y ← y + LU⁻¹ (b − a y), until the correction is at the round-off of y
+    (:data:`MIXED_TOL`, or :data:`MIXED_FLOOR` where it stops contracting): the answer
+    of a double-precision LU wherever cond(a) ε_single < 1, at a few products with ``a``
+    (Higham, *Accuracy and Stability of Numerical Algorithms*, 2002, ch. 12). Where the
+    refinement does not contract, ``a`` is factorised in double precision, in place.
+
+    ``a`` (k, k), C- or Fortran-ordered, is kept (not copied) until then; the single
+    factors live in the work array ``name`` of ``work``, so the object is valid until the
+    next one of that name. ``perm``: the rows of ``a`` are those of the system in this
+    order (``solve`` takes b in the system's order). A singular ``a`` raises
+    :class:`numpy.linalg.LinAlgError`.
+
+    >>> rng = np.random.default_rng(1)
+    >>> a = rng.standard_normal((300, 300)) + 30 * np.eye(300); b = rng.standard_normal(300)
+    >>> f = MixedLU(a.copy(), Workspace(), "lu")
+    >>> y = f.solve(b)
+    >>> f.single, bool(np.abs(a @ y - b).max() < 1e-12)
+    (True, True)
+    """
+
+    def __init__(self, a: FloatArray, work: Workspace, name: str,
+                 perm: np.ndarray | None = None) -> None:  # fmt: skip
+        self.a, self.perm = a, perm
+        k = a.shape[0]
+        a32 = work.get(name, (k, k), np.float32)
+        # LAPACK factorises a Fortran-ordered array in place: a C-ordered one is its
+        # transpose, factorised as such, its solves transposed
+        self.trans = 0 if a.flags.f_contiguous and not a.flags.c_contiguous else 1
+        np.copyto(a32.T if self.trans == 0 else a32, a, casting="same_kind")
+        self.lu, self.piv, info = sgetrf(a32.T, overwrite_a=True)
+        self.single = info == 0
+        self.refinements = 0
+        if not self.single:
+            self._double()
+
+    def _double(self) -> None:
+        a = self.a
+        lu, piv, info = dgetrf(a if self.trans == 0 else a.T, overwrite_a=True)
+        if info > 0:
+            raise np.linalg.LinAlgError("singular system")
+        self.lu, self.piv, self.single = lu, piv, False
+
+    def solve(self, b: FloatArray) -> FloatArray:
+        """y of a y = b (b (k,) or (k, c))."""
+        if self.perm is not None:
+            b = b[self.perm]
+        if self.single:
+            a, lu, piv, tr = self.a, self.lu, self.piv, self.trans
+            y = sgetrs(lu, piv, b.astype(np.float32), trans=tr)[0].astype(np.float64)
+            last = np.inf
+            for _ in range(MIXED_MAX_ITER):
+                dy = sgetrs(lu, piv, (b - a @ y).astype(np.float32), trans=tr)[0]
+                self.refinements += 1
+                y += dy
+                ny, nd = float(np.abs(y).max(initial=0.0)), float(np.abs(dy).max(initial=0.0))
+                if nd <= MIXED_TOL * ny or (nd > 0.5 * last and nd <= MIXED_FLOOR * ny):
+                    return y
+                if nd > 0.5 * last or not np.isfinite(nd):
+                    break
+                last = nd
+            log.debug("single-precision LU of %d rows: the refinement stopped at %.1e of the "
+                      "solution; factorised in double precision", a.shape[0],
+                      nd / max(ny, 1e-300))  # fmt: skip
+            self._double()
+        return np.asarray(dgetrs(self.lu, self.piv, b, trans=self.trans)[0])
