@@ -254,7 +254,18 @@ def test_large_state_system_equals_the_cached_lu_path(
     w_free = rng.standard_normal((m, d)) * 1e-4
     w_free[:, -1] = -np.abs(w_free[:, -1])  # closing: compressive normal forces
     solver = InterfaceSolver(W, laws)
-    X, _ = solver._linear(st, prev, w_free, None)
+    used: list[int] = []
+    mixed = solver_module.MixedLU
+
+    class Spy(mixed):  # type: ignore[misc, valid-type]
+        def __init__(self, a, *args, **kw):  # type: ignore[no-untyped-def]
+            used.append(a.shape[0])
+            super().__init__(a, *args, **kw)
+
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "MixedLU", Spy)
+        X, _ = solver._linear(st, prev, w_free, None)
+    assert used == [1300]  # the large path was taken
     with monkeypatch.context() as mp:
         mp.setattr(solver_module, "LARGE_CAPACITANCE", 10**9)
         ref_solver = InterfaceSolver(W, laws)
@@ -266,3 +277,38 @@ def test_large_state_system_equals_the_cached_lu_path(
     sl = kind == 1
     expect = -mu[sl, None] * X[sl, -1:] * st.slip_dir[sl] - c[sl, None] * st.slip_dir[sl]
     assert np.abs(X[sl, :-1] - expect).max() <= 1e-14 * scale
+
+
+def test_solvers_sharing_work_arrays_keep_their_own_gathers(dynamic: pf.Dynamic) -> None:
+    """The solvers of :meth:`InterfaceSolver.with_laws` (the smooth forces and the step
+    impulses of one step) share their work arrays: a Newton step of one between two
+    equal steps of the other (k = 1,100 rows, the large path, whose gather is kept while
+    the set and pattern stay) leaves the other's second step equal to its first, to the
+    bit."""
+    step = dynamic.istep
+    assert step is not None
+    W = step.scale * step.W.matrix()
+    a = InterfaceSolver(W, step.laws)
+    b = a.with_laws(step.laws)
+    assert b._work is a._work
+    m, d, r = a.m, a.d, a.rho
+
+    def system(seed: int) -> tuple[np.ndarray, ...]:
+        rng = np.random.default_rng(seed)
+        kind = rng.permutation(np.repeat([0, 1, 2], [300, 100, m - 400]))
+        L, R = np.zeros((m, d, d)), np.zeros((m, d, d))
+        kin = np.zeros((m, d), dtype=bool)
+        L[kind == 0] = np.eye(d)
+        sl = kind == 1
+        L[sl, :-1, :-1] = 0.5 * np.eye(d - 1)
+        R[sl, :-1, :-1] = 0.5 * r * np.eye(d - 1)
+        R[sl, -1, -1] = r
+        kin[sl, -1] = True
+        R[kind == 2] = r * np.eye(d)
+        kin[kind == 2] = True
+        return L, R, kin, rng.standard_normal((m * d, 1))
+
+    first = a._woodbury_step(*system(1))[0]
+    b._woodbury_step(*system(2))
+    again = a._woodbury_step(*system(1))[0]
+    np.testing.assert_array_equal(again, first)

@@ -129,6 +129,10 @@ LARGE_CAPACITANCE = 1000
 state systems gather and solve it in work arrays, by a single-precision LU refined in
 double (:meth:`InterfaceSolver._woodbury_step_large`; below, the O(k³) of its LU costs
 less than the refinement and the second product: docs/benchmarks.md)."""
+_SINGULAR = (
+    "the interface system is singular: with the current pair states some block is "
+    "not restrained (a mechanism)"
+)
 REFINE_TOL = 1e-15
 """Iterative refinement on a reference W_c⁻¹: the state system is solved when the last
 correction, or the error it predicts (q/(1 − q) of it), is at most this fraction of X
@@ -171,8 +175,15 @@ def _lu_solve(lu: tuple[FloatArray, np.ndarray], b: FloatArray) -> FloatArray:
 
 def _cap_solve(f: tuple[FloatArray, np.ndarray] | MixedLU, b: FloatArray) -> FloatArray:
     """The solution of a capacitance system (:meth:`InterfaceSolver._capacitance`) for
-    ``b`` (overwritten)."""
-    return f.solve(b) if isinstance(f, MixedLU) else _lu_solve(f, b)
+    ``b`` (which the LU path overwrites); a singular system found by a
+    :class:`~pfeie.linalg.MixedLU` raises :class:`MechanismError`, as the state systems
+    do."""
+    if not isinstance(f, MixedLU):
+        return _lu_solve(f, b)
+    try:
+        return f.solve(b)
+    except np.linalg.LinAlgError as exc:
+        raise MechanismError(_SINGULAR) from exc
 
 
 def _rownorm(a: FloatArray) -> FloatArray:
@@ -568,7 +579,7 @@ class InterfaceSolver:
         """The columns ``oth`` of W_c⁻¹ (:func:`~pfeie.linalg.symmetric_columns`); for
         :data:`LARGE_CAPACITANCE` columns or more of a Fortran-ordered W_c⁻¹ of
         :data:`~pfeie.linalg.SYMMETRIC_MIN` rows or more, the same entries gathered into a
-        work array (Fortran-ordered, valid until the next state system): M × k entries,
+        work array (Fortran-ordered, valid until the next call): M × k entries,
         hundreds of MB at a few thousand open and sliding components."""
         M = Winv.shape[0]
         if M < SYMMETRIC_MIN or oth.size < LARGE_CAPACITANCE or not Winv.flags.f_contiguous:
@@ -607,7 +618,10 @@ class InterfaceSolver:
                                mode="clip")  # fmt: skip
                 corr *= coef[None, :]
                 capT[:, k - nf :] -= corr
-            return MixedLU(capT.T, self._work, "state single", perm)
+            try:
+                return MixedLU(capT.T, self._work, "state single", perm)
+            except np.linalg.LinAlgError as exc:
+                raise MechanismError(_SINGULAR) from exc
         cached = self._cache.get(b"w" + key)
         if cached is not None:
             return cast("tuple[FloatArray, np.ndarray]", cached[0])
@@ -1279,7 +1293,9 @@ class InterfaceSolver:
         level = np.arange(nzi.size) - np.maximum.accumulate(np.where(first, np.arange(nzi.size), 0))
         order = np.argsort(level, kind="stable")
         nzi, nzj, level = nzi[order], nzj[order], level[order]
-        key = o.tobytes() + nzi.tobytes() + nzj.tobytes()
+        # the gather is kept while o and L_o's pattern stay and its work array was not
+        # handed out again (the workspace is shared with the solvers of :meth:`with_laws`)
+        key = b"%d:" % self._work.uses("gathered") + o.tobytes() + nzi.tobytes() + nzj.tobytes()
         if self._gathered is None or self._gathered[0] != key:
             WT = Winv.T if Winv.flags.f_contiguous else Winv  # rows along the contiguous axis
             src = cols.reshape(k, d)[nzi, nzj]
@@ -1289,6 +1305,7 @@ class InterfaceSolver:
                            mode="clip")  # fmt: skip
             G = np.take(cols_o, src, axis=0, out=self._work.get("gathered", (src.size, k)),
                         mode="clip")  # fmt: skip
+            key = b"%d:" % self._work.uses("gathered") + key[key.index(b":") + 1 :]
             self._gathered = (key, G, np.zeros(0))
         G = self._gathered[1]
         coef = Lo[nzi, nzj][:, None]

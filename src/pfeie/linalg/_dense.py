@@ -44,8 +44,8 @@ MIXED_TOL = 1e-15
 """A refinement of :class:`MixedLU` has converged when its last correction is at most
 this fraction of the solution (max norms): round-off."""
 MIXED_FLOOR = 1e-12
-"""Corrections that stop contracting below this fraction of the solution have reached
-the round-off of the residual (ε times the condition of the system): accepted."""
+"""Corrections that stop contracting (shrink by less than half) below this fraction of
+the solution are taken for the round-off floor of the residual and accepted."""
 MIXED_MAX_ITER = 10
 """Corrections of a refinement before :class:`MixedLU` factorises in double precision."""
 
@@ -99,7 +99,7 @@ class Workspace:
     costs page faults that, on a virtual machine, can exceed the arithmetic done in it
     (docs/benchmarks.md); a work array is mapped once. :meth:`get` returns a view of the
     array ``name``, grown when a larger shape is asked for; its contents are undefined,
-    and the view is valid until the next :meth:`get` of the same name.
+    and the view is valid until the next :meth:`get` of the same name (:meth:`uses`).
 
     >>> w = Workspace()
     >>> a = w.get("x", (2, 3)); a[:] = 1.0
@@ -110,9 +110,11 @@ class Workspace:
 
     def __init__(self) -> None:
         self._arrays: dict[str, np.ndarray] = {}
+        self._uses: dict[str, int] = {}
 
     def get(self, name: str, shape: tuple[int, ...], dtype: type = np.float64) -> np.ndarray:
         """A C-ordered array of ``shape`` and ``dtype`` in the work array ``name``."""
+        self._uses[name] = self._uses.get(name, 0) + 1
         n = int(np.prod(shape))
         a = self._arrays.get(name)
         if a is None or a.size < n or a.dtype != dtype:
@@ -121,8 +123,14 @@ class Workspace:
             self._arrays[name] = a
         return a[:n].reshape(shape)
 
+    def uses(self, name: str) -> int:
+        """How many views of the work array ``name`` were handed out: a view kept beyond
+        one call (a cache) is still valid while this count has not changed, also when
+        the workspace is shared by several owners."""
+        return self._uses.get(name, 0)
+
     def __getstate__(self) -> dict[str, object]:
-        return {"_arrays": {}}  # work arrays are not state: a copy starts empty
+        return {"_arrays": {}, "_uses": {}}  # work arrays are not state: a copy starts empty
 
 
 class MixedLU:
@@ -136,8 +144,9 @@ class MixedLU:
 
     ``a`` (k, k), C- or Fortran-ordered, is kept (not copied) until then; the single
     factors live in the work array ``name`` of ``work``, so the object is valid until the
-    next one of that name. ``perm``: the rows of ``a`` are those of the system in this
-    order (``solve`` takes b in the system's order). A singular ``a`` raises
+    next one of that name; a fallback to double precision overwrites ``a``. ``perm``: the
+    rows of ``a`` are those of the system in this order (rows only: ``solve`` takes b in
+    the system's order and returns y in the unknowns' order). A singular ``a`` raises
     :class:`numpy.linalg.LinAlgError`.
 
     >>> rng = np.random.default_rng(1)
@@ -156,9 +165,13 @@ class MixedLU:
         # LAPACK factorises a Fortran-ordered array in place: a C-ordered one is its
         # transpose, factorised as such, its solves transposed
         self.trans = 0 if a.flags.f_contiguous and not a.flags.c_contiguous else 1
-        np.copyto(a32.T if self.trans == 0 else a32, a, casting="same_kind")
+        # scaled to a largest entry of one, so that single precision neither overflows
+        # nor underflows
+        self.scale = float(np.abs(a).max(initial=0.0))
+        np.multiply(a, 1.0 / self.scale if self.scale > 0 else 1.0,
+                    out=a32.T if self.trans == 0 else a32, casting="same_kind")  # fmt: skip
         self.lu, self.piv, info = sgetrf(a32.T, overwrite_a=True)
-        self.single = info == 0
+        self.single = info == 0 and self.scale > 0 and bool(np.isfinite(self.scale))
         self.refinements = 0
         if not self.single:
             self._double()
@@ -170,26 +183,38 @@ class MixedLU:
             raise np.linalg.LinAlgError("singular system")
         self.lu, self.piv, self.single = lu, piv, False
 
+    def _single_solve(self, r: FloatArray) -> FloatArray:
+        """a⁻¹ r through the single-precision factors, r scaled to a largest entry of
+        one per column before the cast (no underflow of a small residual)."""
+        s = np.abs(r).max(axis=0)
+        s = np.where(s > 0, s, 1.0)
+        x = sgetrs(self.lu, self.piv, (r / s).astype(np.float32), trans=self.trans)[0]
+        return np.asarray(x, dtype=np.float64) * (s / self.scale)
+
     def solve(self, b: FloatArray) -> FloatArray:
-        """y of a y = b (b (k,) or (k, c))."""
+        """y of a y = b (b (k,) or (k, c), not modified; y in the unknowns' order)."""
         if self.perm is not None:
             b = b[self.perm]
         if self.single:
-            a, lu, piv, tr = self.a, self.lu, self.piv, self.trans
-            y = sgetrs(lu, piv, b.astype(np.float32), trans=tr)[0].astype(np.float64)
-            last = np.inf
+            a = self.a
+            y = self._single_solve(b)
+            last = np.full(y.shape[1:], np.inf)
+            nd = ny = np.full(y.shape[1:], np.inf)
             for _ in range(MIXED_MAX_ITER):
-                dy = sgetrs(lu, piv, (b - a @ y).astype(np.float32), trans=tr)[0]
+                dy = self._single_solve(b - a @ y)
                 self.refinements += 1
                 y += dy
-                ny, nd = float(np.abs(y).max(initial=0.0)), float(np.abs(dy).max(initial=0.0))
-                if nd <= MIXED_TOL * ny or (nd > 0.5 * last and nd <= MIXED_FLOOR * ny):
+                if not np.all(np.isfinite(y)):
+                    break
+                # per column: at round-off, or stalled at the residual's round-off floor
+                ny, nd = np.abs(y).max(axis=0), np.abs(dy).max(axis=0)
+                if np.all((nd <= MIXED_TOL * ny) | ((nd > 0.5 * last) & (nd <= MIXED_FLOOR * ny))):
                     return y
-                if nd > 0.5 * last or not np.isfinite(nd):
+                if np.any(nd > 0.5 * last):
                     break
                 last = nd
             log.debug("single-precision LU of %d rows: the refinement stopped at %.1e of the "
                       "solution; factorised in double precision", a.shape[0],
-                      nd / max(ny, 1e-300))  # fmt: skip
+                      float(np.max(nd / np.maximum(ny, 1e-300))))  # fmt: skip
             self._double()
         return np.asarray(dgetrs(self.lu, self.piv, b, trans=self.trans)[0])
