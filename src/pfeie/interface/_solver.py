@@ -147,13 +147,12 @@ REFINE_MAX_ITER = 40
 """Corrections of one refinement before the solver factorises its own W_c."""
 
 
-def _lu_factor(a: FloatArray, overwrite: bool = False) -> tuple[FloatArray, np.ndarray]:
+def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """LAPACK's getrf, as :func:`scipy.linalg.lu_factor` calls it (the same bits), without
-    its per-call wrappers (the state systems are small and many); ``overwrite``: a
-    Fortran-ordered ``a`` is factorised in place."""
+    its per-call wrappers (the state systems are small and many)."""
     if not a.size:
         return sla.lu_factor(a, check_finite=False)
-    lu, piv, info = _getrf(a, overwrite_a=overwrite)
+    lu, piv, info = _getrf(a)
     if info < 0:
         raise ValueError(f"illegal value in {-info}th argument of internal getrf (lu_factor)")
     if info > 0:
@@ -1273,8 +1272,8 @@ class InterfaceSolver:
         """:meth:`_woodbury_step` with :data:`LARGE_CAPACITANCE` rows o or more in a W_c⁻¹
         of :data:`~pfeie.linalg.SYMMETRIC_MIN` rows or more, where the capacitance
         system's k × k entries and the M × k columns of W_c⁻¹ cost more to gather than to
-        use, and its LU dominates: the system is gathered by the nonzeros of L_o only (a row of a
-        held-open component is one row of W_c⁻¹, a sliding one at most d), along
+        use, and its LU dominates: the system is gathered by the nonzeros of L_o only (a
+        row of a held-open component is one row of W_c⁻¹, a sliding one at most d), along
         W_c⁻¹'s contiguous axis (W_c⁻¹[j, o] = W_c⁻¹[o, j] to round-off), with the gather
         kept while o and L_o's pattern do not change; it is solved by an LU in single
         precision refined in double (:class:`~pfeie.linalg.MixedLU`: the same answer to
@@ -1295,8 +1294,9 @@ class InterfaceSolver:
         nzi, nzj, level = nzi[order], nzj[order], level[order]
         # the gather is kept while o and L_o's pattern stay and its work array was not
         # handed out again (the workspace is shared with the solvers of :meth:`with_laws`)
-        key = b"%d:" % self._work.uses("gathered") + o.tobytes() + nzi.tobytes() + nzj.tobytes()
-        if self._gathered is None or self._gathered[0] != key:
+        key = o.tobytes() + nzi.tobytes() + nzj.tobytes()
+        if self._gathered is None or self._gathered[0] != key + b"%d" % self._work.uses(
+                "gathered"):  # fmt: skip
             WT = Winv.T if Winv.flags.f_contiguous else Winv  # rows along the contiguous axis
             src = cols.reshape(k, d)[nzi, nzj]
             # W_c⁻¹[src, o] in two gathers into work arrays (the columns o of every row,
@@ -1305,8 +1305,7 @@ class InterfaceSolver:
                            mode="clip")  # fmt: skip
             G = np.take(cols_o, src, axis=0, out=self._work.get("gathered", (src.size, k)),
                         mode="clip")  # fmt: skip
-            key = b"%d:" % self._work.uses("gathered") + key[key.index(b":") + 1 :]
-            self._gathered = (key, G, np.zeros(0))
+            self._gathered = (key + b"%d" % self._work.uses("gathered"), G, np.zeros(0))
         G = self._gathered[1]
         coef = Lo[nzi, nzj][:, None]
         ends = np.searchsorted(level, np.arange(1, d + 1))

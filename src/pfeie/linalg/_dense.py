@@ -167,7 +167,7 @@ class MixedLU:
         self.trans = 0 if a.flags.f_contiguous and not a.flags.c_contiguous else 1
         # scaled to a largest entry of one, so that single precision neither overflows
         # nor underflows
-        self.scale = float(np.abs(a).max(initial=0.0))
+        self.scale = max(float(a.max(initial=0.0)), -float(a.min(initial=0.0)))  # no |a| copy
         np.multiply(a, 1.0 / self.scale if self.scale > 0 else 1.0,
                     out=a32.T if self.trans == 0 else a32, casting="same_kind")  # fmt: skip
         self.lu, self.piv, info = sgetrf(a32.T, overwrite_a=True)
@@ -206,11 +206,14 @@ class MixedLU:
                 y += dy
                 if not np.all(np.isfinite(y)):
                     break
-                # per column: at round-off, or stalled at the residual's round-off floor
+                # per column: at round-off, or stalled at the residual's round-off floor;
+                # a column that stalls above that floor stops the refinement
                 ny, nd = np.abs(y).max(axis=0), np.abs(dy).max(axis=0)
-                if np.all((nd <= MIXED_TOL * ny) | ((nd > 0.5 * last) & (nd <= MIXED_FLOOR * ny))):
+                stalled = nd > 0.5 * last
+                done = (nd <= MIXED_TOL * ny) | (stalled & (nd <= MIXED_FLOOR * ny))
+                if np.all(done):
                     return y
-                if np.any(nd > 0.5 * last):
+                if np.any(stalled & ~done):
                     break
                 last = nd
             log.debug("single-precision LU of %d rows: the refinement stopped at %.1e of the "
