@@ -191,6 +191,69 @@ def test_safety_factor_of_a_joint_with_round_off_in_its_normals(cell: str) -> No
     assert fs == pytest.approx(np.tan(np.radians(PHI)) / np.tan(t), rel=3e-12)
 
 
+@pytest.mark.parametrize("cell", ["quad8", "quad9", "triangle6"])
+def test_cohesion_of_a_touching_end_pair_counts_in_the_safety_factor(cell: str) -> None:
+    """A 2 m × 0.5 m block on an existing joint (c_r = 20 kPa, φ = 30°) under gravity
+    tilted by 35°: the resultant stays within the base's middle third, so the whole base
+    is in compression and the hand computation gives FS = (c B + μ W cos θ)/(W sin θ)
+    = 3.786565. On quadratic faces the pair at the joint's upslope end carries no force
+    and parts by 3e-8 m (the corner effect of node-to-node pairs); counted as cracked, its
+    c A dropped out of the capacity and FS read 3.724856 (−1.6 %). Touching pairs (open by
+    less than OPEN_CRACK_MIN_M, the threshold of the open share) keep their cohesion: FS
+    equals the hand value to 1e-14 (measured 1.1e-15), in the law and in the summary."""
+    from pfeie._job import _static_joints
+    from pfeie.interface import OPEN_CRACK_MIN_M
+
+    c, theta, B, H = 2e4, np.radians(35.0), 2.0, 0.5
+    m = block_on_base(joint=pf.Joint(phi=PHI, c_r=c, initial="broken"), gravity=False,
+                      width=B, height=H, n=8, ny=2, cell=cell)  # fmt: skip
+    m.add_gravity(direction=[np.sin(theta), -np.cos(theta)])
+    st = pf.solve_static(m)
+    assert st.pairs is not None
+    P = st.pairs
+    gap = P.w[P.state == OPEN, -1]
+    assert gap.size == 1 and 0.0 < gap[0] < 1e-2 * OPEN_CRACK_MIN_M  # the touching end pair
+    W = 2400.0 * 9.81 * B * H
+    hand = (c * B + np.tan(np.radians(PHI)) * W * np.cos(theta)) / (W * np.sin(theta))
+    fs = m.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path,
+                                   opening=P.w[:, -1])[0]  # fmt: skip
+    assert fs == pytest.approx(hand, rel=1e-14)
+    assert _static_joints(m, st)["joint"]["safety_factor"] == pytest.approx(hand, rel=1e-14)
+    cracked = m.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path)[0]
+    assert cracked < hand * (1 - 0.01)  # the cohesion of the end pair, when it counts open
+
+
+def test_a_lifting_end_on_a_cohesive_broken_joint_is_explained() -> None:
+    """A 2 m × 1 m block (8 × 2 Q8) on an existing joint with c_r = 20 kPa, φ = 30°,
+    gravity tilted by 35°: the resultant leaves the middle third (e = 0.35 m > B/6), so
+    the base lifts over its last 5 cm, far from sliding (FS 2.3 by hand). A broken pair
+    carries its cohesion only while it touches; the pairs at the edge of the lift would
+    have to touch with no normal force while carrying shear, and no state pattern solves
+    the problem (every pattern of the four pairs there was tried: each leaves a pair in
+    tension or penetrating). The error says so and names the remedy; the same joint
+    bonded until it breaks (initial = "intact", σ_t = 10 kPa) is solved."""
+    def model(joint: pf.Joint) -> pf.Model:
+        m = block_on_base(joint=joint, gravity=False, width=2.0, height=1.0, n=8, ny=2,
+                          cell="quad8")  # fmt: skip
+        t = np.radians(35.0)
+        m.add_gravity(direction=[np.sin(t), -np.cos(t)])
+        return m
+
+    with pytest.raises(InterfaceError, match="residual cohesion") as exc:
+        pf.solve_static(model(pf.Joint(phi=PHI, c_r=2e4, initial="broken")))
+    assert "Pairs [1, 9] are broken" in str(exc.value)
+    assert 'initial = "intact"' in str(exc.value)
+    st = pf.solve_static(model(pf.Joint(phi=PHI, c=2e4, tensile=1e4, c_r=2e4,
+                                        initial="intact")))  # fmt: skip
+    assert st.pairs is not None
+    X = st.pairs.X
+    W = 2400.0 * 9.81 * 2.0
+    t = np.radians(35.0)  # equilibrium of the block: ΣN = W cos θ, ΣT = W sin θ (measured
+    # 1.1e-15 and 7.8e-16)
+    assert X[:, -1].sum() == pytest.approx(W * np.cos(t), rel=1e-14)
+    assert -X[:, 0].sum() == pytest.approx(W * np.sin(t), rel=1e-14)
+
+
 def test_safety_factor_sums_the_shears_as_global_vectors() -> None:
     """Two pairs of one 3D joint whose frames differ by a quarter turn about the normal
     (as on a joint that turns, where a pair takes its own axis): the same global shear of

@@ -41,7 +41,7 @@ from .dynamics import (
     envelope_extremes,
 )  # fmt: skip
 from .errors import InputError, ModelError, PfeieError, ResultsError
-from .interface import OPEN, SLIDE, SolverSettings
+from .interface import OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
 from .io import (
     CheckpointWriter,
     Job,
@@ -54,7 +54,7 @@ from .io import (
     write_paraview,
 )  # fmt: skip
 from .model import Model
-from .plot import OPEN_CRACK_MIN_M, solver_line
+from .plot import solver_line
 from .solvers import StaticResult, solve_static
 from .typing import FloatArray
 
@@ -288,7 +288,7 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
     # a shear at the round-off of the joint's forces (1e-12 of their sum) is no shear
     noise = 1e-12 * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
-                                       noise)  # fmt: skip
+                                       noise, opening=st.w[:, -1])  # fmt: skip
     out = {}
     for k, name in enumerate(P.names):
         idx = P.of(name)

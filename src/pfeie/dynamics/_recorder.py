@@ -557,10 +557,10 @@ class Recorder:
             size = size + np.abs(st.lam).sum(axis=1)
         noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
         args = (P.state == OPEN, P.broken, P.path, an.model.pairs.frame, noise)
-        on_x = laws.safety_factor(P.X, *args)
+        on_x = laws.safety_factor(P.X, *args, opening=P.w[:, -1])
         if st.lam is None:
             return on_x
-        on_lam = laws.safety_factor(st.lam, *args)
+        on_lam = laws.safety_factor(st.lam, *args, opening=P.w[:, -1])
         return np.where(np.isinf(on_lam), on_x, on_lam)
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:

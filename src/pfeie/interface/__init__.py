@@ -16,15 +16,23 @@ problems) live in :mod:`pfeie.coupling`.
 """
 
 from ._fclib import coulomb_laws, load_fclib, natural_map_residual
-from ._laws import Joint, JointLaw, MohrCoulomb, PairLaws, SlipWeakening, Strength
+from ._laws import (
+    OPEN_CRACK_MIN_M,
+    Joint,
+    JointLaw,
+    MohrCoulomb,
+    PairLaws,
+    SlipWeakening,
+    Strength,
+)
 from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
 from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "INTACT", "OPEN", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver", "Joint", "JointLaw",
-    "MohrCoulomb", "PairGeometry", "PairLaws", "PairState", "SlipWeakening", "SolveInfo",
-    "SolverSettings", "SplitMesh", "Strength", "coulomb_laws", "load_fclib",
-    "natural_map_residual", "split",
+    "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver",
+    "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
+    "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "coulomb_laws",
+    "load_fclib", "natural_map_residual", "split",
 ]  # fmt: skip

@@ -83,6 +83,16 @@ class JointLaw(Protocol):
         ...
 
 
+#: m, the least normal opening of a pair that counts as a crack: in the open share, the
+#: open crack (``max_open_length_m``, ``max_open_area_m2``) and the joint figures of a run,
+#: and in a joint's sliding safety factor, whose capacity keeps the c A of the pairs open
+#: by less (:meth:`PairLaws.safety_factor`). 0.01 mm, the resolution of the printed
+#: maximum opening: a pair with no contact force but an opening below it (round-off, the
+#: micro-gaps of the corner nodes of quadratic faces, 1e-8 to 1e-7 m, or the free end of a
+#: joint) is not a crack.
+OPEN_CRACK_MIN_M = 1e-5
+
+
 @dataclass(frozen=True)
 class MohrCoulomb:
     """Mohr-Coulomb joint with a tension cut-off and residual strength.
@@ -281,6 +291,7 @@ class PairLaws:
     def safety_factor(
         self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
         frames: FloatArray | None = None, noise: float | FloatArray = 0.0,
+        opening: FloatArray | None = None,
     ) -> FloatArray:  # fmt: skip
         """The sliding safety factor of each interface (n_interfaces,), the ratio of the
         joint's shear capacity to its shear force (USACE EM 1110-2-2100; FERC Ch. III):
@@ -291,9 +302,14 @@ class PairLaws:
         path for slip-dependent laws), N its normal force (compression +) and T its shear
         force (vector sum: the joint slides as a whole; with the pairs' ``frames`` (m, d, d)
         the shears are summed as global vectors, Σ t_iᵀ T_i, as a joint whose frames turn
-        along it needs, else their local components are added); open pairs carry nothing, in the
-        capacity and in the shear (a force recorded on a pair that ends its step open is an
-        impact impulse over the step, not a shear the joint carries). ∞ when the joint
+        along it needs, else their local components are added); open pairs carry no shear (a
+        force recorded on a pair that ends its step open is an impact impulse over the step,
+        not a shear the joint carries) and no capacity, except, given the pairs' normal
+        ``opening`` (m,) in m, those open by at most :data:`OPEN_CRACK_MIN_M`: they touch
+        (the zero-force pair at the free end of a joint, the corner pairs of quadratic faces
+        parted by 1e-8 m under compression) and keep their c A, as in the hand computation,
+        whose cohesion acts on the base that is not cracked, and as in the open share and
+        the cracked length of the summary, which use the same threshold. ∞ when the joint
         carries no shear: ‖Σ T‖ ≤ ``noise`` (N; a number, or one per interface), the
         round-off of its forces: a shear of that order gives a ratio of round-off (0.02
         was seen on a pair whose smooth force was 5e-16 N).
@@ -307,9 +323,18 @@ class PairLaws:
         >>> op = np.array([False, True])                   # the second pair open
         >>> round(float(law.safety_factor(X, op, ~no, np.zeros(2))[0]), 6)  # 100/30
         3.333333
+        >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
+        ...                                [MohrCoulomb(phi=45.0, c_r=5.0)], 2)
+        >>> X[1] = 0.0                                     # open, carrying nothing
+        >>> round(float(law.safety_factor(X, op, ~no, np.zeros(2))[0]), 6)  # (5 + 100)/30
+        3.5
+        >>> gaps = np.array([0.0, 1e-8])                   # the open pair touches
+        >>> round(float(law.safety_factor(X, op, ~no, np.zeros(2), opening=gaps)[0]), 6)
+        3.666667
         """
         c, mu, _ = self.strength(broken, path)
-        cap = np.where(open_, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
+        cracked = open_ if opening is None else open_ & (opening > OPEN_CRACK_MIN_M)
+        cap = np.where(cracked, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
         T = np.where(open_[:, None], 0.0, X[:, :-1])
         if frames is not None:  # the tangential rows of the frames: local → global
             T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
@@ -347,4 +372,5 @@ class PairLaws:
         return PairState.initial(self.initially_broken, self.gap, dim)
 
 
-__all__ = ["Joint", "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening", "Strength"]
+__all__ = ["OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening",
+           "Strength"]  # fmt: skip

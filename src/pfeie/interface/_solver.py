@@ -1501,7 +1501,32 @@ class InterfaceSolver:
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
             f"{cyc_txt}; largest residuals at pairs {worst.tolist()}."
+            + self._touching(cyc, H if cyc.size else np.zeros((0, self.m)), st, prev)
             + (f" {self.hint}" if self.hint else "")
+        )
+
+    def _touching(
+        self, cyc: np.ndarray, H: np.ndarray, st: PairState, prev: PairState
+    ) -> str:  # fmt: skip
+        """The reason, if it applies, why the pairs ``cyc`` cycle between contact and open:
+        broken pairs with a residual cohesion. Such a pair carries c A while it touches and
+        nothing once open, so at the edge of a lifting zone a pair that would touch with
+        no normal force while carrying shear has no state of the law, and the discrete
+        problem can have no solution at all, far from the joint's sliding limit (seen
+        statically on a block of safety factor 2.3 whose base lifts over its last 2.5 %)."""
+        if not cyc.size:
+            return ""
+        c = self.props.strength(st.broken, prev.path)[0]
+        toggles = (H[:, cyc] == OPEN).any(axis=0) & (H[:, cyc] != OPEN).any(axis=0)
+        hit = cyc[toggles & st.broken[cyc] & (c[cyc] > 0)]
+        if not hit.size:
+            return ""
+        return (
+            f" Pairs {hit[:10].tolist()} are broken with a residual cohesion and alternate "
+            "between contact and open: a broken pair carries its cohesion only while it "
+            "touches, so where a joint starts to lift the law may leave no solution, even far "
+            'from sliding; a joint bonded until it breaks (initial = "intact" with a '
+            "tensile strength) or another mesh of the lifting end avoids it."
         )
 
     def _natural_map(

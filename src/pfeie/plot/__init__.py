@@ -1,7 +1,7 @@
 """Figures and the HTML report of a results file."""
 
+from ..interface import OPEN_CRACK_MIN_M
 from ._plots import (
-    OPEN_CRACK_MIN_M,
     plot_all,
     plot_energy,
     plot_joint,

@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import PfeieError, ResultsError
+from ..interface import OPEN_CRACK_MIN_M
 from ..io import Results, output_folder
 from ..model import ResponseSpectrum
 
@@ -274,13 +275,6 @@ def _arc_label(x: np.ndarray, order: np.ndarray) -> str:
     start = ", ".join(f"{v + 0.0:.4g}" for v in x[order[0]])  # no "-0"
     return f"position along the joint (m), 0 at the pair at ({start}) m"
 
-
-#: m, the least opening of a pair that counts in the open crack of the summary
-#: (``max_open_length_m``, ``max_open_area_m2``) and of ``joint_<name>.png``: 0.01 mm, the
-#: resolution of the printed maximum opening. A pair with no contact force but an opening
-#: below it (round-off, or the micro-gaps of the corner nodes of quadratic faces, 1e-7 m)
-#: is not an open crack.
-OPEN_CRACK_MIN_M = 1e-5
 
 #: m, the least opening drawn as such in the joint figures: a smaller one (round-off of
 #: a closed pair, 1e-12 m and below) is drawn as 0. The figures only: the results file

@@ -19,9 +19,9 @@ import numpy as np
 
 from ..dynamics import envelope_extremes
 from ..errors import InputError, PfeieError, ResultsError
+from ..interface import OPEN_CRACK_MIN_M
 from ..io import Results, output_file
 from ._plots import (
-    OPEN_CRACK_MIN_M,
     open_crack,
     plot_all,
     plot_fields,
@@ -133,7 +133,8 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         X = np.asarray(res.f["static/X"])
         fs_static = job.model.pair_laws.safety_factor(
             X, np.asarray(res.f["static/state"]) == OPEN, np.asarray(res.f["static/broken"]),
-            np.zeros(X.shape[0]), job.model.pairs.frame)  # fmt: skip
+            np.zeros(X.shape[0]), job.model.pairs.frame,
+            opening=np.asarray(res.f["static/w"][:, -1]))  # fmt: skip
     rows = []
     for name in res.interface_names:
         pr = res.static_pairs(name)
