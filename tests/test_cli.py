@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from pfeie import __version__
 from pfeie.cli import main
 from pfeie.errors import InputError, RecordError
 from pfeie.io import ModelFile, Results, load_job, reference_rows
@@ -121,7 +122,7 @@ def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> No
 
 def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--version"]) == 0
-    assert "pfeie 0.3.1" in capsys.readouterr().out
+    assert f"pfeie {__version__}" in capsys.readouterr().out
     for cmd in (["--help"], ["run", "--help"], ["check", "--help"], ["schema", "--help"]):
         assert main(cmd) == 0
         out = capsys.readouterr().out

@@ -124,3 +124,43 @@ def test_a_new_law_needs_no_change_of_the_solver() -> None:
         slips.append(-float(slip_x(res)[-1] - slip_x(res)[0]))
     assert slips[0] == pytest.approx(slips[1], rel=5e-4)
     assert slips[0] == pytest.approx(u_ref, rel=3e-3)
+
+
+def test_the_natural_maps_jacobian_on_the_cohesion_ramp() -> None:
+    """The proximal Newton's natural map (pfeie.interface._proximal.natural_map) and its
+    blocks A = ∂F/∂s, B = ∂F/∂X against central differences (h = 1e-7), in 3D, for
+    broken pairs on the residual cohesion's ramp (X_n < κ c A), on the cone, without
+    cohesion, and an intact pair: to 1e-6 of each entry's size (measured 2.6e-7: the
+    differences' own error, the ramp's slope being 1/κ = 1000)."""
+    from pfeie.interface import COHESION_RAMP
+    from pfeie.interface._proximal import PairLaw, natural_map
+
+    rng = np.random.default_rng(0)
+    m, d = 6, 3
+    c = np.array([100.0, 100.0, 100.0, 100.0, 0.0, 100.0])
+    law = PairLaw(c, np.full(m, 0.6), np.zeros(m), np.arange(m) != 5, np.zeros(m, dtype=bool),
+                  np.zeros(m, dtype=bool), np.zeros((m, d)), np.zeros((m, d - 1)))  # fmt: skip
+    X = np.zeros((m, d))
+    X[:, -1] = [0.05, 0.05, 5.0, 0.02, 0.05, 0.05]  # κ c = 0.1: pairs 0, 1, 3 on the ramp
+    assert (X[:4, -1] < COHESION_RAMP * c[:4]).sum() == 3
+    X[:, :-1] = rng.normal(size=(m, d - 1)) * 200.0
+    s = np.zeros((m, d))
+    s[:, -1] = [-1e-3, 1e-3, -1e-3, -1e-3, -1e-3, 0.0]  # pair 1 separated: no shear
+    s[:, :-1] = rng.normal(size=(m, d - 1)) * 1e-2
+    r = np.full(m, 1e3)
+    _, A, B = natural_map(X, s, law, r)
+    h = 1e-7
+    worst = 0.0
+    for k in range(m):
+        for j in range(d):
+            for arr, jac in ((X, B), (s, A)):
+                up, dn = arr.copy(), arr.copy()
+                up[k, j] += h
+                dn[k, j] -= h
+                args_up = (up, s) if arr is X else (X, up)
+                args_dn = (dn, s) if arr is X else (X, dn)
+                fd = (natural_map(*args_up, law, r, jac=False)[0][k]
+                      - natural_map(*args_dn, law, r, jac=False)[0][k]) / (2 * h)  # fmt: skip
+                err = np.abs(fd - jac[k, :, j]).max() / max(1.0, np.abs(fd).max())
+                worst = max(worst, float(err))
+    assert worst <= 1e-6

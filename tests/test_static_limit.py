@@ -223,35 +223,38 @@ def test_cohesion_of_a_touching_end_pair_counts_in_the_safety_factor(cell: str) 
     assert cracked < hand * (1 - 0.01)  # the cohesion of the end pair, when it counts open
 
 
-def test_a_lifting_end_on_a_cohesive_broken_joint_is_explained() -> None:
-    """A 2 m × 1 m block (8 × 2 Q8) on an existing joint with c_r = 20 kPa, φ = 30°,
+@pytest.mark.parametrize(("cell", "n"), [("quad8", 8), ("quad", 4)])
+def test_a_lifting_end_on_a_cohesive_broken_joint(cell: str, n: int) -> None:
+    """A 2 m × 1 m block (n × 2 cells) on an existing joint with c_r = 20 kPa, φ = 30°,
     gravity tilted by 35°: the resultant leaves the middle third (e = 0.35 m > B/6), so
-    the base lifts over its last 5 cm, far from sliding (FS 2.3 by hand). A broken pair
-    carries its cohesion only while it touches; the pairs at the edge of the lift would
-    have to touch with no normal force while carrying shear, and no state pattern solves
-    the problem (every pattern of the four pairs there was tried: each leaves a pair in
-    tension or penetrating). The error says so and names the remedy; the same joint
-    bonded until it breaks (initial = "intact", σ_t = 10 kPa) is solved."""
-    def model(joint: pf.Joint) -> pf.Model:
-        m = block_on_base(joint=joint, gravity=False, width=2.0, height=1.0, n=8, ny=2,
-                          cell="quad8")  # fmt: skip
-        t = np.radians(35.0)
-        m.add_gravity(direction=[np.sin(t), -np.cos(t)])
-        return m
+    the base lifts over its last centimetres, far from sliding (FS 2.3 by hand). Without
+    the cohesion ramp a broken pair's capacity jumped from c A to 0 as it parted, the
+    pairs at the edge of the lift would have had to touch with no normal force while
+    carrying shear, and no state pattern solved the problem (each leaves a pair in
+    tension or penetrating; both meshes failed). With it (pfeie.interface.cohesion_ramp)
+    the analysis holds the block: ΣN = W cos θ and ΣT = W sin θ to 1e-14 (measured
+    1.1e-15), every pair within its ramped cone, and the pairs on the ramp carry their
+    shear on a normal force below κ c A."""
+    from pfeie.interface import COHESION_RAMP, OPEN, cohesion_ramp
 
-    with pytest.raises(InterfaceError, match="residual cohesion") as exc:
-        pf.solve_static(model(pf.Joint(phi=PHI, c_r=2e4, initial="broken")))
-    assert "Pairs [1, 9] are broken" in str(exc.value)
-    assert 'initial = "intact"' in str(exc.value)
-    st = pf.solve_static(model(pf.Joint(phi=PHI, c=2e4, tensile=1e4, c_r=2e4,
-                                        initial="intact")))  # fmt: skip
-    assert st.pairs is not None
-    X = st.pairs.X
-    W = 2400.0 * 9.81 * 2.0
-    t = np.radians(35.0)  # equilibrium of the block: ΣN = W cos θ, ΣT = W sin θ (measured
-    # 1.1e-15 and 7.8e-16)
+    c, t = 2e4, np.radians(35.0)
+    m = block_on_base(joint=pf.Joint(phi=PHI, c_r=c, initial="broken"), gravity=False,
+                      width=2.0, height=1.0, n=n, ny=2, cell=cell)  # fmt: skip
+    m.add_gravity(direction=[np.sin(t), -np.cos(t)])
+    st = pf.solve_static(m)
+    assert st.pairs is not None and m.pairs is not None
+    P = st.pairs
+    X, W = P.X, 2400.0 * 9.81 * 2.0
     assert X[:, -1].sum() == pytest.approx(W * np.cos(t), rel=1e-14)
     assert -X[:, 0].sum() == pytest.approx(W * np.sin(t), rel=1e-14)
+    cA, mu, tA = m.pair_laws.strength(P.broken, P.path)
+    on, tau, _ = cohesion_ramp(cA, mu, tA, X[:, -1], P.broken)
+    cap = np.where(on, tau, cA + mu * np.maximum(X[:, -1], 0.0))
+    closed = P.state != OPEN
+    # within the cone to the solver's tolerance (1e-8 of the forces' scale)
+    assert (np.abs(X[closed, 0]) <= cap[closed] + 1e-8 * np.abs(X).max()).all()
+    assert (on & closed).any()  # a pair at the edge of the lift touches, on the ramp
+    assert (X[on & closed, -1] < COHESION_RAMP * cA[on & closed]).all()
 
 
 def test_safety_factor_sums_the_shears_as_global_vectors() -> None:

@@ -42,7 +42,15 @@ from .errors import (
 from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings
 from .mesh import Mesh, box, graded, rectangle
 from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh, Reservoir
-from .solvers import ModalResult, StaticResult, factorize, modal, solve_static
+from .solvers import (
+    ModalResult,
+    StaticResult,
+    YieldCoefficient,
+    factorize,
+    modal,
+    solve_static,
+    yield_coefficient,
+)
 from .study import Study, StudyTable
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
@@ -52,6 +60,6 @@ __all__ = [
     "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
-    "StaticResult", "Study", "StudyTable", "__version__", "box", "factorize", "graded", "modal",
-    "rectangle", "solve_static",
+    "StaticResult", "Study", "StudyTable", "YieldCoefficient", "__version__", "box", "factorize",
+    "graded", "modal", "rectangle", "solve_static", "yield_coefficient",
 ]  # fmt: skip

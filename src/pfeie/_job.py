@@ -30,6 +30,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ._version import __version__
+from .coupling import StaticInterfaceProblem
 from .dynamics import (
     Checkpoint,
     Dynamic,
@@ -55,7 +56,7 @@ from .io import (
 )  # fmt: skip
 from .model import Model
 from .plot import solver_line
-from .solvers import StaticResult, solve_static
+from .solvers import StaticResult, horizontal, solve_static, yield_coefficient
 from .typing import FloatArray
 
 log = logging.getLogger(__name__)
@@ -186,10 +187,14 @@ def _run(
     t0 = time.perf_counter()
     # the dynamic analysis first: a setting it refuses is an input error, found before work
     dyn = dynamic_analysis(job) if a.dynamic else None
+    if a.yield_coefficient and model.pairs is None:
+        raise InputError(f"{job.path}: analysis.yield_coefficient: the model has no "
+                         "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
     if resume and dyn is None:
         raise InputError(f"{job.path}: analysis: --resume continues a dynamic run; this "
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
     ck: Checkpoint | None = None
+    yields: dict[str, dict[str, Any]] = {}
     if resume:
         try:
             writer, ck = reopen_results(out / "results.h5", job)
@@ -205,8 +210,12 @@ def _run(
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
+            if a.yield_coefficient:
+                yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance))
         elif a.static and model.uplifts:  # resumed: the uplift of the static state again
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
+        if a.yield_coefficient and ck is not None:  # resumed: the summary keeps it
+            yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance))
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
         raise
@@ -250,6 +259,8 @@ def _run(
         if ck is not None:  # the summary of the whole run, not of its resumed part
             result = history(writer, result.completed, result.stop_reason)
     summary = summarize(job, static, result)
+    if yields:
+        summary["yield_coefficient"] = yields
     summary["stopped"] = stopped
     summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
     writer.close(stopped is None, stopped, summary)
@@ -275,6 +286,33 @@ def dynamic_analysis(job: Job) -> Dynamic:
         return Dynamic(job.model, settings=settings)
     except ModelError as exc:
         raise InputError(f"{job.path}: analysis: {exc}") from None
+
+
+def _yield_coefficients(job: Job, settings: SolverSettings) -> dict[str, dict[str, Any]]:
+    """The yield coefficient along +x and −x, made horizontal (``analysis.yield_coefficient``;
+    :func:`pfeie.yield_coefficient`), with one static problem for both: per direction its
+    unit vector, ``k_y`` (the last coefficient held, None if held up to the largest tried),
+    ``k_affine`` (the margins' affine root from the last two held), ``k_fail``, ``limit``,
+    the governing ``joint`` and its safety factor at k_y, and the analyses it took."""
+    model = job.model
+    problem = StaticInterfaceProblem(model, model.system(), settings=settings)
+    out: dict[str, dict[str, Any]] = {}
+    for label, sign in (("+x", 1.0), ("-x", -1.0)):
+        try:
+            _, iota = horizontal(model)
+            y = yield_coefficient(model, sign * iota, problem=problem)
+        except ModelError as exc:
+            raise InputError(f"{job.path}: analysis.yield_coefficient: {exc}") from None
+        out[label] = {
+            "direction": [round(float(v), 12) + 0.0 for v in y.direction],
+            "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
+            "joint": y.joint,
+            "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
+            "analyses": y.analyses,
+        }  # fmt: skip
+        log.info("yield coefficient along %s: k_y %s (%s, %d static analyses)", label, y.k_y,
+                 y.limit, y.analyses)  # fmt: skip
+    return out
 
 
 def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float | None]]:
@@ -544,6 +582,16 @@ def format_summary(s: dict[str, Any]) -> str:
             f"{1e3 * j['max_opening_m']:.2f} mm, sliding {100 * j['sliding_share']:.0f} %, "
             f"open {100 * j['open_share']:.0f} %"
         )
+    for label, y in s.get("yield_coefficient", {}).items():
+        k, ka = y["k_y"], y["k_affine"]
+        lines.append(
+            f"  yield {label:<10} "
+            + ("k_y > the largest tried" if k is None else
+               f"k_y {k:.4g} ({y['limit']}, joint {y['joint']!r}, FS "
+               + ("∞" if y["safety_factor"] is None else f"{y['safety_factor']:.4g}") + ")")
+            + ("" if ka is None or k is None or y["limit"] == "sliding" else
+               f"; affine estimate {ka:.4g}")
+        )  # fmt: skip
     for name, j in s.get("joints", {}).items():
         lines.append(
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "

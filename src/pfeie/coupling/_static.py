@@ -114,10 +114,12 @@ class StaticInterfaceProblem:
                                       regularize=model.pairs.regularization,
                                       hint="")  # fmt: skip
 
-    def solve(self, f_free: FloatArray, label: str = "static analysis") -> tuple[
-        FloatArray, PairState
-    ]:  # fmt: skip
-        """Free-DOF displacements and the pair state under the free-DOF loads ``f_free``."""
+    def solve(
+        self, f_free: FloatArray, label: str = "static analysis", start: PairState | None = None
+    ) -> tuple[FloatArray, PairState]:
+        """Free-DOF displacements and the pair state under the free-DOF loads ``f_free``;
+        ``start``: the pair solver's first iterate (the state under nearby loads), else
+        the initial state."""
         d = self.model.dim
         keep, Phi = self.keep, self.Phi
         u_pin = np.zeros(self.system.free.size)
@@ -125,7 +127,7 @@ class StaticInterfaceProblem:
         w_free = (self.op.G @ u_pin + self.w_pres).reshape(-1, d)
         e = -(Phi.T @ f_free) if Phi.shape[1] else None
         laws = self.model.pair_laws
-        st, q = self.solver.solve(w_free, laws.initial_state(d), e, label=label)
+        st, q = self.solver.solve(w_free, laws.initial_state(d), e, label=label, start=start)
         u_free = u_pin
         u_free[keep] += self.W.correct(st.X.ravel())
         if Phi.shape[1]:

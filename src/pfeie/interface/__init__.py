@@ -17,6 +17,7 @@ problems) live in :mod:`pfeie.coupling`.
 
 from ._fclib import coulomb_laws, load_fclib, natural_map_residual
 from ._laws import (
+    COHESION_RAMP,
     OPEN_CRACK_MIN_M,
     Joint,
     JointLaw,
@@ -24,6 +25,7 @@ from ._laws import (
     PairLaws,
     SlipWeakening,
     Strength,
+    cohesion_ramp,
 )
 from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
@@ -31,8 +33,8 @@ from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK", "InterfaceSolver",
-    "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
-    "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "coulomb_laws",
-    "load_fclib", "natural_map_residual", "split",
+    "COHESION_RAMP", "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
+    "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
+    "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "cohesion_ramp",
+    "coulomb_laws", "load_fclib", "natural_map_residual", "split",
 ]  # fmt: skip

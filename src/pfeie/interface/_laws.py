@@ -93,6 +93,52 @@ class JointLaw(Protocol):
 OPEN_CRACK_MIN_M = 1e-5
 
 
+#: κ: the normal force over which a broken pair's residual cohesion is mobilised, as a
+#: fraction of its cohesion force c A (:func:`cohesion_ramp`)
+COHESION_RAMP = 1e-3
+
+
+def cohesion_ramp(
+    c: FloatArray, mu: FloatArray, t: FloatArray, Xn: FloatArray, broken: BoolArray
+) -> tuple[BoolArray, FloatArray, FloatArray]:
+    r"""The shear capacity of broken pairs about to part, with their residual cohesion
+    mobilised in proportion to the normal force, all arrays (m,) in N (c = c A, t = σ_t A,
+    forces at the rate level of the problem: forces or impulses):
+
+    .. math::
+
+        τ = μ X_n^+ + (X_n + t)/κ \quad\text{for } X_n + t < κ c
+        \quad (κ = \texttt{COHESION_RAMP}),
+
+    and τ = c + μ X_n beyond (the Mohr–Coulomb cone). Without it the capacity of a broken
+    pair with a residual cohesion jumps from c A, while it touches, to 0 once it parts
+    (X_n < −t), and a pair that would touch with no normal force while carrying shear has
+    no state of the law: stuck, it pulls; open, it penetrates; the discrete problem then
+    has no solution over a band of loads (measured: a block pushed horizontally on a
+    cohesive joint, every static analysis of the band 0.498 ≤ k_h ≤ 0.565 failed). With
+    the ramp the capacity is continuous and such a pair carries its shear on a normal
+    force below κ c; the strength of every pair loaded beyond κ c (10⁻³ of the cohesion)
+    is untouched.
+
+    Returns the mask of the pairs on the ramp (broken, c > 0, X_n + t < κ c), their
+    capacity (≥ 0) and its slope dτ/dX_n there (0 where X_n + t ≤ 0), zero elsewhere.
+
+    >>> on, tau, slope = cohesion_ramp(np.array([100.0, 100.0, 0.0]), np.ones(3),
+    ...                                np.zeros(3), np.array([0.05, 1.0, 0.0]),
+    ...                                np.ones(3, dtype=bool))
+    >>> on.tolist(), tau.tolist(), slope.tolist()   # 0.05 + 0.05/1e-3 = 50.05
+    ([True, False, False], [50.05, 0.0, 0.0], [1001.0, 0.0, 0.0])
+    """
+    k = COHESION_RAMP
+    y = Xn + t
+    on = np.asarray(broken & (c > 0) & (y < k * c))
+    if not on.any():
+        return on, np.zeros_like(Xn), np.zeros_like(Xn)
+    tau = np.where(on, np.maximum(mu * np.maximum(Xn, 0.0) + y / k, 0.0), 0.0)
+    slope = np.where(on & (y > 0), mu * (Xn > 0) + 1.0 / k, 0.0)
+    return on, tau, slope
+
+
 @dataclass(frozen=True)
 class MohrCoulomb:
     """Mohr-Coulomb joint with a tension cut-off and residual strength.
@@ -372,5 +418,5 @@ class PairLaws:
         return PairState.initial(self.initially_broken, self.gap, dim)
 
 
-__all__ = ["OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening",
-           "Strength"]  # fmt: skip
+__all__ = ["COHESION_RAMP", "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws",
+           "SlipWeakening", "Strength", "cohesion_ramp"]  # fmt: skip

@@ -60,6 +60,7 @@ import scipy.sparse.linalg as spla
 
 from ..linalg import symmetric_product
 from ..typing import BoolArray, FloatArray
+from ._laws import cohesion_ramp
 
 log = logging.getLogger(__name__)
 
@@ -103,7 +104,13 @@ def natural_map(
     xp = np.maximum(Xn, 0.0)
     tau = np.maximum(law.c + law.mu * xp, 0.0)
     cut = sep & (law.c > 0)  # a separated pair carries no shear, whatever its cohesion
+    dtau = np.where((tau > 0) & (Xn > 0), law.mu, 0.0)  # dτ/dX_n
+    ramp, tau_ramp, slope = cohesion_ramp(law.c, law.mu, law.t, Xn, br)
+    if ramp.any():  # the residual cohesion mobilised near parting
+        tau = np.where(ramp, tau_ramp, tau)
+        dtau = np.where(ramp, slope, dtau)
     tau[cut] = 0.0
+    dtau[cut] = 0.0
     fixed = br & law.fixed
     stick = br & (nz <= tau) & ~fixed
     slide = br & ~stick & ~fixed
@@ -121,7 +128,7 @@ def natural_map(
     A[it] = r[it, None, None] * eye
     A[contact, -1, -1] = r[contact]
     B[sep, -1, -1] = 1.0
-    grows = (law.c + law.mu * xp > 0) & (Xn > 0) & ~cut
+    grows = dtau != 0
     if d > 1:
         et = np.eye(d - 1)
         A[stick, :-1, :-1] = r[stick, None, None] * et
@@ -133,11 +140,11 @@ def natural_map(
         B[sk, :-1, :-1] = et[None] - P
         A[sk, :-1, :-1] = r[sk, None, None] * P
         gk = grows[sk]
-        B[sk[gk], :-1, -1] = -zk[gk] * law.mu[sk[gk], None]
+        B[sk[gk], :-1, -1] = -zk[gk] * dtau[sk[gk], None]
         fk = np.flatnonzero(fixed)
         B[fk, :-1, :-1] = et[None]
         gf = fk[grows[fk]]
-        B[gf, :-1, -1] = law.mu[gf, None] * law.slip_dir[gf]
+        B[gf, :-1, -1] = dtau[gf, None] * law.slip_dir[gf]
     A[off] = 0.0
     B[off] = eye
     return F, A, B

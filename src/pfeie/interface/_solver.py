@@ -108,7 +108,7 @@ from scipy.linalg.lapack import dgetrs as _getrs
 from ..errors import InterfaceError, MechanismError
 from ..linalg import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ..typing import FloatArray
-from ._laws import PairLaws
+from ._laws import COHESION_RAMP, PairLaws, cohesion_ramp
 from ._proximal import PairLaw, ShiftedOperator, proximal_newton
 from ._settings import SolverSettings
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
@@ -390,7 +390,12 @@ class InterfaceSolver:
     ) -> tuple[FloatArray, FloatArray]:
         m, d = self.m, self.d
         state = st.state
-        c, mu, _ = self.props.strength(st.broken, prev.path)
+        c, mu, t = self.props.strength(st.broken, prev.path)
+        ramp, _, _ = cohesion_ramp(c, mu, t, st.X[:, -1], st.broken)
+        if ramp.any():  # on the cohesion ramp at the last iterate: τ = t/κ + (μ⁺ + 1/κ) X_n
+            pos = st.X[:, -1] > 0
+            c = np.where(ramp, t / COHESION_RAMP, c)
+            mu = np.where(ramp, mu * pos + 1.0 / COHESION_RAMP, mu)
         _, kin, fr, pair_fr, ncol, oth, rows_fr, nidx, zero, sl, prefix = self._pattern(state)
         target = prev.s.copy()
         closed_broken = st.broken | (state != INTACT)
@@ -751,6 +756,9 @@ class InterfaceSolver:
         cr, mur, tr = self._residual_strength(prev.path)
         tau_r = np.where(st.broken, tau, cr + mur * Xn)
         t_r = np.where(st.broken, t, tr)
+        ramp, tau_ramp, _ = cohesion_ramp(cr, mur, tr, Xn, np.ones(self.m, dtype=bool))
+        if ramp.any():
+            tau_r = np.where(ramp, tau_ramp, tau_r)
         # stick
         sk = state == STICK
         op = sk & (Xn < -t_r - tolF)
@@ -800,6 +808,9 @@ class InterfaceSolver:
         c, mu, t = self.props.strength(st.broken, prev.path)
         Xn, Xt = X[:, -1], X[:, :-1]
         tau = np.maximum(c + mu * Xn, 0.0)
+        ramp, tau_ramp, _ = cohesion_ramp(c, mu, t, Xn, st.broken)
+        if ramp.any():
+            tau = np.where(ramp, tau_ramp, tau)
         ds = s - prev.s
         r = np.zeros(self.m)
         state = st.state
@@ -840,10 +851,14 @@ class InterfaceSolver:
         fixed: np.ndarray | None = None,
         breaking: bool = True,
         inactive: np.ndarray | None = None,
+        start: PairState | None = None,
     ) -> tuple[PairState, FloatArray]:
         """Trial pair state for the step and the border unknowns q (empty without border).
 
         ``prev`` is the committed state at the start of the step; it is not modified.
+        ``start``: the iteration's first iterate (states, forces and slip directions),
+        ``prev`` by default: the answer to a nearby problem (a load step). The answer does
+        not depend on it: its pairs that are broken but intact in ``prev`` start intact.
         ``fixed`` (m,) marks sliding pairs whose slip direction ``prev.slip_dir`` is held
         (they slide or open, never stick); with ``breaking=False`` intact pairs stay intact;
         ``inactive`` (m,) pairs are held open with X = 0 (see the module docstring).
@@ -856,7 +871,11 @@ class InterfaceSolver:
         self._breaking = bool(breaking)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
-        st = prev.copy()
+        st = (prev if start is None else start).copy()
+        if start is not None:  # breaking is the iteration's, from prev's flags
+            fresh = st.broken & ~prev.broken
+            st.broken[fresh] = False
+            st.state[fresh] = prev.state[fresh]
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
         st.state[reopen] = STICK
         st.state[self._inactive] = OPEN
@@ -951,6 +970,17 @@ class InterfaceSolver:
             self.last = SolveInfo(it + n_it, res, method)
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
             return st2, q2
+        if start is not None:  # the given first iterate, the answer to a nearby problem
+            first = start.copy()
+            fresh = first.broken & ~prev.broken
+            first.broken[fresh] = False
+            first.state[fresh] = prev.state[fresh]
+            st5, q5, n5 = self._newton(first, np.zeros_like(q), prev, w_free, e)
+            n_it += n5
+            res5 = float(self.residual(st5, prev, w_free).max(initial=0.0))
+            if res5 <= self.tol and self._balanced(st5.X, e):
+                self.last = SolveInfo(it + n_it, res5, "semismooth Newton (from the start)")
+                return st5, q5
         # a cold start (X = 0, every closed pair sticking) where the last iterate failed
         cold = prev.copy()
         cold.X[:] = 0.0
@@ -1125,8 +1155,9 @@ class InterfaceSolver:
         s_ (one home for :meth:`_natural_map` and :meth:`_local_map`), with the masks
         (intact, broken, in contact, sticking, sliding, sliding in a fixed direction, cut:
         separated pairs, which carry no shear whatever their residual cohesion) and the
-        arrays their Jacobians need (c, μ, the cone radius τ, |z| and ẑ of the trial
-        tangential force z = X_t − ρ(s_t − s_t,prev)). Inactive pairs are the callers'."""
+        arrays their Jacobians need (c, dτ/dX_n, the cone radius τ, |z| and ẑ of the trial
+        tangential force z = X_t − ρ(s_t − s_t,prev); τ with the residual cohesion's ramp,
+        :func:`~pfeie.interface.cohesion_ramp`). Inactive pairs are the callers'."""
         m, d, r = self.m, self.d, self.rho
         c, mu, t = self.props.strength(broken, prev.path)
         F = np.zeros((m, d))
@@ -1142,7 +1173,15 @@ class InterfaceSolver:
         nz = _rownorm(z)
         tau = np.maximum(c + mu * np.maximum(X[:, -1], 0.0), 0.0)
         cut = br & ~contact & (c > 0)
+        # dτ/dX_n: μ where the cone grows with X_n (c + μ X_n⁺ > 0, X_n > 0), the
+        # cohesion ramp's slope on it
+        dtau = np.where((tau > 0) & (X[:, -1] > 0), mu, 0.0)
+        ramp, tau_ramp, slope = cohesion_ramp(c, mu, t, X[:, -1], br)
+        if ramp.any():
+            tau = np.where(ramp, tau_ramp, tau)
+            dtau = np.where(ramp, slope, dtau)
         tau[cut] = 0.0
+        dtau[cut] = 0.0
         fixed = br & self._fixed
         stick = br & (nz <= tau) & ~fixed
         slide = br & ~stick & ~fixed
@@ -1152,7 +1191,7 @@ class InterfaceSolver:
         F[slide, :-1] = Xt[slide] - tau[slide, None] * zh[slide]
         # fixed slide: X_t = −τ ŝ with the given direction
         F[fixed, :-1] = Xt[fixed] + tau[fixed, None] * prev.slip_dir[fixed]
-        return F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh)
+        return F, (it, br, contact, stick, slide, fixed, cut), (c, dtau, tau, nz, zh)
 
     # -- the semismooth Newton through W_c⁻¹ (3D) -------------------------------------------
     def _local_map(
@@ -1165,7 +1204,7 @@ class InterfaceSolver:
         (m, d) of the rows that equal those of ρ W_c (L = 0, R = ρ eᵢᵀ: intact, contact
         normal and sticking tangential rows)."""
         m, d, r = self.m, self.d, self.rho
-        F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh) = self._map_parts(
+        F, (it, br, contact, stick, slide, fixed, _), (_, dtau, tau, nz, zh) = self._map_parts(
             X, s_, broken, prev)  # fmt: skip
         off = self._inactive
         F[off] = X[off]
@@ -1183,17 +1222,17 @@ class InterfaceSolver:
         L[sep, -1, -1] = 1.0
         R[stick, :-1, :-1] = r * eye[:-1, :-1]
         kin[stick, :-1] = True
-        grows = (c + mu * np.maximum(X[:, -1], 0.0) > 0) & (X[:, -1] > 0) & ~cut
+        grows = dtau != 0
         L[fixed, :-1, :-1] = eye[:-1, :-1]
         fg = fixed & grows
-        L[fg, :-1, -1] = mu[fg, None] * prev.slip_dir[fg]
+        L[fg, :-1, -1] = dtau[fg, None] * prev.slip_dir[fg]
         # sliding: F_t = X_t − τ ẑ, dF_t = dX_t − ẑ dτ − P dz, P = (τ/|z|)(I − ẑẑᵀ),
         # dz = dX_t − ρ ds_t
         zk = zh[slide]
         P = (eye[None, :-1, :-1] - zk[:, :, None] * zk[:, None, :]) * (
             tau[slide] / nz[slide])[:, None, None]  # fmt: skip
         L[slide, :-1, :-1] = eye[None, :-1, :-1] - P
-        L[slide, :-1, -1] = -np.where(grows[slide], mu[slide], 0.0)[:, None] * zk
+        L[slide, :-1, -1] = -dtau[slide, None] * zk
         R[slide, :-1, :-1] = r * P
         L[off] = eye
         R[off] = 0.0
@@ -1470,6 +1509,9 @@ class InterfaceSolver:
         opened = broken & (X[:, -1] + t - self.rho * g <= 0)
         nt = np.linalg.norm(X[:, :-1], axis=1)
         tau = c + mu * X[:, -1]
+        ramp, tau_ramp, _ = cohesion_ramp(c, mu, t, X[:, -1], broken)
+        if ramp.any():
+            tau = np.where(ramp, tau_ramp, tau)
         sliding = broken & ~opened & (nt >= tau * (1 - 1e-9)) & (nt > 0) & ~self._fixed
         state[broken] = STICK
         state[sliding] = SLIDE
@@ -1501,32 +1543,7 @@ class InterfaceSolver:
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
             f"{cyc_txt}; largest residuals at pairs {worst.tolist()}."
-            + self._touching(cyc, H if cyc.size else np.zeros((0, self.m)), st, prev)
             + (f" {self.hint}" if self.hint else "")
-        )
-
-    def _touching(
-        self, cyc: np.ndarray, H: np.ndarray, st: PairState, prev: PairState
-    ) -> str:  # fmt: skip
-        """The reason, if it applies, why the pairs ``cyc`` cycle between contact and open:
-        broken pairs with a residual cohesion. Such a pair carries c A while it touches and
-        nothing once open, so at the edge of a lifting zone a pair that would touch with
-        no normal force while carrying shear has no state of the law, and the discrete
-        problem can have no solution at all, far from the joint's sliding limit (seen
-        statically on a block of safety factor 2.3 whose base lifts over its last 2.5 %)."""
-        if not cyc.size:
-            return ""
-        c = self.props.strength(st.broken, prev.path)[0]
-        toggles = (H[:, cyc] == OPEN).any(axis=0) & (H[:, cyc] != OPEN).any(axis=0)
-        hit = cyc[toggles & st.broken[cyc] & (c[cyc] > 0)]
-        if not hit.size:
-            return ""
-        return (
-            f" Pairs {hit[:10].tolist()} are broken with a residual cohesion and alternate "
-            "between contact and open: a broken pair carries its cohesion only while it "
-            "touches, so where a joint starts to lift the law may leave no solution, even far "
-            'from sliding; a joint bonded until it breaks (initial = "intact" with a '
-            "tensile strength) or another mesh of the lifting end avoids it."
         )
 
     def _natural_map(
@@ -1545,7 +1562,7 @@ class InterfaceSolver:
         Xm = Xv.reshape(m, d)
         sv = w_free.ravel() + Wc @ zv
         s_ = sv.reshape(m, d)
-        F, (it, br, contact, stick, slide, fixed, cut), (c, mu, tau, nz, zh) = self._map_parts(
+        F, (it, br, contact, stick, slide, fixed, _), (_, dtau, tau, nz, zh) = self._map_parts(
             Xm, s_, broken, prev)  # fmt: skip
         J = np.zeros((m, d, N if jac else 0))
         Wr = Wc.reshape(m, d, N)
@@ -1557,13 +1574,13 @@ class InterfaceSolver:
             sep = br & ~contact
             J[sep, -1] = Ir[sep, -1]
         if jac:
-            # the cone radius τ grows with X_n where c + μ X_n⁺ > 0 and X_n > 0
-            grows = (c + mu * np.maximum(Xm[:, -1], 0.0) > 0) & (Xm[:, -1] > 0) & ~cut
+            # the cone radius τ grows with X_n (dτ/dX_n: μ, or the cohesion ramp's slope)
+            grows = dtau != 0
             nrm = np.arange(m) * d + d - 1  # the column of each pair's normal force
             fk = np.flatnonzero(fixed)
             J[fk, :-1] = Ir[fk, :-1]
             kk = fk[grows[fk]]
-            J[kk, :-1, nrm[kk]] += mu[kk, None] * prev.slip_dir[kk]
+            J[kk, :-1, nrm[kk]] += dtau[kk, None] * prev.slip_dir[kk]
             J[stick, :-1] = r * Wr[stick, :-1]
             # sliding: F_t = X_t − τ ẑ, dF_t = dX_t − ẑ dτ − (τ/|z|)(I − ẑẑᵀ) dz
             sk = np.flatnonzero(slide)
@@ -1573,7 +1590,7 @@ class InterfaceSolver:
                 tau[sk] / nz[sk])[:, None, None]  # fmt: skip
             A = Ir[sk, :-1]
             gk = np.flatnonzero(grows[sk])
-            A[gk, :, nrm[sk[gk]]] -= zk[gk] * mu[sk[gk], None]
+            A[gk, :, nrm[sk[gk]]] -= zk[gk] * dtau[sk[gk], None]
             J[sk, :-1] = A - P @ dz
         off = self._inactive
         F[off] = Xm[off]
@@ -1650,18 +1667,31 @@ class InterfaceSolver:
         if b[-1] >= 0:
             return np.zeros(d), b.copy(), OPEN, broken, sdir
         target[-1] = 0.0
+
+        def cap(xn: float) -> float:  # the cone radius at X_n, the cohesion ramp's below κ c
+            one = np.array([True])
+            on, tr, _ = cohesion_ramp(np.array([cA]), np.array([mu]), np.array([tA]),
+                                      np.array([xn]), one)  # fmt: skip
+            return float(tr[0]) if on[0] else cA + mu * xn
+
         if fixed:
             sh = sdir.copy()
         else:
             X = np.linalg.solve(Wkk, target - b)
-            if X[-1] >= -tA and np.linalg.norm(X[:-1]) <= cA + mu * X[-1]:
+            if X[-1] >= -tA and np.linalg.norm(X[:-1]) <= cap(float(X[-1])):
                 return X, b + Wkk @ X, STICK, broken, sdir
             sh = -X[:-1] / max(float(np.linalg.norm(X[:-1])), 1e-300)
+        c_s, mu_s = cA, mu  # the cone's coefficients, X_t = −(c_s + μ_s X_n) ŝ
         for _ in range(50):
-            # unknown X_n; X_t = −(cA + μ X_n) ŝ; normal row: (Wkk X)_n + b_n = 0
-            a_n = Wkk[-1, -1] - mu * Wkk[-1, :-1] @ sh
-            xn = (-b[-1] + cA * Wkk[-1, :-1] @ sh) / a_n
-            X = np.concatenate([-(cA + mu * xn) * sh, [xn]])
+            # unknown X_n; X_t = −(c_s + μ_s X_n) ŝ; normal row: (Wkk X)_n + b_n = 0
+            a_n = Wkk[-1, -1] - mu_s * Wkk[-1, :-1] @ sh
+            xn = (-b[-1] + c_s * Wkk[-1, :-1] @ sh) / a_n
+            if cA > 0 and xn + tA < COHESION_RAMP * cA and (c_s, mu_s) == (cA, mu):
+                # on the cohesion ramp: τ = tA/κ + (μ [X_n > 0] + 1/κ) X_n, solved again
+                c_s, mu_s = tA / COHESION_RAMP, mu * (xn > 0) + 1.0 / COHESION_RAMP
+                a_n = Wkk[-1, -1] - mu_s * Wkk[-1, :-1] @ sh
+                xn = (-b[-1] + c_s * Wkk[-1, :-1] @ sh) / a_n
+            X = np.concatenate([-(c_s + mu_s * xn) * sh, [xn]])
             s = b + Wkk @ X
             ds = s[:-1] - prev.s[k, :-1]
             nds = float(np.linalg.norm(ds))

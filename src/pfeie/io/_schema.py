@@ -524,6 +524,11 @@ class Analysis(DynamicSettings):
         True
     )
     dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
+    yield_coefficient: Annotated[bool, Field(
+        description="after the static state, find the yield coefficient k_y along +x and "
+        "−x (made horizontal): the pseudo-static acceleration, a fraction of g, at which "
+        "a joint slides (summary.json yield_coefficient; needs static = true)",
+    )] = False  # fmt: skip
     duration: Annotated[
         Annotated[float, Field(gt=0.0), Unit("s")] | None,
         Field(description="duration (s); default: the longest record"),
@@ -537,6 +542,9 @@ class Analysis(DynamicSettings):
         if not (self.static or self.dynamic):
             raise _check("dynamic", "nothing to run: static and dynamic are both false; "
                          "expected one of them (or both) true")  # fmt: skip
+        if self.yield_coefficient and not self.static:
+            raise _check("yield_coefficient", "the yield coefficient is found from the "
+                         "static state; expected static = true")  # fmt: skip
         if self.duration is not None:
             try:
                 self.steps(self.duration)

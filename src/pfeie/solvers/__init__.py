@@ -3,8 +3,9 @@
 from ..linalg import Factorization, available_backends, factorize
 from ._modal import ModalResult, modal
 from ._static import StaticResult, solve_static
+from ._yield import YieldCoefficient, horizontal, yield_coefficient
 
 __all__ = [
-    "Factorization", "ModalResult", "StaticResult", "available_backends", "factorize",
-    "modal", "solve_static",
+    "Factorization", "ModalResult", "StaticResult", "YieldCoefficient", "available_backends",
+    "factorize", "horizontal", "modal", "solve_static", "yield_coefficient",
 ]  # fmt: skip

@@ -77,10 +77,26 @@ def solve_static(
         reactions[system.prescribed] = r[system.prescribed]
         return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d))
     problem = StaticInterfaceProblem(model, system, backend=backend, settings=settings)
+    return solve_pairs(problem, f_free, model.load_vector(t))
+
+
+def solve_pairs(
+    problem: StaticInterfaceProblem, f_free: FloatArray, f_all: FloatArray,
+    start: PairState | None = None,
+) -> StaticResult:  # fmt: skip
+    """The static state of a model with interfaces under the free-DOF loads ``f_free``
+    (those of :meth:`LinearSystem.load`, the prescribed displacements included) whose
+    values on all DOFs are ``f_all`` (N; for the reactions), with ``problem`` built once
+    (its factorisations serve any number of load cases): the pair problem, and with
+    uplifts the crack and its uplift settled together. ``start``: the pair state under
+    nearby loads, the pair solver's first iterate (a load step; see
+    :meth:`~pfeie.interface.InterfaceSolver.solve`)."""
+    model, system = problem.model, problem.system
+    d = model.dim
 
     def solve(f: FloatArray) -> tuple[FloatArray, PairState]:
         try:
-            return problem.solve(f)
+            return problem.solve(f, start=start)
         except MechanismError as exc:
             raise MechanismError(f"{exc}. {_floating(model)}") from None
         except InterfaceError as exc:
@@ -139,7 +155,7 @@ def solve_static(
     pres = system.prescribed
     u = system.expand(u_free)
     st.w = (G @ u).reshape(-1, d)
-    r = model.stiffness() @ u - model.load_vector(t) - f_up - G.T @ st.X.ravel()
+    r = model.stiffness() @ u - f_all - f_up - G.T @ st.X.ravel()
     reactions = np.zeros_like(r)
     reactions[pres] = r[pres]
     return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d), st,

@@ -1,0 +1,305 @@
+r"""The yield coefficient: the pseudo-static seismic coefficient at which a joint slides.
+
+A Newmark sliding-block analysis (Newmark 1965; USACE EM 1110-2-2100 App. G) rests on
+the *yield coefficient* k_y: the horizontal acceleration, as a fraction of g, under which
+the static state of the structure reaches its limit of equilibrium. pfeie finds it on the
+model itself, with its loads, water and uplift, blocks and joints, by static analyses
+under the loads f_0 (those of :func:`~pfeie.solve_static` at t = 0) plus the
+pseudo-static inertia force of a uniform acceleration k g along a horizontal unit
+vector ι (normal to gravity):
+
+.. math::
+
+    f(k) = f_0 + k\,g\,M\,ι,
+
+M the mass *with the reservoir's added mass* (Westergaard or a finite-element
+reservoir: the hydrodynamic force of EM 1110-2-2100's pseudo-static analysis); without
+a reservoir M ι g is the weight turned horizontal (consistent mass: Σ_j N_j = 1). Each
+analysis is the static analysis at its k from the model's initial pair state (bonded
+joints break where the load exceeds their strength at that k: no loading path is
+followed; the pair solver starts from the last state held, which changes its work, not
+its answer), and the factorisations and the Delassus operator are built once for all.
+
+The limit is the loss of static equilibrium: ``k_y`` is the last coefficient held, within
+a relative ``tol`` of the first one that is not. A joint that reaches its capacity while
+the structure holds (a joint between two blocks that slides as they deform) is not the
+limit. The analyses are placed by each joint's margin, its capacity less its shear,
+
+.. math::
+
+    m_j(k) = Σ_i (c A + μ N_i^+) − ‖Σ_i T_i‖    (N),
+
+affine in k while the pair states do not change (a rigid block: exactly): the secant
+root of the falling margins from two held analyses (joints at their capacity already left
+out), then two analyses just below and just beyond it; where states change, bisection
+safeguards the secant. A block on an incline takes 5 analyses.
+
+A rigid block on a plane of dip β with a joint of cohesion c over its length L and
+friction μ = tan φ, pushed down the dip: N = W(cos β − k sin β), T = W(sin β + k cos β),
+so k_y = (c L / W + μ cos β − sin β) / (cos β + μ sin β), tan(φ − β) without cohesion.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..coupling import StaticInterfaceProblem
+from ..errors import InterfaceError, MechanismError, ModelError, SolverError
+from ..interface import OPEN, OPEN_CRACK_MIN_M, SolverSettings
+from ..model import Model
+from ..typing import FloatArray
+from ._static import StaticResult, solve_pairs
+
+log = logging.getLogger(__name__)
+
+#: the relative width of the final bracket [k_y, k_fail] (default of ``tol``)
+YIELD_TOL = 1e-6
+
+#: a limit counts as sliding when the governing joint's safety factor at k_y is within
+#: this of 1 (the margin there is tol-small: measured 1e-7 on a block at tol = 1e-6)
+SLIDING_FS = 1e-3
+
+#: a joint whose margin is below this fraction of its capacity slides already (at its capacity, to
+#: the pair solver's tolerance): it does not predict the limit
+AT_CAPACITY = 1e-9
+
+#: the static analyses a search may take (each a pair problem on the factorised blocks)
+YIELD_MAX_ANALYSES = 60
+
+#: the largest coefficient tried (a fraction of g); a structure held at it is reported
+#: with k_y = None (no yield up to it)
+YIELD_K_MAX = 2.0
+
+
+@dataclass(frozen=True)
+class YieldCoefficient:
+    """The yield coefficient along one horizontal direction.
+
+    - ``direction``: the unit vector ι of the pseudo-static acceleration;
+    - ``k_y``: the largest coefficient held (a fraction of g), None if the structure is
+      held up to ``k_max``;
+    - ``k_fail``: the least coefficient found beyond the limit (None with ``k_y`` None);
+    - ``k_affine``: where the joints' margins, extrapolated affinely from the last two
+      coefficients held, vanish (the limit of a rigid block; an estimate where the
+      analyses fail short of the limit, see ``limit``); None without two;
+    - ``joint``: the joint that governs: the one whose margin gives ``k_affine``, else
+      the least safety factor at ``k_y``;
+    - ``safety_factors``: each joint's sliding safety factor at ``k_y`` (∞: no shear);
+    - ``limit``: "sliding" (the governing joint's safety factor is 1 at ``k_y``, within
+      :data:`SLIDING_FS`), "no equilibrium found" (the static analyses fail beyond
+      ``k_y`` while its safety factor is above 1: a mechanism of opening, a bonded joint
+      breaking through, or the pair solver failing short of the limit; ``k_affine`` then
+      estimates the sliding limit), "none" (held up to ``k_max``) or "not bracketed"
+      (``max_analyses`` reached first);
+    - ``static``: the static state at ``k_y``; ``analyses``: how many static analyses.
+    """
+
+    direction: FloatArray
+    k_y: float | None
+    k_fail: float | None
+    k_affine: float | None
+    joint: str | None
+    safety_factors: dict[str, float]
+    limit: str
+    static: StaticResult
+    analyses: int
+
+
+def horizontal(
+    model: Model, direction: Sequence[float] | FloatArray | None = None
+) -> tuple[float, FloatArray]:
+    """The magnitude g (m/s²) of the model's gravity and a horizontal unit vector ι:
+    ``direction`` made unit (it must be normal to gravity), or +x made normal to gravity.
+    :class:`ModelError` without gravity or with a direction that is not horizontal."""
+    gvec = np.zeros(model.dim)
+    for ld in model.loads:
+        if ld.kind == "gravity" and ld.amplitude is None:
+            gvec = gvec + np.asarray(ld.value, dtype=float)
+    g = float(np.linalg.norm(gvec))
+    if not g > 0:
+        raise ModelError("yield coefficient: the model has no gravity (the coefficient is a "
+                         "fraction of g; add_gravity first)")  # fmt: skip
+    up = -gvec / g
+    if direction is None:
+        iota = np.eye(model.dim)[0] - up[0] * up
+    else:
+        iota = np.asarray(direction, dtype=float)
+        if iota.shape != (model.dim,) or not np.all(np.isfinite(iota)):
+            raise ModelError(f"yield coefficient: expected a direction of {model.dim} finite "
+                             f"components, got {list(direction)}")  # fmt: skip
+    norm = float(np.linalg.norm(iota))
+    if not norm > 0:
+        raise ModelError("yield coefficient: the direction is zero (or +x is vertical)")
+    iota = iota / norm
+    if abs(float(iota @ up)) > 1e-9:
+        raise ModelError(f"yield coefficient: the direction {list(np.round(iota, 6))} is not "
+                         "horizontal (normal to gravity)")  # fmt: skip
+    return g, iota
+
+
+def yield_coefficient(
+    model: Model,
+    direction: Sequence[float] | FloatArray | None = None,
+    *,
+    tol: float = YIELD_TOL,
+    k_max: float = YIELD_K_MAX,
+    backend: str = "auto",
+    settings: SolverSettings | None = None,
+    problem: StaticInterfaceProblem | None = None,
+    max_analyses: int = YIELD_MAX_ANALYSES,
+) -> YieldCoefficient:
+    """The yield coefficient k_y of ``model`` along a horizontal ``direction`` (default +x
+    made normal to gravity; see the module docstring). ``problem``: a
+    :class:`~pfeie.coupling.StaticInterfaceProblem` of the model to reuse (for both
+    directions). The static state at k = 0 must exist (else its error is raised).
+
+    >>> import numpy as np, pfeie as pf
+    >>> from pfeie.verification._models import block_on_base
+    >>> m = block_on_base(joint=pf.Joint(phi=40.0), incline_deg=10.0)  # dip towards +x
+    >>> y = pf.yield_coefficient(m)                 # pushed down the dip: tan(40° − 10°)
+    >>> round(y.k_y, 5), y.joint
+    (0.57735, 'joint')
+    >>> round(pf.yield_coefficient(m, [-1.0, 0.0]).k_y, 5)   # up the dip: tan(50°)
+    1.19175
+    """
+    if model.pairs is None:
+        raise ModelError("yield coefficient: the model has no interfaces (no joint to slide)")
+    if not (0 < tol < 1e-2 and 0 < k_max <= 10):
+        raise ModelError(f"yield coefficient: expected 0 < tol < 0.01 and 0 < k_max <= 10, "
+                         f"got tol = {tol}, k_max = {k_max}")  # fmt: skip
+    g, iota = horizontal(model, direction)
+    if problem is None:
+        problem = StaticInterfaceProblem(model, model.system(), backend=backend,
+                                         settings=settings)  # fmt: skip
+    system = problem.system
+    free = system.free
+    f0_free, f0_all = system.load(0.0), model.load_vector(0.0)
+    ones = np.zeros((model.mesh.n_points, model.dim))
+    ones[:] = iota
+    f_h = g * (model.mass() @ ones.ravel())  # the inertia of a uniform acceleration g ι
+    names = list(model.pairs.names)
+    laws = model.pair_laws
+    frames = model.pairs.frame
+    count = 0
+
+    def analyse(
+        k: float, start: StaticResult | None = None
+    ) -> tuple[StaticResult, FloatArray, FloatArray] | None:
+        """The static state at k, each joint's relative margin and safety factor; None
+        where no static equilibrium is found. The pair solver starts from the state
+        ``start`` (the last coefficient held), then, if that fails, from the initial state;
+        the answer does not depend on the start (:meth:`InterfaceSolver.solve`)."""
+        nonlocal count
+        st = None
+        for first in ([start.pairs] if start is not None else []) + [None]:
+            count += 1
+            try:
+                st = solve_pairs(problem, f0_free + k * f_h[free], f0_all + k * f_h, first)
+                break
+            except (MechanismError, InterfaceError, SolverError) as exc:
+                log.debug("yield coefficient: no equilibrium found at k = %.9g (%s): %s", k,
+                          "warm" if first is not None else "cold", exc)  # fmt: skip
+        if st is None:
+            return None
+        P = st.pairs
+        assert P is not None
+        c, mu, _ = laws.strength(P.broken, P.path)
+        cracked = (P.state == OPEN) & (P.w[:, -1] > OPEN_CRACK_MIN_M)
+        cap = np.where(cracked, 0.0, c + mu * np.maximum(P.X[:, -1], 0.0))
+        T = np.where((P.state == OPEN)[:, None], 0.0, P.X[:, :-1])
+        T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
+        # each joint's margin, capacity − shear (N, affine in k while no state changes),
+        # NaN where the joint is at its capacity already (relatively, to AT_CAPACITY) or
+        # has none: it does not predict the limit
+        capacity = np.array([cap[i].sum() for i in laws.index])
+        shear = np.array([np.linalg.norm(T[i].sum(axis=0)) for i in laws.index])
+        margin = capacity - shear
+        margin[~(margin > AT_CAPACITY * capacity)] = np.nan
+        fs = laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path, frames,
+                                opening=P.w[:, -1])  # fmt: skip
+        return st, margin, fs
+
+    base = analyse(0.0)
+    if base is None:
+        # the static state itself: its own error, with the solver's explanation
+        solve_pairs(problem, f0_free, f0_all)
+        raise SolverError("yield coefficient: no static equilibrium at k = 0")
+    lo, (st_lo, m_lo, fs_lo) = 0.0, base
+    hi: float | None = None
+    prev: tuple[float, FloatArray] | None = None  # a held (k, margins) below lo
+    widths: list[float] = []
+    while hi is None or hi - lo > tol * max(hi, 1e-3):
+        if count >= max_analyses:
+            log.warning("yield coefficient: the limit bracketed to [%.6g, %s] only, in %d "
+                        "static analyses", lo, hi, count)  # fmt: skip
+            break
+        target = _root(lo, m_lo, prev)[0]
+        if target is None or not target > lo or (hi is not None and not target < hi):
+            k_try = min(2 * max(lo, 0.025), k_max) if hi is None else 0.5 * (lo + hi)
+        else:  # aim just below the predicted root, then, once there, just beyond it
+            below = lo >= target * (1 - tol)
+            k_try = target * (1 + tol / 4) if below else target * (1 - tol / 2)
+            if hi is not None and len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
+                k_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
+            k_try = min(k_try, k_max)
+            if hi is not None and not lo < k_try < hi:
+                k_try = 0.5 * (lo + hi)
+        if hi is None and lo >= k_max:
+            return _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
+        out = analyse(k_try, st_lo)
+        if out is None:  # no equilibrium: beyond the limit
+            hi = k_try
+        else:
+            prev = (lo, m_lo)
+            lo, (st_lo, m_lo, fs_lo) = k_try, out
+        if hi is not None:
+            widths.append(hi - lo)
+    estimate, joint = _root(lo, m_lo, prev)
+    if hi is None:
+        limit = "not bracketed"
+    else:
+        gov = joint if joint is not None else (
+            int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None)  # fmt: skip
+        limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
+                 else "no equilibrium found")  # fmt: skip
+        joint = gov
+    return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+
+
+def _root(
+    lo: float, m_lo: FloatArray, prev: tuple[float, FloatArray] | None
+) -> tuple[float | None, int | None]:
+    """The least root over the joints of their margins (N) taken affine in k from the
+    held point ``prev`` and ``lo``, and its joint; joints at their capacity already (NaN
+    margins: a joint that slides while the structure holds) or whose margin does not fall
+    are left out. (None, None) without two points or such a joint."""
+    if prev is None:
+        return None, None
+    k0, m0 = prev
+    slope = (m_lo - m0) / (lo - k0)
+    ok = np.isfinite(m_lo) & np.isfinite(m0) & (slope < 0)
+    if not ok.any():
+        return None, None
+    roots = np.where(ok, lo - m_lo / np.where(ok, slope, -1.0), np.inf)
+    j = int(np.argmin(roots))
+    return float(roots[j]), j
+
+
+def _result(
+    iota: FloatArray, k_y: float | None, k_fail: float | None, names: list[str],
+    fs: FloatArray, st: StaticResult, count: int, estimate: float | None, limit: str,
+    joint: int | None = None,
+) -> YieldCoefficient:  # fmt: skip
+    if joint is None and np.isfinite(fs).any():
+        joint = int(np.argmin(fs))
+    return YieldCoefficient(iota, k_y, k_fail, estimate, None if joint is None else names[joint],
+                            {n: float(f) for n, f in zip(names, fs, strict=True)}, limit, st,
+                            count)  # fmt: skip
+
+
+__all__ = ["SLIDING_FS", "YIELD_K_MAX", "YIELD_MAX_ANALYSES", "YIELD_TOL", "YieldCoefficient",
+           "horizontal", "yield_coefficient"]  # fmt: skip
