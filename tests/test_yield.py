@@ -200,8 +200,8 @@ def test_the_yield_coefficient_in_a_model_file(
 ) -> None:
     """``analysis.yield_coefficient = true`` on two blocks cut by a level joint with
     φ = 26.565° (μ = 0.5): summary.json gives k_y = μ = 0.5 along +x and −x (to 1e-6),
-    sliding, and the text a line per direction. Without the static state it is refused,
-    naming the key."""
+    sliding, the text a line per direction and the report's static joint table a column.
+    Without the static state it is refused, naming the key."""
     text = SMALL.replace("[analysis]", "[analysis]\nyield_coefficient = true\ndynamic = false")
     text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
     p = _write(tmp_path, text)
@@ -215,6 +215,11 @@ def test_the_yield_coefficient_in_a_model_file(
         assert y["direction"] == [sign, 0.0]
     txt = (tmp_path / "out" / "summary.txt").read_text()
     assert "yield +x" in txt and "yield -x" in txt and "sliding" in txt
+    from pfeie.plot import write_report
+
+    html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
+    k_plus = s["yield_coefficient"]["+x"]["k_y"]
+    assert "yield coefficient k_y along +x" in html and f"{k_plus:.4g} (sliding)" in html
     bad = _write(tmp_path, text.replace("dynamic = false", "dynamic = true\nstatic = false"))
     capsys.readouterr()
     assert main(["run", str(bad), "--quiet"]) == 2

@@ -165,6 +165,12 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
             cracks = json.loads(res.f["static"].attrs.get("cracks", "{}"))
             if name in cracks:
                 rows[-1]["crack from the heel (m)"] = float(cracks[name])
+    # the yield coefficient (analysis.yield_coefficient) on the joint that governs it
+    yields = (res.meta.get("results_summary") or {}).get("yield_coefficient") or {}
+    for row in rows:
+        for label, y in yields.items():
+            if y.get("joint") == row["joint"] and y.get("k_y") is not None:
+                row[f"yield coefficient k_y along {label}"] = f"{y['k_y']:.4g} ({y['limit']})"
     return rows
 
 
