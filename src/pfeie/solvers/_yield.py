@@ -49,7 +49,7 @@ import numpy as np
 
 from ..coupling import StaticInterfaceProblem
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
-from ..interface import OPEN, OPEN_CRACK_MIN_M, SolverSettings
+from ..interface import OPEN, OPEN_CRACK_MIN_M, SolverSettings, cohesion_ramp
 from ..model import Model
 from ..typing import FloatArray
 from ._static import StaticResult, solve_pairs
@@ -88,7 +88,11 @@ class YieldCoefficient:
       analyses fail short of the limit, see ``limit``); None without two;
     - ``joint``: the joint that governs: the one whose margin gives ``k_affine``, else
       the least safety factor at ``k_y``;
-    - ``safety_factors``: each joint's sliding safety factor at ``k_y`` (∞: no shear);
+    - ``safety_factors``: each joint's sliding safety factor at ``k_y``, Σ capacity / ‖Σ T‖
+      (∞: no shear), with each pair's capacity under its law: c A + μ N⁺, or on the
+      residual cohesion's ramp (:func:`~pfeie.interface.cohesion_ramp`) the part a pair
+      that touches with almost no normal force mobilises (the summary's static FS counts
+      c A on every pair that touches, as the hand computation);
     - ``limit``: "sliding" (the governing joint's safety factor is 1 at ``k_y``, within
       :data:`SLIDING_FS`), "no equilibrium found" (the static analyses fail beyond
       ``k_y`` while its safety factor is above 1: a mechanism of opening, a bonded joint
@@ -207,20 +211,25 @@ def yield_coefficient(
             return None
         P = st.pairs
         assert P is not None
-        c, mu, _ = laws.strength(P.broken, P.path)
-        cracked = (P.state == OPEN) & (P.w[:, -1] > OPEN_CRACK_MIN_M)
-        cap = np.where(cracked, 0.0, c + mu * np.maximum(P.X[:, -1], 0.0))
+        # each pair's capacity under its law: c A + μ N⁺, on the residual cohesion's ramp
+        # its mobilised part (a pair that touches with almost no normal force), none open
+        c, mu, t = laws.strength(P.broken, P.path)
+        Xn = P.X[:, -1]
+        cap = c + mu * np.maximum(Xn, 0.0)
+        on, tau, _ = cohesion_ramp(c, mu, t, Xn, P.broken)
+        cap = np.where(on, tau, cap)
+        cap[(P.state == OPEN) & (P.w[:, -1] > OPEN_CRACK_MIN_M)] = 0.0
         T = np.where((P.state == OPEN)[:, None], 0.0, P.X[:, :-1])
         T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
-        # each joint's margin, capacity − shear (N, affine in k while no state changes),
-        # NaN where the joint is at its capacity already (relatively, to AT_CAPACITY) or
-        # has none: it does not predict the limit
         capacity = np.array([cap[i].sum() for i in laws.index])
         shear = np.array([np.linalg.norm(T[i].sum(axis=0)) for i in laws.index])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            fs = np.where(shear > 0, capacity / shear, np.inf)
+        # the margin, capacity − shear (N, affine in k while no state changes); NaN where
+        # the joint is at its capacity already (relatively, to AT_CAPACITY) or has none:
+        # it does not predict the limit
         margin = capacity - shear
         margin[~(margin > AT_CAPACITY * capacity)] = np.nan
-        fs = laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path, frames,
-                                opening=P.w[:, -1])  # fmt: skip
         return st, margin, fs
 
     base = analyse(0.0)
