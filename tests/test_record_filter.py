@@ -153,6 +153,8 @@ def test_model_file_filter_is_the_api_filter(tmp_path: Path) -> None:
         ({"highpass": 0.0}, "filter: highpass: expected a corner frequency in (0, 50) Hz"),
         ({"highpass": 8.85e-250}, "filter: highpass: expected a corner of at least 0.010101 Hz "
          "(a period of at most 100 times the record's duration, 0.99 s)"),
+        ({"lowpass": 2.51e-269}, "filter: lowpass: expected a corner of at least 0.010101 Hz "
+         "(a period of at most 100 times the record's duration, 0.99 s)"),
         ({"highpass": 5.0, "lowpass": 2.0}, "filter: lowpass: expected a corner above highpass"),
         ({"lowpass": 5.0, "order": 9}, "filter: order: expected an integer in [1, 8], found 9"),
         ({"lowpass": 5.0, "order": 2.0}, "filter: order: expected an integer in [1, 8]"),
@@ -162,8 +164,8 @@ def test_model_file_filter_is_the_api_filter(tmp_path: Path) -> None:
 def test_wrong_settings_name_the_setting(settings: dict[str, float], words: str) -> None:
     """Wrong corners or orders raise a ModelError that names the record and the setting
     (a record of 0.99 s sampled at 0.01 s: Nyquist frequency 50 Hz; a high-pass corner
-    whose period exceeds 100 record lengths, whose padding would not fit in memory, is
-    refused: the fuzzer found 8.85e-250 Hz)."""
+    or low-pass corner whose period exceeds 100 record lengths, whose padding would not
+    fit in memory, is refused: the fuzzer found 8.85e-250 Hz and 2.51e-269 Hz)."""
     gm = pf.GroundMotion.from_samples(np.zeros(100), dt=0.01, name="rec")
     with pytest.raises(ModelError) as err:
         gm.filtered(**settings)  # type: ignore[arg-type]

@@ -204,7 +204,8 @@ class GroundMotion:
                        order: int = 4) -> tuple[str, str] | None:  # fmt: skip
         """What is wrong with these settings of :meth:`filtered` for this record, as
         (setting, what was expected and found), the setting "" for the record itself; None
-        if they are valid: 0.01/duration ≤ highpass < lowpass < 1/(2Δt), order an integer
+        if they are valid: 0.01/duration ≤ highpass < lowpass < 1/(2Δt) (a low-pass
+        alone: 0.01/duration ≤ lowpass), order an integer
         in [1, 8],
         at least one corner, equally spaced samples."""
         integer = isinstance(order, int | np.integer) and not isinstance(order, bool)
@@ -224,12 +225,14 @@ class GroundMotion:
                              f"Nyquist frequency 1/(2Δt) of the record {self.name!r}, "
                              f"Δt = {dt:g} s), found {fc!r}")  # fmt: skip
         low = HIGHPASS_MIN_CYCLES / float(self.duration)
-        if highpass is not None and highpass < low:
-            # a corner period beyond 100 record lengths filters nothing the record holds,
-            # and its padding (1.5 n periods) would not fit in memory
-            return "highpass", (f"expected a corner of at least {low:g} Hz (a period of at "
-                                f"most 100 times the record's duration, "
-                                f"{float(self.duration):g} s), found {highpass!r}")  # fmt: skip
+        for key, fc in (("highpass", highpass), ("lowpass", lowpass)):
+            if fc is not None and fc < low:
+                # a corner period beyond 100 record lengths: a high-pass filters nothing
+                # the record holds, a low-pass all of it, and the padding (1.5 n periods)
+                # would not fit in memory
+                return key, (f"expected a corner of at least {low:g} Hz (a period of at "
+                             f"most 100 times the record's duration, "
+                             f"{float(self.duration):g} s), found {fc!r}")  # fmt: skip
         if highpass is not None and lowpass is not None and not highpass < lowpass:
             return "lowpass", (f"expected a corner above highpass = {highpass:g} Hz (a "
                                f"band-pass), found {lowpass:g} Hz")  # fmt: skip
