@@ -587,10 +587,12 @@ def format_summary(s: dict[str, Any]) -> str:
         lines.append(
             f"  yield {label:<10} "
             + ("k_y > the largest tried" if k is None else
-               f"k_y {k:.4g} ({y['limit']}, joint {y['joint']!r}, FS "
-               + ("∞" if y["safety_factor"] is None else f"{y['safety_factor']:.4g}") + ")")
-            + ("" if ka is None or k is None or y["limit"] == "sliding" else
-               f"; affine estimate {ka:.4g}")
+               f"k_y {k:.4g} (sliding on {y['joint']!r})" if y["limit"] == "sliding" else
+               f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint breaking "
+               f"through, opening or rocking; least FS "
+               + ("∞" if y["safety_factor"] is None else f"{y['safety_factor']:.4g}")
+               + f" on {y['joint']!r}"
+               + ("" if ka is None else f", the margins' affine estimate {ka:.4g}") + ")")
         )  # fmt: skip
     for name, j in s.get("joints", {}).items():
         lines.append(
