@@ -129,6 +129,9 @@ def cohesion_ramp(
     >>> on.tolist(), tau.tolist(), slope.tolist()   # 0.05 + 0.05/1e-3 = 50.05
     ([True, False, False], [50.05, 0.0, 0.0], [1001.0, 0.0, 0.0])
     """
+    if not c.any():  # no cohesion (the default residual strength): nothing on the ramp
+        none = np.zeros_like(Xn)
+        return np.zeros(Xn.shape, dtype=bool), none, none
     k = COHESION_RAMP
     y = Xn + t
     on = np.asarray(broken & (c > 0) & (y < k * c))
