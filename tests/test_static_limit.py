@@ -257,6 +257,32 @@ def test_a_lifting_end_on_a_cohesive_broken_joint(cell: str, n: int) -> None:
     assert (X[on & closed, -1] < COHESION_RAMP * cA[on & closed]).all()
 
 
+@pytest.mark.parametrize(("cell", "n"), [("quad8", 8), ("quad", 4)])
+def test_the_dynamics_hold_a_static_state_on_the_cohesion_ramp(cell: str, n: int) -> None:
+    """The block of the test above, its heel pairs on the residual cohesion's ramp in the
+    static state, analysed dynamically from that state under the same constant loads for
+    0.2 s (Δt = 1 ms, the velocity-level law, whose strengths are the forces' times h):
+    an equilibrium of the static law is one of the dynamic law, so the block stays still
+    (its centroid within 1e-12 m; measured 5e-17) and the pairs on the ramp keep their
+    forces (to 1e-9 of the largest force; measured 1.9e-10), without a fallback."""
+    from pfeie.interface import cohesion_ramp
+
+    t = np.radians(35.0)
+    m = block_on_base(joint=pf.Joint(phi=PHI, c_r=2e4, initial="broken"), gravity=False,
+                      width=2.0, height=1.0, n=n, ny=2, cell=cell)  # fmt: skip
+    m.add_gravity(direction=[np.sin(t), -np.cos(t)])
+    st = pf.solve_static(m)
+    assert st.pairs is not None
+    cA, mu, tA = m.pair_laws.strength(st.pairs.broken, st.pairs.path)
+    on = cohesion_ramp(cA, mu, tA, st.pairs.X[:, -1], st.pairs.broken)[0]
+    assert on.any()
+    res = pf.Dynamic(m, dt=1e-3).run(0.2, start=st)
+    assert res.completed and int(res.solver["fallbacks"].sum()) == 0
+    assert np.abs(res.rigid[:, 1] - res.rigid[0, 1]).max() <= 1e-12
+    X = res.final.pairs.X
+    assert np.abs(X - st.pairs.X).max() <= 1e-9 * np.abs(st.pairs.X).max()
+
+
 def test_safety_factor_sums_the_shears_as_global_vectors() -> None:
     """Two pairs of one 3D joint whose frames differ by a quarter turn about the normal
     (as on a joint that turns, where a pair takes its own axis): the same global shear of
