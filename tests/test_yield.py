@@ -107,7 +107,7 @@ def test_a_cohesive_joint_and_its_heel() -> None:
     1.146849; in the elastic block the heel pair touches with almost no normal force and,
     on the cohesion ramp, mobilises 326 N of its c A = 625 N (more shear there lifts it),
     so the joint slides as a whole 1 % earlier: limit equilibrium with that shortfall ΔC,
-    k = k_rigid − ΔC / (W (cos β + μ sin β)), gives k_y to 1e-7 (measured 1.9e-9), the
+    k = k_rigid − ΔC / (W (cos β + μ sin β)), gives k_y to 2e-8 (measured 1.9e-9), the
     joint's safety factor under its law 1 at k_y."""
     from pfeie.interface import cohesion_ramp
 
@@ -127,7 +127,7 @@ def test_a_cohesive_joint_and_its_heel() -> None:
     W, muv = 2400.0 * 9.81 * B * H, np.tan(phi)
     rigid = (c * B / W + muv * np.cos(beta) - np.sin(beta)) / (np.cos(beta) + muv * np.sin(beta))
     assert y.k_y == pytest.approx(rigid - shortfall / (W * (np.cos(beta) + muv * np.sin(beta))),
-                                  rel=1e-7)  # fmt: skip
+                                  rel=2e-8)  # fmt: skip
 
 
 def test_a_joint_at_its_capacity_does_not_end_the_search() -> None:
@@ -154,7 +154,8 @@ def test_a_joint_at_its_capacity_does_not_end_the_search() -> None:
         y = pf.yield_coefficient(m, direction)
         assert y.k_y is not None and exact * (1 - TOL) <= y.k_y <= exact
         assert y.joint == "joint" and y.limit == "sliding"
-        assert y.safety_factors["vert"] == pytest.approx(1.0, abs=1e-9)  # it slides
+        # it slides: at its capacity to round-off (measured ±1.9e-12)
+        assert y.safety_factors["vert"] == pytest.approx(1.0, abs=2e-11)
 
 
 def test_the_former_failure_band_of_a_cohesive_joint() -> None:
@@ -162,7 +163,7 @@ def test_the_former_failure_band_of_a_cohesive_joint() -> None:
     c_r = 20 kPa, φ = 30°, pushed down the dip by k g: before the cohesion ramp every
     static analysis of 0.498 ≤ k ≤ 0.565 failed (the heel pair's force passes through
     zero there, far from sliding: FS 3.3). Now each is solved, the block in equilibrium
-    (ΣX = the applied load on the block, to 1e-14; measured 1.5e-16) and the heel pair,
+    (ΣX = the applied load on the block, to 1.5e-15; measured 1.5e-16) and the heel pair,
     with no normal force to speak of, carries shear on the ramp."""
     from pfeie.interface import cohesion_ramp
 
@@ -180,7 +181,7 @@ def test_the_former_failure_band_of_a_cohesive_joint() -> None:
         F = m.pairs.resultants(P.X)[0][0]  # the joint's force on side b (global)
         load = (m.load_vector(0.0) + k * (fa - m.load_vector(0.0))).reshape(-1, 2)[block].sum(
             axis=0)  # fmt: skip
-        assert np.abs(F + load).max() <= 1e-14 * np.abs(load).max()
+        assert np.abs(F + load).max() <= 1.5e-15 * np.abs(load).max()
         cA, mu, tA = m.pair_laws.strength(P.broken, P.path)
         on_ramp += int(cohesion_ramp(cA, mu, tA, P.X[:, -1], P.broken)[0].sum())
     assert on_ramp > 0

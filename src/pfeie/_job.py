@@ -583,17 +583,19 @@ def format_summary(s: dict[str, Any]) -> str:
             f"open {100 * j['open_share']:.0f} %"
         )
     for label, y in s.get("yield_coefficient", {}).items():
-        k, ka = y["k_y"], y["k_affine"]
-        lines.append(
-            f"  yield {label:<10} "
-            + ("k_y > the largest tried" if k is None else
-               f"k_y {k:.4g} (sliding on {y['joint']!r})" if y["limit"] == "sliding" else
-               f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint breaking "
-               f"through, opening or rocking; least FS "
-               + ("∞" if y["safety_factor"] is None else f"{y['safety_factor']:.4g}")
-               + f" on {y['joint']!r}"
-               + ("" if ka is None else f", the margins' affine estimate {ka:.4g}") + ")")
-        )  # fmt: skip
+        k, fs = y["k_y"], y["safety_factor"]
+        if k is None:
+            what = "k_y > the largest tried"
+        elif y["limit"] == "sliding":
+            what = f"k_y {k:.4g} (sliding on {y['joint']!r})"
+        else:
+            what = (f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint "
+                    f"breaking through, opening or rocking; least FS "
+                    f"{'∞' if fs is None else f'{fs:.4g}'} on {y['joint']!r}")  # fmt: skip
+            if y["k_affine"] is not None:
+                what += f", the margins' affine estimate {y['k_affine']:.4g}"
+            what += ")"
+        lines.append(f"  yield {label:<10} {what}")
     for name, j in s.get("joints", {}).items():
         lines.append(
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "

@@ -381,19 +381,34 @@ class PairLaws:
         >>> round(float(law.safety_factor(X, op, ~no, np.zeros(2), opening=gaps)[0]), 6)
         3.666667
         """
-        c, mu, _ = self.strength(broken, path)
+        capacity, shear = self.capacity_and_shear(X, open_, broken, path, frames, opening)
+        floor = np.broadcast_to(np.asarray(noise, dtype=float), shear.shape)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where((shear > floor) & (shear > 0), capacity / shear, np.inf)
+
+    def capacity_and_shear(
+        self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
+        frames: FloatArray | None = None, opening: FloatArray | None = None,
+        ramp: bool = False,
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+        """Each interface's shear capacity Σ (c A + μ N⁺) and the magnitude of its shear
+        force ‖Σ T‖ (n_interfaces,), N, as :meth:`safety_factor` takes them; with ``ramp``
+        each pair's capacity under its law: on the residual cohesion's ramp
+        (:func:`cohesion_ramp`) the part a pair that touches with almost no normal force
+        mobilises (the hand computation counts c A on every pair that touches)."""
+        c, mu, t = self.strength(broken, path)
+        cap = c + mu * np.maximum(X[:, -1], 0.0)
+        if ramp:
+            on, tau, _ = cohesion_ramp(c, mu, t, X[:, -1], broken)
+            cap = np.where(on, tau, cap)
         cracked = open_ if opening is None else open_ & (opening > OPEN_CRACK_MIN_M)
-        cap = np.where(cracked, 0.0, c + mu * np.maximum(X[:, -1], 0.0))
+        cap = np.where(cracked, 0.0, cap)
         T = np.where(open_[:, None], 0.0, X[:, :-1])
         if frames is not None:  # the tangential rows of the frames: local → global
             T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
-        out = np.full(len(self.index), np.inf)
-        floor = np.broadcast_to(np.asarray(noise, dtype=float), out.shape)
-        for k, idx in enumerate(self.index):
-            shear = float(np.linalg.norm(T[idx].sum(axis=0)))
-            if shear > floor[k] and shear > 0:
-                out[k] = float(cap[idx].sum()) / shear
-        return out
+        capacity = np.array([cap[idx].sum() for idx in self.index])
+        shear = np.array([np.linalg.norm(T[idx].sum(axis=0)) for idx in self.index])
+        return capacity, shear
 
     def scaled(self, factor: float) -> PairLaws:
         """The laws seen at a rate level: the strengths (cohesion and tension forces)

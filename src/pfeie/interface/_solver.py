@@ -871,11 +871,12 @@ class InterfaceSolver:
         self._breaking = bool(breaking)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
-        st = (prev if start is None else start).copy()
-        if start is not None:  # breaking is the iteration's, from prev's flags
-            fresh = st.broken & ~prev.broken
-            st.broken[fresh] = False
-            st.state[fresh] = prev.state[fresh]
+        first = None if start is None else start.copy()
+        if first is not None:  # breaking is the iteration's, from prev's flags
+            fresh = first.broken & ~prev.broken
+            first.broken[fresh] = False
+            first.state[fresh] = prev.state[fresh]
+        st = (prev if first is None else first).copy()
         reopen = (st.state == OPEN) & (w_free[:, -1] < 0)
         st.state[reopen] = STICK
         st.state[self._inactive] = OPEN
@@ -970,11 +971,7 @@ class InterfaceSolver:
             self.last = SolveInfo(it + n_it, res, method)
             log.debug("%s: solved by semismooth Newton, residual %.2e", label, res)
             return st2, q2
-        if start is not None:  # the given first iterate, the answer to a nearby problem
-            first = start.copy()
-            fresh = first.broken & ~prev.broken
-            first.broken[fresh] = False
-            first.state[fresh] = prev.state[fresh]
+        if first is not None:  # the given first iterate, the answer to a nearby problem
             st5, q5, n5 = self._newton(first, np.zeros_like(q), prev, w_free, e)
             n_it += n5
             res5 = float(self.residual(st5, prev, w_free).max(initial=0.0))

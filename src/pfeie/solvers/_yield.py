@@ -49,7 +49,7 @@ import numpy as np
 
 from ..coupling import StaticInterfaceProblem
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
-from ..interface import OPEN, OPEN_CRACK_MIN_M, SolverSettings, cohesion_ramp
+from ..interface import OPEN, SolverSettings
 from ..model import Model
 from ..typing import FloatArray
 from ._static import StaticResult, solve_pairs
@@ -182,9 +182,8 @@ def yield_coefficient(
     system = problem.system
     free = system.free
     f0_free, f0_all = system.load(0.0), model.load_vector(0.0)
-    ones = np.zeros((model.mesh.n_points, model.dim))
-    ones[:] = iota
-    f_h = g * (model.mass() @ ones.ravel())  # the inertia of a uniform acceleration g ι
+    # the inertia of a uniform acceleration g ι
+    f_h = g * (model.mass() @ np.tile(iota, model.mesh.n_points))
     names = list(model.pairs.names)
     laws = model.pair_laws
     frames = model.pairs.frame
@@ -211,18 +210,9 @@ def yield_coefficient(
             return None
         P = st.pairs
         assert P is not None
-        # each pair's capacity under its law: c A + μ N⁺, on the residual cohesion's ramp
-        # its mobilised part (a pair that touches with almost no normal force), none open
-        c, mu, t = laws.strength(P.broken, P.path)
-        Xn = P.X[:, -1]
-        cap = c + mu * np.maximum(Xn, 0.0)
-        on, tau, _ = cohesion_ramp(c, mu, t, Xn, P.broken)
-        cap = np.where(on, tau, cap)
-        cap[(P.state == OPEN) & (P.w[:, -1] > OPEN_CRACK_MIN_M)] = 0.0
-        T = np.where((P.state == OPEN)[:, None], 0.0, P.X[:, :-1])
-        T = np.einsum("mkd,mk->md", frames[:, :-1, :], T)
-        capacity = np.array([cap[i].sum() for i in laws.index])
-        shear = np.array([np.linalg.norm(T[i].sum(axis=0)) for i in laws.index])
+        # each pair's capacity under its law (the residual cohesion's ramp included)
+        capacity, shear = laws.capacity_and_shear(P.X, P.state == OPEN, P.broken, P.path,
+                                                  frames, P.w[:, -1], ramp=True)  # fmt: skip
         with np.errstate(divide="ignore", invalid="ignore"):
             fs = np.where(shear > 0, capacity / shear, np.inf)
         # the margin, capacity − shear (N, affine in k while no state changes); NaN where
