@@ -244,6 +244,7 @@ def test_histories_kept_on_request(tmp_path: Path) -> None:
     ('units = "g"', ["records[0]", "rainbow"]),
     ('folder = "rec"', ["records[0]", "either file or folder"]),
     ("workers = 0 ", ["run.workers", "expected an integer in [0, 4096] or 'auto'", "'many'"]),
+    ("[run]", ["run.batch", "expected an integer in [1, 64]", "found 0"]),
 ])  # fmt: skip
 def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str,
                          words: list[str]) -> None:  # fmt: skip
@@ -257,6 +258,7 @@ def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edi
         'units = "g"': 'units = "g"\nrainbow = 1',
         'folder = "rec"': 'folder = "rec"\nfile = "rec/r0.csv"',
         "workers = 0 ": 'workers = "many" ',
+        "[run]": "[run]\nbatch = 0",
     }[edit]
     p = setup(tmp_path, STUDY.replace(edit, bad))
     assert main(["study", str(p)]) == 2
@@ -344,3 +346,34 @@ def test_study_records_are_filtered_as_a_model_files(tmp_path: Path) -> None:
     bad = setup(tmp_path / "bad", study.replace("highpass = 0.5", "highpass = 60.0"), n=1)
     with pytest.raises(RecordError, match=r"r0\.csv"):
         Study.from_file(bad).run()
+
+
+def test_runs_in_lockstep_give_the_rows_of_runs_alone(tmp_path: Path,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """A study whose runs step together (its 6 runs in two groups of 3, at most 4 a group,
+    each on a twin of the system's analysis) gives the table of its runs one after
+    the other, bit for bit. (This model is far below the 20,000 DOF from which a
+    study steps its runs together, and its W is stored with K̂⁻¹Gᵀ, so no block
+    solve is shared here: the shared solves are tested in test_lockstep.py; this
+    test holds the study's side: the twins, the rows as each run ends, the table.)"""
+    import pfeie.linalg as la
+    from pfeie.study import _study
+
+    p = setup(tmp_path)
+    ref = Study.from_file(p)
+    ref.folder, ref.batch = tmp_path / "ref", 1
+    want = ref.run()
+    calls: list[int] = []
+    real = la.run_lockstep
+
+    def spy(tasks, stats=None):  # type: ignore[no-untyped-def]
+        calls.append(len(tasks))
+        return real(tasks, stats)
+
+    monkeypatch.setattr(_study._System, "lockstep", lambda self: True)
+    monkeypatch.setattr(la, "run_lockstep", spy)
+    st = Study.from_file(p)
+    st.batch = 4
+    same(want, st.run())
+    assert calls == [3, 3]  # six runs in two groups of at most four
+    assert len(list((tmp_path / "study" / "rows").glob("*.json"))) == 6

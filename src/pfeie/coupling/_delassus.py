@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Literal, Protocol
+from typing import Any, Literal, Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -83,6 +83,9 @@ def _solve_columns(
 class _StoredW:
     """W held as a dense array: size, the matrix and its product."""
 
+    def __deepcopy__(self, memo: dict[int, object]) -> Any:
+        return self  # W never changes: copies of what holds it share it
+
     W: FloatArray
 
     @property
@@ -122,6 +125,9 @@ class MatrixFreeDelassus:
     G: sp.csr_matrix
     _W: FloatArray | None = field(default=None, repr=False)
 
+    def __deepcopy__(self, memo: dict[int, object]) -> Any:
+        return self  # W never changes: copies of what holds it share it
+
     @property
     def size(self) -> int:
         return int(self.G.shape[0])
@@ -150,6 +156,9 @@ class BlockDelassus:
     coupling: dict[tuple[int, int], tuple[FloatArray, FloatArray]]
     factor: Factorization
     G: sp.csr_matrix
+
+    def __deepcopy__(self, memo: dict[int, object]) -> Any:
+        return self  # W never changes: copies of what holds it share it
 
     @property
     def size(self) -> int:

@@ -250,6 +250,21 @@ class Dynamic:
         G = self.op.G
         self._gmg = np.asarray(G.multiply(G) @ self.minv).reshape(self.m, self.d)[:, -1]
 
+    def twin(self) -> Dynamic:
+        """A second analysis of the same system for another run beside this one: it
+        shares what never changes (the model, its system, the factorised step matrix, the
+        Delassus operator W) and copies the rest (the pair solvers with their caches, the
+        scheme's last step), so that runs of the two never touch each other's state and
+        each gives the bits it gives alone. For runs in lockstep (a study's batch of
+        records, :func:`pfeie.linalg.run_lockstep`); not with large rotations, whose step
+        updates the shared operators."""
+        import copy
+
+        if self.corot is not None:
+            raise ModelError("twin: not with large_rotation (its operators change a step)")
+        memo: dict[int, Any] = {id(self.model): self.model, id(self.system): self.system}
+        return copy.deepcopy(self, memo)
+
     @property
     def factor(self) -> Factorization:
         """The factorised matrix of the blocks' step (K̂, Ŝ of the nonsmooth-α scheme, or

@@ -293,6 +293,26 @@ class InterfaceSolver:
             else:
                 self._invert(diag)
 
+    #: the operators of a solver, never written once it is built: W, W_c, W_c⁻¹, the
+    #: sparse W_c and the border E (a new W_c is a new array, :meth:`_invert`)
+    _OPERATORS = frozenset({"W", "Wc", "_winv", "_sparse", "E"})
+
+    def __deepcopy__(self, memo: dict[int, object]) -> InterfaceSolver:
+        """A copy for another run beside this one (:meth:`pfeie.Dynamic.twin`): the
+        operators (:data:`_OPERATORS`) shared, their arrays made read-only (a write
+        would fail rather than reach the other run); the rest (the last solve's state,
+        the capacitance caches, the work arrays) copied."""
+        new = object.__new__(type(self))
+        memo[id(self)] = new
+        for key, value in self.__dict__.items():
+            if key in self._OPERATORS:
+                if isinstance(value, np.ndarray):
+                    value.flags.writeable = False
+                new.__dict__[key] = value
+            else:
+                new.__dict__[key] = copy.deepcopy(value, memo)
+        return new
+
     def _invert(self, diag: FloatArray) -> None:
         """W_c⁻¹ from a Cholesky factorisation of W_c (shifted when W is singular)."""
         try:

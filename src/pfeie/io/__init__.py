@@ -19,9 +19,12 @@ from ._modelfile import (
 from ._paraview import write_modes, write_paraview
 from ._records import read_record, write_at2
 from ._results import Results, ResultsWriter
-from ._studyfile import StudyFile, read_study_file
+from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_file
 
 __all__ = [
+    "BATCH",
+    "MAX_BATCH",
+    "MAX_WORKERS",
     "CheckpointWriter",
     "Job",
     "ModelFile",

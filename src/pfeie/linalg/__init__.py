@@ -8,15 +8,25 @@ low-rank term such as the damping of the floating bodies' deformation only.
 triangle, ``symmetric_columns`` gathers its columns along the contiguous axis;
 ``Workspace`` keeps the work arrays of repeated large dense computations, ``MixedLU``
 solves a large dense system by a single-precision LU refined in double precision.
+``run_lockstep`` runs several computations on shared factors in turn, their block solves
+made together (a study's records; the same bits as each alone).
 """
 
 from ._dense import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
-from ._factor import Factorization, available_backends, factorize, nested_dissection
+from ._factor import (
+    Factorization,
+    available_backends,
+    factorize,
+    nested_dissection,
+    shares_block_solves,
+)
+from ._lockstep import LockstepStats, run_lockstep
 from ._lowrank import LowRankTerm, UpdatedFactorization
 
 __all__ = [
     "SYMMETRIC_MIN",
     "Factorization",
+    "LockstepStats",
     "LowRankTerm",
     "MixedLU",
     "UpdatedFactorization",
@@ -24,6 +34,8 @@ __all__ = [
     "available_backends",
     "factorize",
     "nested_dissection",
+    "run_lockstep",
+    "shares_block_solves",
     "symmetric_columns",
     "symmetric_product",
 ]

@@ -73,6 +73,9 @@ class UpdatedFactorization:
         self.Y = sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n, 0))
         self._cap = sla.lu_factor(np.linalg.inv(term.B) + (U.T @ self.Y).toarray())
 
+    def __deepcopy__(self, memo: dict[int, object]) -> UpdatedFactorization:
+        return self  # never changes: copies of what holds it share it
+
     def solve(self, b: FloatArray) -> FloatArray:
         x = self.base.solve(b)
         z = sla.lu_solve(self._cap, np.asarray(self.term.U.T @ x))

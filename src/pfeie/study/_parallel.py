@@ -1,12 +1,13 @@
 """The runs of a study on Dask: a local cluster of worker processes, or a scheduler.
 
-Each task is one run (:func:`pfeie.study._study.run_one`) with the small
-:class:`~pfeie.study._study.Context`; a worker builds the model, its static state and its
-factorised time stepping on its first task and keeps them for the next ones (the
-factorisation is never shipped). Only the rows come back. Every row is also written by
-the worker to ``<folder>/rows/`` as the run ends, so that a study killed at any moment
-keeps its finished runs; on a cluster, the output folder must be on a file system that
-the workers share with the client.
+Each task is a group of runs (:func:`pfeie.study._study.run_batch`, at most the study's
+``batch``, :func:`batches`) with the small :class:`~pfeie.study._study.Context`, which the
+worker steps together where the system gains from it; a worker builds the model, its
+static state and its factorised time stepping on its first task and keeps them for the
+next ones (the factorisation is never shipped). Only the rows come back. Every row is
+also written by the worker to ``<folder>/rows/`` as the run ends, so that a study killed
+at any moment keeps its finished runs; on a cluster, the output folder must be on a file
+system that the workers share with the client.
 
 ``workers = "auto"`` (the default of the study file and of :class:`~pfeie.study.Study`)
 is one process per core this process may run on (:func:`available_cores`), at most one
@@ -27,15 +28,30 @@ installed.
 from __future__ import annotations
 
 import logging
+import math
 import multiprocessing
 import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import InputError, PfeieError
-from ._study import Context, RunSpec, Workers, run_one
+from ._study import Context, RunSpec, Workers, run_batch
 
 log = logging.getLogger(__name__)
+
+
+#: the Dask settings of a local cluster's workers that differ from Dask's defaults.
+#: Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_=65536`` in its workers, which also turns
+#: off glibc's adaptive mmap threshold: every array above 128 kB (a vector of 16k DOF)
+#: is then mapped and unmapped anew, its pages faulted in zero-filled, and a time step of
+#: the 49k-DOF study benchmark took 56 ms instead of 38 (measured in one process with and
+#: without the variable; 65 ms in a worker). Unset here (None removes it). The workers'
+#: sampling profiler (every 10 ms, for the dashboard) cost about 10 % more (65 → 58 ms);
+#: off here.
+WORKER_CONFIG: dict[str, Any] = {
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    "distributed.worker.profile.enabled": False,
+}
 
 
 def available_cores() -> int:
@@ -80,6 +96,29 @@ def local_workers(workers: Workers, runs: int) -> int:
     return n
 
 
+def batches(specs: Sequence[RunSpec], batch: int, workers: int) -> list[list[RunSpec]]:
+    """``specs`` in groups a worker runs together (:func:`~pfeie.study._study.run_batch`):
+    at most ``batch`` each, and at least as many groups as ``workers`` while there are
+    runs for them (no worker idle for want of a group), in order.
+
+    >>> [len(g) for g in batches(list(range(10)), 8, 2)]
+    [5, 5]
+    >>> [len(g) for g in batches(list(range(20)), 8, 2)]
+    [7, 7, 6]
+    """
+    n = len(specs)
+    if n == 0:
+        return []
+    groups = max(math.ceil(n / max(batch, 1)), min(max(workers, 1), n))
+    size, extra = divmod(n, groups)
+    out, i = [], 0
+    for g in range(groups):
+        k = size + (g < extra)
+        out.append(list(specs[i : i + k]))
+        i += k
+    return out
+
+
 def run_parallel(
     ctx: Context,
     specs: Sequence[RunSpec],
@@ -87,10 +126,13 @@ def run_parallel(
     *,
     workers: int = 2,
     scheduler: str | None = None,
+    batch: int = 1,
 ) -> None:
-    """Run ``specs`` on Dask, calling ``finished(row)`` as each run ends (in the order
-    they end). An error of a run (a :class:`PfeieError`) is raised after the runs
-    already finished have been reported."""
+    """Run ``specs`` on Dask in groups of at most ``batch`` (:func:`batches`; each a task
+    that a worker runs together, :func:`~pfeie.study._study.run_batch`), calling
+    ``finished(row)`` as each group ends (in the order they end). An error of a run (a
+    :class:`PfeieError`) is raised after the runs already finished have been
+    reported."""
     try:
         from distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -104,12 +146,15 @@ def run_parallel(
         except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     else:
+        import dask
+
         env = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
         try:
-            cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
-                                   processes=True, dashboard_address=":0",
-                                   scheduler_kwargs={"dashboard": False},
-                                   silence_logs=logging.CRITICAL, env=env)  # fmt: skip
+            with dask.config.set(WORKER_CONFIG):
+                cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
+                                       processes=True, dashboard_address=":0",
+                                       scheduler_kwargs={"dashboard": False},
+                                       silence_logs=logging.CRITICAL, env=env)  # fmt: skip
         except RuntimeError as exc:  # a worker process that failed to start
             raise InputError(
                 f"the local Dask cluster could not start its {int(workers)} worker "
@@ -121,15 +166,21 @@ def run_parallel(
     log.info("study on Dask: %s (%d runs)", client.dashboard_link or scheduler, len(specs))
     error: BaseException | None = None
     try:
-        futures = [client.submit(run_one, ctx, s, key=f"pfeie-run-{s.key[:24]}", pure=False)
-                   for s in specs]  # fmt: skip
+        n_workers = workers if not scheduler else len(client.scheduler_info()["workers"])
+        futures = [client.submit(run_batch, ctx, g, key=f"pfeie-runs-{g[0].key[:24]}",
+                                 pure=False)
+                   for g in batches(specs, batch, n_workers)]  # fmt: skip
         for fut in as_completed(futures):
             try:
-                row = fut.result()
+                outcomes = fut.result()
             except PfeieError as exc:
                 error = error or exc
                 continue
-            finished(row)
+            for r in outcomes:
+                if isinstance(r, PfeieError):
+                    error = error or r
+                else:
+                    finished(r)
     except BaseException:  # Ctrl-C, SIGTERM: the workers are stopped mid-run, as asked
         logging.getLogger("distributed").setLevel(logging.CRITICAL)
         raise

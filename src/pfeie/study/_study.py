@@ -8,7 +8,10 @@ the demands. Runs go on Dask (:mod:`pfeie.study._parallel`): by default a local 
 of one worker process per available core (``workers = "auto"``), or a running scheduler;
 only the small per-run summaries travel back. With ``workers = 0`` (and by default when
 Dask is not installed, or with one core or one run) they go one after the other in this
-process. :func:`builds` counts the systems a process has built.
+process. :func:`builds` counts the systems a process has built. A process takes the runs
+in groups (``run.batch``) and, from 20,000 DOF, steps the runs of a group together, their
+block solves made in one call a step (:func:`run_batch`): each row the same bits as the
+run alone.
 
 Every run has a key: the SHA-256 of everything its result depends on (the model file
 with its overrides, the mesh and record bytes, the reading options of the record, the
@@ -34,6 +37,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import difflib
+import functools
 import hashlib
 import json
 import logging
@@ -41,13 +45,14 @@ import math
 import os
 import re
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from .._version import __version__
-from ..errors import InputError, ModelError, RecordError
+from ..errors import InputError, ModelError, PfeieError, RecordError
+from ..io import BATCH, MAX_BATCH, MAX_WORKERS
 from ._table import StudyTable
 
 if TYPE_CHECKING:
@@ -91,9 +96,6 @@ SIGNED_COLUMNS = frozenset({"stress.max_principal_Pa", "stress.min_principal_Pa"
 #: how the runs are spread: worker processes of a local Dask cluster (0: in this process),
 #: or "auto" (:func:`pfeie.study._parallel.local_workers`)
 Workers = int | Literal["auto"]
-
-#: the most worker processes of a local cluster (the study file's bound on ``run.workers``)
-MAX_WORKERS = 4096
 
 
 def check_workers(workers: object) -> Workers:
@@ -221,6 +223,21 @@ class _System:
     job: Job
     dyn: Dynamic
     static: StaticResult | None
+    twins: list[Dynamic] = field(default_factory=list)
+
+    def analyses(self, k: int) -> list[Dynamic]:
+        """``k`` analyses of the system for runs in lockstep: the system's own and
+        :meth:`~pfeie.Dynamic.twin` copies (made once, kept for the next batches)."""
+        while len(self.twins) < k - 1:
+            self.twins.append(self.dyn.twin())
+        return [self.dyn, *self.twins[: k - 1]]
+
+    def lockstep(self) -> bool:
+        """Whether this system's runs gain from stepping together
+        (:func:`pfeie.linalg.shares_block_solves`; not with large rotations)."""
+        from ..linalg import shares_block_solves
+
+        return self.dyn.corot is None and shares_block_solves(self.dyn.factor)
 
 
 _SYSTEMS: dict[str, _System] = {}
@@ -265,10 +282,45 @@ def _solver_settings(job: Job) -> Any:
 def run_one(ctx: Context, spec: RunSpec) -> dict[str, Any]:
     """Run one record at one intensity on the process's system; returns its table row
     (also written to ``<folder>/rows/<key>.json``)."""
+    sysm = system(ctx)
+    return _run_on(ctx, spec, sysm, sysm.dyn)
+
+
+def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | PfeieError]:
+    """Run ``specs`` on the process's system, stepping together where the system gains
+    from it (:meth:`_System.lockstep`: their block solves made in one call per step,
+    :func:`pfeie.linalg.run_lockstep`; each row the same bits as the run alone), else
+    one after the other. Returns each run's row, or the :class:`PfeieError` that
+    stopped it; the rows are written as the runs end."""
+    sysm = system(ctx)
+    if len(specs) > 1 and sysm.lockstep():
+        from ..linalg import LockstepStats, run_lockstep
+
+        stats = LockstepStats()
+        out = run_lockstep([functools.partial(_run_on, ctx, s, sysm, d)
+                            for s, d in zip(specs, sysm.analyses(len(specs)), strict=True)],
+                           stats)  # fmt: skip
+        log.info("pid %d: %d runs in lockstep, %d block solves of %.1f columns on average",
+                 os.getpid(), len(specs), stats.calls,
+                 stats.columns / max(stats.calls, 1))  # fmt: skip
+        for r in out:
+            if isinstance(r, BaseException) and not isinstance(r, PfeieError):
+                raise r
+        return out  # type: ignore[return-value]
+    rows: list[dict[str, Any] | PfeieError] = []
+    for s in specs:
+        try:
+            rows.append(_run_on(ctx, s, sysm, sysm.dyn))
+        except PfeieError as exc:
+            rows.append(exc)
+    return rows
+
+
+def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[str, Any]:
+    """Run one record at one intensity with the analysis ``dyn`` of ``sysm``."""
     from .._job import summarize
 
-    sysm = system(ctx)
-    job, dyn = sysm.job, sysm.dyn
+    job = sysm.job
     rec = spec.record.read(job.model.dim)
     rec = dataclasses.replace(rec, acceleration=rec.acceleration * spec.factor,
                               scaling=f"scaled ×{spec.factor:.6g}")  # fmt: skip
@@ -408,6 +460,10 @@ class Study:
         run. A Python script that runs a study on workers has its code under
         ``if __name__ == "__main__":`` (each worker process starts by importing it).
     scheduler: address of a running Dask scheduler, instead of a local cluster.
+    batch: the runs a worker steps together (in lockstep, their block solves made in
+        one call a step: each run's row the same bits as alone; only where the system
+        gains from it, 20,000 DOF and more, :func:`run_batch`); 1 runs them one after
+        the other.
     limit_states: ``{"name", "demand", "threshold", "exceed"}`` dicts (the study file's
         ``[[limit_states]]``); a threshold > 0 unless the demand is a principal stress.
     source: the study file (its name starts the messages about the study's keys).
@@ -437,6 +493,7 @@ class Study:
     scheduler: str | None = None
     limit_states: list[dict[str, Any]] = field(default_factory=list)
     source: Path | None = None
+    batch: int = BATCH
 
     def __post_init__(self) -> None:
         """Check the study; a :class:`ModelError` names the key of the study file that
@@ -466,6 +523,9 @@ class Study:
             raise ModelError(f"records: two records have the same name: {names}")
         self._check_limit_states()
         self.workers = check_workers(self.workers)
+        if not (type(self.batch) is int and 1 <= self.batch <= MAX_BATCH):
+            raise ModelError(f"run.batch: expected an integer in [1, {MAX_BATCH}], found "
+                             f"{self.batch!r}")  # fmt: skip
         self.source = None if self.source is None else Path(self.source)
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
@@ -567,7 +627,8 @@ class Study:
                        it.damping, cfg.analysis.duration, list(cfg.analysis.set),
                        base / cfg.output.folder, cfg.output.histories, cfg.output.parquet,
                        cfg.title, cfg.run.workers, cfg.run.scheduler,
-                       [ls.model_dump() for ls in cfg.limit_states], p)  # fmt: skip
+                       [ls.model_dump() for ls in cfg.limit_states], p,
+                       cfg.run.batch)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: {exc}") from None
 
@@ -732,14 +793,24 @@ class Study:
                 progress(n_done, total, row)
 
         if todo:
-            from ._parallel import local_workers, run_parallel
+            from ._parallel import batches, local_workers, run_parallel
 
             n = 0 if scheduler else local_workers(workers, len(todo))
             if scheduler or n > 0:
-                run_parallel(ctx, todo, finished, workers=n, scheduler=scheduler)
-            else:
-                for s in todo:
+                run_parallel(ctx, todo, finished, workers=n, scheduler=scheduler,
+                             batch=self.batch)  # fmt: skip
+            elif self.batch == 1 or len(todo) == 1 or not system(ctx).lockstep():
+                for s in todo:  # each row reported as its run ends
                     finished(run_one(ctx, s))
+            else:
+                for group in batches(todo, self.batch, 1):
+                    outcomes = run_batch(ctx, group)
+                    for r in outcomes:
+                        if not isinstance(r, PfeieError):
+                            finished(r)
+                    for r in outcomes:
+                        if isinstance(r, PfeieError):
+                            raise r
         table = StudyTable([_as_run(done[s.key], s) for s in specs])
         table.to_csv(ctx.folder / "table.csv")
         if self.parquet:

@@ -1,0 +1,137 @@
+"""Runs in lockstep (:func:`pfeie.linalg.run_lockstep`): their block solves made together
+on a shared factor, each run the same bits as alone.
+
+References: the computations run alone (the same functions, in the calling thread), and
+the factor's own block solve of each request. The physics case: the jointed section of
+``benchmarks/interfaces.py`` at nx = 60 (4,758 DOF, 122 pairs: W not stored as K̂⁻¹Gᵀ, so
+each step solves a two-column block), El Centro scaled ×1.5 to ×3.5 so that the upper
+block slides in the last runs; the block thresholds are lowered for this size (the
+default path takes blocks from 20,000 DOF).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+import pfeie.linalg._block as blk
+from pfeie.linalg import LockstepStats, factorize, run_lockstep, shares_block_solves
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from interfaces import RECORD, build
+from test_block_solve import _stiffness
+
+
+@pytest.fixture
+def blocks_everywhere(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Two-column blocks from 0 DOF (the size rule only; the kernels are the same)."""
+    monkeypatch.setattr(blk, "BLOCK_MIN_DOF", 0)
+    monkeypatch.setattr(blk, "SMALL_BLOCK_MIN_DOF", 0)
+
+
+def test_tasks_run_in_order_and_errors_come_back() -> None:
+    """Tasks without solves run one after the other, in order; a task's exception is
+    returned in its place, the others finish."""
+    seen: list[int] = []
+
+    def task(k: int) -> Any:
+        def run() -> int:
+            seen.append(k)
+            if k == 1:
+                raise ValueError("task 1 fails")
+            return 10 * k
+
+        return run
+
+    out = run_lockstep([task(0), task(1), task(2)])
+    assert seen == [0, 1, 2]
+    assert out[0] == 0 and out[2] == 20
+    assert isinstance(out[1], ValueError)
+
+
+def test_block_solves_together_give_each_its_own_bits(blocks_everywhere: None) -> None:
+    """Three computations ask, in turn, for solves of 2, 4 and 2 columns, then of 1 and 3
+    (odd: solved alone, in the computation's turn): the even requests of a round go to
+    one call (8 columns, then none), and every answer equals that of the computation run
+    alone, to the bit."""
+    pytest.importorskip("cvxopt")
+    if blk.block_solver() is None:
+        pytest.skip("no block solve here")
+    F = factorize(_stiffness(50), backend="cholmod")  # 5,000 DOF
+    if not F.batch_invariant():  # type: ignore[attr-defined]
+        pytest.skip("block solves are not batch-invariant on this installation")
+    assert shares_block_solves(F)
+    rng = np.random.default_rng(7)
+    rhs = [[rng.standard_normal((F.n, k)) for k in widths]
+           for widths in ((2, 1), (4, 3), (2, 1))]  # fmt: skip
+
+    def task(bs: list[np.ndarray]) -> Any:
+        return lambda: [F.solve(b) for b in bs]
+
+    alone = [task(bs)() for bs in rhs]
+    stats = LockstepStats()
+    together = run_lockstep([task(bs) for bs in rhs], stats)
+    assert (stats.calls, stats.columns, stats.widest) == (1, 8, 8)
+    for a, b in zip(alone, together, strict=True):
+        assert not isinstance(b, BaseException)
+        for x, y in zip(a, b, strict=True):
+            np.testing.assert_array_equal(x, y)
+    # the block of 8 differs from lone columns by round-off: the equality is not trivial
+    lone = F._solve_columns(rhs[0][0])  # type: ignore[attr-defined]
+    assert not np.array_equal(lone, alone[0][0])
+    assert np.abs(lone - alone[0][0]).max() < 1e-12 * np.abs(lone).max()
+
+
+def test_records_in_lockstep_equal_separate_runs(blocks_everywhere: None) -> None:
+    """Four records on one factorised system in lockstep (:meth:`pfeie.Dynamic.twin`
+    analyses): every history equals that of the record run alone, to the bit, with the
+    upper block sliding in the last two; one block solve of 8 columns a step."""
+    pytest.importorskip("cvxopt")
+    if blk.block_solver() is None:
+        pytest.skip("no block solve here")
+    model = build(60)
+    static = pf.solve_static(model)
+    an = pf.Dynamic(model, 0.01, backend="cholmod")
+    if not shares_block_solves(an.factor):
+        pytest.skip("block solves are not batch-invariant on this installation")
+    data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
+    gms = [pf.GroundMotion.from_samples(f * data[:, 1], time=data[:, 0], units="g")
+           for f in (1.5, 2.5, 3.0, 3.5)]  # fmt: skip
+    steps = 200
+
+    def run(a: pf.Dynamic, g: pf.GroundMotion) -> Any:
+        return lambda: a.run(n_steps=steps, ground=[g], start=static)
+
+    twins = [an] + [an.twin() for _ in gms[1:]]
+    assert all(t.factor is an.factor and t.istep.W is an.istep.W for t in twins)
+    assert len({id(t.istep) for t in twins}) == len(twins)
+    stats = LockstepStats()
+    together = run_lockstep([run(a, g) for a, g in zip(twins, gms, strict=True)], stats)
+    assert stats.calls == steps + 1 and stats.widest == 2 * len(gms)
+    alone = [run(pf.Dynamic(model, 0.01, backend="cholmod"), g)() for g in gms]
+    sliding = []
+    for a, b in zip(alone, together, strict=True):
+        assert not isinstance(b, BaseException)
+        assert a.completed and b.completed
+        for name in ("rigid", "X", "w", "state", "probe_a"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+        for key, value in a.energy.items():
+            np.testing.assert_array_equal(value, b.energy[key], err_msg=key)
+        np.testing.assert_array_equal(a.envelope["node_max"], b.envelope["node_max"])
+        sliding.append(int((a.state == 2).sum()))
+    assert sliding[0] == 0 and sliding[-1] > 0 and sliding[-2] > 0
+
+
+def test_twin_refuses_large_rotation() -> None:
+    mesh = pf.rectangle(1.0, 1.0, 1, 1)
+    mesh.add_cell_group("b", lambda x: x[:, 0] > -1)
+    model = pf.Model(mesh, [pf.Block("b", pf.Elastic(1e9, 0.2, 2000))])
+    model.fix(model.nodes_at(lambda x: x[:, 1] < 1e-9))
+    an = pf.Dynamic(model, 0.01, large_rotation=True)
+    with pytest.raises(pf.ModelError, match="large_rotation"):
+        an.twin()
