@@ -298,3 +298,70 @@ def test_safety_factor_sums_the_shears_as_global_vectors() -> None:
     no = np.zeros(2, dtype=bool)
     assert law.safety_factor(X, no, ~no, np.zeros(2), frames)[0] == pytest.approx(10.0, 1e-15)
     assert law.safety_factor(X, no, ~no, np.zeros(2))[0] == pytest.approx(200 / np.sqrt(200))
+
+
+WET_NODES = [(x, y, 0) for y in (0, 1, 2) for x in (0, 1, 2)]
+WET_NAMES = {1: (2, "rock"), 2: (2, "dam"), 3: (1, "bottom"), 4: (1, "joint"),
+             5: (1, "upstream")}  # fmt: skip
+WET_ELEMENTS = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [4, 5]), (4, 1, 4, [5, 6]),
+                (5, 1, 5, [4, 7]),
+                (10, 3, 1, [1, 2, 5, 4]), (11, 3, 1, [2, 3, 6, 5]),
+                (12, 3, 2, [4, 5, 8, 7]), (13, 3, 2, [5, 6, 9, 8])]  # fmt: skip
+WET_MODEL = """
+[mesh]
+file = "wet.msh"
+[materials.concrete]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+rock = "concrete"
+dam = "concrete"
+[interfaces.joint]
+friction_angle = 40.0
+[[supports]]
+group = "bottom"
+[loads]
+pseudo_static = { kh = 0.2, kv = 0.1 }
+[[loads.hydrostatic]]
+groups = ["upstream"]
+water_level = 2.0
+[[loads.westergaard]]
+groups = ["upstream"]
+water_level = 2.0
+[analysis]
+dynamic = false
+[output]
+folder = "out"
+"""
+
+
+def test_pseudo_static_load_includes_the_hydrodynamic_force(tmp_path: Path) -> None:
+    """A 2 m × 1 m block on a level joint (φ = 40°), water 1 m deep on its vertical
+    upstream face, ``pseudo_static = {kh = 0.2, kv = 0.1}`` with Westergaard's added mass:
+    per metre the joint carries N = W (1 − k_v) and T = T₀ + k_h (W + W_a), T₀ = ρ_w g h²/2
+    the hydrostatic thrust and W_a = (7/12) ρ_w g h² Westergaard's hydrodynamic force per
+    unit k_h (EM 1110-2-2100; the added mass acts along the face's normal, so k_v adds
+    nothing on the water). To 2e-15 (measured 2.2e-16). The Python API's
+    ``Model.add_inertia`` gives the same load; before, the coefficients loaded the blocks
+    only (T = T₀ + k_h W, 11 % less here). The report lists the load on the added mass."""
+    from pfeie.plot import write_report
+    from test_robustness import msh22
+
+    msh22(tmp_path / "wet.msh", WET_NODES, WET_ELEMENTS, WET_NAMES)
+    p = tmp_path / "model.toml"
+    p.write_text(WET_MODEL)
+    assert main(["run", str(p), "--quiet"]) == 0
+    j = json.loads((tmp_path / "out" / "summary.json").read_text())["static_joints"]["joint"]
+    g, rho, rho_w, h, kh, kv = 9.81, 2400.0, 1000.0, 1.0, 0.2, 0.1
+    W, T0, Wa = rho * g * 2.0, rho_w * g * h**2 / 2, 7.0 / 12.0 * rho_w * g * h**2
+    assert j["normal_force_N"] == pytest.approx(W * (1 - kv), rel=2e-15)  # measured 2.2e-16
+    assert j["shear_force_N"] == pytest.approx(T0 + kh * (W + Wa), rel=2e-15)  # measured 0
+    html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
+    assert "all blocks and the reservoirs" in html
+    # the same load from the Python API
+    from pfeie.io import load_job
+
+    model = load_job(p).model
+    f = model.inertia_load([kh * g, 0.0]).reshape(-1, 2).sum(axis=0)  # both blocks
+    assert f[0] == pytest.approx(kh * (2 * W + Wa), rel=2e-15) and abs(f[1]) < 1e-15 * W

@@ -490,11 +490,12 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
         if abs(float(horiz @ upward)) > 1e-9:
             raise InputError(f"{p}: loads.pseudo_static.direction: expected a horizontal "
                              f"direction (normal to gravity), found {ps.direction!r}")  # fmt: skip
+        # the inertia of all the mass: the blocks' and the reservoirs' added mass
+        # (Westergaard's hydrodynamic force; the reservoirs are added below)
         if ps.kh:
-            model.add_gravity(ps.kh * loads.gravity, direction=horiz.tolist())
+            model.add_inertia((ps.kh * loads.gravity * horiz).tolist())
         if ps.kv:
-            model.add_gravity(abs(ps.kv) * loads.gravity,
-                              direction=(np.sign(ps.kv) * upward).tolist())  # fmt: skip
+            model.add_inertia((ps.kv * loads.gravity * upward).tolist())
 
     def faces(key: str, groups: list[str]) -> None:
         """Each of ``groups`` must be a facet group of the mesh (``key`` names the list)."""

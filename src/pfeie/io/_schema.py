@@ -357,9 +357,11 @@ class UpliftTable(_Table):
 
 
 class PseudoStatic(_Table):
-    """``loads.pseudo_static``: the seismic coefficients of a pseudo-static analysis: a
-    body force k_h W along a horizontal direction and k_v W upward, W the weight (ρ g with
-    ``loads.gravity``)."""
+    """``loads.pseudo_static``: the seismic coefficients of a pseudo-static analysis: the
+    inertia force of a uniform acceleration k_h g along a horizontal direction and k_v g
+    upward on all the mass: k_h W and k_v W on the blocks (W the weight, ρ g with
+    ``loads.gravity``) and, with ``[[loads.westergaard]]``, the reservoir's hydrodynamic
+    force on its added mass (Westergaard's k_h (7/12) ρ_w g h² on a vertical face)."""
 
     kh: Annotated[
         float, Field(ge=0.0, le=2.0),
@@ -372,7 +374,7 @@ class PseudoStatic(_Table):
     ] = 0.0  # fmt: skip
     direction: Annotated[
         Vector | None,
-        Field(description="horizontal direction of k_h W (normalised); default +x"),
+        Field(description="horizontal direction of k_h g (normalised); default +x"),
     ] = None  # fmt: skip
 
 
@@ -389,8 +391,10 @@ class Loads(_Table):
     pseudo_static: Annotated[
         PseudoStatic | None,
         Field(description="seismic coefficients of a pseudo-static analysis (a table: kh, "
-              "kv, direction): body forces k_h W horizontal and k_v W upward, in the static "
-              "analysis and, as constant loads, in a dynamic one"),
+              "kv, direction): the inertia forces k_h g horizontal and k_v g upward on all "
+              "the mass (the blocks and a reservoir's added mass: Westergaard's "
+              "hydrodynamic force), in the static analysis and, as constant loads, in a "
+              "dynamic one"),
     ] = None  # fmt: skip
     pressure: Annotated[list[Pressure], Field(description="uniform pressures")] = []
     hydrostatic: Annotated[

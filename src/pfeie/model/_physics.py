@@ -163,7 +163,8 @@ class Load:
     """A spatial load pattern times a time amplitude (1 when ``amplitude`` is None).
 
     ``kind`` is "body" (force per volume, N/m³), "traction" (N/m² on a facet group),
-    "pressure" (N/m², positive pushing into the body), "nodal" (N) or "silt" (a
+    "pressure" (N/m², positive pushing into the body), "nodal" (N), "inertia" (M times a
+    uniform acceleration ``value``, m/s², the reservoirs' added mass included) or "silt" (a
     geostatic stress on a facet group: ``value`` gives its principal pressures along the
     axes, (..., d) in Pa, and the traction is −diag(value) n with n the outward normal).
     """

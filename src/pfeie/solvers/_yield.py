@@ -183,7 +183,7 @@ def yield_coefficient(
     free = system.free
     f0_free, f0_all = system.load(0.0), model.load_vector(0.0)
     # the inertia of a uniform acceleration g ι
-    f_h = g * (model.mass() @ np.tile(iota, model.mesh.n_points))
+    f_h = model.inertia_load(g * iota)
     names = list(model.pairs.names)
     laws = model.pair_laws
     frames = model.pairs.frame
