@@ -24,6 +24,7 @@ from pfeie.errors import InterfaceError, MechanismError
 from pfeie.interface import OPEN
 from pfeie.verification._models import block_on_base, block_on_base_3d
 from test_cli import SMALL, _write
+from test_study import ELEMENTS, NAMES, NODES
 
 PHI = 30.0
 
@@ -300,13 +301,10 @@ def test_safety_factor_sums_the_shears_as_global_vectors() -> None:
     assert law.safety_factor(X, no, ~no, np.zeros(2))[0] == pytest.approx(200 / np.sqrt(200))
 
 
-WET_NODES = [(x, y, 0) for y in (0, 1, 2) for x in (0, 1, 2)]
-WET_NAMES = {1: (2, "rock"), 2: (2, "dam"), 3: (1, "bottom"), 4: (1, "joint"),
-             5: (1, "upstream")}  # fmt: skip
-WET_ELEMENTS = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [4, 5]), (4, 1, 4, [5, 6]),
-                (5, 1, 5, [4, 7]),
-                (10, 3, 1, [1, 2, 5, 4]), (11, 3, 1, [2, 3, 6, 5]),
-                (12, 3, 2, [4, 5, 8, 7]), (13, 3, 2, [5, 6, 9, 8])]  # fmt: skip
+# test_study's two 2 m x 1 m rows (a fixed base, a block on a joint), the block's
+# upstream face (x = 0) a line group of its own
+WET_NAMES = {**NAMES, 5: (1, "upstream")}
+WET_ELEMENTS = [*ELEMENTS, (5, 1, 5, [4, 7])]
 WET_MODEL = """
 [mesh]
 file = "wet.msh"
@@ -315,8 +313,8 @@ E = 30e9
 nu = 0.2
 rho = 2400.0
 [blocks]
-rock = "concrete"
-dam = "concrete"
+base = "concrete"
+block = "concrete"
 [interfaces.joint]
 friction_angle = 40.0
 [[supports]]
@@ -348,7 +346,7 @@ def test_pseudo_static_load_includes_the_hydrodynamic_force(tmp_path: Path) -> N
     from pfeie.plot import write_report
     from test_robustness import msh22
 
-    msh22(tmp_path / "wet.msh", WET_NODES, WET_ELEMENTS, WET_NAMES)
+    msh22(tmp_path / "wet.msh", NODES, WET_ELEMENTS, WET_NAMES)
     p = tmp_path / "model.toml"
     p.write_text(WET_MODEL)
     assert main(["run", str(p), "--quiet"]) == 0

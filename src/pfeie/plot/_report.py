@@ -448,9 +448,9 @@ def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
                      **resultant(1)})  # fmt: skip
     if n_ps and ps is not None:  # added right after gravity (io._modelfile)
         towards = "+x" if ps["direction"] is None else str(ps["direction"])
-        wet = "all blocks" + (" and the reservoirs' added mass"
-                              if model.reservoirs or model.fe_reservoirs else "")  # fmt: skip
-        rows.append({"load": "pseudo-static", "where": wet,
+        on = "all blocks" + (" and the reservoirs' added mass"
+                             if model.reservoirs or model.fe_reservoirs else "")  # fmt: skip
+        rows.append({"load": "pseudo-static", "where": on,
                      "parameters": f"k_h = {ps['kh']:g} along {towards}, k_v = "
                                    f"{ps.get('kv', 0.0):g} (upward +)",
                      **resultant(n_ps)})  # fmt: skip
