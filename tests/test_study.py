@@ -272,6 +272,10 @@ def test_bad_arguments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     p = setup(tmp_path)
     assert main(["study", str(p), "--workers", "two"]) == 2
     assert "--workers" in capsys.readouterr().err
+    assert main(["study", str(p), "--batch", "0"]) == 2
+    assert "--batch: expected a whole number in [1, 64], found '0'" in capsys.readouterr().err
+    with pytest.raises(ModelError, match=r"run\.batch: expected an integer in \[1, 64\]"):
+        Study(tmp_path / "model.toml", [tmp_path / "rec" / "r0.csv"], batch=65)
     assert main(["study", str(tmp_path / "none.toml")]) == 2
     assert "study file not found" in capsys.readouterr().err
     with pytest.raises(ModelError, match=r"intensity\.values\[0\]: expected a finite number > 0"):
