@@ -12,6 +12,7 @@ default path takes blocks from 20,000 DOF).
 from __future__ import annotations
 
 import sys
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -135,3 +136,54 @@ def test_twin_refuses_large_rotation() -> None:
     an = pf.Dynamic(model, 0.01, large_rotation=True)
     with pytest.raises(pf.ModelError, match="large_rotation"):
         an.twin()
+
+
+class _Fake:
+    """A factor whose shared solve doubles its columns, or raises ``error``."""
+
+    def __init__(self, error: BaseException | None = None) -> None:
+        self.error, self.calls = error, 0
+
+    def solve_block(self, cols: np.ndarray) -> np.ndarray:
+        self.calls += 1
+        if self.error is not None:
+            raise self.error
+        return 2.0 * cols
+
+
+def test_a_failed_shared_solve_is_raised_in_each_computation_that_asked() -> None:
+    """The shared solve of one factor fails: the two computations that asked for it get
+    its error; the one that asked another factor finishes; no thread is left behind."""
+    from pfeie.linalg._lockstep import pending_solve
+
+    bad, good = _Fake(MemoryError("no room")), _Fake()
+
+    def task(factor: _Fake) -> Any:
+        return lambda: pending_solve(factor, np.ones((3, 2)))
+
+    out = run_lockstep([task(bad), task(good), task(bad)])
+    assert isinstance(out[0], MemoryError) and isinstance(out[2], MemoryError)
+    np.testing.assert_array_equal(out[1], 2.0 * np.ones((3, 2)))
+    assert bad.calls == 1 and good.calls == 1
+    assert not [t for t in threading.enumerate() if t.name.startswith("lockstep-")]
+
+
+def test_an_interrupt_unwinds_every_computation() -> None:
+    """A KeyboardInterrupt in the caller (here from the shared solve) leaves
+    run_lockstep, and every computation's thread ends."""
+    from pfeie.linalg._lockstep import pending_solve
+
+    stop = _Fake(KeyboardInterrupt())
+    ran_on: list[int] = []
+
+    def task(k: int) -> Any:
+        def run() -> None:
+            pending_solve(stop, np.ones((3, 2)))
+            ran_on.append(k)  # never reached
+
+        return run
+
+    with pytest.raises(KeyboardInterrupt):
+        run_lockstep([task(0), task(1)])
+    assert ran_on == []
+    assert not [t for t in threading.enumerate() if t.name.startswith("lockstep-")]

@@ -339,8 +339,8 @@ def test_pseudo_static_load_includes_the_hydrodynamic_force(tmp_path: Path) -> N
     upstream face, ``pseudo_static = {kh = 0.2, kv = 0.1}`` with Westergaard's added mass:
     per metre the joint carries N = W (1 − k_v) and T = T₀ + k_h (W + W_a), T₀ = ρ_w g h²/2
     the hydrostatic thrust and W_a = (7/12) ρ_w g h² Westergaard's hydrodynamic force per
-    unit k_h (EM 1110-2-2100; the added mass acts along the face's normal, so k_v adds
-    nothing on the water). To 2e-15 (measured 2.2e-16). The Python API's
+    unit k_h (EM 1110-2-2100; on this vertical face the added mass acts along x only,
+    so k_v adds nothing on the water). To 2e-15 (measured 2.2e-16). The Python API's
     ``Model.add_inertia`` gives the same load; before, the coefficients loaded the blocks
     only (T = T₀ + k_h W, 11 % less here). The report lists the load on the added mass."""
     from pfeie.plot import write_report

@@ -12,6 +12,7 @@ solves a large dense system by a single-precision LU refined in double precision
 made together (a study's records; the same bits as each alone).
 """
 
+from ._block import SMALL_BLOCK_MIN_DOF
 from ._dense import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ._factor import (
     Factorization,
@@ -24,6 +25,7 @@ from ._lockstep import LockstepStats, run_lockstep
 from ._lowrank import LowRankTerm, UpdatedFactorization
 
 __all__ = [
+    "SMALL_BLOCK_MIN_DOF",
     "SYMMETRIC_MIN",
     "Factorization",
     "LockstepStats",

@@ -189,7 +189,7 @@ class _Cholmod:
         """Whether a column solved in an even-width block has the same bits wherever it
         sits and whatever columns are beside it (then computations in lockstep may share
         block solves and still get what each gets alone, :mod:`._lockstep`). Checked once on
-        this factor: a probe column at positions 0 of 2, 1 and 3 of 4, 6 of 16 and 1 of 18
+        this factor: a probe column at positions 0 of 2, 1 and 3 of 4, 6 of 16 and 17 of 18
         (across the chunks of :data:`._block.BLOCK`), among random others. Measured true
         with the cvxopt wheel's CHOLMOD and OpenBLAS (columns of odd-width blocks are not:
         the last one takes another kernel)."""

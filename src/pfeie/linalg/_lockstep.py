@@ -9,7 +9,11 @@ a thread of its own, but never two at once: a computation runs until it asks for
 block solve (:func:`pending_solve`, called by the factor), or ends; when every live one
 has asked or ended, the requests on each factor are solved in one call, the columns
 side by side in the order of the computations, and the computations resume in order.
-Nothing runs concurrently and the order is fixed, so a run is deterministic.
+Nothing runs concurrently and the order is fixed, so a run is deterministic. A failed
+shared solve raises its error in each computation that asked for it (the others go on);
+an interrupt of the caller unwinds every computation's thread. A computation must not
+hold a lock that another one needs across a block solve (the others would wait for it
+while it waits for them): none in pfeie does.
 
 A column's bits do not depend on the columns beside it where the factor is
 *batch-invariant* (:meth:`Factorization.batch_invariant`: CHOLMOD's block solve, with
@@ -61,6 +65,12 @@ class _Request:
     factor: BatchedFactor
     cols: FloatArray
     result: FloatArray | None = None
+    error: BaseException | None = None
+
+
+class _Aborted(BaseException):
+    """Raised in a computation whose lockstep was abandoned (an interrupt of the caller):
+    it unwinds the computation's thread."""
 
 
 @dataclass
@@ -91,14 +101,22 @@ class _Lockstep:
         self.tasks = list(tasks)
         self.yielded = threading.Event()
         self.stats = LockstepStats()
+        self.aborted = False
 
     def ask(self, task: _Task, request: _Request) -> FloatArray:
-        """From a computation's thread: leave ``request`` and wait for its answer."""
+        """From a computation's thread: leave ``request`` and wait for its answer (the
+        shared solve's error, if it failed, is raised here, in each computation)."""
         task.request = request
         task.turn.clear()
+        if self.aborted:  # abandoned while this computation ran
+            raise _Aborted
         self.yielded.set()
         task.turn.wait()
         task.request = None
+        if self.aborted:
+            raise _Aborted
+        if request.error is not None:
+            raise request.error
         assert request.result is not None
         return request.result
 
@@ -115,15 +133,21 @@ class _Lockstep:
                                   daemon=True)  # fmt: skip
             threads.append(th)
             th.start()
-        while True:
-            live = [t for t in self.tasks if not t.done]
-            if not live:
-                break
-            for task in live:
-                self._turn(task)
-            self._solve([t.request for t in self.tasks if not t.done and t.request])
-        for th in threads:
-            th.join()
+        try:
+            while True:
+                live = [t for t in self.tasks if not t.done]
+                if not live:
+                    break
+                for task in live:
+                    self._turn(task)
+                self._solve([t.request for t in self.tasks if not t.done and t.request])
+        finally:  # an interrupt here: every waiting computation unwinds (_Aborted)
+            if any(not t.done for t in self.tasks):
+                self.aborted = True
+                for t in self.tasks:
+                    t.turn.set()
+            for th in threads:
+                th.join(timeout=60.0)
 
     def _solve(self, requests: list[_Request]) -> None:
         """The requests of one round: on each factor, one block solve of their columns
@@ -132,8 +156,13 @@ class _Lockstep:
         for r in requests:
             by_factor.setdefault(id(r.factor), []).append(r)
         for group in by_factor.values():
-            cols = np.hstack([r.cols for r in group]) if len(group) > 1 else group[0].cols
-            X = group[0].factor.solve_block(cols)
+            try:
+                cols = np.hstack([r.cols for r in group]) if len(group) > 1 else group[0].cols
+                X = group[0].factor.solve_block(cols)
+            except Exception as exc:  # each computation of the group raises it in its turn
+                for r in group:
+                    r.error = exc
+                continue
             self.stats.calls += 1
             self.stats.columns += cols.shape[1]
             self.stats.widest = max(self.stats.widest, cols.shape[1])
@@ -148,6 +177,8 @@ class _Lockstep:
         _local.current = (self, task)
         try:
             task.value = task.run()
+        except _Aborted:
+            pass
         except BaseException as exc:  # handed to the caller with the others' results
             task.error = exc
         finally:

@@ -97,19 +97,22 @@ def local_workers(workers: Workers, runs: int) -> int:
 
 
 def batches(specs: Sequence[RunSpec], batch: int, workers: int) -> list[list[RunSpec]]:
-    """``specs`` in groups a worker runs together (:func:`~pfeie.study._study.run_batch`):
-    at most ``batch`` each, and at least as many groups as ``workers`` while there are
-    runs for them (no worker idle for want of a group), in order.
+    """``specs`` in groups a worker runs together (:func:`~pfeie.study._study.run_batch`),
+    in order: at most ``batch`` each, their number a multiple of ``workers`` (every round
+    of groups keeps every worker busy) and their sizes within one of each other.
 
     >>> [len(g) for g in batches(list(range(10)), 8, 2)]
     [5, 5]
     >>> [len(g) for g in batches(list(range(20)), 8, 2)]
-    [7, 7, 6]
+    [5, 5, 5, 5]
+    >>> [len(g) for g in batches(list(range(5)), 8, 1)]
+    [5]
     """
     n = len(specs)
     if n == 0:
         return []
-    groups = max(math.ceil(n / max(batch, 1)), min(max(workers, 1), n))
+    w, b = max(workers, 1), max(batch, 1)
+    groups = min(w * math.ceil(n / (b * w)), n)
     size, extra = divmod(n, groups)
     out, i = [], 0
     for g in range(groups):

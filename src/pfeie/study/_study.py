@@ -659,6 +659,18 @@ class Study:
                                     key)  # fmt: skip
         return self._context
 
+    def _may_step_together(self) -> bool:
+        """Whether the workers may step this study's runs together (:func:`run_batch`):
+        the model has the DOF of two-column block solves
+        (:data:`pfeie.linalg.SMALL_BLOCK_MIN_DOF`, counted on all DOF here, where nothing
+        is factorised) and small rotations. Otherwise each run is a task of its own,
+        which Dask balances over the workers."""
+        from ..linalg import SMALL_BLOCK_MIN_DOF
+
+        self.context()
+        return (self.batch > 1 and not self._job.analysis.large_rotation
+                and self._job.model.n_dof >= SMALL_BLOCK_MIN_DOF)  # fmt: skip
+
     def _record(self, r: RecordSource) -> GroundMotion:
         """The record, read once: its time and accelerations (its duration, its intensity
         measures) do not depend on the model's dimension, which the direction is checked
@@ -798,7 +810,7 @@ class Study:
             n = 0 if scheduler else local_workers(workers, len(todo))
             if scheduler or n > 0:
                 run_parallel(ctx, todo, finished, workers=n, scheduler=scheduler,
-                             batch=self.batch)  # fmt: skip
+                             batch=self.batch if self._may_step_together() else 1)  # fmt: skip
             elif self.batch == 1 or len(todo) == 1 or not system(ctx).lockstep():
                 for s in todo:  # each row reported as its run ends
                     finished(run_one(ctx, s))
