@@ -375,6 +375,7 @@ def test_runs_in_lockstep_give_the_rows_of_runs_alone(tmp_path: Path,
         return real(tasks, stats)
 
     monkeypatch.setattr(_study._System, "lockstep", lambda self: True)
+    monkeypatch.setattr(Study, "_may_step_together", lambda self: True)
     monkeypatch.setattr(la, "run_lockstep", spy)
     st = Study.from_file(p)
     st.batch = 4

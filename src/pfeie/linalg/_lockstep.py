@@ -16,14 +16,13 @@ hold a lock that another one needs across a block solve (the others would wait f
 while it waits for them): none in pfeie does.
 
 A column's bits do not depend on the columns beside it where the factor is
-*batch-invariant* (:meth:`Factorization.batch_invariant`: CHOLMOD's block solve, with
+*batch-invariant* (``_Cholmod.batch_invariant`` in :mod:`._factor`: CHOLMOD's block solve, with
 level-3 BLAS, gives each column of an even-width block the same bits wherever it sits;
 checked on each factor before it is used, and on this installation true); then each
 computation gets exactly what it would get alone, and a record of a study equals its
 separate run to the bit. Requests of an odd width, and requests on a factor that is not
 batch-invariant, are solved alone, in the computation's turn.
 
->>> import numpy as np
 >>> log = []
 >>> def task(k):
 ...     def run():

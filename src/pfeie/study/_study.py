@@ -2,7 +2,7 @@
 
 The model is built, its static state solved and its time stepping set up (the blocks'
 effective matrices factorised, the Delassus operator W built) **once per process**; every
-run of that process reuses them (:func:`run_one` keeps them in a per-process cache keyed by
+run of that process reuses them (:func:`system` keeps them in a per-process cache keyed by
 the inputs' hash). A run is then only the time stepping: the record scaled, the steps,
 the demands. Runs go on Dask (:mod:`pfeie.study._parallel`): by default a local cluster
 of one worker process per available core (``workers = "auto"``), or a running scheduler;
@@ -277,13 +277,6 @@ def _solver_settings(job: Job) -> Any:
     from ..interface import SolverSettings
 
     return SolverSettings(tolerance=job.analysis.tolerance)
-
-
-def run_one(ctx: Context, spec: RunSpec) -> dict[str, Any]:
-    """Run one record at one intensity on the process's system; returns its table row
-    (also written to ``<folder>/rows/<key>.json``)."""
-    sysm = system(ctx)
-    return _run_on(ctx, spec, sysm, sysm.dyn)
 
 
 def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | PfeieError]:
@@ -808,14 +801,12 @@ class Study:
             from ._parallel import batches, local_workers, run_parallel
 
             n = 0 if scheduler else local_workers(workers, len(todo))
+            batch = self.batch if self._may_step_together() else 1
             if scheduler or n > 0:
                 run_parallel(ctx, todo, finished, workers=n, scheduler=scheduler,
-                             batch=self.batch if self._may_step_together() else 1)  # fmt: skip
-            elif self.batch == 1 or len(todo) == 1 or not system(ctx).lockstep():
-                for s in todo:  # each row reported as its run ends
-                    finished(run_one(ctx, s))
-            else:
-                for group in batches(todo, self.batch, 1):
+                             batch=batch)  # fmt: skip
+            else:  # in this process: each group's rows reported, then its first error
+                for group in batches(todo, batch, 1):
                     outcomes = run_batch(ctx, group)
                     for r in outcomes:
                         if not isinstance(r, PfeieError):
@@ -848,4 +839,4 @@ class Study:
 
 
 __all__ = ["Context", "RecordSource", "RunSpec", "Study", "Workers", "builds", "check_workers",
-           "read_row", "run_one", "system", "write_row"]  # fmt: skip
+           "read_row", "run_batch", "system", "write_row"]  # fmt: skip
