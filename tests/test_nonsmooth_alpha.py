@@ -302,9 +302,11 @@ def test_energy_terms_of_a_landing_block() -> None:
     """The block of the previous test (2 × 8 Q4) released from its tilt lands on its heel
     and rocks for 0.5 s. As fractions of the energy its fall releases, at Δt = 2, 1 and
     0.5 ms: the impulses take energy at every step (impact ½sΛᵀWΛ ≥ 0 to round-off;
-    totals 1.73, 0.395, 0.213); the pairs' dissipation −P·U⁺ is ≥ 0 at every step to the
+    totals 1.73 (2.81 on another CPU: at Δt = 2 ms the rocking is chaotic to the last bit
+    of the BLAS), 0.395, 0.213); the pairs' dissipation −P·U⁺ is ≥ 0 at every step to the
     interface solver's tolerance (measured ≥ −1.7e-11; asserted −1e-10); the strain
-    energy that the local position correction stores falls with Δt (17.3, 2.09, 0.645);
+    energy that the local position correction stores falls with Δt (17.3 (29.9), 2.09,
+    0.645);
     the balance, with the modified energy, closes to round-off (1e-13; measured 4e-14).
 
     The scheme's own term (algorithmic) is checked against the closed form of the smooth
@@ -359,7 +361,10 @@ def test_energy_terms_of_a_landing_block() -> None:
             Kp[k] = dt * float(n.lam.ravel() @ U1) - 0.5 * float((lam0 + n.lam).ravel()
                                                                   @ (G_ @ du))  # fmt: skip
             smooth[k] = k > 0 and n.impact == 0.0 and n.shift is None and c.shift is None
-        assert smooth.sum() >= 50  # (72, 245, 729 of 250, 500, 1000 steps)
+        # enough steps for the check: 72, 245, 729 of 250, 500, 1000 steps with
+        # OpenBLAS's Haswell kernels, 122, 35, 753 with its SkylakeX ones (the rocking is
+        # chaotic: the last bits of the BLAS move the steps without an impulse)
+        assert smooth.sum() >= 20
         assert np.abs(alg - D - Kp)[smooth].max() <= rho[smooth].max()
         worst.append(-alg.min() / drop)
         if dt < 2e-3:
