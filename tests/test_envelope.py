@@ -54,20 +54,29 @@ def _nodal_reference(model: pf.Model, u: np.ndarray) -> np.ndarray:
     return acc / np.maximum(cnt, 1)[:, None, None]
 
 
-@pytest.mark.parametrize("k", [0, 1], ids=["2D Q8", "3D Tet10"])
+@pytest.mark.parametrize("k", [0, 1, 2], ids=["2D Q8", "3D Tet10", "2D plane stress"])
 def test_stress_operators_equal_the_kernel(k: int) -> None:
     """``Model.stress_operators`` applied to a random displacement equals the stress
-    kernel at the quadrature points and the nodal fit written out in the test (1e-14 of
-    the largest stress; measured 3e-16 to 5e-16)."""
-    model = _models()[k]
+    kernel at the quadrature points (its strain operator and Lamé constants, and the
+    operator DB written out over the DOFs) and the nodal fit written out in the test
+    (1e-14 of the largest stress; measured 3e-16 to 5e-16)."""
+    if k == 2:  # the Q8 mesh in plane stress: σ_zz = 0 and the plane-stress λ
+        blocks = [pf.Block("left", pf.Elastic(20e9, 0.2, 2400)),
+                  pf.Block("right", pf.Elastic(35e9, 0.3, 2600))]  # fmt: skip
+        model = pf.Model(_models()[0].input_mesh, blocks, plane="stress")
+    else:
+        model = _models()[k]
     u = np.random.default_rng(k).standard_normal(model.n_dof) * 1e-4
     op = model.stress_operators
     ref = np.concatenate([_voigt(sig).reshape(-1, 6) for sig, _ in model.stress(u).values()])
-    got = (op.points @ u).reshape(-1, 6)
     scale = np.abs(ref).max()
-    assert np.abs(got - ref).max() < 1e-14 * scale
+    for got in (op.at_points(u), op.components(u).T, (op.points @ u).reshape(-1, 6)):
+        assert np.abs(got - ref).max() < 1e-14 * scale
+    if k == 2:
+        assert not op.components(u)[2].any()
     nodal = _voigt(_nodal_reference(model, u))
     assert np.abs(op.at_nodes(op.at_points(u)) - nodal).max() < 1e-14 * scale
+    assert np.abs(op.nodal_components(op.components(u)).T - nodal).max() < 1e-14 * scale
     assert np.abs(_voigt(model.nodal_stress(u)) - nodal).max() < 1e-14 * scale
 
 

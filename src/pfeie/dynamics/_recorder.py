@@ -149,8 +149,9 @@ class StressEnvelope:
     per node the largest σ₁ and the smallest σ₃ of the nodal stress
     (:meth:`pfeie.Model.nodal_stress`), per cell those over its quadrature points, each
     with the time it was reached (Pa, tension positive; s). The stress is the small-strain
-    stress of the total displacement (the static state included), two sparse products a
-    row (:attr:`pfeie.Model.stress_operators`: the points, then the nodes from them);
+    stress of the total displacement (the static state included), a row's cost the sparse
+    products of :attr:`pfeie.Model.stress_operators` (the strains at the points, then the
+    nodes from the point stresses) and the principal extremes over contiguous rows;
     cells of no block and their nodes hold NaN.
 
     Where the cells' materials have a tensile strength f_t
@@ -193,8 +194,8 @@ class StressEnvelope:
         self._cell_idx: np.ndarray | slice = (
             slice(None) if np.array_equal(self._cells, np.arange(n_cells)) else self._cells
         )
-        # plane states: the yz and xz rows of the operators are empty (σ₁, σ₃ in closed form)
-        self._plane = not any(np.diff(self.op.points.indptr)[k::6].any() for k in (3, 4))
+        # plane states: the yz and xz components vanish (σ₁, σ₃ in closed form)
+        self._plane = self.op.plane
         ft = np.asarray(model.cell_tensile_strength)
         self._ft = ft[self._cells] if np.isfinite(ft).any() else None
         self.tensile = ft
@@ -216,16 +217,18 @@ class StressEnvelope:
             self.values[k][self._nodes if k == "node_min" else self._cells] = np.inf
 
     def _extremes(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """σ₁ and σ₃ of the Voigt rows ``s`` (N, 6) (:func:`principal_extremes`; in plane
-        states its closed form, to the bit)."""
+        """σ₁ and σ₃ of the component-major Voigt rows ``s`` (6, N)
+        (:func:`principal_extremes`; in plane states its closed form, to the bit)."""
         if not self._plane:
-            return principal_extremes(s)
-        xx, yy, zz, xy = s[:, 0], s[:, 1], s[:, 2], s[:, 5]
+            return principal_extremes(s.T)
+        xx, yy, zz, xy = s[0], s[1], s[2], s[5]
         c = xx + yy
         c *= 0.5
         R = xx - yy
         R *= 0.5
-        np.hypot(R, xy, out=R)
+        R *= R  # Mohr's radius as pfeie.assembly's, to the bit
+        R += xy * xy
+        np.sqrt(R, out=R)
         hi = np.add(c, R)
         np.subtract(c, R, out=c)
         return np.maximum(hi, zz, out=hi), np.minimum(c, zz, out=c)
@@ -233,10 +236,10 @@ class StressEnvelope:
     def update(self, t: float, u: FloatArray) -> None:
         """Fold in the stress of the full displacement vector ``u`` at time ``t``."""
         v = self.values
-        sq = self.op.at_points(u)
-        sn = self.op.at_nodes(sq)
+        sq = self.op.components(u)
+        sn = self.op.nodal_components(sq)
         if not isinstance(self._node_idx, slice):
-            sn = sn[self._nodes]
+            sn = sn[:, self._nodes]
         hi_n, lo_n = self._extremes(sn)
         hi_q, lo_q = self._extremes(sq)
         if self._nq:  # point by point, in the order of reduceat (the same bits)

@@ -51,30 +51,144 @@ class _CellSet:
 @dataclass(frozen=True)
 class StressOperators:
     """The stress as a linear map of the full DOF vector u (small strains, the blocks'
-    elastic laws): ``points`` (6 n_q × n_dof) gives the Voigt components (order
-    :data:`pfeie.assembly.VOIGT`: xx, yy, zz, yz, xz, xy; Pa) at the stiffness
-    quadrature points of every block cell, row 6 i + k for point i and component k;
-    ``extrapolation`` (n_points × n_q) maps the point values to the nodal stress of
-    :meth:`Model.nodal_stress` (each cell's least-squares corner fit evaluated at its
-    nodes, averaged over the cells at a node), the same weights for every component;
-    ``cell`` (n_q,) the cell of each point, numbered over the mesh's cells type after type
-    in ``mesh.cells`` order. Built once: a step's stress is one sparse product, its nodal
-    stress a second one with the n_q × 6 point values (:meth:`at_nodes`), a sixth of the
-    entries of the nodal operator written out over the DOFs."""
+    isotropic elastic laws), factored as the strain operator and the Lamé constants of
+    each point:
 
-    points: sp.csr_matrix
-    extrapolation: sp.csr_matrix
+        ε = B u,    σ_ii = λ tr ε + 2μ ε_ii,    σ_ij = μ γ_ij (i ≠ j),
+
+    at the stiffness quadrature points of every block cell (n_q of them). ``strain`` is B,
+    its rows component-major (row k · n_q + i for point i and strain component k, the
+    engineering shears γ_ij = 2ε_ij): in 3D the six Voigt components of
+    :data:`pfeie.assembly.VOIGT` (xx, yy, zz, yz, xz, xy), in 2D the three in-plane ones
+    (xx, yy, xy), with σ_zz = λ tr ε in plane strain and 0 in plane stress (``lam`` then
+    the plane-stress λ). B holds half the entries of the stress operator DB written out
+    over the DOFs in 2D (0.6 of them on Tet10): a step's stress costs one sparse product
+    of B and a few vector operations over the points, rows that the principal extremes
+    read contiguously. The nodal stress of :meth:`Model.nodal_stress` is each cell's
+    least-squares corner fit of its point values evaluated at its nodes, averaged over the
+    cells at a node, the same weights for every component: ``fits`` holds per cell type its
+    first point, its number of cells and the fit F (n_q of a cell × its nodes; the
+    cell-node values of the c cells are the (c × n_q) point values times F, one dense
+    product), ``gather`` (n_points × the cell-node values) the average, a quarter of the
+    entries of the written-out ``extrapolation`` (n_points × n_q) on Q4 and Tet10;
+    ``cell`` (n_q,) the cell of each point, numbered over the mesh's cells type after type
+    in ``mesh.cells`` order.
+
+    >>> import numpy as np, pfeie as pf
+    >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
+    >>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.25, 1.0))])
+    >>> u = np.zeros(model.n_dof); u[0::2] = 1e-3 * mesh.points[:, 0]  # ε_xx = 1e-3
+    >>> model.stress_operators.components(u)[:, 0] / 1e6   # xx, yy, zz, yz, xz, xy (MPa)
+    array([1.2, 0.4, 0.4, 0. , 0. , 0. ])
+    """
+
+    strain: sp.csr_matrix
+    lam: FloatArray
+    mu: FloatArray
+    plane_strain: bool
+    fits: tuple[tuple[int, int, FloatArray], ...]
+    gather: sp.csr_matrix
     cell: IntArray
+
+    @property
+    def n_q(self) -> int:
+        """The number of quadrature points."""
+        return int(self.cell.size)
+
+    @property
+    def plane(self) -> bool:
+        """Plane states (2D): the yz and xz components vanish."""
+        return self.strain.shape[0] == 3 * self.n_q
+
+    def components(self, u: FloatArray) -> FloatArray:
+        """The Voigt stress at the quadrature points, component-major (6, n_q), Pa, of the
+        full DOF vector ``u`` (rows yz and xz zero in plane states)."""
+        n, plane = self.n_q, self.plane
+        e = self.strain @ np.asarray(u, dtype=float)
+        nd = 2 if plane else 3  # the normal components in B
+        tr = e[:n] + e[n : 2 * n]
+        if not plane:
+            tr += e[2 * n : 3 * n]
+        tr *= self.lam  # λ tr ε
+        out = np.empty((6, n))
+        mu2 = 2.0 * self.mu
+        for k in range(nd):
+            np.multiply(mu2, e[k * n : (k + 1) * n], out=out[k])
+            out[k] += tr
+        if plane:
+            out[2] = tr if self.plane_strain else 0.0
+            out[3:5] = 0.0
+            np.multiply(self.mu, e[2 * n :], out=out[5])
+        else:
+            for k in range(3, 6):
+                np.multiply(self.mu, e[k * n : (k + 1) * n], out=out[k])
+        return out
 
     def at_points(self, u: FloatArray) -> FloatArray:
         """The Voigt stress at the quadrature points (n_q, 6), Pa, of the full DOF vector
-        ``u``."""
-        return np.asarray(self.points @ u).reshape(-1, 6)
+        ``u`` (:meth:`components`, point-major)."""
+        return np.ascontiguousarray(self.components(u).T)
+
+    def nodal_components(self, components: FloatArray) -> FloatArray:
+        """The nodal stress, component-major (6, n_points), Pa, of the point values
+        (6, n_q) of :meth:`components`; zero at nodes of no block cell."""
+        out = np.zeros((6, self.gather.shape[0]))
+        corner = np.empty(self.gather.shape[1])
+        for k in (0, 1, 2, 5) if self.plane else range(6):
+            r0 = 0
+            for q0, c, F in self.fits:
+                nq, nen = F.shape
+                vals = components[k, q0 : q0 + c * nq].reshape(c, nq) @ F
+                corner[r0 : r0 + c * nen] = vals.ravel()
+                r0 += c * nen
+            out[k] = self.gather @ corner
+        return out
 
     def at_nodes(self, point_values: FloatArray) -> FloatArray:
         """The nodal stress (n_points, 6), Pa, of the point values (n_q, 6)
         (:meth:`at_points`); zero at nodes of no block cell."""
-        return np.asarray(self.extrapolation @ point_values)
+        return np.ascontiguousarray(
+            self.nodal_components(np.asarray(point_values, dtype=float).T).T
+        )
+
+    @cached_property
+    def extrapolation(self) -> sp.csr_matrix:
+        """The map of the point values to the nodal stress written out (n_points × n_q),
+        formed on first use: ``gather`` times the cells' fits."""
+        rows, cols, vals = [], [], []
+        r0 = 0
+        for q0, c, F in self.fits:
+            nq, nen = F.shape
+            # cell-node value i·nen + a of the type = Σ_j F[j, a] · point value q0 + i·nq + j
+            i, j, a = np.meshgrid(np.arange(c), np.arange(nq), np.arange(nen), indexing="ij")
+            rows.append((r0 + i * nen + a).ravel())
+            cols.append((q0 + i * nq + j).ravel())
+            vals.append(np.broadcast_to(F[None], (c, nq, nen)).ravel())
+            r0 += c * nen
+        Z = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(r0, self.n_q))  # fmt: skip
+        return sp.csr_matrix(self.gather @ Z)
+
+    @cached_property
+    def points(self) -> sp.csr_matrix:
+        """The stress operator DB written out over the DOFs (6 n_q × n_dof; row 6 i + k
+        for point i and Voigt component k), formed on first use: the same map as
+        :meth:`at_points` (which does not use it)."""
+        n, B = self.n_q, self.strain
+        rows = [B[k * n : (k + 1) * n] for k in range(B.shape[0] // n)]
+        z = sp.csr_matrix((n, B.shape[1]))
+        lam, mu = sp.diags(self.lam), sp.diags(self.mu)
+        if self.plane:
+            xx, yy, xy = rows
+            tr = lam @ (xx + yy)
+            comp = [tr + 2 * mu @ xx, tr + 2 * mu @ yy, tr if self.plane_strain else z,
+                    z, z, mu @ xy]  # fmt: skip
+        else:
+            tr = lam @ (rows[0] + rows[1] + rows[2])
+            comp = [tr + 2 * mu @ rows[k] for k in range(3)] + [mu @ rows[k] for k in (3, 4, 5)]
+        S = sp.vstack(comp).tocsr()
+        order = (np.arange(6)[None, :] * n + np.arange(n)[:, None]).ravel()
+        return sp.csr_matrix(S[order])
 
 
 @dataclass(frozen=True)
@@ -1117,54 +1231,59 @@ class Model:
 
     @cached_property
     def stress_operators(self) -> StressOperators:
-        """The stress operators of the model (:class:`StressOperators`), assembled column
-        by column from the stress kernel (one unit displacement of each element DOF for
-        all cells at once)."""
+        """The stress operators of the model (:class:`StressOperators`): the strain
+        operator B from the shape-function derivatives at the stiffness quadrature points
+        (all cells of a type at once), the Lamé constants of each point, and the
+        extrapolation of the point values to the nodes."""
         d, n_dof = self.dim, self.n_dof
         offset = {t: 0 for t in self.mesh.cells}
         run = 0
         for t, conn in self.mesh.cells.items():
             offset[t] = run
             run += len(conn)
-        rows, cols, vals, cells = [], [], [], []
-        ext_r, ext_c, ext_v = [], [], []
+        # the strain components (i, j), in the order of B's row blocks: 2D xx, yy, xy;
+        # 3D the Voigt order (engineering shears)
+        comps = ((0, 0), (1, 1), (0, 1)) if d == 2 else asm.VOIGT
+        comp, pts, cols, vals, cells, lam, mu = [], [], [], [], [], [], []
+        fits, corners = [], []
         cnt = np.zeros(self.mesh.n_points)
         q0 = 0
         for cs in self._cellsets:
             cv = self._values(cs, asm.stiffness_degree(cs.cell_type))
             c, nen = cs.conn.shape
             nq = cv.dNdx.shape[1]
-            qid = q0 + np.arange(c * nq).reshape(c, nq)
-            for a in range(nen):
-                for i in range(d):
-                    ue = np.zeros((c, nen, d))
-                    ue[:, a, i] = 1.0
-                    sig = asm.stress(asm.strain(cv, ue), cs.lam, cs.mu, self.plane)
-                    for k, (r, cc) in enumerate(asm.VOIGT):
-                        rows.append((6 * qid + k).ravel())
-                        cols.append(np.repeat(cs.conn[:, a] * d + i, nq))
-                        vals.append(sig[:, :, r, cc].ravel())
+            qid = (q0 + np.arange(c * nq)).reshape(c, nq)
+            for k, (i, j) in enumerate(comps):
+                # ε_ii = Σ_a ∂N_a/∂x_i u_ai;  γ_ij = Σ_a (∂N_a/∂x_j u_ai + ∂N_a/∂x_i u_aj)
+                for a in range(nen):
+                    for along, deriv in ((i, j),) if i == j else ((i, j), (j, i)):
+                        comp.append(np.full(c * nq, k))
+                        pts.append(qid.ravel())
+                        cols.append(np.repeat(cs.conn[:, a] * d + along, nq))
+                        vals.append(cv.dNdx[:, :, a, deriv].ravel())
             cells.append(np.repeat(offset[cs.cell_type] + cs.index, nq))
+            lam.append(np.repeat(cs.lam, nq))
+            mu.append(np.repeat(cs.mu, nq))
             # the nodal stress: the corner fit of the point values, averaged over cells
             lin = reference(reference(cs.cell_type).linear)
             xi, _ = quadrature(cs.cell_type, asm.stiffness_degree(cs.cell_type))
             Nq, _ = lin.shape_functions(xi)
             Nn, _ = lin.shape_functions(reference(cs.cell_type).nodes)
-            extrap = Nn @ np.linalg.pinv(Nq)  # (nen, nq)
-            ext_r.append(np.repeat(cs.conn, nq, axis=1).ravel())
-            ext_c.append(np.tile(qid, (1, nen)).ravel())
-            ext_v.append(np.broadcast_to(extrap.ravel(), (c, nen * nq)).ravel())
+            fits.append((q0, c, np.ascontiguousarray((Nn @ np.linalg.pinv(Nq)).T)))
+            corners.append(cs.conn.ravel())
             cnt += np.bincount(cs.conn.ravel(), minlength=self.mesh.n_points)
             q0 += c * nq
         vals_all = np.concatenate(vals)
         keep = vals_all != 0.0
-        S = sp.csr_matrix((vals_all[keep], (np.concatenate(rows)[keep],
-                           np.concatenate(cols)[keep])), shape=(6 * q0, n_dof))  # fmt: skip
-        er = np.concatenate(ext_r)
-        scale = 1.0 / np.maximum(cnt, 1.0)[er]
-        E = sp.csr_matrix((np.concatenate(ext_v) * scale, (er, np.concatenate(ext_c))),
-                          shape=(self.mesh.n_points, q0))  # fmt: skip
-        return StressOperators(S, E, np.concatenate(cells))
+        rows_all = np.concatenate(comp) * q0 + np.concatenate(pts)
+        B = sp.csr_matrix((vals_all[keep], (rows_all[keep], np.concatenate(cols)[keep])),
+                          shape=(len(comps) * q0, n_dof))  # fmt: skip
+        node = np.concatenate(corners)
+        A = sp.csr_matrix((1.0 / np.maximum(cnt, 1.0)[node], (node, np.arange(node.size))),
+                          shape=(self.mesh.n_points, node.size))  # fmt: skip
+        return StressOperators(B, np.concatenate(lam), np.concatenate(mu),
+                               d == 2 and self.plane == "strain", tuple(fits), A,
+                               np.concatenate(cells))  # fmt: skip
 
     def nodal_stress(self, u: FloatArray) -> FloatArray:
         """Nodal stresses (n_points, 3, 3), Pa: per cell, a least-squares fit of the
@@ -1172,10 +1291,10 @@ class Model:
         nodes, then averaged over the cells sharing each node (two sparse products,
         :attr:`stress_operators`)."""
         op = self.stress_operators
-        v = op.at_nodes(op.at_points(np.asarray(u, dtype=float).ravel()))
-        out = np.empty((v.shape[0], 3, 3))
+        v = op.nodal_components(op.components(np.asarray(u, dtype=float).ravel()))
+        out = np.empty((v.shape[1], 3, 3))
         for k, (i, j) in enumerate(asm.VOIGT):
-            out[:, i, j] = out[:, j, i] = v[:, k]
+            out[:, i, j] = out[:, j, i] = v[k]
         return out
 
     def _per_cell(self, values: Callable[[_CellSet], FloatArray]) -> FloatArray:
