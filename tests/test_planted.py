@@ -52,13 +52,15 @@ def _model_2d(cell: str, nx: int) -> pf.Model:
     return _jointed(mesh, 1, 36.0)
 
 
-def _model_3d(cell: str, n: int) -> pf.Model:
-    """A 20 m × 20 m × 12 m column cut by three horizontal joints (z = 3, 6, 9 m)."""
+def _model_3d(cell: str, n: int, joints: list[pf.Joint] | None = None) -> pf.Model:
+    """A 20 m × 20 m × 12 m column cut by three horizontal joints (z = 3, 6, 9 m); their
+    laws from the bottom up, :func:`_joints` by default."""
     mesh = pf.box(20.0, 20.0, 12.0, n, n, 4, cell=cell)
-    return _jointed(mesh, 2, 12.0)
+    return _jointed(mesh, 2, 12.0, joints)
 
 
-def _jointed(mesh: pf.Mesh, up: int, height: float) -> pf.Model:
+def _jointed(mesh: pf.Mesh, up: int, height: float,
+             joints: list[pf.Joint] | None = None) -> pf.Model:  # fmt: skip
     cuts = [0.25 * height, 0.5 * height, 0.75 * height]
     bounds = [-1.0, *cuts, 2 * height]
     blocks = []
@@ -67,7 +69,8 @@ def _jointed(mesh: pf.Mesh, up: int, height: float) -> pf.Model:
         mesh.add_cell_group(f"b{k}", lambda x, lo=lo, hi=hi: (x[:, up] > lo) & (x[:, up] < hi))
         blocks.append(pf.Block(f"b{k}", pf.Elastic(25e9, 0.2, 2400.0)))
     interfaces = []
-    for k, (z, law) in enumerate(zip(cuts, _joints(), strict=True)):
+    laws = _joints() if joints is None else joints
+    for k, (z, law) in enumerate(zip(cuts, laws, strict=True)):
         mesh.add_facet_group(f"j{k}", lambda x, z=z: np.abs(x[:, up] - z) < 1e-6,
                              boundary_only=False)  # fmt: skip
         interfaces.append(pf.Interface(f"j{k}", law))

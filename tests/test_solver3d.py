@@ -11,10 +11,16 @@ References, independent of the path under test:
   state pattern), which this path replaces at ≥ 1,500 components in 3D.
 
 The model: a 20 m × 20 m × 12 m Hex8 column (12 × 12 × 4), three joints, 507 pairs,
-M = 1,521 components (above ``NEWTON_WOODBURY_MIN``).
+M = 1,521 components (above ``NEWTON_WOODBURY_MIN``). Its static problem (three floating
+blocks, the top joint existing with a residual cohesion) is also solved on the large
+path, where capacitance systems of ``LARGE_CAPACITANCE`` rows or more are gathered into
+work arrays and solved by a single-precision LU refined in double precision: against the
+default and the dense paths and the blocks' equilibrium summed from the pair geometry.
 """
 
 from __future__ import annotations
+
+import copy
 
 import numpy as np
 import pytest
@@ -23,8 +29,18 @@ import pfeie as pf
 import pfeie.interface._solver as solver_module
 from pfeie.coupling import SolveStats
 from pfeie.coupling._static import StaticInterfaceProblem
-from pfeie.interface import InterfaceSolver, SolveInfo
-from test_planted import _model_3d, natural_map, plant, solve_planted
+from pfeie.interface import (
+    COHESION_RAMP,
+    INTACT,
+    OPEN,
+    SLIDE,
+    STICK,
+    InterfaceSolver,
+    SolveInfo,
+    cohesion_ramp,
+)
+from pfeie.interface._solver import _rownorm
+from test_planted import _joints, _model_3d, natural_map, plant, solve_planted
 
 
 @pytest.fixture(scope="module")
@@ -358,3 +374,295 @@ def test_large_state_system_refined_on_a_reference(
         mp.setattr(solver_module, "LARGE_CAPACITANCE", 10**9)
         ref, _ = InterfaceSolver(W2, laws)._linear(st, prev, w_free, None)
     assert np.abs(X - ref).max() <= 2e-14 * np.abs(ref).max()
+
+
+def _cohesive_top() -> list[pf.Joint]:
+    """The column's joints with its top joint existing (broken) and a residual cohesion of
+    20 kPa: its pairs that close, from open or from X_n = 0, pass the cohesion ramp."""
+    bonded, weak, _ = _joints()
+    return [bonded, weak, pf.Joint(phi=35.0, c_r=0.02e6, initial="broken")]
+
+
+@pytest.fixture(scope="module")
+def static() -> StaticInterfaceProblem:
+    """The static problem of the Hex8 column (its top joint :func:`_cohesive_top`) under
+    gravity: three floating blocks held by their joints only (18 rigid amplitudes),
+    507 pairs, M = 1,521 (above ``SYMMETRIC_MIN``, the size of the large path)."""
+    model = _model_3d("hexahedron", 12, _cohesive_top())
+    model.add_gravity()
+    return StaticInterfaceProblem(model, model.system())
+
+
+def _static_inputs(problem: StaticInterfaceProblem, f: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The free relative motion w_free (the floating blocks pinned) and the border's
+    right-hand side e = −Φᵀ f of the static problem under the loads ``f`` (all DOFs), as
+    :meth:`StaticInterfaceProblem.solve` forms them."""
+    f_free = f[problem.system.free]
+    u_pin = np.zeros(f_free.size)
+    u_pin[problem.keep] = problem.factor.solve(f_free[problem.keep])
+    w_free = (problem.op.G @ u_pin + problem.w_pres).reshape(-1, 3)
+    return w_free, -(problem.Phi.T @ f_free)
+
+
+def _eccentric_load(problem: StaticInterfaceProblem, kx: float, ky: float, a: float) -> np.ndarray:
+    """Gravity with its vertical loads shifted towards x = 0, f_z (1 − a (x − 10 m)/10 m)
+    (the same weight, its resultant 3.3a m off the centre: beyond the middle third for
+    a > 1, so that the joints lift on one side), and lateral loads kx, ky times the
+    weight: the load vector on all DOFs."""
+    model, system = problem.model, problem.system
+    f = np.zeros(model.n_dof)
+    f[system.free] = system.load(0.0)
+    fz = f[2::3].copy()
+    f[0::3] -= kx * fz
+    f[1::3] -= ky * fz
+    f[2::3] = fz * (1.0 - a * (model.mesh.points[:, 0] - 10.0) / 10.0)
+    return f
+
+
+def _block_balance(problem: StaticInterfaceProblem, f: np.ndarray, X: np.ndarray) -> tuple[
+        float, float]:  # fmt: skip
+    """The out-of-balance force and moment of the floating blocks (those without a
+    support) under the loads ``f`` (all DOFs) and the pair forces X, summed here from the
+    pair geometry, not through G, Φ or the border: each pair's force T_kᵀ X_k on its node
+    b and the opposite on its node a, at the nodes' positions, the moments about each
+    block's node centroid. The largest component over the blocks, relative to the sum of
+    the magnitudes of the forces in the block's balance (its loads and its pairs' forces)
+    and to that sum times the block's width (20 m)."""
+    model = problem.model
+    P = model.pairs
+    assert P is not None
+    body, x = model.body_of_node, model.mesh.points
+    fixed = np.unique(body[problem.system.prescribed // 3])
+    F = np.einsum("kji,kj->ki", P.frame, X)  # local = T_k global: the force on side b
+    fn = f.reshape(-1, 3)
+    worst_f = worst_m = 0.0
+    for b in np.setdiff1d(np.arange(model.n_bodies), fixed):
+        nodes = np.flatnonzero(body == b)
+        c = x[nodes].mean(axis=0)
+        on_b, on_a = body[P.node_b] == b, body[P.node_a] == b
+        force = fn[nodes].sum(axis=0) + F[on_b].sum(axis=0) - F[on_a].sum(axis=0)
+        moment = (np.cross(x[nodes] - c, fn[nodes]).sum(axis=0)
+                  + np.cross(x[P.node_b[on_b]] - c, F[on_b]).sum(axis=0)
+                  - np.cross(x[P.node_a[on_a]] - c, F[on_a]).sum(axis=0))  # fmt: skip
+        total = float(_rownorm(fn[nodes]).sum() + _rownorm(F[on_b | on_a]).sum())
+        worst_f = max(worst_f, float(np.abs(force).max()) / total)
+        worst_m = max(worst_m, float(np.abs(moment).max()) / (20.0 * total))
+    return worst_f, worst_m
+
+
+def _spy_bordered(mp: pytest.MonkeyPatch) -> tuple[list[tuple[str, int, int]],
+                                                   list[tuple[int, int]], list[int]]:  # fmt: skip
+    """Record what the solver gives to the single-precision LU (its name, rows and
+    right-hand sides at each solve), the rows of each bordered state system's capacitance
+    system with its sliding rows, and at each Newton iterate the pairs in contact on the
+    cohesion ramp."""
+    solves: list[tuple[str, int, int]] = []
+    systems: list[tuple[int, int]] = []
+    ramp: list[int] = []
+    mixed = solver_module.MixedLU
+
+    class Spy(mixed):  # type: ignore[misc, valid-type]
+        def __init__(self, a, work, name, *args, **kw):  # type: ignore[no-untyped-def]
+            self.label = name
+            super().__init__(a, work, name, *args, **kw)
+
+        def solve(self, b):  # type: ignore[no-untyped-def]
+            solves.append((self.label, b.shape[0], b.shape[1] if b.ndim == 2 else 1))
+            return super().solve(b)
+
+    bordered = InterfaceSolver._woodbury_bordered
+
+    def recorded(self, key, fr, coef, x0, target, w_free, oth, *args):  # type: ignore[no-untyped-def]
+        systems.append((oth.size, fr.size))
+        return bordered(self, key, fr, coef, x0, target, w_free, oth, *args)
+
+    local_map = InterfaceSolver._local_map
+
+    def on_ramp(self, X, s_, broken, prev, jac):  # type: ignore[no-untyped-def]
+        if jac:  # an iterate, not a trial point of the line search
+            c, mu, t = self.props.strength(broken, prev.path)
+            on = cohesion_ramp(c, mu, t, X[:, -1], broken)[0]
+            ramp.append(int((on & (X[:, -1] + t - self.rho * s_[:, -1] > 0)).sum()))
+        return local_map(self, X, s_, broken, prev, jac)
+
+    mp.setattr(solver_module, "MixedLU", Spy)
+    mp.setattr(InterfaceSolver, "_woodbury_bordered", recorded)
+    mp.setattr(InterfaceSolver, "_local_map", on_ramp)
+    return solves, systems, ramp
+
+
+def test_large_bordered_static_problem(
+    static: StaticInterfaceProblem, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The static problem with floating blocks on the large path (``LARGE_CAPACITANCE``
+    lowered to 100; M = 1,521 is above ``SYMMETRIC_MIN``): two load steps, gravity shifted
+    towards x = 0 and lateral loads (:func:`_eccentric_load`, a = 1.5, kx = 0.2, then
+    a = 1.8, kx = 0.3, ky = 0.1, from the first answer): the top joint lifts on one side
+    and slides, the bonded joints hold. Reached: intact, sticking, sliding and open pairs
+    (338/93/13/63, then 338/67/24/78); state systems of 117 to 176 rows (a first of 78
+    below the threshold) through work arrays and the single-precision LU, the second
+    step's first, from the start, with 26 sliding rows; Newton steps of 163 to 282 rows;
+    each solve for the 1 + 18 columns [b, E]; at the second step's first Newton iterate
+    27 pairs in contact on the top joint's cohesion ramp (none at the answers). Checked:
+
+    - the same problem on the default path (the capacitance systems gathered from W_c⁻¹,
+      LU in double precision): forces to 1e-11 of the largest (measured 1.4e-12), rigid
+      amplitudes to 2e-12 (1.7e-13), the same states: the two paths take the same
+      iterates to round-off, the ramp's steep cone included;
+    - the first step on the dense bordered path (state iteration and Newton on the
+      formed (M + 18)-square system; the second step, from a start, breaks two more pairs
+      of the bonded joint there, another answer of the law): forces to 5e-10 (measured
+      3.6e-11), rigid amplitudes to 1e-11 (7.5e-13), the same states;
+    - the equilibrium of each floating block summed from the pair geometry
+      (:func:`_block_balance`): force to 2e-15, moment to 5e-16 (measured 3.3e-16,
+      9.1e-17)."""
+    problem = static
+    laws, pairs = problem.model.pair_laws, problem.model.pairs
+    assert pairs is not None
+    loads = [_eccentric_load(problem, 0.2, 0.0, 1.5), _eccentric_load(problem, 0.3, 0.1, 1.8)]
+    inputs = [_static_inputs(problem, f) for f in loads]
+    large, default = copy.deepcopy(problem.solver), copy.deepcopy(problem.solver)
+    assert large.E is not None and large.E.shape == (1521, 18)
+
+    def run(solver: InterfaceSolver, steps: int) -> list[tuple[pf.interface.PairState,
+                                                               np.ndarray]]:  # fmt: skip
+        out, start = [], None
+        for w_free, e in inputs[:steps]:
+            st, q = solver.solve(w_free, laws.initial_state(3), e, start=start)
+            assert solver.last.residual <= 1e-8
+            out.append((st, q))
+            start = st
+        return out
+
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "LARGE_CAPACITANCE", 100)
+        solves, systems, ramp = _spy_bordered(mp)
+        calls = _no_dense_newton(mp)
+        answers = run(large, 2)
+        assert large.last.method == "semismooth Newton" and not calls
+    # the large path ran with the border: state systems (one with sliding rows) and
+    # Newton steps, each solved for the 1 + 18 columns [b, E]
+    assert {name for name, _, _ in solves} == {"state single", "newton"}
+    assert all(c == 19 for _, _, c in solves)
+    assert any(k >= 100 and nf for k, nf in systems)
+    assert max(ramp) > 0
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "LARGE_CAPACITANCE", 10**9)
+        used = _spy_mixed(mp)
+        refs = run(default, 2)
+        assert not used
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "NEWTON_WOODBURY_MIN", 10**9)
+        dense = InterfaceSolver(problem.W.matrix(), laws, border=problem.op.G @ problem.Phi,
+                                regularize=pairs.regularization)  # fmt: skip
+        assert not dense.woodbury
+        refs_dense = run(dense, 1)
+    for (st, q), (ref, q_ref) in zip(answers, refs, strict=True):
+        np.testing.assert_allclose(st.X, ref.X, rtol=0, atol=1e-11 * np.abs(ref.X).max())
+        np.testing.assert_allclose(q, q_ref, rtol=0, atol=2e-12 * np.abs(q_ref).max())
+        np.testing.assert_array_equal(st.state, ref.state)
+    (st, q), (ref, q_ref) = answers[0], refs_dense[0]
+    np.testing.assert_allclose(st.X, ref.X, rtol=0, atol=5e-10 * np.abs(ref.X).max())
+    np.testing.assert_allclose(q, q_ref, rtol=0, atol=1e-11 * np.abs(q_ref).max())
+    np.testing.assert_array_equal(st.state, ref.state)
+    for f, (st, _) in zip(loads, answers, strict=True):
+        assert all(np.isin([INTACT, STICK, SLIDE, OPEN], st.state))
+        force, moment = _block_balance(problem, f, st.X)
+        assert force <= 2e-15 and moment <= 5e-16
+
+
+@pytest.mark.parametrize("on_ramp", [0, 20])
+def test_large_bordered_state_system_equals_the_cached_lu_path(
+    static: StaticInterfaceProblem, on_ramp: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A bordered state system above ``LARGE_CAPACITANCE`` at the default thresholds:
+    every pair broken, per joint 79 open, 60 sliding in random directions and 30 sticking
+    (which hold the floating blocks): k = 1,071 of M = 1,521, with the border of gravity's
+    equilibrium (18 rigid amplitudes); the last iterate in compression, or with 20 of the
+    sliding pairs that keep a residual cohesion on its ramp (X_n = κ c A/2: their cone
+    τ = t/κ + (μ + 1/κ) X_n, of slope 1/κ = 1,000 and more). Solved in work arrays by the
+    single-precision LU, for the 1 + 18 columns [b, E] (on the ramp its refinement stops
+    short of round-off, at 2.2e-13 of the solution, and it factorises in double
+    precision), it equals
+
+    - the cached-LU path (``LARGE_CAPACITANCE`` raised): forces to 2e-12 of the largest
+      and rigid amplitudes to 5e-12 off the ramp (measured 2.8e-13, 7.0e-13), to 1e-10
+      and 2e-10 on it (measured 1.1e-11, 2.5e-11);
+    - the dense bordered path (an LU of the (M − k + 18)-square system, W_c not
+      inverted): to 1e-11 and 2e-11 off the ramp (measured 1.7e-12, 2.6e-12), 2e-10 and
+      2e-10 on it (measured 2.2e-11, 2.3e-11). On the ramp the dense and the cached
+      paths differ as much as the large and the cached (measured 0.8 to 3e-11 over four
+      patterns): the spread of a system that the ramp's slope makes sensitive, not the
+      single-precision LU's;
+
+    and its rows hold: the open pairs carry no force (exactly); the sliding ones
+    X_t = −(c + μ X_n) ŝ, with the ramp's c and μ where it applies, to 2e-12 of the
+    largest force off the ramp and 5e-12 on it (measured 2.2e-13, 7.1e-13: X = X₀ − T q
+    carries the round-off of T q, as on the cached path; the dense path 1e-16); the
+    kinematic rows (sticking pairs, the sliding normals) s = s_prev to 2e-11 of the
+    largest force in ρ s (measured 2.4e-12, 2.9e-12; the cached path 4.8e-12, 9.7e-13);
+    the floating blocks' equilibrium Eᵀ X = e to 1e-15 of the largest entry of |E|ᵀ|X|
+    (measured 1.2e-16, 5.0e-17), and summed from the pair geometry
+    (:func:`_block_balance`) force to 2e-15, moment to 5e-16 (measured 2.6e-16,
+    7.2e-17)."""
+    problem = static
+    model = problem.model
+    laws, P = model.pair_laws, model.pairs
+    assert P is not None
+    m, d = laws.n, 3
+    rng = np.random.default_rng(31)
+    prev = laws.initial_state(d)
+    prev.broken[:] = True
+    st = prev.copy()
+    kind = np.zeros(m, dtype=np.int64)  # 0 open, 1 sliding, 2 sticking
+    for j in range(3):
+        idx = P.of(f"j{j}")
+        kind[idx] = rng.permutation(np.repeat([0, 1, 2], [79, idx.size - 109, 30]))
+    st.state[kind == 0] = OPEN
+    st.state[kind == 1] = SLIDE
+    st.state[kind == 2] = STICK
+    sdir = rng.standard_normal((m, d - 1))
+    st.slip_dir = sdir / np.linalg.norm(sdir, axis=1)[:, None]
+    c, mu, t = laws.strength(st.broken, prev.path)
+    st.X[:, -1] = 1e12
+    ramp = rng.choice(np.flatnonzero((kind == 1) & (c > 0)), on_ramp, replace=False)
+    st.X[ramp, -1] = 0.5 * COHESION_RAMP * c[ramp]
+    f = np.zeros(model.n_dof)
+    f[problem.system.free] = problem.system.load(0.0)
+    w_free, e = _static_inputs(problem, f)
+    large, cached = copy.deepcopy(problem.solver), copy.deepcopy(problem.solver)
+    with monkeypatch.context() as mp:
+        solves = _spy_bordered(mp)[0]
+        X, q = large._linear(st, prev, w_free, e)
+    assert solves == [("state single", 1071, 19)]  # the large path, with the border
+    with monkeypatch.context() as mp:
+        mp.setattr(solver_module, "LARGE_CAPACITANCE", 10**9)
+        ref_cached = cached._linear(st, prev, w_free, e)
+        mp.setattr(solver_module, "NEWTON_WOODBURY_MIN", 10**9)
+        dense = InterfaceSolver(problem.W.matrix(), laws, border=problem.op.G @ problem.Phi,
+                                regularize=P.regularization)  # fmt: skip
+        assert not dense.woodbury
+        ref_dense = dense._linear(st, prev, w_free, e)
+    tols = [(1e-10, 2e-10), (2e-10, 2e-10)] if on_ramp else [(2e-12, 5e-12), (1e-11, 2e-11)]
+    for (ref, q_ref), (tol_x, tol_q) in zip([ref_cached, ref_dense], tols, strict=True):
+        np.testing.assert_allclose(X, ref, rtol=0, atol=tol_x * np.abs(ref).max())
+        np.testing.assert_allclose(q, q_ref, rtol=0, atol=tol_q * np.abs(q_ref).max())
+    scale = np.abs(X).max()
+    assert not X[kind == 0].any()
+    # the sliding rows, with the ramp's cone where the last iterate is on it
+    on = cohesion_ramp(c, mu, t, st.X[:, -1], st.broken)[0]
+    assert on[kind == 1].sum() == on_ramp
+    sl = kind == 1
+    c_s = np.where(on, t / COHESION_RAMP, c)[sl]
+    mu_s = np.where(on, mu + 1.0 / COHESION_RAMP, mu)[sl]
+    expect = -(c_s + mu_s * X[sl, -1])[:, None] * st.slip_dir[sl]
+    assert np.abs(X[sl, :-1] - expect).max() <= (5e-12 if on_ramp else 2e-12) * scale
+    kin = np.zeros((m, d), dtype=bool)
+    kin[kind == 2] = True
+    kin[sl, -1] = True
+    E, x = problem.op.G @ problem.Phi, X.ravel()
+    s = (w_free.ravel() + large.Wc @ x + E @ q).reshape(m, d)
+    assert large.rho * np.abs(s[kin] - prev.s[kin]).max() <= 2e-11 * scale
+    assert np.abs(E.T @ x - e).max() <= 1e-15 * (np.abs(E).T @ np.abs(x)).max()
+    force, moment = _block_balance(problem, f, X)
+    assert force <= 2e-15 and moment <= 5e-16
