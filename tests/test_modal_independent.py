@@ -283,7 +283,7 @@ def test_pine_flat_full_reservoir_period_ratio() -> None:
     5.96314 Hz (measured 2.2e-5; asserted 1e-4). The scikit-fem water mesh is converged
     (24, 48 and 96 graded columns: 1.183464, 1.183470, 1.183470), so the difference is
     pfeie's water mesh.
-    Westergaard's parabola on the same face gives 1.2717 (its 7.5 % more water).
+    Westergaard's parabola on the same face gives 1.2712 (its 7.5 % more water).
 
     The published comparison: Fenves & Chopra's rigid-foundation T₁ = 1.4 H_s/√E_s is
     checked in tests/test_pine_flat.py; their full-reservoir R_r tables assume compressible

@@ -153,10 +153,11 @@ class Dynamic:
         assert settings is not None
         self.settings = settings
         self.model = model
-        # the blocks' mass lumped; a finite-element reservoir's added mass kept full (its
-        # coupling of the wet face's DOFs: the integrators factorise a general M)
+        # the blocks' mass lumped; the reservoirs' added mass kept as a matrix where it
+        # couples DOFs (a finite-element reservoir's M_a, Westergaard's nodal blocks on an
+        # inclined face: the integrators factorise a general M)
         self.system = model.system(lumped_mass=True, full_reservoir=True)
-        self._full_mass = bool(model.fe_reservoirs)
+        self._full_mass = model.added_mass_coupled()
         beta, gamma, alpha = settings.newmark()
         self.dt = settings.dt
         self.mj: MoreauJean | None = None
@@ -182,7 +183,8 @@ class Dynamic:
         # massless blocks (e.g. a massless foundation, the usual dam model) have no inertia:
         # their nodes take no part in the position correction (M⁻¹ = 0 there)
         # M lumped on its diagonal: the metric of the position correction (M⁻¹) and the
-        # products M x, unless a reservoir's M_a is full (then the products use M itself)
+        # products M x, unless the reservoirs' added mass couples DOFs (a finite-element
+        # reservoir's M_a, Westergaard's on an inclined face: the products use M itself)
         self.mass = np.asarray((model.mass(lumped=True).diagonal()[self.system.free]
                                 if self._full_mass else self.system.M.diagonal()),
                                dtype=float)  # fmt: skip
@@ -203,6 +205,7 @@ class Dynamic:
         self._ahead: tuple[State, Excitation, float, FloatArray, FloatArray] | None = None
         self.corot: Corotation | None = None
         self._mass_factor: tuple[IntArray, Factorization] | None = None  # full M (M_a)
+        self._mass_blocks: sp.csr_matrix | None = None  # M⁻¹ by node (Westergaard's blocks)
         if settings.large_rotation:
             self.corot = Corotation(model, self.system, self.factor,
                                     self.op if self.m else None)  # fmt: skip
@@ -332,9 +335,9 @@ class Dynamic:
         return damping_product(self.system, v)
 
     def mass_product(self, v: FloatArray) -> float:
-        """vᵀ M v (twice the kinetic energy, J; M lumped, with a finite-element
-        reservoir's full M_a), kept for the last two vectors asked (the energy account and
-        the recorder ask for the same ones)."""
+        """vᵀ M v (twice the kinetic energy, J; M lumped, with the reservoirs' added mass
+        as a matrix where it couples DOFs), kept for the last two vectors asked (the
+        energy account and the recorder ask for the same ones)."""
         for vec, value in self._last_vmv:
             if vec is v:
                 return value
@@ -478,10 +481,17 @@ class Dynamic:
 
     def _mass_solve(self, r: FloatArray) -> FloatArray:
         """M⁻¹ r on the DOFs with mass (zero on massless ones): the lumped diagonal, or,
-        with a reservoir's full added mass, M itself (factorised once, on its DOFs with
-        mass). ``r`` (n,) or (n, k)."""
+        with a reservoir's added mass as a matrix, M itself: without a finite-element
+        reservoir M is block-diagonal by node (Westergaard's d × d blocks), inverted node
+        by node (:func:`_node_block_pinv`: a massless node of an inclined wet face has
+        mass along the face's normal only, and no acceleration across it); else factorised
+        once, on its DOFs with mass. ``r`` (n,) or (n, k)."""
         if not self._full_mass:
             return self.minv * r if r.ndim == 1 else self.minv[:, None] * r
+        if self._mass_blocks is None and not self.model.fe_reservoirs:
+            self._mass_blocks = _node_block_pinv(self.system.M, self.system.free, self.d)
+        if self._mass_blocks is not None:
+            return np.asarray(self._mass_blocks @ r)
         if self._mass_factor is None:
             M = sp.csc_matrix(self.system.M)
             keep = np.flatnonzero(M.diagonal() > 0)
@@ -908,3 +918,28 @@ class Dynamic:
 
 
 __all__ = ["Checkpoint", "Dynamic", "RunStopped", "StepState"]
+
+
+def _node_block_pinv(M: sp.csr_matrix, free: IntArray, d: int) -> sp.csr_matrix:
+    """The pseudo-inverse of a mass matrix ``M`` on the free DOFs ``free`` that is
+    block-diagonal by node (the blocks' lumped mass and Westergaard's d × d nodal
+    blocks), node by node: each node's block over its free components is inverted on its
+    eigenvalues above 1e-12 of its largest (zero blocks, massless nodes, stay zero; a
+    massless node of an inclined wet face, m_a n nᵀ, gets n nᵀ/m_a)."""
+    coo = M.tocoo()
+    node, comp = free // d, free % d
+    assert np.all(node[coo.row] == node[coo.col]), "M couples DOFs of different nodes"
+    n_nodes = int(node.max()) + 1 if node.size else 0
+    blocks = np.zeros((n_nodes, d, d))
+    np.add.at(blocks, (node[coo.row], comp[coo.row], comp[coo.col]), coo.data)
+    w, vec = np.linalg.eigh(blocks)
+    big = w.max(axis=1, keepdims=True)
+    winv = np.divide(1.0, w, out=np.zeros_like(w), where=(w > 1e-12 * big) & (big > 0))
+    inv = np.einsum("pik,pk,pjk->pij", vec, winv, vec)
+    # every pair of free DOFs of a node
+    index = np.full((n_nodes, d), -1)
+    index[node, comp] = np.arange(free.size)
+    rows = np.broadcast_to(index[:, :, None], inv.shape)
+    cols = np.broadcast_to(index[:, None, :], inv.shape)
+    keep = (rows >= 0) & (cols >= 0) & (inv != 0.0)
+    return sp.csr_matrix((inv[keep], (rows[keep], cols[keep])), shape=(free.size, free.size))

@@ -308,6 +308,8 @@ class Model:
         self.supports: list[Support] = []
         self.loads: list[Load] = []
         self.reservoirs: list[tuple[tuple[str, ...], float, float, float]] = []
+        # Westergaard's nodal blocks for the reservoirs they were computed for
+        self._westergaard_cache: tuple[tuple[Any, ...], FloatArray] | None = None
         self.fe_reservoirs: list[Reservoir] = []
         self.uplifts: list[Uplift] = []
         self._cellsets = self._collect_cells()
@@ -565,22 +567,38 @@ class Model:
         density: float = 1000.0,
     ) -> None:
         """Westergaard's added mass of the reservoir on the wet faces ``groups`` (1933):
-        the hydrodynamic pressure on a rigid face accelerated by a (m/s²) along its normal
-        is p = C(z) a with
+        the hydrodynamic pressure on a rigid face accelerated by a (m/s²) is
+        p = C(z) a·n (Pa; n the face's outward unit normal, into the water: p > 0 when
+        the face moves into the water) with
 
-            C(z) = 7/8 ρ_w √(H (h − z)),   H = h − z_b,   z ≤ h
+            C(z) = 7/8 ρ_w √(H (h − z)),   H = h − z_b,   z ≤ h   (kg/m²)
 
-        (ρ_w the water ``density``, h the ``water_level``, z_b the reservoir ``bottom``,
-        default the lowest point of the wet faces; z the vertical axis, y in 2D). The
-        added mass of a face is ∫ C N_a N_b n nᵀ dA (the normal-direction form, for
-        inclined faces too; Kuo 1982), lumped by row sums, m_a = ∫ N_a C dA: under a
-        uniform acceleration of the face the nodal forces are the consistent loads of
-        Westergaard's pressure (on a quadratic facet with a negative row sum, a split
-        over its corners that keeps its total and centre of pressure, all ≥ 0), and kept
-        on its diagonal (n_x², n_y², n_z² of the face's mean normal n): the
-        coupling n_x n_y of an inclined face is dropped. It adds to M in the time
-        stepping, the ground motion's inertia load, the modal analysis and the kinetic
-        energy (the water's); not to the weights of the bodies' rigid motions.
+        (ρ_w the water ``density``, kg/m³, h the ``water_level``, z_b the reservoir
+        ``bottom``, default the lowest point of the wet faces, m; z the vertical axis, y
+        in 2D), and it acts on the face along −n: the force −∫ C (a·n) n dA. The added
+        mass of a face is ∫ C N_a N_b n nᵀ dA (the normal-direction form, for inclined
+        faces too; Kuo 1982), lumped by row sums into a d × d block per wet node (kg),
+
+            m_a = ∫ C N_a n nᵀ dA   (Σ_b N_b = 1; n at each quadrature point),
+
+        so that under a uniform acceleration a of the face the nodal forces m_a a are the
+        consistent loads of Westergaard's pressure C (a·n) along n, all components (the
+        water's force on the face is −m_a a): on a plane face inclined θ from the
+        vertical, wet to the depth H (a wet length H/cos θ), a horizontal a gives
+        Σ m_a a = 7/12 ρ_w H² a (cos θ, −sin θ) per metre on a battered face (the water
+        above it; +sin θ on an overhanging one), the normal pressure's resultant with
+        its vertical part. On a straight facet m_a = μ_a n nᵀ with μ_a = ∫ N_a C dA (on
+        a quadratic facet with a negative row sum, a split over its corners that keeps
+        its total and centre of pressure, all ≥ 0, the same shares for every component;
+        on a curved facet a block that would not be positive semi-definite takes the
+        facet's ∫ C n nᵀ dA by those shares); on a face whose normals lie along the axes
+        (vertical faces, a level floor) the blocks are diagonal, n_x², n_y² (, n_z²)
+        times μ_a, as before the coupling was kept. The blocks' diagonal is
+        :meth:`added_mass` (totals, reports), the blocks :meth:`added_mass_matrix`; they
+        add to M in the time stepping (as blocks where a face is inclined:
+        :meth:`added_mass_coupled`), the ground motion's inertia load, the pseudo-static
+        loads (:meth:`inertia_load`), the modal analysis and the kinetic energy (the
+        water's); not to the weights of the bodies' rigid motions.
 
         >>> import numpy as np, pfeie as pf
         >>> mesh = pf.rectangle(1.0, 10.0, 1, 4)
@@ -588,6 +606,13 @@ class Model:
         >>> m.add_westergaard("xmin", water_level=10.0)
         >>> round(float(m.added_mass().sum()) / (7 / 12 * 1000 * 10.0**2), 3)  # ∫ C dz
         1.0
+        >>> x, y = mesh.points[:, 0].copy(), mesh.points[:, 1].copy()
+        >>> mesh.points[:, 0] = x - 0.5 * (10.0 - y) * (1.0 - x)   # batter 0.5 H : 1 V
+        >>> m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+        >>> m.add_westergaard("xmin", water_level=10.0)
+        >>> f = m.added_mass_matrix() @ np.tile([9.81, 0.0], mesh.n_points)  # a = g along x
+        >>> np.round(f.reshape(-1, 2).sum(axis=0) / 1e3, 1).tolist()  # kN/m, (cos θ, −sin θ)
+        [511.8, -255.9]
         """
         names = (groups,) if isinstance(groups, str) else tuple(groups)
         if not names:
@@ -709,26 +734,50 @@ class Model:
         return uplift_force(self.pairs, p, self.n_dof)
 
     def added_mass(self) -> FloatArray:
-        """The lumped added mass of the reservoirs on every DOF (n_dof,), kg: Westergaard's
-        (:meth:`add_westergaard`) and the finite-element reservoirs' row sums
-        (:meth:`add_reservoir`, :meth:`Reservoir.lumped`)."""
-        out = self._westergaard_mass()
+        """The lumped added mass of the reservoirs on every DOF (n_dof,), kg, on the
+        diagonal: the diagonal of Westergaard's d × d nodal blocks (:meth:`add_westergaard`;
+        n_k² ∫ C N_a dA on a straight facet of normal n) and the finite-element reservoirs'
+        row sums (:meth:`add_reservoir`, :meth:`Reservoir.lumped`). The totals and reports
+        use it; the coupling of an inclined face's components is in
+        :meth:`added_mass_matrix`."""
+        out = _block_diagonal(self._westergaard_blocks())
         for res in self.fe_reservoirs:
             out += res.lumped()
         return out
 
     def added_mass_matrix(self) -> sp.csr_matrix:
         """The added mass of the reservoirs as a matrix (n_dof × n_dof, kg): Westergaard's
-        on the diagonal, the finite-element reservoirs' full M_a on their wet DOFs."""
-        total = sp.diags(self._westergaard_mass(), format="csr")
+        lumped d × d block on each wet node (:meth:`add_westergaard`: diagonal on faces
+        whose normals lie along the axes, coupling the components of an inclined face's
+        nodes), the finite-element reservoirs' full M_a on their wet DOFs."""
+        blocks = self._westergaard_blocks()
+        if _block_coupled(blocks):
+            total = _block_matrix(blocks)
+        else:
+            total = sp.diags(_block_diagonal(blocks), format="csr")
         for res in self.fe_reservoirs:
             total = total + res.full()
         return sp.csr_matrix(total)
 
-    def _westergaard_mass(self) -> FloatArray:
-        """Westergaard's lumped added mass (n_dof,), kg (:meth:`add_westergaard`)."""
+    def added_mass_coupled(self) -> bool:
+        """True when the reservoirs' added mass couples DOFs (:meth:`added_mass_matrix`
+        is not diagonal): a finite-element reservoir, or Westergaard's added mass on a
+        face with a normal off the axes (an inclined face: its blocks' n_i n_j, i ≠ j).
+        The time stepping then keeps it as a matrix (``mass(lumped=True,
+        full_reservoir=True)``)."""
+        return bool(self.fe_reservoirs) or _block_coupled(self._westergaard_blocks())
+
+    def _westergaard_blocks(self) -> FloatArray:
+        """Westergaard's lumped added mass as a d × d block per node (n_points, d, d), kg
+        (:meth:`add_westergaard`); off-diagonal entries of round-off size (at most 1e-12
+        of the block's trace: a face along the axes up to the coordinates' rounding) are
+        set to zero. Read-only, computed once for the model's reservoirs (the mesh is
+        fixed, as for the stiffness)."""
+        key = tuple(self.reservoirs)
+        if self._westergaard_cache is not None and self._westergaard_cache[0] == key:
+            return self._westergaard_cache[1]
         d = self.dim
-        out = np.zeros(self.n_dof)
+        out = np.zeros((self.mesh.n_points, d, d))
         pts = self.mesh.points
         for names, level, zb, rho_w in self.reservoirs:
             H = level - zb
@@ -774,6 +823,12 @@ class Model:
                             _westergaard_add(out, conn[sel], Nb, fv.dA, fv.x, fv.normal,
                                              level, H, rho_w,
                                              pts[conn[sel][:, :nc]] if nc else None)  # fmt: skip
+        if d > 1 and self.reservoirs:
+            trace = np.einsum("pii->p", out)
+            off = ~np.eye(d, dtype=bool)[None] & (np.abs(out) <= 1e-12 * trace[:, None, None])
+            out[off] = 0.0
+        out.setflags(write=False)
+        self._westergaard_cache = (key, out)
         return out
 
     def add_nodal_force(
@@ -808,13 +863,15 @@ class Model:
         """Global mass M (kg): consistent, or HRZ-lumped (diagonal) when ``lumped``; with
         the reservoirs' added mass unless ``added`` is False (:meth:`add_westergaard`,
         :meth:`add_reservoir`): lumped, :meth:`added_mass`; consistent,
-        :meth:`added_mass_matrix` (a finite-element reservoir's full M_a).
-        ``full_reservoir`` with ``lumped``: the blocks' mass lumped, a finite-element
-        reservoir's M_a full (what the time integrators use: the dam's mass diagonal, the
-        water's coupling kept)."""
+        :meth:`added_mass_matrix` (a finite-element reservoir's full M_a, Westergaard's
+        nodal blocks). ``full_reservoir`` with ``lumped``: the blocks' mass lumped, the
+        added mass as :meth:`added_mass_matrix` when it couples DOFs
+        (:meth:`added_mass_coupled`: a finite-element reservoir, Westergaard's on an
+        inclined face), else on the diagonal (what the time integrators use: the dam's
+        mass diagonal, the water's coupling kept)."""
         n = self.n_dof
         wet = added and bool(self.reservoirs or self.fe_reservoirs)
-        if wet and lumped and full_reservoir and self.fe_reservoirs:
+        if wet and lumped and full_reservoir and self.added_mass_coupled():
             dry = self.mass(lumped=True, added=False)
             return (dry + self.added_mass_matrix()).tocsr()
         extra = self.added_mass() if wet and lumped else None
@@ -1398,9 +1455,10 @@ __all__ = ["LinearSystem", "Model"]
 def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatArray,
                      x: FloatArray, normal: FloatArray, level: float, H: float,
                      rho_w: float, corners: FloatArray | None = None) -> None:  # fmt: skip
-    """Add the lumped Westergaard masses of the facets ``conn`` (f, n) to ``out`` (n_dof,)
-    from their quadrature: shape functions N (f, q, n), measures dA (f, q), points x and
-    unit normals (f, q, d). The masses are the row sums of ∫ C N_a N_b dA, i.e. the
+    """Add the lumped Westergaard masses of the facets ``conn`` (f, n) to ``out``
+    (n_points, d, d), a d × d block per node, from their quadrature: shape functions
+    N (f, q, n), measures dA (f, q), points x and unit normals (f, q, d). The scalar
+    masses are the row sums of ∫ C N_a N_b dA, i.e. the
     consistent nodal loads ∫ N_a C dA of Westergaard's pressure under a unit normal
     acceleration (Σ_b N_b = 1: a rigid motion of the base loads the face exactly as the
     closed form does). A quadratic facet can have a negative row sum (in 2D where the
@@ -1413,7 +1471,8 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
     and the masses are the least step m + β (split − m), β ∈ [0, 1], from the consistent
     loads m towards it that makes every mass ≥ 0: both keep the total and the centre of
     pressure, so does every step between them. Other facets: HRZ row scaling (total
-    kept). Each goes on the diagonal by n_k² of the facet's mean normal."""
+    kept). Each node's block is its scalar mass times n nᵀ (n the facet's unit normal;
+    on a curved facet ∫ C N_a n nᵀ dA with the normal of each point, see below)."""
     d = x.shape[-1]
     depth = np.maximum(level - x[..., d - 1], 0.0)
     c = 0.875 * rho_w * np.sqrt(H * depth) * dA  # (f, q)
@@ -1448,9 +1507,53 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
         ml[neg] = np.maximum(blend, 0.0)  # the round-off of the zeroed row
     elif neg.any():
         ml[neg] = asm.lump_hrz(me[neg])
+    # the d × d blocks m_a = ∫ C N_a n nᵀ dA (the row sums of ∫ C N_a N_b n nᵀ dA), whose
+    # trace is the scalar row sum (|n| = 1). On a straight facet (n the same at every
+    # point, to 1e-12) m_a = ml_a n nᵀ; on a curved one the normal of each point, unless
+    # the facet's masses were redistributed (negative row sums: the split keeps the
+    # scalar masses' shares w_a = ml_a / ∫ C dA) or a block would not be positive
+    # semi-definite (N_a < 0 where n turns): then w_a ∫ C n nᵀ dA. Either way the blocks
+    # of a facet total ∫ C n nᵀ dA.
     nrm = normal.mean(axis=1)
     nrm = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
-    np.add.at(out.reshape(-1, d), conn, ml[:, :, None] * (nrm**2)[:, None, :])
+    nn = nrm[:, :, None] * nrm[:, None, :]  # (f, d, d)
+    blocks = ml[:, :, None, None] * nn[:, None]
+    curved = np.abs(normal - nrm[:, None, :]).max(axis=(1, 2)) > 1e-12
+    if curved.any():
+        cc, nq = c[curved], normal[curved]
+        whole = np.einsum("fq,fqi,fqj->fij", cc, nq, nq)  # ∫ C n nᵀ dA
+        per = np.einsum("fqa,fq,fqi,fqj->faij", N[curved], cc, nq, nq)
+        total = cc.sum(axis=1)
+        share = np.divide(ml[curved], total[:, None], out=np.zeros_like(ml[curved]),
+                          where=total[:, None] > 0)  # fmt: skip
+        least = np.linalg.eigvalsh(per).min(axis=-1)  # (f, n)
+        scale = np.abs(np.einsum("faii->fa", per)).max(axis=1, keepdims=True)
+        own = ~neg[curved] & (least >= -1e-12 * scale).all(axis=1)
+        blocks[curved] = np.where(own[:, None, None, None], per,
+                                  share[:, :, None, None] * whole[:, None])  # fmt: skip
+    np.add.at(out, conn, blocks)
+
+
+def _block_diagonal(blocks: FloatArray) -> FloatArray:
+    """The diagonal (n_points · d,) of nodal blocks (n_points, d, d)."""
+    return np.einsum("pii->pi", blocks).ravel().copy()
+
+
+def _block_coupled(blocks: FloatArray) -> bool:
+    """True when nodal blocks (n_points, d, d) have an off-diagonal entry."""
+    d = blocks.shape[-1]
+    return bool(np.any(blocks[:, ~np.eye(d, dtype=bool)]))
+
+
+def _block_matrix(blocks: FloatArray) -> sp.csr_matrix:
+    """The block-diagonal matrix (n_points · d square) of nodal blocks (n_points, d, d),
+    its non-zero entries only."""
+    n, d = blocks.shape[0], blocks.shape[-1]
+    base = (np.arange(n) * d)[:, None, None]
+    rows = np.broadcast_to(base + np.arange(d)[None, :, None], blocks.shape)
+    cols = np.broadcast_to(base + np.arange(d)[None, None, :], blocks.shape)
+    keep = blocks != 0.0
+    return sp.csr_matrix((blocks[keep], (rows[keep], cols[keep])), shape=(n * d, n * d))
 
 
 def _wet_line_rule(
