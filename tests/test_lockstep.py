@@ -76,8 +76,8 @@ def test_block_solves_together_give_each_its_own_bits(
     """Three computations ask, in turn, for solves of 2, 4 and 2 columns, then of 1 and 3
     (odd: solved alone, in the computation's turn): the even requests of a round go to
     one call (8 columns, then none), and every answer equals that of the computation run
-    alone, to the bit where the block solves are batch-invariant (else to 1e-13 of the
-    largest: measured 2e-16)."""
+    alone, to the bit where the block solves are batch-invariant (else to 5e-15 of the
+    largest: measured 5.5e-16)."""
     pytest.importorskip("cvxopt")
     if blk.block_solver() is None:
         pytest.skip("no block solve here")
@@ -101,7 +101,7 @@ def test_block_solves_together_give_each_its_own_bits(
             if exact:
                 np.testing.assert_array_equal(x, y)
             else:
-                assert np.abs(x - y).max() <= 1e-13 * np.abs(x).max()
+                assert np.abs(x - y).max() <= 5e-15 * np.abs(x).max()
     # the block of 8 differs from lone columns by round-off: the equality is not trivial
     lone = F._solve_columns(rhs[0][0])  # type: ignore[attr-defined]
     assert not np.array_equal(lone, alone[0][0])
@@ -151,13 +151,14 @@ def test_records_in_lockstep_equal_separate_runs(
                  (a.envelope["node_max"], b.envelope["node_max"],
                   np.abs(a.envelope["node_max"]).max())]  # fmt: skip
         pairs += [(value, b.energy[key], energy) for key, value in a.energy.items()]
+        if a.probe_a.size:
+            pairs += [(a.probe_a, b.probe_a, np.abs(a.probe_a).max())]
         for x, y, scale in pairs:
             if exact:
                 np.testing.assert_array_equal(x, y)
             else:
                 worst = max(worst, np.abs(x - y).max() / scale)
-        if exact:
-            np.testing.assert_array_equal(a.state, b.state)
+        np.testing.assert_array_equal(a.state, b.state)  # the same states either way
         sliding.append(int((a.state == 2).sum()))
     assert sliding[0] == 0 and sliding[-1] > 0 and sliding[-2] > 0
     assert worst < 3e-12  # measured 3.1e-13 (the pair forces)

@@ -149,8 +149,10 @@ def test_westergaard_inclined_face_pushes_along_its_normal(
     mu = m.added_mass().reshape(-1, 2).sum(axis=1)
     nodal = np.abs(f - (mu * (a @ n))[:, None] * n).max() / np.abs(f).max()
     assert nodal < 10 * RIGID_FACE["across"], nodal
-    assert m.added_mass_coupled() and m.mass(lumped=True, full_reservoir=True).nnz > \
-        m.mass(lumped=True).nnz  # fmt: skip
+    # the lumped mass keeps the coupling beside its diagonal, as the time stepping does
+    lumped = m.mass(lumped=True)
+    assert m.added_mass_coupled() and lumped.nnz > np.count_nonzero(lumped.diagonal())
+    assert abs(lumped - m.mass(lumped=True, full_reservoir=True)).max() == 0.0
 
 
 def _curved_face_force(mesh: pf.Mesh, level: float, a: np.ndarray) -> np.ndarray:
@@ -1053,8 +1055,8 @@ def test_pseudo_static_load_on_a_battered_wet_face() -> None:
     downstream and down on the battered face, the normal pressure's resultant. The
     block's equilibrium gives the joint's force on the block, R = (−k_h g (m +
     7/12 ρ_w H² cos θ), W + k_h g 7/12 ρ_w H² sin θ), m = ρ (1 + tan θ/2) its mass per
-    metre and W = m g: to 1e-14 (measured 0 and 3.3e-16: a static equilibrium); the
-    load's vertical part on the block is −7/12 ρ_w g H² k_h sin θ = −572.25 N, to 1e-14
+    metre and W = m g: to 3e-15 (measured 0 and 3.3e-16: a static equilibrium); the
+    load's vertical part on the block is −7/12 ρ_w g H² k_h sin θ = −572.25 N, to 3e-15
     (measured 0). That vertical part was 0 before the blocks kept n nᵀ."""
     theta, g, kh, H = 30.0, 9.81, 0.2, 1.0
     t = np.radians(theta)
@@ -1066,10 +1068,10 @@ def test_pseudo_static_load_on_a_battered_wet_face() -> None:
     ref = np.array([-kh * g * (mass + wa * np.cos(t)), mass * g + kh * g * wa * np.sin(t)])
     assert m.pairs is not None
     F, _ = m.pairs.resultants(pf.solve_static(m).pairs.X)  # type: ignore[union-attr]
-    assert F[0] == pytest.approx(ref, rel=1e-14)
+    assert F[0] == pytest.approx(ref, rel=3e-15)
     f = m.inertia_load([kh * g, 0.0]).reshape(-1, 2)
     assert f[m.body_of_node == 1, 1].sum() == pytest.approx(-kh * g * wa * np.sin(t),
-                                                            rel=1e-14)  # fmt: skip
+                                                            rel=3e-15)  # fmt: skip
 
 
 def test_time_stepping_keeps_the_coupling_of_a_battered_face() -> None:
@@ -1087,7 +1089,7 @@ def test_time_stepping_keeps_the_coupling_of_a_battered_face() -> None:
     water), and the horizontal one by ΔT = (m + 7/12 ρ_w H² cos θ) a_g. Asserted to
     5e-5 of their largest (measured 5.7e-6 and 6.3e-6: the quasi-static approximation;
     with k_n = 1e11 Pa/m, 2.8e-5 and 3.6e-5). With the diagonal added mass ΔN was 0. The
-    run keeps the coupled mass (Dynamic._full_mass), and its energy balances to 1e-12
+    run keeps the coupled mass (Dynamic._full_mass), and its energy balances to 5e-15
     of the external work (measured 5.5e-16)."""
     theta, g, H = 30.0, 9.81, 1.0
     t = np.radians(theta)
@@ -1110,7 +1112,7 @@ def test_time_stepping_keeps_the_coupling_of_a_battered_face() -> None:
     assert np.abs(dN - ref_n).max() < 5e-5 * np.abs(ref_n).max()
     assert np.abs(dT - ref_t).max() < 5e-5 * np.abs(ref_t).max()
     e = res.energy
-    assert np.abs(e["balance"]).max() < 1e-12 * np.abs(e["external_work"]).max()
+    assert np.abs(e["balance"]).max() < 5e-15 * np.abs(e["external_work"]).max()
 
 
 def test_mass_inverse_by_node_with_a_massless_wet_foundation() -> None:
@@ -1118,8 +1120,8 @@ def test_mass_inverse_by_node_with_a_massless_wet_foundation() -> None:
     its face nodes' mass is Westergaard's block μ_a n nᵀ alone, singular across the
     face. The time stepping's M⁻¹ (the start acceleration) is taken node by node on the
     blocks' eigenvalues (no acceleration across the face there), as the pseudo-inverse
-    of the whole M: to 1e-14 (measured 1.2e-16); the run completes with its energy
-    balanced to 1e-12 of the external work (measured 4.3e-15). (A factorisation of M
+    of the whole M: to 1e-15 (measured 1.2e-16); the run completes with its energy
+    balanced to 5e-14 of the external work (measured 4.3e-15). (A factorisation of M
     on its DOFs with mass would find it singular.)"""
     t = np.radians(30.0)
     mesh = pf.rectangle(1.0, 1.5, 4, 12)
@@ -1140,10 +1142,10 @@ def test_mass_inverse_by_node_with_a_massless_wet_foundation() -> None:
     assert an._full_mass
     r = np.random.default_rng(1).standard_normal(an.system.M.shape[0])
     ref = np.linalg.pinv(an.system.M.toarray(), rcond=1e-12, hermitian=True) @ r
-    assert np.abs(an._mass_solve(r) - ref).max() < 1e-14 * np.abs(ref).max()
+    assert np.abs(an._mass_solve(r) - ref).max() < 1e-15 * np.abs(ref).max()
     tt = np.arange(0.0, 0.2 + 1e-12, 1e-3)
     gm = pf.GroundMotion.from_samples(2.0 * np.sin(np.pi * tt / 0.2) ** 3, time=tt)
     res = an.run(0.2, ground=[gm], start=pf.solve_static(m))
     assert res.completed
     e = res.energy
-    assert np.abs(e["balance"]).max() < 1e-12 * np.abs(e["external_work"]).max()
+    assert np.abs(e["balance"]).max() < 5e-14 * np.abs(e["external_work"]).max()

@@ -464,7 +464,9 @@ class Dynamic:
         idx = np.flatnonzero(closed)
         comps = (idx[:, None] * d + np.arange(d)).ravel()
         Gc = G[comps]
-        if self._full_mass:
+        if self._full_mass and self._mass_inverse() is not None:
+            Wm = (Gc @ self._mass_inverse() @ Gc.T).toarray()  # sparse: M⁻¹ node by node
+        elif self._full_mass:
             Wm = np.asarray(Gc @ self._mass_solve(Gc.T.toarray()))
         else:
             Wm = (Gc @ (Gc.multiply(self.minv[None, :]).T)).toarray()
@@ -479,6 +481,14 @@ class Dynamic:
         X[idx] = sol.X
         return self._mass_solve(r + G.T @ X.ravel())
 
+    def _mass_inverse(self) -> sp.csr_matrix | None:
+        """M⁻¹ node by node (:func:`_node_block_pinv`), formed once, where the coupled
+        mass is block-diagonal by node (Westergaard's blocks, no finite-element
+        reservoir); None otherwise."""
+        if self._mass_blocks is None and self._full_mass and not self.model.fe_reservoirs:
+            self._mass_blocks = _node_block_pinv(self.system.M, self.system.free, self.d)
+        return self._mass_blocks
+
     def _mass_solve(self, r: FloatArray) -> FloatArray:
         """M⁻¹ r on the DOFs with mass (zero on massless ones): the lumped diagonal, or,
         with a reservoir's added mass as a matrix, M itself: without a finite-element
@@ -488,10 +498,9 @@ class Dynamic:
         once, on its DOFs with mass. ``r`` (n,) or (n, k)."""
         if not self._full_mass:
             return self.minv * r if r.ndim == 1 else self.minv[:, None] * r
-        if self._mass_blocks is None and not self.model.fe_reservoirs:
-            self._mass_blocks = _node_block_pinv(self.system.M, self.system.free, self.d)
-        if self._mass_blocks is not None:
-            return np.asarray(self._mass_blocks @ r)
+        blocks = self._mass_inverse()
+        if blocks is not None:
+            return np.asarray(blocks @ r)
         if self._mass_factor is None:
             M = sp.csc_matrix(self.system.M)
             keep = np.flatnonzero(M.diagonal() > 0)

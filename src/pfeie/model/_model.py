@@ -60,19 +60,19 @@ class StressOperators:
     its rows component-major (row k · n_q + i for point i and strain component k, the
     engineering shears γ_ij = 2ε_ij): in 3D the six Voigt components of
     :data:`pfeie.assembly.VOIGT` (xx, yy, zz, yz, xz, xy), in 2D the three in-plane ones
-    (xx, yy, xy), with σ_zz = λ tr ε in plane strain and 0 in plane stress (``lam`` then
-    the plane-stress λ). B holds half the entries of the stress operator DB written out
-    over the DOFs in 2D (0.6 of them on Tet10): a step's stress costs one sparse product
-    of B and a few vector operations over the points, rows that the principal extremes
-    read contiguously. The nodal stress of :meth:`Model.nodal_stress` is each cell's
-    least-squares corner fit of its point values evaluated at its nodes, averaged over the
-    cells at a node, the same weights for every component: ``fits`` holds per cell type its
-    first point, its number of cells and the fit F (n_q of a cell × its nodes; the
+    (xx, yy, xy), with σ_zz = λ tr ε in plane strain and 0 in plane stress (``lam`` then the
+    plane-stress λ). B holds half the entries of the stress operator DB written out over the
+    DOFs in plane strain (2/3 in plane stress, 0.6 on Tet10): a step's stress costs one
+    sparse product of B and a few vector operations over the points, rows that the principal
+    extremes read contiguously. The nodal stress of :meth:`Model.nodal_stress` is each
+    cell's least-squares corner fit of its point values evaluated at its nodes, averaged
+    over the cells at a node, the same weights for every component: ``fits`` holds per cell
+    type its first point, its number of cells and the fit F (n_q of a cell × its nodes; the
     cell-node values of the c cells are the (c × n_q) point values times F, one dense
     product), ``gather`` (n_points × the cell-node values) the average, a quarter of the
-    entries of the written-out ``extrapolation`` (n_points × n_q) on Q4 and Tet10;
-    ``cell`` (n_q,) the cell of each point, numbered over the mesh's cells type after type
-    in ``mesh.cells`` order.
+    entries of the written-out ``extrapolation`` (n_points × n_q) on Q4 and Tet10; ``cell``
+    (n_q,) the cell of each point, numbered over the mesh's cells type after type in
+    ``mesh.cells`` order.
 
     >>> import numpy as np, pfeie as pf
     >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
@@ -146,7 +146,8 @@ class StressOperators:
 
     def at_nodes(self, point_values: FloatArray) -> FloatArray:
         """The nodal stress (n_points, 6), Pa, of the point values (n_q, 6)
-        (:meth:`at_points`); zero at nodes of no block cell."""
+        (:meth:`at_points`); zero at nodes of no block cell (and in the yz and xz columns
+        of a plane model, whose point values have none)."""
         return np.ascontiguousarray(
             self.nodal_components(np.asarray(point_values, dtype=float).T).T
         )
@@ -862,7 +863,8 @@ class Model:
              full_reservoir: bool = False) -> sp.csr_matrix:  # fmt: skip
         """Global mass M (kg): consistent, or HRZ-lumped (diagonal) when ``lumped``; with
         the reservoirs' added mass unless ``added`` is False (:meth:`add_westergaard`,
-        :meth:`add_reservoir`): lumped, :meth:`added_mass`; consistent,
+        :meth:`add_reservoir`): lumped, :meth:`added_mass` on the diagonal and the
+        coupling of Westergaard's nodal blocks on an inclined face beside it; consistent,
         :meth:`added_mass_matrix` (a finite-element reservoir's full M_a, Westergaard's
         nodal blocks). ``full_reservoir`` with ``lumped``: the blocks' mass lumped, the
         added mass as :meth:`added_mass_matrix` when it couples DOFs
@@ -884,7 +886,14 @@ class Model:
                 diag += asm.assemble_vector(dofs, np.repeat(ml, self.dim, axis=1), n)
             if extra is not None:
                 diag += extra
-            return sp.diags(diag, format="csr")
+            out = sp.diags(diag, format="csr")
+            blocks = self._westergaard_blocks() if wet else None
+            if blocks is not None and _block_coupled(blocks):
+                # Westergaard's nodal blocks on an inclined face, lumped already: their
+                # off-diagonal part beside the diagonal (what the time stepping keeps)
+                coupling = _block_matrix(blocks) - sp.diags(_block_diagonal(blocks))
+                out = sp.csr_matrix(out + coupling)
+            return out
         if wet:
             return (self._consistent_mass + self.added_mass_matrix()).tocsr()
         return self._consistent_mass
@@ -1531,7 +1540,8 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
         own = ~neg[curved] & (least >= -1e-12 * scale).all(axis=1)
         blocks[curved] = np.where(own[:, None, None, None], per,
                                   share[:, :, None, None] * whole[:, None])  # fmt: skip
-    np.add.at(out, conn, blocks)
+    # symmetric to the bit (the per-point products of a curved facet are not, to 1e-17)
+    np.add.at(out, conn, 0.5 * (blocks + blocks.swapaxes(-1, -2)))
 
 
 def _block_diagonal(blocks: FloatArray) -> FloatArray:
