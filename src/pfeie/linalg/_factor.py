@@ -83,7 +83,8 @@ class _SuperLU:
 
 
 def nested_dissection(A: sp.spmatrix) -> IntArray | None:
-    """A METIS nested-dissection permutation of symmetric A, or None without pymetis.
+    """A METIS nested-dissection permutation of symmetric A, or None without pymetis (or
+    where METIS fails on the graph: the factor is then ordered by CHOLMOD's AMD).
 
     Rows with the same sparsity pattern (the DOFs of one node) are merged first, so
     METIS orders the node graph, which is several times smaller; the permutation of
@@ -117,7 +118,12 @@ def nested_dissection(A: sp.spmatrix) -> IntArray | None:
     Q.sort_indices()
     if Q.nnz == 0:
         return None
-    perm_g, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(Q.indptr, Q.indices))
+    try:
+        perm_g, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(Q.indptr, Q.indices))
+    except (RuntimeError, ValueError) as exc:  # METIS's own failure: CHOLMOD's AMD instead
+        log.warning("METIS could not order the %d-node graph (%s); ordering by AMD", n_groups,
+                    exc)  # fmt: skip
+        return None
     rank = np.empty(n_groups, dtype=np.int64)
     rank[np.asarray(perm_g, dtype=np.int64)] = np.arange(n_groups)
     return np.lexsort((np.arange(n), rank[group]))
