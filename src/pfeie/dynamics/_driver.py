@@ -464,8 +464,9 @@ class Dynamic:
         idx = np.flatnonzero(closed)
         comps = (idx[:, None] * d + np.arange(d)).ravel()
         Gc = G[comps]
-        if self._full_mass and self._mass_inverse() is not None:
-            Wm = (Gc @ self._mass_inverse() @ Gc.T).toarray()  # sparse: M⁻¹ node by node
+        minv = self._mass_inverse() if self._full_mass else None
+        if minv is not None:
+            Wm = (Gc @ minv @ Gc.T).toarray()  # sparse: M⁻¹ node by node
         elif self._full_mass:
             Wm = np.asarray(Gc @ self._mass_solve(Gc.T.toarray()))
         else:

@@ -70,7 +70,7 @@ class StressOperators:
     type its first point, its number of cells and the fit F (n_q of a cell × its nodes; the
     cell-node values of the c cells are the (c × n_q) point values times F, one dense
     product), ``gather`` (n_points × the cell-node values) the average, a quarter of the
-    entries of the written-out ``extrapolation`` (n_points × n_q) on Q4 and Tet10; ``cell``
+    entries of the map written out (n_points × n_q) on Q4 and Tet10; ``cell``
     (n_q,) the cell of each point, numbered over the mesh's cells type after type in
     ``mesh.cells`` order.
 
@@ -151,24 +151,6 @@ class StressOperators:
         return np.ascontiguousarray(
             self.nodal_components(np.asarray(point_values, dtype=float).T).T
         )
-
-    @cached_property
-    def extrapolation(self) -> sp.csr_matrix:
-        """The map of the point values to the nodal stress written out (n_points × n_q),
-        formed on first use: ``gather`` times the cells' fits."""
-        rows, cols, vals = [], [], []
-        r0 = 0
-        for q0, c, F in self.fits:
-            nq, nen = F.shape
-            # cell-node value i·nen + a of the type = Σ_j F[j, a] · point value q0 + i·nq + j
-            i, j, a = np.meshgrid(np.arange(c), np.arange(nq), np.arange(nen), indexing="ij")
-            rows.append((r0 + i * nen + a).ravel())
-            cols.append((q0 + i * nq + j).ravel())
-            vals.append(np.broadcast_to(F[None], (c, nq, nen)).ravel())
-            r0 += c * nen
-        Z = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(r0, self.n_q))  # fmt: skip
-        return sp.csr_matrix(self.gather @ Z)
 
     @cached_property
     def points(self) -> sp.csr_matrix:
@@ -891,8 +873,8 @@ class Model:
             if blocks is not None and _block_coupled(blocks):
                 # Westergaard's nodal blocks on an inclined face, lumped already: their
                 # off-diagonal part beside the diagonal (what the time stepping keeps)
-                coupling = _block_matrix(blocks) - sp.diags(_block_diagonal(blocks))
-                out = sp.csr_matrix(out + coupling)
+                off = np.where(np.eye(self.dim, dtype=bool), 0.0, blocks)
+                out = sp.csr_matrix(out + _block_matrix(off))
             return out
         if wet:
             return (self._consistent_mass + self.added_mass_matrix()).tocsr()
