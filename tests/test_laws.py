@@ -131,7 +131,7 @@ def test_the_natural_maps_jacobian_on_the_cohesion_ramp() -> None:
     blocks A = ∂F/∂s, B = ∂F/∂X against central differences (h = 1e-7), in 3D, for
     broken pairs on the residual cohesion's ramp (X_n < κ c A), on the cone, without
     cohesion, and an intact pair: to 1e-6 of each entry's size (measured 2.6e-7: the
-    differences' own error, the ramp's slope being 1/κ = 1000)."""
+    differences' own error, the ramp's slope being up to 2/κ = 2000)."""
     from pfeie.interface import COHESION_RAMP
     from pfeie.interface._proximal import PairLaw, natural_map
 

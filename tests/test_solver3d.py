@@ -579,11 +579,11 @@ def test_large_bordered_state_system_equals_the_cached_lu_path(
     every pair broken, per joint 79 open, 60 sliding in random directions and 30 sticking
     (which hold the floating blocks): k = 1,071 of M = 1,521, with the border of gravity's
     equilibrium (18 rigid amplitudes); the last iterate in compression, or with 20 of the
-    sliding pairs that keep a residual cohesion on its ramp (X_n = κ c A/2: their cone
-    τ = t/κ + (μ + 1/κ) X_n, of slope 1/κ = 1,000 and more). Solved in work arrays by the
-    single-precision LU, for the 1 + 18 columns [b, E] (on the ramp its refinement stops
-    short of round-off, at 2.2e-13 of the solution, and it factorises in double
-    precision), it equals
+    sliding pairs that keep a residual cohesion on its ramp (X_n = κ c A/2: their cone's
+    tangent there, τ ≈ c A/4 + (μ + 1/κ) X_n, of slope 1/κ = 1,000 and more). Solved in
+    work arrays by the single-precision LU, for the 1 + 18 columns [b, E] (on the ramp
+    its refinement stops short of round-off, at 2.2e-13 of the solution, and it
+    factorises in double precision), it equals
 
     - the cached-LU path (``LARGE_CAPACITANCE`` raised): forces to 2e-12 of the largest
       and rigid amplitudes to 5e-12 off the ramp (measured 2.8e-13, 7.0e-13), to 1e-10
@@ -649,11 +649,12 @@ def test_large_bordered_state_system_equals_the_cached_lu_path(
         np.testing.assert_allclose(q, q_ref, rtol=0, atol=tol_q * np.abs(q_ref).max())
     scale = np.abs(X).max()
     assert not X[kind == 0].any()
-    # the sliding rows, with the ramp's cone where the last iterate is on it
+    # the sliding rows, with the ramp's tangent where the last iterate is on it: at
+    # u = X_n/(κ c) = 1/2, τ = μ X_n + c (2u − u²) ≈ c/4 + (μ + 1/κ) X_n
     on = cohesion_ramp(c, mu, t, st.X[:, -1], st.broken)[0]
     assert on[kind == 1].sum() == on_ramp
     sl = kind == 1
-    c_s = np.where(on, t / COHESION_RAMP, c)[sl]
+    c_s = np.where(on, 0.25 * c, c)[sl]
     mu_s = np.where(on, mu + 1.0 / COHESION_RAMP, mu)[sl]
     expect = -(c_s + mu_s * X[sl, -1])[:, None] * st.slip_dir[sl]
     assert np.abs(X[sl, :-1] - expect).max() <= (5e-12 if on_ramp else 2e-12) * scale
@@ -666,3 +667,61 @@ def test_large_bordered_state_system_equals_the_cached_lu_path(
     assert np.abs(E.T @ x - e).max() <= 1e-15 * (np.abs(E).T @ np.abs(x)).max()
     force, moment = _block_balance(problem, f, X)
     assert force <= 2e-15 and moment <= 5e-16
+
+
+def test_a_load_that_stalled_the_newton_at_the_ramps_corner(
+    static: StaticInterfaceProblem, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The column's static problem under :func:`_eccentric_load` (k_x, k_y, a) =
+    (0.3, 0.2, 1.5), from rest. With a straight cohesion ramp (slope 1/κ up to
+    X_n = κ c A, μ beyond) the Newton's iterates stepped from one piece to the other at
+    that corner while the line search stopped them, and every start failed: an
+    ``InterfaceError`` after 92 s, residual 3.9e-4. With the ramp's C¹ end
+    (:func:`~pfeie.interface.cohesion_ramp`) the first Newton solves it (measured 25
+    iterations, asserted ≤ 40), its iterates passing over the ramp (a pair in contact on
+    it); at the answer the top joint lifts (58 pairs open) and slides at its
+    edge (25 pairs), and each floating block is in balance, summed from the pair
+    geometry, to 5e-16 of its forces (measured 4.3e-16 and 1.2e-16 for the moment)."""
+    problem = static
+    laws = problem.model.pair_laws
+    f = _eccentric_load(problem, 0.3, 0.2, 1.5)
+    w_free, e = _static_inputs(problem, f)
+    solver = copy.deepcopy(problem.solver)
+    with monkeypatch.context() as mp:
+        ramp = _spy_bordered(mp)[2]
+        st, _ = solver.solve(w_free, laws.initial_state(3), e)
+    assert solver.last.method == "semismooth Newton"
+    assert solver.last.iterations <= 40 and solver.last.residual <= 1e-8
+    assert max(ramp) >= 1
+    assert (st.state == OPEN).sum() >= 40 and (st.state == SLIDE).sum() >= 10
+    force, moment = _block_balance(problem, f, st.X)
+    assert force <= 5e-15 and moment <= 5e-15
+
+
+@pytest.mark.slow
+def test_eccentric_loads_on_the_cohesive_column(static: StaticInterfaceProblem) -> None:
+    """72 static problems of the column (:func:`_eccentric_load`, k_x 0.1 to 0.4, k_y 0 to
+    0.2, a 1.5 to 2; from rest and from the answer at (0.2, 0, 1.5)): with the straight
+    ramp, 5 ended in ``InterfaceError`` and 9 took 210 to 310 Newton iterations (18 to
+    40 s, their first Newtons running to the limit of 100 iterations). With the ramp's C¹
+    end and the Newtons that hand over when they stall (``NEWTON_STALL``): all solved, the
+    most iterations 142 (a cold start after two stalled ones), asserted < 200; each
+    floating block in balance to 5e-15."""
+    problem = static
+    laws = problem.model.pair_laws
+    w1, e1 = _static_inputs(problem, _eccentric_load(problem, 0.2, 0.0, 1.5))
+    first, _ = copy.deepcopy(problem.solver).solve(w1, laws.initial_state(3), e1)
+    most = 0
+    for kx in (0.1, 0.2, 0.3, 0.4):
+        for ky in (0.0, 0.1, 0.2):
+            for a in (1.5, 1.8, 2.0):
+                f = _eccentric_load(problem, kx, ky, a)
+                w_free, e = _static_inputs(problem, f)
+                for start in (None, first):
+                    solver = copy.deepcopy(problem.solver)
+                    st, _ = solver.solve(w_free, laws.initial_state(3), e, start=start)
+                    assert solver.last.residual <= 1e-8
+                    most = max(most, solver.last.iterations)
+                    force, moment = _block_balance(problem, f, st.X)
+                    assert force <= 5e-15 and moment <= 5e-15
+    assert most < 200

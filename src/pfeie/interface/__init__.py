@@ -26,6 +26,7 @@ from ._laws import (
     SlipWeakening,
     Strength,
     cohesion_ramp,
+    cohesion_ramp_tangent,
 )
 from ._settings import SolverSettings
 from ._solver import InterfaceSolver, SolveInfo
@@ -36,5 +37,5 @@ __all__ = [
     "COHESION_RAMP", "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
     "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
     "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "cohesion_ramp",
-    "coulomb_laws", "load_fclib", "natural_map_residual", "split",
+    "cohesion_ramp_tangent", "coulomb_laws", "load_fclib", "natural_map_residual", "split",
 ]  # fmt: skip

@@ -102,23 +102,26 @@ def cohesion_ramp(
     c: FloatArray, mu: FloatArray, t: FloatArray, Xn: FloatArray, broken: BoolArray
 ) -> tuple[BoolArray, FloatArray, FloatArray]:
     r"""The shear capacity of broken pairs about to part, with their residual cohesion
-    mobilised in proportion to the normal force, all arrays (m,) in N (c = c A, t = σ_t A,
+    mobilised smoothly with the normal force, all arrays (m,) in N (c = c A, t = σ_t A,
     forces at the rate level of the problem: forces or impulses):
 
     .. math::
 
-        τ = μ X_n^+ + (X_n + t)/κ \quad\text{for } X_n + t < κ c
-        \quad (κ = \texttt{COHESION_RAMP}),
+        τ = μ X_n^+ + c\,(2u − u^2),\quad u = \frac{X_n + t}{κ c} \quad
+        \text{for } 0 < u < 1 \quad (κ = \texttt{COHESION_RAMP}),
 
-    and τ = c + μ X_n beyond (the Mohr–Coulomb cone). Without it the capacity of a broken
-    pair with a residual cohesion jumps from c A, while it touches, to 0 once it parts
-    (X_n < −t), and a pair that would touch with no normal force while carrying shear has
-    no state of the law: stuck, it pulls; open, it penetrates; the discrete problem then
-    has no solution over a band of loads (measured: a block pushed horizontally on a
-    cohesive joint, every static analysis of the band 0.498 ≤ k_h ≤ 0.565 failed). With
-    the ramp the capacity is continuous and such a pair carries its shear on a normal
-    force below κ c; the strength of every pair loaded beyond κ c (10⁻³ of the cohesion)
-    is untouched.
+    0 for u ≤ 0 (the pair parts), and τ = c + μ X_n for u ≥ 1 (the Mohr–Coulomb cone).
+    Without it the capacity of a broken pair with a residual cohesion jumps from c A,
+    while it touches, to 0 once it parts (X_n < −t), and a pair that would touch with no
+    normal force while carrying shear has no state of the law: stuck, it pulls; open, it
+    penetrates; the discrete problem then has no solution over a band of loads
+    (measured: a block pushed horizontally on a cohesive joint, every static analysis of
+    the band 0.498 ≤ k_h ≤ 0.565 failed). With the ramp the capacity is continuous and
+    such a pair carries its shear on a normal force below κ c; the strength of every pair
+    loaded beyond κ c (10⁻³ of the cohesion) is untouched. The ramp's slope, 2/κ where the
+    pair parts, falls to 0 where it meets the cone, so that the cone radius is C¹ in X_n
+    there: with a straight ramp (slope 1/κ, then μ) the 3D Newton stalled at the corner,
+    stepping from one piece to the other (docs/theory.md).
 
     Returns the mask of the pairs on the ramp (broken, c > 0, X_n + t < κ c), their
     capacity (≥ 0) and its slope dτ/dX_n there (0 where X_n + t ≤ 0), zero elsewhere.
@@ -126,8 +129,8 @@ def cohesion_ramp(
     >>> on, tau, slope = cohesion_ramp(np.array([100.0, 100.0, 0.0]), np.ones(3),
     ...                                np.zeros(3), np.array([0.05, 1.0, 0.0]),
     ...                                np.ones(3, dtype=bool))
-    >>> on.tolist(), tau.tolist(), slope.tolist()   # 0.05 + 0.05/1e-3 = 50.05
-    ([True, False, False], [50.05, 0.0, 0.0], [1001.0, 0.0, 0.0])
+    >>> on.tolist(), tau.tolist(), slope.tolist()   # u = 0.5: 0.05 + 100 · 0.75
+    ([True, False, False], [75.05, 0.0, 0.0], [1001.0, 0.0, 0.0])
     """
     if not c.any():  # no cohesion (the default residual strength): nothing on the ramp
         none = np.zeros_like(Xn)
@@ -137,9 +140,33 @@ def cohesion_ramp(
     on = np.asarray(broken & (c > 0) & (y < k * c))
     if not on.any():
         return on, np.zeros_like(Xn), np.zeros_like(Xn)
-    tau = np.where(on, np.maximum(mu * np.maximum(Xn, 0.0) + y / k, 0.0), 0.0)
-    slope = np.where(on & (y > 0), mu * (Xn > 0) + 1.0 / k, 0.0)
+    u = np.where(on, y, 0.0) / np.where(on, k * c, 1.0)
+    tau = np.where(on, np.maximum(mu * np.maximum(Xn, 0.0) + c * u * (2.0 - u), 0.0), 0.0)
+    slope = np.where(on & (y > 0), mu * (Xn > 0) + 2.0 * (1.0 - u) / k, 0.0)
     return on, tau, slope
+
+
+def cohesion_ramp_tangent(
+    c: FloatArray, mu: FloatArray, t: FloatArray, Xn: FloatArray, broken: BoolArray
+) -> tuple[BoolArray, FloatArray, FloatArray]:
+    r"""The tangent τ ≈ c_l + μ_l X_n of :func:`cohesion_ramp`'s capacity at X_n, for the
+    linear state systems (a sliding pair's X_t = −(c_l + μ_l X_n) ŝ), all arrays (m,):
+    where the pair parts (X_n + t ≤ 0), the ramp's start, c_l = 2t/κ and
+    μ_l = μ [X_n > 0] + 2/κ. Returns the ramp's mask and (c_l, μ_l), zero off it.
+
+    >>> on, cl, ml = cohesion_ramp_tangent(np.array([100.0]), np.ones(1), np.zeros(1),
+    ...                                    np.array([0.05]), np.ones(1, dtype=bool))
+    >>> round(float(cl[0] + ml[0] * 0.05), 12)   # the capacity 75.05 at the point
+    75.05
+    """
+    on, tau, slope = cohesion_ramp(c, mu, t, Xn, broken)
+    if not on.any():
+        return on, tau, slope
+    k = COHESION_RAMP
+    start = on & (Xn + t <= 0)
+    mu_l = np.where(start, mu * (Xn > 0) + 2.0 / k, slope)
+    c_l = np.where(start, 2.0 * t / k, tau - slope * Xn)
+    return on, np.where(on, c_l, 0.0), np.where(on, mu_l, 0.0)
 
 
 @dataclass(frozen=True)

@@ -108,7 +108,7 @@ from scipy.linalg.lapack import dgetrs as _getrs
 from ..errors import InterfaceError, MechanismError
 from ..linalg import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ..typing import FloatArray
-from ._laws import COHESION_RAMP, PairLaws, cohesion_ramp
+from ._laws import PairLaws, cohesion_ramp, cohesion_ramp_tangent
 from ._proximal import PairLaw, ShiftedOperator, proximal_newton
 from ._settings import SolverSettings
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
@@ -145,6 +145,17 @@ REFINE_MAX_CONTRACTION = 0.5
 :data:`REFINE_FLOOR`) is abandoned: the solver factorises its own W_c."""
 REFINE_MAX_ITER = 40
 """Corrections of one refinement before the solver factorises its own W_c."""
+NEWTON_STALL = 20
+"""A semismooth Newton whose residual has not halved over this many iterations has
+stalled (far from the answer, its line search crawls across the kinks of the law, a
+pair state at a time) and hands over to the next start (the given first iterate, then a
+cold start) or fallback, instead of running to its iteration limit."""
+
+
+def _stalled(history: list[float]) -> bool:
+    """Whether a Newton's residual norms ``history`` (one per iteration) have not halved
+    over the last :data:`NEWTON_STALL` iterations."""
+    return len(history) > NEWTON_STALL and history[-1] > 0.5 * history[-1 - NEWTON_STALL]
 
 
 def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -411,11 +422,10 @@ class InterfaceSolver:
         m, d = self.m, self.d
         state = st.state
         c, mu, t = self.props.strength(st.broken, prev.path)
-        ramp, _, _ = cohesion_ramp(c, mu, t, st.X[:, -1], st.broken)
-        if ramp.any():  # on the cohesion ramp at the last iterate: τ = t/κ + (μ⁺ + 1/κ) X_n
-            pos = st.X[:, -1] > 0
-            c = np.where(ramp, t / COHESION_RAMP, c)
-            mu = np.where(ramp, mu * pos + 1.0 / COHESION_RAMP, mu)
+        ramp, c_l, mu_l = cohesion_ramp_tangent(c, mu, t, st.X[:, -1], st.broken)
+        if ramp.any():  # on the cohesion ramp at the last iterate: its tangent there
+            c = np.where(ramp, c_l, c)
+            mu = np.where(ramp, mu_l, mu)
         _, kin, fr, pair_fr, ncol, oth, rows_fr, nidx, zero, sl, prefix = self._pattern(state)
         target = prev.s.copy()
         closed_broken = st.broken | (state != INTACT)
@@ -1001,7 +1011,7 @@ class InterfaceSolver:
         # a cold start (X = 0, every closed pair sticking) where the last iterate failed
         cold = prev.copy()
         cold.X[:] = 0.0
-        st4, q4, n4 = self._newton(cold, np.zeros_like(q), prev, w_free, e)
+        st4, q4, n4 = self._newton(cold, np.zeros_like(q), prev, w_free, e, stall=False)
         res4 = float(self.residual(st4, prev, w_free).max(initial=0.0))
         if res4 <= self.tol and self._balanced(st4.X, e):
             self.last = SolveInfo(it + n_it + n4, res4, "semismooth Newton (cold start)")
@@ -1094,6 +1104,7 @@ class InterfaceSolver:
         w_free: FloatArray,
         e: FloatArray | None,
         max_iter: int = 100,
+        stall: bool = True,
     ) -> tuple[PairState, FloatArray, int]:
         """Semismooth Newton on the Alart-Curnier natural map (all pairs at once).
 
@@ -1101,7 +1112,9 @@ class InterfaceSolver:
         F_n = Y − max(0, Y − r g), F_t = X_t − Π_{B(τ)}(X_t − r Δs_t), τ = c_r A + μ_r X_n⁺;
         intact pairs: F = r (s − s_prev). A pair that exceeds its strength at the solution
         breaks and the Newton solve is repeated (at most once per pair). With a border
-        (statics) the unknowns include q and the rows ρ (Eᵀ X − e).
+        (statics) the unknowns include q and the rows ρ (Eᵀ X − e). With ``stall``, it
+        stops when its residual has not halved over :data:`NEWTON_STALL` iterations
+        (another start follows); the last start runs to ``max_iter``.
         """
         m, d = self.m, self.d
         M = m * d
@@ -1112,14 +1125,20 @@ class InterfaceSolver:
         broken = st.broken.copy()
         total = 0
         sdir = st.slip_dir.copy()
+        stalled = False
         for _ in range(m + 1):
             fscale = self._scale(X, w_free)
             Xv = np.concatenate([X.ravel(), z_q])
             F, J = self._natural_map(Xv, broken, w_free, prev, e)
+            norms: list[float] = []
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.linalg.norm(F))
+                norms.append(nF)
                 if nF <= 0.1 * self.tol * fscale:
+                    break
+                if stall and _stalled(norms):
+                    stalled = True
                     break
                 try:
                     assert J is not None
@@ -1139,7 +1158,7 @@ class InterfaceSolver:
             s_ = (w_free.ravel() + Wc @ Xv).reshape(m, d)
             # intact pairs that exceed their strength break; repeat
             fail = self._overstressed(X, broken, prev, fscale)
-            if not (fail.any() and self._breaking):
+            if stalled or not (fail.any() and self._breaking):
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
@@ -1436,6 +1455,7 @@ class InterfaceSolver:
             return r * (E.T @ X.ravel() - self._escale * e)
 
         s_ = w_free
+        stalled = False
         for _ in range(m + 1):
             fscale = self._scale(X, w_free)
             exact = s0 is None  # whether s was computed from X here, not updated or given
@@ -1443,9 +1463,11 @@ class InterfaceSolver:
             s0 = None
             F, L, R, kin = self._local_map(X, s_, broken, prev, True)
             Feq = equilibrium(X, zq)
+            norms: list[float] = []
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
+                norms.append(nF)
                 if nF <= 0.1 * self.tol * fscale:
                     if exact:
                         break
@@ -1455,6 +1477,9 @@ class InterfaceSolver:
                     nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
                     if nF <= 0.1 * self.tol * fscale:
                         break
+                if _stalled(norms):
+                    stalled = True
+                    break
                 if E is None:
                     dX, dS = (a[:, 0] for a in self._woodbury_step(L, R, kin, -F.reshape(-1, 1)))
                     dq = np.zeros(0)
@@ -1475,10 +1500,10 @@ class InterfaceSolver:
                 exact = False
                 F, L, R, kin = self._local_map(X, s_, broken, prev, True)
                 Feq = equilibrium(X, zq)
-            if not exact:  # the iteration limit: the answer on the exact s
+            if not exact:  # the iteration limit or a stall: the answer on the exact s
                 s_ = exact_s(X, zq)
             fail = self._overstressed(X, broken, prev, fscale)
-            if not (fail.any() and self._breaking):
+            if stalled or not (fail.any() and self._breaking):
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), zq * self._escale, total
@@ -1685,11 +1710,17 @@ class InterfaceSolver:
             return np.zeros(d), b.copy(), OPEN, broken, sdir
         target[-1] = 0.0
 
+        one = np.array([True])
+
         def cap(xn: float) -> float:  # the cone radius at X_n, the cohesion ramp's below κ c
-            one = np.array([True])
             on, tr, _ = cohesion_ramp(np.array([cA]), np.array([mu]), np.array([tA]),
                                       np.array([xn]), one)  # fmt: skip
             return float(tr[0]) if on[0] else cA + mu * xn
+
+        def tangent(xn: float) -> tuple[float, float]:  # the cone radius' tangent at X_n
+            on, cl, ml = cohesion_ramp_tangent(np.array([cA]), np.array([mu]),
+                                               np.array([tA]), np.array([xn]), one)  # fmt: skip
+            return (float(cl[0]), float(ml[0])) if on[0] else (cA, mu)
 
         if fixed:
             sh = sdir.copy()
@@ -1700,14 +1731,18 @@ class InterfaceSolver:
             sh = -X[:-1] / max(float(np.linalg.norm(X[:-1])), 1e-300)
         c_s, mu_s = cA, mu  # the cone's coefficients, X_t = −(c_s + μ_s X_n) ŝ
         for _ in range(50):
-            # unknown X_n; X_t = −(c_s + μ_s X_n) ŝ; normal row: (Wkk X)_n + b_n = 0
-            a_n = Wkk[-1, -1] - mu_s * Wkk[-1, :-1] @ sh
-            xn = (-b[-1] + c_s * Wkk[-1, :-1] @ sh) / a_n
-            if cA > 0 and xn + tA < COHESION_RAMP * cA and (c_s, mu_s) == (cA, mu):
-                # on the cohesion ramp: τ = tA/κ + (μ [X_n > 0] + 1/κ) X_n, solved again
-                c_s, mu_s = tA / COHESION_RAMP, mu * (xn > 0) + 1.0 / COHESION_RAMP
-                a_n = Wkk[-1, -1] - mu_s * Wkk[-1, :-1] @ sh
-                xn = (-b[-1] + c_s * Wkk[-1, :-1] @ sh) / a_n
+            # unknown X_n; X_t = −τ(X_n) ŝ; normal row: (Wkk X)_n + b_n = 0, solved by
+            # Newton's method on the cone radius' tangent τ ≈ c_s + μ_s X_n (one step off
+            # the cohesion ramp, where the tangent is the cone)
+            beta = float(Wkk[-1, :-1] @ sh)
+            xn = (-b[-1] + c_s * beta) / (Wkk[-1, -1] - mu_s * beta)
+            for _ in range(30):
+                c_s, mu_s = tangent(xn) if cA > 0 else (cA, mu)
+                x2 = (-b[-1] + c_s * beta) / (Wkk[-1, -1] - mu_s * beta)
+                done = abs(x2 - xn) <= 1e-14 * max(abs(xn), cA)
+                xn = x2
+                if done:
+                    break
             X = np.concatenate([-(c_s + mu_s * xn) * sh, [xn]])
             s = b + Wkk @ X
             ds = s[:-1] - prev.s[k, :-1]
