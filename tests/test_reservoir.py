@@ -1149,3 +1149,48 @@ def test_mass_inverse_by_node_with_a_massless_wet_foundation() -> None:
     assert res.completed
     e = res.energy
     assert np.abs(e["balance"]).max() < 5e-14 * np.abs(e["external_work"]).max()
+
+
+def test_a_roller_supported_wet_node_feels_the_moving_ground() -> None:
+    """The battered block of :func:`_battered` (Q4, θ = 30°, H = 12 m, wet to its top) on
+    rollers (its base fixed along y, its downstream toe also along x), shaken vertically
+    by a_g. The heel is wet with its y prescribed and its x free, and Westergaard's block
+    μ n nᵀ couples the two: M_fp ≠ 0 there. The ground acts through it, and the water's
+    horizontal push is the closed form's: Σ m_a a = 7/12 ρ_w H² / cos θ (a·n) n with
+    n = (−cos θ, sin θ), a = (0, a_g), so the relative form's inertia load
+    −(M_ff ι_f + M_fp ι_p) a_g sums along x, over the free DOFs (the toe is dry), to
+    7/12 ρ_w H² a_g sin θ: to 1e-14 (measured 2.2e-16; the free DOFs' M_ff ι_f alone
+    missed the heel's share, μ_heel cos θ sin θ a_g, 7.4 % of it). The absolute form
+    loads the heel by −M_fp a_p beside −K_fp u_p: with the stiffness's load taken off,
+    the same μ_heel cos θ sin θ a_g along x, to 1e-10 (measured 2.6e-11: K_fp u_p is
+    10⁶ times larger and cancels), and nothing elsewhere (measured 0)."""
+    from pfeie.dynamics import Excitation
+
+    theta, H, a_g = np.radians(30.0), 12.0, 2.0
+    mesh = _battered("quad", 30.0)
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    m.fix("ymin", components=1)
+    x = mesh.points
+    toe = int(np.argmin(np.abs(x[:, 0] - 8.0) + np.abs(x[:, 1])))
+    heel = int(np.argmin(np.abs(x[:, 0] + H * np.tan(theta)) + np.abs(x[:, 1])))
+    m.fix([toe], components=0)
+    m.add_westergaard("xmin", water_level=H)
+    system = m.system(lumped_mass=True, full_reservoir=True)
+    assert system.M_fp is not None
+    record = pf.GroundMotion.from_samples([a_g] * 3, dt=1.0, direction=(0.0, 1.0))
+    static = system.load(0.0)
+    rel = Excitation(m, system, [record], "relative").load(0.0) - static
+    expect = 7 / 12 * 1000.0 * H**2 * a_g * np.sin(theta)
+    free_x = system.free % 2 == 0
+    assert rel[free_x].sum() == pytest.approx(expect, rel=1e-14)
+    mu_heel = m.added_mass()[2 * heel : 2 * heel + 2].sum()  # the trace of its block
+    share = mu_heel * np.cos(theta) * np.sin(theta) * a_g
+    assert 0.05 * expect < share < 0.1 * expect
+    row = int(np.flatnonzero(system.free == 2 * heel)[0])
+    # at t = 1 s the base has moved by d_g = a_g/2 (a constant a_g): its stiffness load
+    # −K_fp ι_p d_g taken off, what is left is the mass's
+    ab = Excitation(m, system, [record], "absolute").load(1.0) - static
+    pres = system.prescribed
+    ab += m.stiffness()[system.free][:, pres] @ (pres % 2 == 1).astype(float) * (a_g / 2)
+    assert ab[row] == pytest.approx(share, rel=1e-10)
+    assert np.abs(np.delete(ab, row)).max() <= 1e-12 * share

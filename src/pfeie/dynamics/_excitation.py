@@ -1,13 +1,19 @@
 """Ground motion acting on a model, in the relative or the absolute form (method.md §6).
 
-- ``form="relative"``: a fixed base; each record adds the inertia load −M ι a_g(t) (ι the
-  influence vector of its direction); the outputs are relative to the ground, and the
-  absolute accelerations are a + Σ ι a_g;
+- ``form="relative"``: a fixed base; each record adds the inertia load
+  −(M_ff ι_f + M_fp ι_p) a_g(t) on the free DOFs (ι the influence vector of its
+  direction over all DOFs: the supports move with the ground too); the outputs are
+  relative to the ground, and the absolute accelerations are a + Σ ι a_g;
 - ``form="absolute"``: every prescribed DOF moves with the ground,
   u_p(t) = ū_p + Σ ι d_g(t), with d_g integrated exactly from the piecewise-linear record
   (apply :meth:`GroundMotion.baseline_corrected` first to remove drift); the blocks see
-  the loads −K_fp u_p − C_fp v_p (the mass is lumped, so M_fp = 0), and the pairs on the
-  base the prescribed relative motion; the outputs are absolute.
+  the loads −K_fp u_p − C_fp v_p − M_fp a_p, and the pairs on the base the prescribed
+  relative motion; the outputs are absolute.
+
+The mass is lumped, so M_fp vanishes unless the reservoir's added mass couples a supported
+node to its free components (Westergaard's blocks n nᵀ on an inclined face, or a
+finite-element reservoir, at a node with a roller support): then it is kept
+(:attr:`~pfeie.model.LinearSystem.M_fp`).
 
 Uplift in joints (:class:`~pfeie.model.Uplift`) is a load of the excitation: the
 pre-earthquake pressures (of the static state, given as ``uplift``) stay, or, for the
@@ -95,9 +101,11 @@ class Excitation:
         self.form, self.system, self.dim = form, system, d
         free, pres = system.free, system.prescribed
         iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
-        self._iota_M = [system.M @ i[free] for i in iota] if form == "relative" else []
+        Mfp = system.M_fp
+        self._iota_M = ([system.M @ i[free] + (0.0 if Mfp is None else Mfp @ i[pres])
+                         for i in iota] if form == "relative" else [])  # fmt: skip
         self._iota_p = [i[pres] for i in iota] if form == "absolute" else []
-        self._drive: list[tuple[FloatArray, FloatArray | None]] = []
+        self._drive: list[tuple[FloatArray, FloatArray | None, FloatArray | None]] = []
         if form == "absolute" and self.ground:
             if not pres.size:
                 raise ModelError("the absolute form needs supports that move with the ground")
@@ -108,7 +116,8 @@ class Excitation:
                 C_full = model.damping.alpha * M_full + model.damping.beta * model.stiffness()
                 C_fp = C_full[free][:, pres]
             for ip in self._iota_p:
-                self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip)))
+                self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip),
+                                    None if Mfp is None else -(Mfp @ ip)))  # fmt: skip
 
     @property
     def follows_pairs(self) -> bool:
@@ -148,11 +157,13 @@ class Excitation:
             f = f + self._f_up
         for g, mi in zip(self.ground, self._iota_M, strict=False):
             f = f - mi * g(t)
-        for g, (kg, cg) in zip(self.ground, self._drive, strict=False):
-            d, v, _ = g.motion(t)
+        for g, (kg, cg, mg) in zip(self.ground, self._drive, strict=False):
+            d, v, a = g.motion(t)
             f = f + kg * d
             if cg is not None:
                 f = f + cg * v
+            if mg is not None:
+                f = f + mg * a
         return f
 
     def prescribed(self, t: float) -> tuple[FloatArray, FloatArray, FloatArray]:

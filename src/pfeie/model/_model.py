@@ -180,6 +180,10 @@ class LinearSystem:
 
     ``C`` is None for an undamped model. ``load(t)`` returns the free-DOF load vector
     f_f(t) − K_fp ū − (C_fp, M_fp terms vanish: prescribed values are constant).
+    ``M_fp`` is the mass coupling the free DOFs to the prescribed ones (free × prescribed),
+    None where it vanishes (a lumped mass, unless Westergaard's blocks on an inclined face
+    or a finite-element reservoir reach a supported node): a moving ground acts through
+    it (:class:`~pfeie.dynamics.Excitation`).
     """
 
     M: sp.csr_matrix
@@ -195,6 +199,7 @@ class LinearSystem:
     n_pairs: int = 0  # the model's interface pairs, which these operators do not couple
     #: the low-rank part of the damping, C + U B Uᵀ (Rayleigh's ``deformation_only``)
     C_update: LowRankTerm | None = None
+    M_fp: sp.csr_matrix | None = None
 
     @property
     def n(self) -> int:
@@ -986,6 +991,8 @@ class Model:
         varying = [i for i, a in enumerate(amps) if a is not None]
         C = None
         Mff = M[free][:, free].tocsr()
+        Mfp = M[free][:, pres].tocsr()
+        Mfp.eliminate_zeros()
         if self.damping is not None and (self.damping.alpha or self.damping.beta):
             C = (self.damping.alpha * M + self.damping.beta * K)[free][:, free].tocsr()
         return LinearSystem(
@@ -994,6 +1001,7 @@ class Model:
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
             n_pairs=0 if self.pairs is None else int(self.pairs.n),
             C_update=self._rigid_damping(Mff, free) if C is not None else None,
+            M_fp=Mfp if Mfp.nnz else None,
         )  # fmt: skip
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
