@@ -112,7 +112,7 @@ class Excitation:
             K_fp = model.stiffness()[free][:, pres]
             C_fp = None
             if model.damping is not None and (model.damping.alpha or model.damping.beta):
-                M_full = model.mass(lumped=True)
+                M_full = model.mass(lumped=True, full_reservoir=True)  # the stepping's
                 C_full = model.damping.alpha * M_full + model.damping.beta * model.stiffness()
                 C_fp = C_full[free][:, pres]
             for ip in self._iota_p:

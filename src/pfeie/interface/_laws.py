@@ -119,8 +119,8 @@ def cohesion_ramp(
     the band 0.498 ≤ k_h ≤ 0.565 failed). With the ramp the capacity is continuous and
     such a pair carries its shear on a normal force below κ c; the strength of every pair
     loaded beyond κ c (10⁻³ of the cohesion) is untouched. The ramp's slope, 2/κ where the
-    pair parts, falls to 0 where it meets the cone, so that the cone radius is C¹ in X_n
-    there: with a straight ramp (slope 1/κ, then μ) the 3D Newton stalled at the corner,
+    pair parts, falls to 0 where it meets the cone c + μ X_n⁺, so that the cone radius is
+    C¹ in X_n there: with a straight ramp (slope 1/κ, then μ) the 3D Newton stalled at the corner,
     stepping from one piece to the other (docs/theory.md).
 
     Returns the mask of the pairs on the ramp (broken, c > 0, X_n + t < κ c), their

@@ -148,8 +148,9 @@ REFINE_MAX_ITER = 40
 NEWTON_STALL = 20
 """A semismooth Newton whose residual has not halved over this many iterations has
 stalled (far from the answer, its line search crawls across the kinks of the law, a
-pair state at a time) and hands over to the next start (the given first iterate, then a
-cold start) or fallback, instead of running to its iteration limit."""
+pair state at a time) and hands over to the next start (the dense Newton from the same
+iterate after the one through W_c⁻¹, the given first iterate, then a cold start, which
+runs to its limit) or fallback, instead of running to its iteration limit."""
 
 
 def _stalled(history: list[float]) -> bool:
@@ -918,6 +919,7 @@ class InterfaceSolver:
         singular: MechanismError | None = None
         it = 0
         for it in range(1, self.max_iter + 1):
+            xn_used = st.X[:, -1].copy()  # where _linear takes the cohesion ramp's tangent
             try:
                 X, q = self._linear(st, prev, w_free, e)
             except MechanismError as exc:
@@ -941,12 +943,16 @@ class InterfaceSolver:
             # in 3D, where the directions converge linearly, the residual also judges an
             # iterate whose states settled while its directions still turn
             settled = same and bool((np.abs(new.slip_dir - st.slip_dir) <= 1e-9).all())
+            # sliding pairs on the cohesion ramp's curve: the system took its tangent at
+            # the last iterate, so they settle only when their normal force does (a
+            # Newton iteration on the curve, which the states alone do not see)
+            bend = self._bending(st, prev, xn_used, self._scale(X, w_free))
             if settled or (same and self.d == 3):
                 res = float(self.residual(st, prev, w_free).max(initial=0.0))
                 if res <= self.tol:
                     self.last = SolveInfo(it, res, "state iteration")
                     return st, q
-                if settled:
+                if settled and not bend.any():
                     log.debug("%s: states settled but residual %.2e > tol", label, res)
                     break
             if self.d == 3:
@@ -962,7 +968,8 @@ class InterfaceSolver:
                     log.debug("%s: slip directions do not settle after %d iterations",
                               label, it)  # fmt: skip
                     break
-            key = new.state.tobytes() + new.broken.tobytes()
+            key = new.state.tobytes() + new.broken.tobytes() + np.round(
+                X[bend, -1], 12).tobytes()  # fmt: skip
             if self.d == 3:
                 # the same resolution as the settle test above (1e-9), so that directions
                 # still turning are not taken for a cycle
@@ -1024,6 +1031,20 @@ class InterfaceSolver:
         if res4 < res:
             st2, q2, res = st4, q4, res4
         raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
+
+    def _bending(
+        self, st: PairState, prev: PairState, xn_used: FloatArray, fscale: float
+    ) -> np.ndarray:
+        """The sliding pairs on the curve of the cohesion ramp (0 < X_n + t < κ c) whose
+        normal force moved, beyond 1e-12 of the force scale, from ``xn_used``, where the
+        state system took the ramp's tangent: (m,) mask."""
+        sl = st.state == SLIDE
+        if not sl.any():
+            return sl
+        c, mu, t = self.props.strength(st.broken, prev.path)
+        Xn = st.X[:, -1]
+        on = cohesion_ramp(c, mu, t, Xn, st.broken)[0] & (Xn + t > 0)
+        return np.asarray(sl & on & (np.abs(Xn - xn_used) > 1e-12 * fscale))
 
     def _fallback(
         self, label: str, history: list[np.ndarray], tried: list[tuple[float, PairState]],
