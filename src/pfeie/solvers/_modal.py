@@ -42,7 +42,10 @@ RIGID_OMEGA2 = 1e-13
 class ModalResult:
     """Natural frequencies (Hz), mass-normalised mode shapes (n_modes, n_points, dim),
     and effective modal masses (n_modes, dim) in kg for unit ground motion along each
-    axis (Σ over all modes = the free mass, ``total_mass`` (dim,) kg). ``omega2_scale``
+    axis (Σ over all modes = the free mass, ``total_mass`` (dim,) kg: the participation
+    is φᵀ M_ff ι_f over the free DOFs, without the mass that couples them to the supports,
+    a consistent mass's or Westergaard's blocks at a roller-supported wet node, which the
+    time stepping's inertia load −(M_ff ι_f + M_fp ι_p) a_g keeps). ``omega2_scale``
     (rad²/s²) is max diag K / max diag M, the order of the mesh's largest eigenvalue ω²
     (0: unknown)."""
 
