@@ -680,8 +680,14 @@ def test_plausibility_warnings(
         (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n"
                       '[[loads.uplift]]\ninterface = "mid"\nheadwater = 0.0\ntailwater = 0.0\n'
                       '[[supports]]'), {},
-         "loads.uplift[0]: the uplift in 'mid' is zero at every pair: the joint (z from 0 to "
+         "loads.uplift[0]: the uplift in 'mid' is zero at every pair: the joint (y from 0 to "
          "1 m) lies above the headwater (0 m) and tailwater (0 m) levels"),
+        # no tailwater (None): the warning still formats (it raised a logging error)
+        (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n"
+                      '[[loads.uplift]]\ninterface = "mid"\nheadwater = -5.0\n'
+                      '[[supports]]'), {},
+         "loads.uplift[0]: the uplift in 'mid' is zero at every pair: the joint (y from 0 to "
+         "1 m) lies above the headwater (-5 m) and tailwater (none) levels"),
         (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.6\n[[supports]]"),
          {}, "interfaces.mid.friction_angle = 0.6° is very low (joints in concrete and rock: "
          "20° to 60°); the angle is in degrees: a friction coefficient μ = 0.6 is φ = 31.0°"),
@@ -709,3 +715,49 @@ def test_plausibility_warnings(
     with caplog.at_level("WARNING"):
         assert main(["check", str(p)]) == 0
     assert "rho" not in caplog.text  # a practically massless block beside a normal one
+
+
+def test_new_user_mistakes_of_the_fourteenth_session(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Mistakes a new user met that ran silently or ended in a traceback: ``component``
+    beside ``direction`` (direction won silently); a face group listed twice under
+    ``groups`` (its water load counted twice: FS 1.27 instead of 6.70) in the model file
+    and in Python; ``GroundMotion.from_function`` with dt = 0 (ZeroDivisionError). Each is
+    now refused with a message naming the key."""
+    p = model(tmp_path)
+    text = p.read_text()
+    np.savetxt(tmp_path / "rec.csv", np.c_[[0.0, 0.1, 0.2], [0.0, -0.12, 0.05]], delimiter=",")
+    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\ncomponent = "y"\n'
+                 "direction = [1.0, 0.0]\n")  # fmt: skip
+    assert main(["check", str(p)]) == 2
+    assert "ground_motion[0]: give either component or direction, not both" in (
+        capsys.readouterr().err)  # fmt: skip
+    p.write_text(text.replace("[analysis]", '[[loads.hydrostatic]]\ngroups = ["top", "top"]\n'
+                              "water_level = 0.5\n[analysis]"))  # fmt: skip
+    assert main(["check", str(p)]) == 2
+    assert ("loads.hydrostatic[0].groups: 'top' listed twice: a group's load would count "
+            "twice; expected each group once") in capsys.readouterr().err  # fmt: skip
+    mesh = pf.rectangle(1.0, 10.0, 1, 4)
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    with pytest.raises(pf.errors.ModelError, match="westergaard: 'xmin' given twice"):
+        m.add_westergaard(["xmin", "xmin"], water_level=10.0)
+    with pytest.raises(pf.errors.ModelError, match=r"dt must be > 0 s, got 0\.0"):
+        pf.GroundMotion.from_function(lambda t: 1.0, duration=1.0, dt=0.0)
+
+
+def test_a_closed_output_pipe_ends_without_a_traceback(tmp_path: Path) -> None:
+    """``pfeie check model.toml | true`` (the reader closes the pipe before pfeie writes):
+    exit 141 (128 + SIGPIPE, as a shell reports it) and nothing on standard error; it was
+    a BrokenPipeError's traceback and exit 1, which means a failed analysis."""
+    import subprocess
+    import sys
+
+    p = model(tmp_path)
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "check", str(p)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)  # fmt: skip
+    assert proc.stdout is not None and proc.stderr is not None
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141
+    assert "Traceback" not in err and "Error" not in err

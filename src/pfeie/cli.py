@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import sys
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Literal, NoReturn
@@ -30,6 +31,9 @@ if TYPE_CHECKING:
     from .io import Override
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+#: the reader of the output closed it (``pfeie check model.toml | head``): 128 + SIGPIPE,
+#: what a shell reports for a command stopped that way
+EXIT_PIPE = 141
 
 
 class _Parser(argparse.ArgumentParser):
@@ -192,7 +196,22 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``pfeie`` command; returns the exit code."""
+    """Entry point of the ``pfeie`` command; returns the exit code (:data:`EXIT_PIPE`,
+    without a traceback, when the reader of the output closes it)."""
+    try:
+        code = _main(argv)
+        sys.stdout.flush()  # here, not at exit, where a closed pipe would print a traceback
+        return code
+    except BrokenPipeError:
+        # nothing more can be written there: send what Python still holds to /dev/null,
+        # so that the flush at exit does not fail again
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_PIPE
+
+
+def _main(argv: Sequence[str] | None) -> int:
     ap = _parser()
     try:
         args = ap.parse_args(argv)

@@ -557,13 +557,14 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             idx = model.pairs.of(ut.interface)
             if idx.size and not np.any(pressure[idx] > 0):
                 z = model.pairs.x[idx, mesh.dim - 1]
+                tail = "none" if ut.tailwater is None else f"{ut.tailwater:g} m"
                 log.warning("%s: loads.uplift[%d]: the uplift in %r is zero at every pair: "
-                            "the joint (z from %.4g to %.4g m) lies above the headwater "
-                            "(%g m) and tailwater (%g m) levels where they apply; the levels "
+                            "the joint (%s from %.4g to %.4g m) lies above the headwater "
+                            "(%g m) and tailwater (%s) levels where they apply; the levels "
                             "are elevations (m), and the pressure runs linearly from the "
                             "headwater at the upstream end to the tailwater at the other",
-                            p, i, ut.interface, float(z.min()), float(z.max()), ut.headwater,
-                            ut.tailwater)  # fmt: skip
+                            p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
+                            float(z.max()), ut.headwater, tail)  # fmt: skip
     records = []
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:

@@ -50,6 +50,14 @@ class Expect:
 _CONFIG = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
 
+def _distinct(v: list[str]) -> list[str]:
+    twice = sorted({g for g in v if v.count(g) > 1})
+    if twice:
+        raise ValueError(f"{', '.join(repr(g) for g in twice)} listed twice: a group's load "
+                         "would count twice; expected each group once")  # fmt: skip
+    return v
+
+
 def _nonzero(v: float) -> float:
     if v == 0.0:
         raise ValueError("a scale of 0 removes the record; expected a non-zero number")
@@ -246,6 +254,7 @@ class Hydrostatic(_Table):
     """``[[loads.hydrostatic]]``: water pressure on faces."""
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      AfterValidator(_distinct),
                       Field(description="physical groups of wetted faces")]  # fmt: skip
     water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
     density: Annotated[FluidDensity, Field(description="water density (kg/m³)")] = 1000.0
@@ -255,6 +264,7 @@ class Silt(_Table):
     """``[[loads.silt]]``: silt against faces (pfeie.Model.add_silt)."""
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      AfterValidator(_distinct),
                       Field(description="physical groups of the faces the silt lies "
                             "against (the upstream face, the reservoir floor)")]  # fmt: skip
     level: Annotated[Elevation, Field(description="elevation of the silt surface (m, on the "
@@ -289,6 +299,7 @@ class Westergaard(_Table):
     closed form or by an incompressible finite-element reservoir."""
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
+                      AfterValidator(_distinct),
                       Field(description="physical groups of the wet faces of the dam")]  # fmt: skip
     water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
     model: Annotated[
@@ -492,6 +503,12 @@ class RecordReading(_Table):
         Field(description="zero-phase Butterworth filter (a table: highpass, lowpass (Hz), "
               "order), applied after scale and before baseline"),
     ] = None  # fmt: skip
+
+    @model_validator(mode="after")
+    def _one_direction(self) -> RecordReading:
+        if self.direction is not None and "component" in self.model_fields_set:
+            raise _check("", "give either component or direction, not both")
+        return self
 
 
 class GroundMotionRecord(RecordReading):

@@ -123,6 +123,10 @@ class GroundMotion:
         direction: Sequence[float] = (1.0, 0.0), name: str = "function",
     ) -> GroundMotion:  # fmt: skip
         """Sample a function a(t) (m/s²) at step dt over [0, duration]."""
+        if not (np.isfinite(dt) and dt > 0):
+            raise ModelError(f"ground motion {name!r}: dt must be > 0 s, got {dt}")
+        if not (np.isfinite(duration) and duration > 0):
+            raise ModelError(f"ground motion {name!r}: duration must be > 0 s, got {duration}")
         t = np.arange(round(duration / dt) + 1, dtype=float) * dt
         values = np.array([fn(float(x)) for x in t])
         return cls.from_samples(values, time=t, direction=direction, name=name)

@@ -174,6 +174,14 @@ class StressOperators:
         return sp.csr_matrix(S[order])
 
 
+def _distinct_groups(names: tuple[str, ...], what: str) -> None:
+    """Refuse a group named twice (its load or mass would count twice)."""
+    twice = sorted({g for g in names if names.count(g) > 1})
+    if twice:
+        raise ModelError(f"{what}: {', '.join(repr(g) for g in twice)} given twice: its load "
+                         "or mass would count twice; expected each group once")  # fmt: skip
+
+
 @dataclass(frozen=True)
 class LinearSystem:
     """M, C, K and loads restricted to the free DOFs, and the maps to full vectors.
@@ -501,6 +509,7 @@ class Model:
         81000.0
         """
         names = (groups,) if isinstance(groups, str) else tuple(groups)
+        _distinct_groups(names, "silt")
         if not names:
             raise ModelError("silt: no face groups given")
         if not (np.isfinite(level) and np.isfinite(submerged_unit_weight)
@@ -603,6 +612,7 @@ class Model:
         [511.8, -255.9]
         """
         names = (groups,) if isinstance(groups, str) else tuple(groups)
+        _distinct_groups(names, "westergaard")
         if not names:
             raise ModelError("westergaard: no wet face groups given")
         for g in names:
@@ -650,6 +660,7 @@ class Model:
         (10.0, 30.0, 5)
         """
         names = (groups,) if isinstance(groups, str) else tuple(groups)
+        _distinct_groups(names, "reservoir")
         if not names:
             raise ModelError("reservoir: no wet face groups given")
         if self.dim != 2:
