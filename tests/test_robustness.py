@@ -688,6 +688,8 @@ def test_plausibility_warnings(
                       '[[supports]]'), {},
          "loads.uplift[0]: the uplift in 'mid' is zero at every pair: the joint (y from 0 to "
          "1 m) lies above the headwater (-5 m) and tailwater (none) levels"),
+        (text.replace('[[supports]]\ngroup = "bottom"\n', ""), {},
+         "no [[supports]]: nothing holds the model, every block floats"),
         (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.6\n[[supports]]"),
          {}, "interfaces.mid.friction_angle = 0.6° is very low (joints in concrete and rock: "
          "20° to 60°); the angle is in degrees: a friction coefficient μ = 0.6 is φ = 31.0°"),

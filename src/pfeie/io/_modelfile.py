@@ -459,6 +459,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             if max(comps) >= mesh.dim:
                 raise InputError(f"{p}: supports[{i}].components: 'z' in a 2D model")
         model.fix(g, comps, sup.value)
+    if not cfg.supports:
+        log.warning("%s: no [[supports]]: nothing holds the model, every block floats (a "
+                    "static analysis finds no equilibrium under gravity, a dynamic one lets "
+                    "the model fall); expected e.g. [[supports]] group = \"base\" on the "
+                    "foundation's boundary", p)  # fmt: skip
     loads = cfg.loads
     if loads.gravity:
         direction = loads.gravity_direction
