@@ -109,12 +109,8 @@ class Excitation:
         if form == "absolute" and self.ground:
             if not pres.size:
                 raise ModelError("the absolute form needs supports that move with the ground")
-            K_fp = model.stiffness()[free][:, pres]
-            C_fp = None
-            if model.damping is not None and (model.damping.alpha or model.damping.beta):
-                M_full = model.mass(lumped=True, full_reservoir=True)  # the stepping's
-                C_full = model.damping.alpha * M_full + model.damping.beta * model.stiffness()
-                C_fp = C_full[free][:, pres]
+            K_fp, C_fp = system.K_fp, system.C_fp  # those of the stepping's operators
+            assert K_fp is not None
             for ip in self._iota_p:
                 self._drive.append((-(K_fp @ ip), None if C_fp is None else -(C_fp @ ip),
                                     None if Mfp is None else -(Mfp @ ip)))  # fmt: skip

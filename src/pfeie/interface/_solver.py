@@ -946,7 +946,8 @@ class InterfaceSolver:
             # sliding pairs on the cohesion ramp's curve: the system took its tangent at
             # the last iterate, so they settle only when their normal force does (a
             # Newton iteration on the curve, which the states alone do not see)
-            bend = self._bending(st, prev, xn_used, self._scale(X, w_free))
+            bend = (self._bending(st, prev, xn_used, self._scale(X, w_free)) if same
+                    else np.zeros(self.m, dtype=bool))  # fmt: skip
             if settled or (same and self.d == 3):
                 res = float(self.residual(st, prev, w_free).max(initial=0.0))
                 if res <= self.tol:

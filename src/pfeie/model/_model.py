@@ -208,6 +208,10 @@ class LinearSystem:
     #: the low-rank part of the damping, C + U B Uᵀ (Rayleigh's ``deformation_only``)
     C_update: LowRankTerm | None = None
     M_fp: sp.csr_matrix | None = None
+    #: the stiffness and the damping (None undamped) coupling the free DOFs to the
+    #: prescribed ones (free × prescribed), through which a moving ground acts
+    K_fp: sp.csr_matrix | None = None
+    C_fp: sp.csr_matrix | None = None
 
     @property
     def n(self) -> int:
@@ -997,22 +1001,24 @@ class Model:
         pats, amps = self.load_patterns()
         Kf, pf_ = K[free], pats[free]
         Kff = Kf[:, free].tocsr()
-        shift = -(Kf[:, pres] @ pval) if pres.size else np.zeros(free.size)
+        Kfp = Kf[:, pres].tocsr()
+        shift = -(Kfp @ pval) if pres.size else np.zeros(free.size)
         constant = shift + pf_[:, [a is None for a in amps]].sum(axis=1)
         varying = [i for i, a in enumerate(amps) if a is not None]
-        C = None
+        C = Cfp = None
         Mff = M[free][:, free].tocsr()
         Mfp = M[free][:, pres].tocsr()
         Mfp.eliminate_zeros()
         if self.damping is not None and (self.damping.alpha or self.damping.beta):
-            C = (self.damping.alpha * M + self.damping.beta * K)[free][:, free].tocsr()
+            Cf = (self.damping.alpha * M + self.damping.beta * K)[free]
+            C, Cfp = Cf[:, free].tocsr(), Cf[:, pres].tocsr()
         return LinearSystem(
             M=Mff, K=Kff, C=C, free=free, n_dof=self.n_dof,
             prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
             n_pairs=0 if self.pairs is None else int(self.pairs.n),
             C_update=self._rigid_damping(Mff, free) if C is not None else None,
-            M_fp=Mfp if Mfp.nnz else None,
+            M_fp=Mfp if Mfp.nnz else None, K_fp=Kfp, C_fp=Cfp,
         )  # fmt: skip
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
