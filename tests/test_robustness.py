@@ -606,6 +606,19 @@ def test_output_file_with_a_nul_character(tmp_path: Path,
           "NUL character")  # fmt: skip
 
 
+def _two_blocks() -> pf.Model:
+    """A 1 m × 1 m plate (Q4, 1 × 2 cells) cut at y = 0.5 m into the blocks 'base' and
+    'block' (E = 1 GPa, ρ = 2000 kg/m³) on the joint 'joint' (φ = 30°): no support, no
+    load."""
+    mesh = pf.rectangle(1.0, 1.0, 1, 2)
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
+    mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
+    mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
+    mat = pf.Elastic(1e9, 0.2, 2000.0)
+    return pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+                    interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+
+
 def test_python_api_mistakes_get_typed_errors() -> None:
     """Wrong types through the Python API end in a ModelError naming the argument (they
     ended in TypeError or AttributeError deep inside); one record may be given alone; the
@@ -618,13 +631,8 @@ def test_python_api_mistakes_get_typed_errors() -> None:
         pf.Elastic(E="30e9", nu=0.2, rho=2400)  # type: ignore[arg-type]
     with pytest.raises(ModelError, match=r"block 'b': material: expected a pfeie.Elastic"):
         pf.Block("b", 3.0)  # type: ignore[arg-type]
-    mesh = pf.rectangle(1.0, 1.0, 1, 2)
-    mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
-    mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
-    mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
+    m = _two_blocks()
     mat = pf.Elastic(1e9, 0.2, 2000.0)
-    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
-                 interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
     with pytest.raises(ModelError, match=r"fix base: components: expected integers in 0..1"):
         m.fix("base", components=["w"])  # type: ignore[list-item]
     m.fix("base")
@@ -717,6 +725,13 @@ def test_plausibility_warnings(
     with caplog.at_level("WARNING"):
         assert main(["check", str(p)]) == 0
     assert "rho" not in caplog.text  # a practically massless block beside a normal one
+    caplog.clear()  # but a density that reads as t/m³ is warned beside a normal one too
+    p = model(tmp_path, text=two.replace("rho = 20.0", "rho = 2.4"), elements=elements,
+              names=names)  # fmt: skip
+    with caplog.at_level("WARNING"):
+        assert main(["check", str(p)]) == 0
+    assert ("materials.soft.rho = 2.4 kg/m³ lies below 500 kg/m³ (concrete and rock: 1800 "
+            "to 3200); pfeie takes SI units: did you mean 2400 kg/m³") in caplog.text
 
 
 def test_new_user_mistakes_of_the_fourteenth_session(
@@ -763,3 +778,52 @@ def test_a_closed_output_pipe_ends_without_a_traceback(tmp_path: Path) -> None:
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 141
     assert "Traceback" not in err and "Error" not in err
+
+
+def test_a_model_without_supports_says_so_in_statics() -> None:
+    """Two blocks on a joint and no support: the static analysis fails naming the blocks
+    that nothing holds and what to add (it blamed the joints' strength); with the base
+    supported the joint carries the block's weight (ρ g A, to 1e-12)."""
+    import pfeie as pf
+    from pfeie.errors import MechanismError
+
+    def two_blocks(fixed: bool) -> pf.Model:
+        m = _two_blocks()
+        if fixed:
+            m.fix("ymin")
+        m.add_gravity()
+        return m
+
+    with pytest.raises(MechanismError, match=r"No support holds the block\(s\) 'base', "
+                       r"'block': .* Add \[\[supports\]\] \(Model.fix\)"):  # fmt: skip
+        pf.solve_static(two_blocks(False))
+    st = pf.solve_static(two_blocks(True))  # held: the joint carries the block's weight
+    assert st.pairs is not None
+    weight = 2000.0 * 9.81 * 0.5  # (N per metre of thickness)
+    assert st.pairs.X[:, -1].sum() == pytest.approx(weight, rel=1e-12)
+
+
+def test_check_names_the_floating_and_the_unsupported_blocks(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``pfeie check`` on two blocks cut by the joint 'mid': with the left block on a
+    support, the right one floats, held by the joint only; without the support, both are
+    named as held by nothing."""
+    names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
+    elements = [(1, 1, 3, [1, 2]), (3, 1, 4, [2, 5]), (4, 1, 5, [4, 5]),
+                (10, 3, 1, [1, 2, 5, 4]), (11, 3, 2, [2, 3, 6, 5])]  # fmt: skip
+    text = (MODEL.replace('all = "rock"', 'left = "rock"\nright = "rock"')
+            .replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n[[supports]]"))
+    p = model(tmp_path, text=text, elements=elements, names=names)
+    capsys.readouterr()
+    assert main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "bodies       2; floating (held by their joints only): right\n" in out
+    assert "unsupported" not in out
+    p = model(tmp_path, text=text.replace('[[supports]]\ngroup = "bottom"\n', ""),
+              elements=elements, names=names)  # fmt: skip
+    assert main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "bodies       2\n" in out
+    assert ("unsupported  left, right: no support, and no joint to a supported block (add "
+            "[[supports]])") in out

@@ -10,6 +10,7 @@ coefficient held, is measured 5e-7 below the closed form).
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable
 from pathlib import Path
 
@@ -213,12 +214,19 @@ def test_the_yield_coefficient_in_a_model_file(
 ) -> None:
     """``analysis.yield_coefficient = true`` on two blocks cut by a level joint with
     φ = 26.565° (μ = 0.5): summary.json gives k_y = μ = 0.5 along +x and −x (to 1e-6),
-    sliding, the text a line per direction and the report's static joint table a column.
+    sliding, the text a line per direction and the report's static joint table a column;
+    the progress a line as each direction's search starts and ends.
     Without the static state it is refused, naming the key."""
     text = SMALL.replace("[analysis]", "[analysis]\nyield_coefficient = true\ndynamic = false")
     text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
     p = _write(tmp_path, text)
-    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(p)]) == 0
+    # the search's progress: a line as each direction starts and ends
+    err = capsys.readouterr().err
+    assert "yield coefficient +x: static analyses ..." in err
+    assert re.search(r"yield coefficient -x: k_y 0\.49999\d* \(sliding\), \d+ static "
+                     r"analyses in [\d.]+ s", err), err  # fmt: skip
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     mu = np.tan(np.radians(26.565))
     for label, sign in (("+x", 1.0), ("-x", -1.0)):

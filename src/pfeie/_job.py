@@ -205,17 +205,18 @@ def _run(
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
     ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps)
+    ystream = (stream or sys.stderr) if progress else None  # the yield search's progress
     try:
         if a.static and ck is None:
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
             if a.yield_coefficient:
-                yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance))
+                yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
         elif a.static and model.uplifts:  # resumed: the uplift of the static state again
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
         if a.yield_coefficient and ck is not None:  # resumed: the summary keeps it
-            yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance))
+            yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
         raise
@@ -288,16 +289,24 @@ def dynamic_analysis(job: Job) -> Dynamic:
         raise InputError(f"{job.path}: analysis: {exc}") from None
 
 
-def _yield_coefficients(job: Job, settings: SolverSettings) -> dict[str, dict[str, Any]]:
+def _yield_coefficients(
+    job: Job, settings: SolverSettings, stream: TextIO | None = None
+) -> dict[str, dict[str, Any]]:
     """The yield coefficient along +x and −x, made horizontal (``analysis.yield_coefficient``;
     :func:`pfeie.yield_coefficient`), with one static problem for both: per direction its
     unit vector, ``k_y`` (the last coefficient held, None if held up to the largest tried),
     ``k_affine`` (the margins' affine root from the last two held), ``k_fail``, ``limit``,
-    the governing ``joint`` and its safety factor at k_y, and the analyses it took."""
+    the governing ``joint`` and its safety factor at k_y, and the analyses it took. With a
+    ``stream``, a line on it as each direction starts and ends (the search takes tens of
+    static analyses)."""
     model = job.model
     problem = StaticInterfaceProblem(model, model.system(), settings=settings)
     out: dict[str, dict[str, Any]] = {}
     for label, sign in (("+x", 1.0), ("-x", -1.0)):
+        t0 = time.perf_counter()
+        if stream is not None:
+            stream.write(f"yield coefficient {label}: static analyses ...\n")
+            stream.flush()
         try:
             _, iota = horizontal(model)
             y = yield_coefficient(model, sign * iota, problem=problem)
@@ -310,8 +319,11 @@ def _yield_coefficients(job: Job, settings: SolverSettings) -> dict[str, dict[st
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
             "analyses": y.analyses,
         }  # fmt: skip
-        log.info("yield coefficient along %s: k_y %s (%s, %d static analyses)", label, y.k_y,
-                 y.limit, y.analyses)  # fmt: skip
+        if stream is not None:  # (the library logs the same at INFO)
+            k_y = "none up to the largest tried" if y.k_y is None else f"{y.k_y:.6g}"
+            stream.write(f"yield coefficient {label}: k_y {k_y} ({y.limit}), {y.analyses} "
+                         f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip
+            stream.flush()
     return out
 
 

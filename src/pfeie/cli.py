@@ -11,7 +11,8 @@ Exit codes:
 - 1: the analysis failed (a mechanism in statics, an interface step that did not
   converge); the results computed so far are written;
 - 2: invalid input (model file, mesh, record, command-line arguments);
-- 130: interrupted (Ctrl-C or SIGTERM); the results computed so far are written.
+- 130: interrupted (Ctrl-C or SIGTERM); the results computed so far are written;
+- 141: the reader of the output closed it (``| head``); no traceback.
 """
 
 from __future__ import annotations
@@ -623,7 +624,16 @@ def _format_check(s: dict[str, object]) -> str:
                      f"{float(s['mass_kg']):.4g} kg"  # type: ignore[arg-type]
                      + (" (2D: the slice of the model's thickness)" if s["dimension"] == 2
                         else ""))  # fmt: skip
-    lines.append(f"bodies       {s['bodies']}")
+    floating, unheld = s.get("floating") or [], s.get("unsupported") or []
+    assert isinstance(floating, list) and isinstance(unheld, list)
+    held = [b for b in floating if b not in unheld]
+    lines.append(
+        f"bodies       {s['bodies']}"
+        + (f"; floating (held by their joints only): {', '.join(held)}" if held else "")
+    )
+    if unheld:
+        lines.append(f"unsupported  {', '.join(unheld)}: no support, and no joint to a "
+                     "supported block (add [[supports]])")  # fmt: skip
     lines.append(f"cells        {s['cells']}")
     lines.append(f"nodes        {s['nodes']}, DOF {s['dof']} ({s['free_dof']} free)")
     quality = s.get("quality", {})

@@ -1178,9 +1178,14 @@ class InterfaceSolver:
             X = Xv[:M].reshape(m, d)
             z_q = Xv[M:]
             s_ = (w_free.ravel() + Wc @ Xv).reshape(m, d)
-            # intact pairs that exceed their strength break; repeat
+            # intact pairs that exceed their strength at the solution break; repeat. Not
+            # at an iterate the Newton left unconverged: breaking the pairs it overloads
+            # there and starting again found no solution, at 100 iterations a round and
+            # one round per pair (a static problem without equilibrium took 5 s for 32
+            # pairs that way)
+            converged = float(np.linalg.norm(F)) <= 0.1 * self.tol * fscale
             fail = self._overstressed(X, broken, prev, fscale)
-            if stalled or not (fail.any() and self._breaking):
+            if stalled or not converged or not (fail.any() and self._breaking):
                 break
             broken = broken | fail
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total

@@ -175,7 +175,9 @@ class Job:
         return {
             "title": self.spec["title"], "file": str(self.path), "sha256": self.digest,
             "dimension": m.dim, "blocks": {b.name: b.material for b in m.blocks},
-            "bodies": m.n_bodies, "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
+            "bodies": m.n_bodies, "floating": _floating_blocks(m),
+            "unsupported": [m.body_names()[b] for b in m.unsupported_bodies()],
+            "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
             "free_dof": dof, "pairs": pairs,
             "quality": _quality(m.mesh),
             "damping": {"alpha": m.damping.alpha if m.damping else 0.0,
@@ -198,8 +200,12 @@ _E_RANGE = (1e6, 1e13)
 _EXTENT_MAX = 1e4
 #: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
 #: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
-#: density beside normal ones is taken for a massless foundation and not warned)
+#: density beside normal ones is taken for a massless foundation and not warned, unless
+#: it lies in :data:`_RHO_TONNES`)
 _RHO_RANGE = (500.0, 2e4)
+#: densities (kg/m³) that read as concrete or rock in t/m³: warned even beside normal
+#: ones (a massless foundation takes 0 or about 1 % of the rock's density, 20 to 30)
+_RHO_TONNES = (1.0, 3.5)
 #: friction angles below this (degrees) get a warning: joints in concrete and rock have
 #: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ entered as the
 #: angle falls below 2°)
@@ -246,7 +252,7 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
     normal = any(lo <= float(mt.rho) <= hi for mt in cfg.materials.values())
     for name, mt in cfg.materials.items():
         rho = float(mt.rho)
-        if 0.0 < rho < lo and not normal:
+        if 0.0 < rho < lo and (not normal or _RHO_TONNES[0] <= rho <= _RHO_TONNES[1]):
             log.warning("%s: materials.%s.rho = %g kg/m³ lies below %g kg/m³ (concrete and "
                         "rock: 1800 to 3200); pfeie takes SI units: did you mean %g kg/m³ "
                         "(t/m³ × 1000)?", p, name, rho, lo, rho * 1e3)  # fmt: skip

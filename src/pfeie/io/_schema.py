@@ -349,7 +349,10 @@ class UpliftTable(_Table):
     ] = None
     drains: Annotated[
         Distance | None,
-        Field(description="distance of the line of drains from the heel (m); default none"),
+        Field(
+            description="distance of the line of drains from the heel (m), short of the "
+            "joint's far end; default none"
+        ),
     ] = None
     drain_efficiency: Annotated[
         float, Field(ge=0.0, le=1.0, description="drain efficiency E in [0, 1]")

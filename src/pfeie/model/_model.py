@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from .. import assembly as asm
 from ..element import quadrature, reference
@@ -709,7 +710,13 @@ class Model:
             raise ModelError(f"uplift: {interface!r} is not an interface of the model "
                              f"(interfaces: {have})")  # fmt: skip
         up = Uplift(interface, float(headwater), **options)
-        up.abscissa(self.pairs, self.pairs.of(interface))  # the upstream axis exists
+        _, length = up.abscissa(self.pairs, self.pairs.of(interface))  # the axis exists
+        if up.drains is not None and not up.drains < length:
+            # drains at or beyond the toe would be silently without effect
+            raise ModelError(f"uplift in {interface!r}: the drains at {up.drains:g} m from "
+                             f"the heel lie beyond the joint, whose pairs reach {length:g} m "
+                             f"from the heel along the flow ({up.upstream} upstream); "
+                             "expected drains < that length")  # fmt: skip
         self.uplifts.append(up)
         return up
 
@@ -1159,6 +1166,26 @@ class Model:
                          held.reshape(-1, self.dim)[self.active_nodes].any(axis=1),
                          minlength=self.n_bodies)  # fmt: skip
         return np.flatnonzero(on == 0).astype(np.int64)
+
+    def unsupported_bodies(self) -> IntArray:
+        """The floating bodies that no chain of joints connects to a body with a support
+        (every body of a model without supports): nothing holds them against a static
+        load, whatever their joints' strength; indices into :meth:`body_names`."""
+        floating = self.floating_bodies()
+        n = self.n_bodies
+        if not floating.size:
+            return floating
+        held = np.ones(n, dtype=bool)
+        held[floating] = False
+        if self.pairs is None:
+            return floating
+        body = self.body_of_node
+        a, b = body[self.pairs.node_a], body[self.pairs.node_b]
+        touch = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(n, n))
+        n_parts, label = connected_components(touch, directed=False)
+        reached = np.zeros(n_parts, dtype=bool)
+        reached[label[held]] = True
+        return floating[~reached[label[floating]]]
 
     def unrestrained_modes(self) -> str:
         """The rigid modes that the supports leave free, per body without interface pairs,

@@ -111,16 +111,25 @@ def solve_pairs(
     f_up = model.uplift_load(p)
     u_free, st = solve(f_free + f_up[system.free])
     # a crack whose full uplift nothing held (then p is a relaxed step towards its
-    # pressure, not the pressure of ``cracks``)
+    # pressure, not the pressure of ``cracks``), and every such crack met so far
     unheld: tuple[float, ...] | None = None
+    not_held: set[tuple[float, ...]] = set()
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
         p_new, new = model.uplift_pressure(st.state == OPEN)
         if new == cracks and unheld is None:
             break
-        if unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True)):
-            # a relaxed step did not shorten the crack: it runs on under its own uplift
+        if (unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True))) or (
+            tuple(new) in not_held
+        ):
+            # a relaxed step did not shorten the crack, or a shorter crack under its full
+            # uplift opened it again to one whose full uplift nothing held: it runs on
+            # under its own uplift (the same problem would fail again; going round that
+            # cycle cost minutes of failing pair solves)
+            log.debug("static analysis: crack %s m after the relaxed crack %s m (%s)",
+                      _lengths(new), _lengths(cracks),
+                      "again" if tuple(new) in not_held else "not shorter")  # fmt: skip
             raise MechanismError(
                 "static analysis: the crack from the heel grows under its own uplift "
                 f"(full headwater in the open part) to {_lengths(new)} m, where no "
@@ -143,6 +152,8 @@ def solve_pairs(
                 log.info("static analysis: uplift of the crack %s m not held; relaxed step "
                          "%g", _lengths(new), omega)  # fmt: skip
         unheld = None if omega == 1.0 else tuple(new)
+        if unheld is not None:
+            not_held.add(unheld)
         p, cracks, f_up = p_try, new, f_try
     else:
         if model.uplifts:
@@ -185,6 +196,15 @@ def _floating(model: Model, found: bool = True) -> str:
         joints = [n for n in P.names if on[P.of(n)].any()]
         parts.append(f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}")
     which = "; ".join(parts) if parts else "none found"
+    unheld = model.unsupported_bodies()
+    if unheld.size:
+        # no joint strength can help: name the blocks that nothing holds
+        return (
+            "No support holds the block(s) " + ", ".join(repr(names[b]) for b in unheld)
+            + ": neither they nor the blocks they touch through joints have a support, so "
+            "the static loads move them as rigid bodies. Add [[supports]] (Model.fix) to "
+            "the foundation's outer faces"
+        )  # fmt: skip
     head = ("No static equilibrium holds the floating block(s) (" + which + ") under the "
             "static loads: their joints' strength is exceeded, so they would slide or "
             "open." if found else

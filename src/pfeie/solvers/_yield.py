@@ -42,6 +42,7 @@ so k_y = (c L / W + μ cos β − sin β) / (cos β + μ sin β), tan(φ − β)
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -176,6 +177,7 @@ def yield_coefficient(
         raise ModelError(f"yield coefficient: expected 0 < tol < 0.01 and 0 < k_max <= 10, "
                          f"got tol = {tol}, k_max = {k_max}")  # fmt: skip
     g, iota = horizontal(model, direction)
+    t0 = time.perf_counter()
     if problem is None:
         problem = StaticInterfaceProblem(model, model.system(), backend=backend,
                                          settings=settings)  # fmt: skip
@@ -200,6 +202,8 @@ def yield_coefficient(
         st = None
         for first in ([start.pairs] if start is not None else []) + [None]:
             count += 1
+            log.debug("yield coefficient along %s: static analysis %d at k = %.9g",
+                      np.round(iota, 6).tolist(), count, k)  # fmt: skip
             try:
                 st = solve_pairs(problem, f0_free + k * f_h[free], f0_all + k * f_h, first)
                 break
@@ -266,6 +270,8 @@ def yield_coefficient(
         limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
                  else "no equilibrium found")  # fmt: skip
         joint = gov
+    log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
+             np.round(iota, 6).tolist(), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
 
 
