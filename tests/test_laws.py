@@ -164,3 +164,44 @@ def test_the_natural_maps_jacobian_on_the_cohesion_ramp() -> None:
                 err = np.abs(fd - jac[k, :, j]).max() / max(1.0, np.abs(fd).max())
                 worst = max(worst, float(err))
     assert worst <= 1e-6
+
+
+def test_the_cohesion_ramp_with_a_residual_tensile_strength() -> None:
+    """The ramp of a broken pair with c = 100 N, μ = 0.6, t = 20 N (c̃ = c − μ t = 88 N at
+    the cut-off X_n = −t): 0 where the pair parts (X_n = −t); at the ramp's end, X_n =
+    −t + κ c̃, the cone c + μ X_n (friction in tension too) and its slope μ, to round-off;
+    the slope against central differences inside (h = 1e-9 of the band); without tensile
+    strength the former form μ X_n + c (2u − u²), u = X_n/(κ c), to round-off. A tensile
+    strength beyond the residual cone's apex c_r / tan φ_r is refused, naming both; a
+    slip-weakening law checks it with its peak friction, where a broken pair starts."""
+    from pfeie.errors import ModelError
+    from pfeie.interface import COHESION_RAMP as K
+    from pfeie.interface import cohesion_ramp
+
+    one = np.ones(1, dtype=bool)
+
+    def ramp(xn: float, t: float = 20.0) -> tuple[bool, float, float]:
+        on, tau, slope = cohesion_ramp(np.array([100.0]), np.array([0.6]), np.array([t]),
+                                       np.array([xn]), one)  # fmt: skip
+        return bool(on[0]), float(tau[0]), float(slope[0])
+
+    ct = 100.0 - 0.6 * 20.0
+    assert ramp(-20.0) == (True, 0.0, 0.0)
+    end = -20.0 + K * ct
+    on, tau, slope = ramp(end * (1 + 1e-15))  # just inside the band
+    assert on and tau == pytest.approx(100.0 + 0.6 * end, rel=1e-12)
+    assert slope == pytest.approx(0.6, abs=1e-9)
+    assert not ramp(end + 1e-9)[0]
+    for u in (0.1, 0.5, 0.9):
+        xn, h = -20.0 + u * K * ct, 1e-9 * K * ct
+        fd = (ramp(xn + h)[1] - ramp(xn - h)[1]) / (2 * h)
+        assert fd == pytest.approx(ramp(xn)[2], rel=1e-5)  # the differences' own error
+        assert ramp(xn)[1] == pytest.approx(0.6 * (xn + 20.0) + ct * u * (2 - u), rel=1e-12)
+        x0 = u * K * 100.0
+        assert ramp(x0, 0.0)[1] == 0.6 * x0 + 100.0 * u * (2.0 - u)
+    with pytest.raises(ModelError, match=r"tensile_r = 60000 Pa lies beyond the apex of the "
+                       r"residual strength, c_r / tan φ_r = 50000 Pa"):  # fmt: skip
+        pf.Joint(c_r=0.05e6, phi_r=45.0, tensile_r=0.06e6)
+    pf.Joint(c_r=0.05e6, phi_r=45.0, tensile_r=0.05e6)  # at the apex: allowed
+    with pytest.raises(ModelError, match=r"c_r / tan φ \(the peak\) = 41955"):  # tan 50°
+        pf.SlipWeakening(phi=50.0, phi_r=30.0, c_r=0.05e6, tensile_r=0.05e6)

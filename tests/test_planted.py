@@ -266,3 +266,100 @@ def test_planted_solutions_large(cell: str, n: int, mode: str) -> None:
     m, solved, r, ex = _check(cell, n, range(20), mode)
     assert m >= 300
     assert solved == 20, (solved, r, ex)
+
+
+TR_PA = 0.03e6  # residual tensile strength (Pa) of the first joint in the tension cases
+
+
+def _joints_tension() -> list[pf.Joint]:
+    """As :func:`_joints`, the first joint with a residual tensile strength σ_t,r = 0.03 MPa
+    (short of the apex of its residual cone, c_r / tan φ_r = 0.071 MPa)."""
+    first = _joints()[0]
+    return [pf.Joint(c=first.c, phi=first.phi, tensile=first.tensile, c_r=first.c_r,
+                     phi_r=first.phi_r, tensile_r=TR_PA, initial="intact"),
+            *_joints()[1:]]  # fmt: skip
+
+
+def plant_tension(W: np.ndarray, laws: PairLaws, d: int, seed: int, opening: bool) -> Planted:
+    """:func:`plant`, then about half of the broken sticking and sliding pairs with a
+    residual tensile strength moved into tension, X_n in (−0.8, −0.2) σ_t,r A: sticking
+    inside the cone c_r A + μ_r X_n (friction in tension too), sliding on it. Without
+    ``opening`` the open pairs with a residual tensile strength are closed (sticking at
+    X_n = σ_t,r A / 2): such a pair's law, closed down to X_n = −σ_t,r A but open at X = 0,
+    is not monotone, and only the state iteration represents its opening."""
+    pl = plant(W, laws, d, seed)
+    rng = np.random.default_rng(1000 + seed)
+    m = laws.n
+    cR, muR, tR = laws.strength(np.ones(m, dtype=bool), np.zeros(m))
+    state, X = pl.state.copy(), pl.X.copy()
+    s = pl.w + laws.compliance * pl.X
+    s[:, -1] += laws.gap
+    pick = ((state == STICK) | (state == SLIDE)) & (tR > 0) & (rng.random(m) < 0.5)
+    xn = -rng.uniform(0.2, 0.8, m) * tR
+    cap = cR + muR * xn
+    sk, sl = pick & (state == STICK), pick & (state == SLIDE)
+    X[pick, -1] = xn[pick]
+    X[sk, :-1] = _in_disc(rng, m, d, 0.5 * cap)[sk]
+    X[sl, :-1] = pl.X[sl, :-1] * (cap[sl] / np.linalg.norm(pl.X[sl, :-1], axis=1))[:, None]
+    if not opening:
+        op = (state == OPEN) & (tR > 0)
+        state[op] = STICK
+        X[op] = 0.0
+        X[op, -1] = 0.5 * tR[op]
+        s[op] = pl.prev.s[op]
+        s[op, -1] = 0.0
+    assert sk.any() and sl.any()
+    w = s - laws.compliance * X
+    w[:, -1] -= laws.gap
+    w_free = w - (W @ X.ravel()).reshape(m, d)
+    return Planted(w_free, pl.prev, X, state, pl.broken, w)
+
+
+def _check_tension(cell: str, n: int, seeds: range, mode: str, opening: bool) -> int:
+    """The planted problems of :func:`plant_tension` solved as in :func:`_check` (forces,
+    relative motions, states and broken flags; natural-map residual ≤ 1e-8): how many."""
+    joints = _joints_tension()
+    if cell == "hexahedron":
+        model = _model_3d(cell, n, joints)
+    else:
+        model = _jointed(pf.rectangle(60.0, 36.0, n, int(0.6 * n), cell=cell), 1, 36.0, joints)
+    an = pf.Dynamic(model, 0.01)
+    step = an.istep
+    assert step is not None
+    W = step.scale * step.W.matrix()
+    laws, d = step.laws, an.d
+    solver = InterfaceSolver(W, laws, settings=step.settings)
+    solved = 0
+    for seed in seeds:
+        pl = plant_tension(W, laws, d, seed, opening)
+        trial = solve_planted(step, solver, pl, mode)
+        r = natural_map(W, laws, pl, trial.X, trial.broken)
+        ex = float(np.abs(trial.X - pl.X).max() / np.abs(pl.X).max())
+        solved += (r <= 1e-8 and ex <= 1e-6 and np.array_equal(trial.state, pl.state)
+                   and np.array_equal(trial.broken, pl.broken))  # fmt: skip
+    return solved
+
+
+@pytest.mark.parametrize(("cell", "n", "opening"),
+                         [("quad", 100, True), ("hexahedron", 10, False)])  # fmt: skip
+@pytest.mark.parametrize("mode", ["step", "bonded"])
+def test_planted_residual_tension(cell: str, n: int, opening: bool, mode: str) -> None:
+    """Broken pairs with a residual tensile strength, in tension (sticking and sliding,
+    friction reducing the cone there: c_r A + μ_r X_n): every planted problem solved, 2D
+    Q4 with such pairs open too (303 pairs, 4 seeds; the state iteration), 3D Hex8 with
+    them closed (363 pairs, 2 seeds; the Newton). Before the Newtons took the cone as
+    c_r A + μ_r X_n⁺ (no friction term in tension) and the 3D problems ended in an
+    InterfaceError (residual 7.8e-3): another law than the residual's."""
+    seeds = 4 if cell == "quad" else 2
+    assert _check_tension(cell, n, range(seeds), mode, opening) == seeds
+
+
+@pytest.mark.slow  # 70 s: the failing solve runs every fallback
+@pytest.mark.xfail(strict=True, raises=pf.errors.InterfaceError,
+                   reason="3D: open pairs with a residual tensile strength")  # fmt: skip
+def test_planted_residual_tension_opening_3d() -> None:
+    """Known limitation: in 3D, where the Newton solves, a broken pair with a residual
+    tensile strength that opens is not represented (its natural map keeps it at
+    X_n = −σ_t,r A, the residual wants X = 0; the 3D state iteration, which represents it,
+    does not settle on these problems)."""
+    _check_tension("hexahedron", 10, range(1), "bonded", True)

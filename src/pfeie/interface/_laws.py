@@ -107,23 +107,27 @@ def cohesion_ramp(
 
     .. math::
 
-        τ = μ X_n^+ + c\,(2u − u^2),\quad u = \frac{X_n + t}{κ c} \quad
-        \text{for } 0 < u < 1 \quad (κ = \texttt{COHESION_RAMP}),
+        τ = μ (X_n + t) + \tilde c\,(2u − u^2),\quad u = \frac{X_n + t}{κ \tilde c},
+        \quad \tilde c = c − μ t \quad \text{for } 0 < u < 1
+        \quad (κ = \texttt{COHESION_RAMP}),
 
-    0 for u ≤ 0 (the pair parts), and τ = c + μ X_n for u ≥ 1 (the Mohr–Coulomb cone).
-    Without it the capacity of a broken pair with a residual cohesion jumps from c A,
-    while it touches, to 0 once it parts (X_n < −t), and a pair that would touch with no
+    0 for u ≤ 0 (the pair parts), and τ = c + μ X_n = c̃ + μ (X_n + t) for u ≥ 1 (the
+    Mohr–Coulomb cone; c̃ is its radius at the tension cut-off X_n = −t, which a law keeps
+    short of the cone's apex: t ≤ c/μ, :class:`MohrCoulomb`). Without a residual tensile
+    strength (t = 0, the default) τ = μ X_n + c (2u − u²), u = X_n/(κ c). Without it the
+    capacity of a broken pair with a residual cohesion jumps from c̃, while it touches,
+    to 0 once it parts (X_n < −t), and a pair that would touch with no
     normal force while carrying shear has no state of the law: stuck, it pulls; open, it
     penetrates; the discrete problem then has no solution over a band of loads
     (measured: a block pushed horizontally on a cohesive joint, every static analysis of
     the band 0.498 ≤ k_h ≤ 0.565 failed). With the ramp the capacity is continuous and
-    such a pair carries its shear on a normal force below κ c; the strength of every pair
-    loaded beyond κ c (10⁻³ of the cohesion) is untouched. The ramp's slope, 2/κ where the
-    pair parts, falls to 0 where it meets the cone c + μ X_n⁺, so that the cone radius is
-    C¹ in X_n there: with a straight ramp (slope 1/κ, then μ) the 3D Newton stalled at the corner,
-    stepping from one piece to the other (docs/theory.md).
+    such a pair carries its shear on a normal force within κ c̃ of the cut-off; the strength
+    of every pair loaded beyond (10⁻³ of the cohesion) is untouched. The ramp's slope,
+    2/κ + μ where the pair parts, falls to μ where it meets the cone c + μ X_n, so that the
+    cone radius is C¹ in X_n there: with a straight ramp (slope 1/κ, then μ) the 3D Newton
+    stalled at the corner, stepping from one piece to the other (docs/theory.md).
 
-    Returns the mask of the pairs on the ramp (broken, c > 0, X_n + t < κ c), their
+    Returns the mask of the pairs on the ramp (broken, c̃ > 0, X_n + t < κ c̃), their
     capacity (≥ 0) and its slope dτ/dX_n there (0 where X_n + t ≤ 0), zero elsewhere.
 
     >>> on, tau, slope = cohesion_ramp(np.array([100.0, 100.0, 0.0]), np.ones(3),
@@ -136,13 +140,14 @@ def cohesion_ramp(
         none = np.zeros_like(Xn)
         return np.zeros(Xn.shape, dtype=bool), none, none
     k = COHESION_RAMP
-    y = Xn + t
-    on = np.asarray(broken & (c > 0) & (y < k * c))
+    y = Xn + t  # the normal force above the tension cut-off
+    ct = c - mu * t  # the cone's radius at the cut-off (c without tensile strength)
+    on = np.asarray(broken & (ct > 0) & (y < k * ct))
     if not on.any():
         return on, np.zeros_like(Xn), np.zeros_like(Xn)
-    u = np.where(on, y, 0.0) / np.where(on, k * c, 1.0)
-    tau = np.where(on, np.maximum(mu * np.maximum(Xn, 0.0) + c * u * (2.0 - u), 0.0), 0.0)
-    slope = np.where(on & (y > 0), mu * (Xn > 0) + 2.0 * (1.0 - u) / k, 0.0)
+    u = np.where(on, y, 0.0) / np.where(on, k * ct, 1.0)
+    tau = np.where(on, np.maximum(mu * y + ct * u * (2.0 - u), 0.0), 0.0)
+    slope = np.where(on & (y > 0), mu + 2.0 * (1.0 - u) / k, 0.0)
     return on, tau, slope
 
 
@@ -225,6 +230,26 @@ class MohrCoulomb:
             raise ModelError(f"joint gap must be >= 0 m, got {self.gap}")
         if self.gap > 0 and self.initial == "intact":
             raise ModelError("an intact (bonded) joint cannot start with a gap")
+        self._check_residual_apex()
+
+    def _check_residual_apex(self) -> None:
+        """A residual tensile strength beyond the apex of the residual cone, c_r/μ, would
+        leave a broken pair in tension with no shear capacity: refused (:data:`ModelError`,
+        naming both). The largest friction a broken pair has is :attr:`_broken_mu_max`."""
+        mu, name = self._broken_mu_max
+        if self.tensile_r * mu > self.c_r * (1.0 + 1e-12):
+            apex = self.c_r / mu
+            raise ModelError(
+                f"joint tensile_r = {self.tensile_r:g} Pa lies beyond the apex of the "
+                f"residual strength, c_r / {name} = {apex:g} Pa (c_r = {self.c_r:g} Pa, "
+                f"{name} = {mu:.4g}): a broken pair in tension beyond it has no shear "
+                f"capacity; expected tensile_r <= {apex:g} Pa (0 without residual cohesion)"
+            )
+
+    @property
+    def _broken_mu_max(self) -> tuple[float, str]:
+        """The largest friction coefficient of a broken pair, μ_r, and its name."""
+        return self.mu_r, "tan φ_r"
 
     @property
     def mu(self) -> float:
@@ -279,6 +304,15 @@ class SlipWeakening(MohrCoulomb):
             raise ModelError(f"slip-weakening distance dc must be > 0 m, got {self.dc}")
         if self.phi_r is None:
             raise ModelError("slip weakening needs a residual friction angle phi_r")
+
+    def _check_residual_apex(self) -> None:
+        if self.phi_r is not None:  # (else refused above)
+            super()._check_residual_apex()
+
+    @property
+    def _broken_mu_max(self) -> tuple[float, str]:
+        """A broken pair starts at the peak friction μ_p = tan φ."""
+        return max(self.mu, self.mu_r), "tan φ (the peak)"
 
     def residual_friction(self, path: FloatArray) -> FloatArray:
         mu_p, mu_r = self.mu, self.mu_r

@@ -7,7 +7,8 @@ The interface problem of a step (method.md §5) asks for the pair forces X (m, d
 F the Alart-Curnier natural map of the pair law with the parameter r = 1/mean diag W
 (signs of pfeie: X positive in compression, normal last; s the relative displacement,
 positive when the pair opens; for a broken pair of residual strength c A, μ, σ_t A,
-Y = X_n + σ_t A, Δs = s − s_prev and τ = max(0, c A + μ X_n⁺)):
+Y = X_n + σ_t A, Δs = s − s_prev and τ = max(0, c A + μ X_n), the cohesion ramp near
+the tension cut-off):
 
     F_n = Y − max(0, Y − r s_n)                   (closed: s_n = 0; open: Y = 0),
     F_t = X_t − Π_{B(τ)}(X_t − r Δs_t)            (stick: Δs_t = 0; slide: X_t = −τ ŝ),
@@ -101,10 +102,9 @@ def natural_map(
     Xt = X[:, :-1]
     z = Xt - r[:, None] * (s[:, :-1] - law.s_prev[:, :-1])
     nz = np.sqrt(np.einsum("ki,ki->k", z, z))
-    xp = np.maximum(Xn, 0.0)
-    tau = np.maximum(law.c + law.mu * xp, 0.0)
+    tau = np.maximum(law.c + law.mu * Xn, 0.0)
     cut = sep & (law.c > 0)  # a separated pair carries no shear, whatever its cohesion
-    dtau = np.where((tau > 0) & (Xn > 0), law.mu, 0.0)  # dτ/dX_n
+    dtau = np.where(tau > 0, law.mu, 0.0)  # dτ/dX_n
     ramp, tau_ramp, slope = cohesion_ramp(law.c, law.mu, law.t, Xn, br)
     if ramp.any():  # the residual cohesion mobilised near parting
         tau = np.where(ramp, tau_ramp, tau)

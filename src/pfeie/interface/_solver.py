@@ -1131,7 +1131,9 @@ class InterfaceSolver:
         """Semismooth Newton on the Alart-Curnier natural map (all pairs at once).
 
         For broken pairs, with r = ρ, g = s_n, Δs_t = s_t − s_t,prev, Y = X_n + σ_t,r A:
-        F_n = Y − max(0, Y − r g), F_t = X_t − Π_{B(τ)}(X_t − r Δs_t), τ = c_r A + μ_r X_n⁺;
+        F_n = Y − max(0, Y − r g), F_t = X_t − Π_{B(τ)}(X_t − r Δs_t), τ = max(0, c_r A +
+        μ_r X_n) (the cone; near the tension cut-off the cohesion ramp,
+        :func:`~pfeie.interface.cohesion_ramp`);
         intact pairs: F = r (s − s_prev). A pair that exceeds its strength at the solution
         breaks and the Newton solve is repeated (at most once per pair). With a border
         (statics) the unknowns include q and the rows ρ (Eᵀ X − e). With ``stall``, it
@@ -1234,11 +1236,13 @@ class InterfaceSolver:
         Xt = X[:, :-1]
         z = Xt - r * (s_[:, :-1] - prev.s[:, :-1])
         nz = _rownorm(z)
-        tau = np.maximum(c + mu * np.maximum(X[:, -1], 0.0), 0.0)
+        # the Mohr-Coulomb cone as the state iteration and the residual take it (friction
+        # in tension too: with a residual tensile strength, X_n⁺ here made the Newton solve
+        # another law, whose answers the residual refused)
+        tau = np.maximum(c + mu * X[:, -1], 0.0)
         cut = br & ~contact & (c > 0)
-        # dτ/dX_n: μ where the cone grows with X_n (c + μ X_n⁺ > 0, X_n > 0), the
-        # cohesion ramp's slope on it
-        dtau = np.where((tau > 0) & (X[:, -1] > 0), mu, 0.0)
+        # dτ/dX_n: μ where the cone is open (c + μ X_n > 0), the cohesion ramp's slope on it
+        dtau = np.where(tau > 0, mu, 0.0)
         ramp, tau_ramp, slope = cohesion_ramp(c, mu, t, X[:, -1], br)
         if ramp.any():
             tau = np.where(ramp, tau_ramp, tau)

@@ -192,8 +192,11 @@ class Joint(_Table):
         ),
     ] = None
     residual_tensile_strength: Annotated[
-        Strength, Field(description="tensile strength once broken (Pa)")
-    ] = 0.0
+        Strength,
+        Field(description="tensile strength once broken (Pa), at most residual_cohesion / "
+              "tan(residual_friction_angle); in 3D pairs with it that open are not solved "
+              "(docs/theory.md)"),
+    ] = 0.0  # fmt: skip
     initial: Annotated[
         Literal["intact", "broken"],
         Field(description="initial state: 'intact' (bonded) or 'broken' (an existing joint)"),
