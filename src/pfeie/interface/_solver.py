@@ -271,6 +271,7 @@ class InterfaceSolver:
         self._fixed = np.zeros(self.m, dtype=bool)
         self._inactive = np.zeros(self.m, dtype=bool)
         self._breaking = True
+        self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
         self._all_broken: np.ndarray | None = None
         self._wref: FloatArray | None = None
         self._wscale = 0.0
@@ -900,6 +901,7 @@ class InterfaceSolver:
                           else np.asarray(inactive, dtype=bool))  # fmt: skip
         self._fixed &= ~self._inactive
         self._breaking = bool(breaking)
+        self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
         first = None if start is None else start.copy()
@@ -1097,7 +1099,7 @@ class InterfaceSolver:
         total = 0
         s_ = w_free
         for _ in range(m + 1):
-            c, mu, t = self.props.strength(broken, prev.path)
+            c, mu, t = self._newton_strength(broken, prev.path)
             law = PairLaw(c, mu, t, broken, self._fixed, self._inactive, prev.s,
                           prev.slip_dir)  # fmt: skip
             # the measure of :meth:`residual`: relative to the larger of the forces and
@@ -1186,10 +1188,13 @@ class InterfaceSolver:
             # one round per pair (a static problem without equilibrium took 5 s for 32
             # pairs that way)
             converged = float(np.linalg.norm(F)) <= 0.1 * self.tol * fscale
-            fail = self._overstressed(X, broken, prev, fscale)
-            if stalled or not converged or not (fail.any() and self._breaking):
+            fail = self._overstressed(X, broken, prev, fscale) & self._breaking
+            # and pairs with a residual tensile strength held apart at −σ_t,r A debond
+            parting = self._parting(X, s_, broken, prev) if converged else np.zeros_like(fail)
+            if stalled or not converged or not (fail.any() or parting.any()):
                 break
             broken = broken | fail
+            self._debonded = self._debonded | parting
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
 
     def _balanced(self, X: FloatArray, e: FloatArray | None) -> bool:
@@ -1202,6 +1207,27 @@ class InterfaceSolver:
         gap = np.abs(self.E.T @ x - self._escale * e).max(initial=0.0)
         scale = float((np.abs(self.E).T @ np.abs(x)).max(initial=0.0))
         return bool(gap <= self.tol * max(scale, 1e-300))
+
+    def _newton_strength(self, broken: np.ndarray, path: FloatArray) -> tuple[FloatArray, ...]:
+        """(c A, μ, σ_t A) of the pairs as the Newtons solve them: the residual tensile
+        strength of the pairs debonded in this solve (:meth:`_parting`) taken as 0."""
+        c, mu, t = self.props.strength(broken, path)
+        if self._debonded.any():
+            t = np.where(self._debonded & broken, 0.0, t)
+        return c, mu, t
+
+    def _parting(
+        self, X: FloatArray, s_: FloatArray, broken: np.ndarray, prev: PairState
+    ) -> np.ndarray:
+        """The broken pairs with a residual tensile strength σ_t,r A that a Newton's answer
+        holds separated, at X_n = −σ_t,r A (Y − ρ g ≤ 0, Y = X_n + σ_t,r A). The law of
+        such a pair is not monotone: closed, it carries tension down to −σ_t,r A; open, no
+        force. The natural map in Y represents the closed branch only; so these pairs are
+        debonded (their tensile strength taken as 0 for the rest of the solve, in which
+        they may stay open at X = 0 or close in compression, both states of their law)
+        and the Newton runs again, as for pairs that break."""
+        _, _, t = self._newton_strength(broken, prev.path)
+        return np.asarray(broken & (t > 0) & (X[:, -1] + t - self.rho * s_[:, -1] <= 0))
 
     def _overstressed(
         self, X: FloatArray, broken: np.ndarray, prev: PairState, fscale: float
@@ -1224,7 +1250,7 @@ class InterfaceSolver:
         tangential force z = X_t − ρ(s_t − s_t,prev); τ with the residual cohesion's ramp,
         :func:`~pfeie.interface.cohesion_ramp`). Inactive pairs are the callers'."""
         m, d, r = self.m, self.d, self.rho
-        c, mu, t = self.props.strength(broken, prev.path)
+        c, mu, t = self._newton_strength(broken, prev.path)
         F = np.zeros((m, d))
         it = ~broken
         F[it] = r * (s_[it] - prev.s[it])
@@ -1495,18 +1521,21 @@ class InterfaceSolver:
             F, L, R, kin = self._local_map(X, s_, broken, prev, True)
             Feq = equilibrium(X, zq)
             norms: list[float] = []
+            converged = False
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
                 norms.append(nF)
                 if nF <= 0.1 * self.tol * fscale:
                     if exact:
+                        converged = True
                         break
                     s_ = exact_s(X, zq)
                     F, L, R, kin = self._local_map(X, s_, broken, prev, True)
                     exact = True
                     nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
                     if nF <= 0.1 * self.tol * fscale:
+                        converged = True
                         break
                 if _stalled(norms):
                     stalled = True
@@ -1533,10 +1562,12 @@ class InterfaceSolver:
                 Feq = equilibrium(X, zq)
             if not exact:  # the iteration limit or a stall: the answer on the exact s
                 s_ = exact_s(X, zq)
-            fail = self._overstressed(X, broken, prev, fscale)
-            if stalled or not (fail.any() and self._breaking):
+            fail = self._overstressed(X, broken, prev, fscale) & self._breaking
+            parting = self._parting(X, s_, broken, prev) if converged else np.zeros_like(fail)
+            if stalled or not (fail.any() or parting.any()):
                 break
             broken = broken | fail
+            self._debonded = self._debonded | parting
         return self._classify(st, X, broken, s_, prev, sdir), zq * self._escale, total
 
     def _newton_step(self, J: FloatArray, b: FloatArray) -> FloatArray:
@@ -1578,7 +1609,7 @@ class InterfaceSolver:
         out.s = s_
         g = s_[:, -1]
         state = np.full(m, INTACT, dtype=np.int8)
-        c, mu, t = self.props.strength(broken, prev.path)
+        c, mu, t = self._newton_strength(broken, prev.path)
         opened = broken & (X[:, -1] + t - self.rho * g <= 0)
         nt = np.linalg.norm(X[:, :-1], axis=1)
         tau = c + mu * X[:, -1]

@@ -194,8 +194,7 @@ class Joint(_Table):
     residual_tensile_strength: Annotated[
         Strength,
         Field(description="tensile strength once broken (Pa), at most residual_cohesion / "
-              "tan(residual_friction_angle); in 3D pairs with it that open are not solved "
-              "(docs/theory.md)"),
+              "tan(residual_friction_angle)"),
     ] = 0.0  # fmt: skip
     initial: Annotated[
         Literal["intact", "broken"],
