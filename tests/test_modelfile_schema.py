@@ -119,6 +119,19 @@ def test_analysis_defaults_are_dynamic_settings() -> None:
          r"damping: give either ratio and frequencies or alpha and beta, not both"),
         (lambda s: s + "[damping]\nratio = 0.05\nfrequencies = [1.0]\n",
          r"damping\.frequencies: expected an array of 2 numbers, found \[1\.0\]"),
+        # the same water on a face, or uplift in a joint, in two tables: applied twice
+        (lambda s: s + '[[loads.hydrostatic]]\ngroups = ["up"]\nwater_level = 5.0\n'
+         '[[loads.hydrostatic]]\ngroups = ["floor", "up"]\nwater_level = 5.0\n',
+         r"loads\.hydrostatic\[1\]\.groups: 'up' is loaded already by loads\.hydrostatic"
+         r"\[0\]: it would be loaded twice"),
+        (lambda s: s + '[[loads.uplift]]\ninterface = "j"\nheadwater = 5.0\n'
+         '[[loads.uplift]]\ninterface = "j"\nheadwater = 5.0\n',
+         r"loads\.uplift\[1\]\.interface: 'j' has an uplift already \(loads\.uplift\[0\]\)"),
+        # frequencies without a ratio were ignored (no damping, or alpha alone)
+        (lambda s: s + "[damping]\nfrequencies = [3.0, 15.0]\n",
+         r"damping\.ratio: missing \(required with frequencies"),
+        (lambda s: s + "[damping]\nalpha = 0.5\nfrequencies = [3.0, 15.0]\n",
+         r"damping\.ratio: missing \(required with frequencies"),
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nalpha = -0.5"),
          r"analysis\.alpha: expected a number in \[-1/3, 0\], found -0\.5"),
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nalpha = -0.1\nlarge_rotation = true"),

@@ -827,3 +827,35 @@ def test_check_names_the_floating_and_the_unsupported_blocks(
     assert "bodies       2\n" in out
     assert ("unsupported  left, right: no support, and no joint to a supported block (add "
             "[[supports]])") in out
+
+
+def test_a_failed_run_leaves_no_former_summary(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A static run, then a run of a model whose static analysis fails, into the same
+    folder: the former run's summaries go with its results (they stood beside the new
+    results as if they were theirs), and the report says that the run stopped and why
+    (it said "static state only" and "No static state (analysis.static = false)")."""
+    names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
+    elements = [(1, 1, 3, [1, 2]), (2, 1, 3, [2, 3]), (3, 1, 4, [2, 5]), (4, 1, 5, [4, 5]),
+                (10, 3, 1, [1, 2, 5, 4]), (11, 3, 2, [2, 3, 6, 5])]  # fmt: skip
+    text = (MODEL.replace('all = "rock"', 'left = "rock"\nright = "rock"')
+            .replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n[loads]\n"
+                     "gravity = 9.81\n[[supports]]"))  # fmt: skip
+    p = model(tmp_path, text=text, elements=elements, names=names)
+    assert main(["run", str(p), "--quiet"]) == 0
+    out = p.parent / "out"
+    assert (out / "summary.json").exists() and (out / "summary.txt").exists()
+    assert main(["report", str(out / "results.h5")]) == 0
+    p = model(tmp_path, text=text.replace('[[supports]]\ngroup = "bottom"\n', ""),
+              elements=elements, names=names)  # fmt: skip
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet"]) == 1
+    assert "No support holds the block(s) 'left', 'right'" in capsys.readouterr().err
+    assert not (out / "summary.json").exists() and not (out / "summary.txt").exists()
+    assert not (out / "report.html").exists()
+    assert main(["report", str(out / "results.h5")]) == 0
+    page = (out / "report.html").read_text()
+    assert "<b>stopped</b>: static analysis failed" in page
+    assert "No static state: the run stopped before it was written" in page
+    assert "static state only" not in page

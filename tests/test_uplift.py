@@ -8,6 +8,11 @@ force and moment: the pair forces are effective forces, N' = W − U)."""
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -254,6 +259,18 @@ folder = "out"
     err = capsys.readouterr().err
     assert ("loads.uplift[0]: uplift in 'base': the drains at 3 m from the heel lie beyond "
             "the joint, whose pairs reach 2 m from the heel along the flow (-x upstream)") in err
+    # drains at the heel, drains without their efficiency, an efficiency without drains:
+    # each changed nothing, silently
+    for old, new, words in (
+        ("drains = 0.5", "drains = 0.0", "the drains at 0 m from the heel lie at the heel"),
+        ("drain_efficiency = 0.4\n", "", "loads.uplift[0].drain_efficiency: missing (required "
+         "with drains"),
+        ("drains = 0.5\n", "", "loads.uplift[0].drains: missing (required with "
+         "drain_efficiency"),
+    ):  # fmt: skip
+        p.write_text(text.replace("INTERFACE", "base").replace(old, new))
+        assert main(["check", str(p)]) == 2
+        assert words in capsys.readouterr().err, words
 
 
 def test_resume_with_uplift_that_follows() -> None:
@@ -385,3 +402,40 @@ def test_a_crack_that_comes_back_under_its_uplift_ends_the_analysis(
         solve_pairs(problem, system.load(0.0) + f_h[system.free], m.load_vector(0.0) + f_h)
     assert work["solves"] <= 5, work  # a crack met again ends it (10 before)
     assert work["newton"] <= 400, work  # 145 measured; 8,059 before
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_during_the_yield_search_ends_the_run_cleanly(
+    tmp_path: Path, sig: signal.Signals
+) -> None:
+    """Ctrl-C or SIGTERM while the yield coefficient is searched (before any time step; on
+    the dam above the search takes about 25 s): exit 130, one line naming the signal, no
+    traceback, and the results file closed as not completed with the reason. Before,
+    SIGINT printed a traceback and SIGTERM killed the run silently."""
+    mesh = Path(__file__).parent / "data" / "dam_lift_joint.msh"
+    text = DAM_TOML.format(mesh=mesh).replace(
+        "[analysis]\ndynamic = false", "[analysis]\ndynamic = false\nyield_coefficient = true")
+    text += '[output]\nfolder = "out"\n'
+    (tmp_path / "dam.toml").write_text(text)
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(tmp_path / "dam.toml")],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)  # fmt: skip
+    assert proc.stderr is not None
+    lines = []
+    for line in proc.stderr:  # the search has started
+        lines.append(line)
+        if line.startswith("yield coefficient +x: static analyses"):
+            break
+    time.sleep(1.0)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    err = "".join(lines) + err
+    assert proc.returncode == 130, err
+    assert f"pfeie: interrupted ({sig.name})" in err
+    assert "Traceback" not in err
+    from pfeie.io import Results
+
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert not res.completed
+        assert f"interrupted ({sig.name}) before the time stepping" in res.meta["stop_reason"]

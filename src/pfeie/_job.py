@@ -202,6 +202,10 @@ def _run(
             log.warning("%s; running from the start", exc)
             resume = False
     if ck is None:
+        # a new run: the summaries and the report of a former run in this folder go (after a
+        # failure they would stand beside the new results as if they were theirs)
+        for stale in ("summary.json", "summary.txt", "report.html"):
+            (out / stale).unlink(missing_ok=True)
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
     ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps)
@@ -219,6 +223,9 @@ def _run(
             yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
+        raise
+    except KeyboardInterrupt as exc:
+        writer.close(False, f"interrupted ({str(exc) or 'SIGINT'}) before the time stepping")
         raise
     result: DynamicResult | None = None
     stopped: str | None = None

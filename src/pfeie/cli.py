@@ -21,7 +21,9 @@ import argparse
 import json
 import logging
 import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Literal, NoReturn
 
@@ -199,10 +201,19 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``pfeie`` command; returns the exit code (:data:`EXIT_PIPE`,
     without a traceback, when the reader of the output closes it)."""
+    # SIGTERM as Ctrl-C wherever the time stepping (which handles both) is not running:
+    # reading, factorising, the static analysis, the yield search
+    old_term = None
+    if threading.current_thread() is threading.main_thread():
+        old_term = signal.signal(signal.SIGTERM, _interrupt)
     try:
         code = _main(argv)
         sys.stdout.flush()  # here, not at exit, where a closed pipe would print a traceback
         return code
+    except KeyboardInterrupt as exc:
+        why = str(exc) or "SIGINT"
+        print(f"pfeie: interrupted ({why})", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except BrokenPipeError:
         # nothing more can be written there: send what Python still holds to /dev/null,
         # so that the flush at exit does not fail again
@@ -210,6 +221,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
         return EXIT_PIPE
+    finally:
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _interrupt(signum: int, _frame: object) -> None:
+    """A signal handler that stops as Ctrl-C does (the signal's name as the reason)."""
+    raise KeyboardInterrupt(signal.Signals(signum).name)
 
 
 def _main(argv: Sequence[str] | None) -> int:

@@ -171,6 +171,9 @@ class Damping(_Table):
                              f"found {list(self.frequencies)}")  # fmt: skip
             if self.alpha or self.beta:
                 raise _check("", "give either ratio and frequencies or alpha and beta, not both")
+        elif self.frequencies is not None:  # else ignored: no damping, or alpha and beta only
+            raise _check("ratio", "missing (required with frequencies: the damping ratio at "
+                         "the two frequencies, e.g. ratio = 0.05)")  # fmt: skip
         return self
 
 
@@ -371,6 +374,19 @@ class UpliftTable(_Table):
     ] = "keep"  # fmt: skip
     density: Annotated[FluidDensity, Field(description="water density ρ_w (kg/m³)")] = 1000.0
 
+    @model_validator(mode="after")
+    def _drains_with_efficiency(self) -> UpliftTable:
+        # either key alone changed nothing: drains default to an efficiency of 0, an
+        # efficiency without drains acts nowhere
+        if self.drains is not None and "drain_efficiency" not in self.model_fields_set:
+            raise _check("drain_efficiency", "missing (required with drains: the fraction E "
+                         "of the head the drains remove, e.g. 0.5; 0 for drains that do "
+                         "not work)")  # fmt: skip
+        if self.drains is None and self.drain_efficiency > 0:
+            raise _check("drains", "missing (required with drain_efficiency: the distance of "
+                         "the line of drains from the heel, m)")  # fmt: skip
+        return self
+
 
 class PseudoStatic(_Table):
     """``loads.pseudo_static``: the seismic coefficients of a pseudo-static analysis: the
@@ -432,6 +448,27 @@ class Loads(_Table):
         Field(description="uplift in joints: linear from headwater at the heel to tailwater "
               "at the toe, drains, full headwater in the part cracked from the heel"),
     ] = []  # fmt: skip
+
+    @model_validator(mode="after")
+    def _each_load_once(self) -> Loads:
+        # the same water on the same face (or joint) in two tables is applied twice
+        for name in ("hydrostatic", "silt", "westergaard"):
+            seen: dict[str, int] = {}
+            for i, table in enumerate(getattr(self, name)):
+                for group in table.groups:
+                    if group in seen:
+                        raise _check(f"{name}[{i}].groups", f"{group!r} is loaded already by "
+                                     f"loads.{name}[{seen[group]}]: it would be loaded twice; "
+                                     "expected each face in one table")  # fmt: skip
+                    seen[group] = i
+        joints: dict[str, int] = {}
+        for i, up in enumerate(self.uplift):
+            if up.interface in joints:
+                raise _check(f"uplift[{i}].interface", f"{up.interface!r} has an uplift already "
+                             f"(loads.uplift[{joints[up.interface]}]): it would be applied "
+                             "twice; expected one table per joint")  # fmt: skip
+            joints[up.interface] = i
+        return self
 
 
 class TargetSa(_Table):

@@ -711,12 +711,14 @@ class Model:
                              f"(interfaces: {have})")  # fmt: skip
         up = Uplift(interface, float(headwater), **options)
         _, length = up.abscissa(self.pairs, self.pairs.of(interface))  # the axis exists
-        if up.drains is not None and not up.drains < length:
-            # drains at or beyond the toe would be silently without effect
+        if up.drains is not None and not 0.0 < up.drains < length:
+            # drains at the heel or at or beyond the toe would be silently without effect
+            where = "at the heel" if up.drains <= 0 else "beyond the joint"
             raise ModelError(f"uplift in {interface!r}: the drains at {up.drains:g} m from "
-                             f"the heel lie beyond the joint, whose pairs reach {length:g} m "
-                             f"from the heel along the flow ({up.upstream} upstream); "
-                             "expected drains < that length")  # fmt: skip
+                             f"the heel lie {where}, "
+                             f"whose pairs reach {length:g} m from the heel along the flow "
+                             f"({up.upstream} upstream); expected 0 < drains < that length "
+                             "(drains at the heel or the toe would change nothing)")  # fmt: skip
         self.uplifts.append(up)
         return up
 

@@ -679,7 +679,8 @@ def plot_loads(res: Results, model: Any, spec: dict[str, Any], path: Path,
         ax.annotate(f"g = {np.linalg.norm(gravity):g} m/s²", c, xytext=(6, 0),
                     textcoords="offset points", fontsize=8)  # fmt: skip
     ax.autoscale_view()
-    ax.legend(loc="upper right", fontsize=8)
+    if ax.get_legend_handles_labels()[0]:  # (none: no supports, no water)
+        ax.legend(loc="upper right", fontsize=8)
     ax.set_title(
         (f"{title}\n" if title else "") + "loads (the pressure diagrams to one "
         "scale, drawn on the side of the water; uplift below its joint)",

@@ -706,7 +706,10 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     esc = html.escape
     status = ("completed" if meta["completed"] else
               f"<b>stopped</b>: {esc(str(meta.get('stop_reason', '')))}")  # fmt: skip
-    run = "static state only" if static_only else f"{status} at t = {t_end:.3f} s"
+    if static_only:  # a static analysis that failed says so, not "static state only"
+        run = "static state only" if meta["completed"] else status
+    else:
+        run = f"{status} at t = {t_end:.3f} s"
     used: set[str] = set()
 
     def figure(name: str, caption: str = "") -> list[str]:
@@ -763,6 +766,9 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
         parts += _table(static)
     elif static_only and joints:
         parts += _table(joints)
+    elif not has_static and not meta["completed"]:
+        parts.append(f"<p>No static state: the run stopped before it was written "
+                     f"({esc(str(meta.get('stop_reason', '')))}).</p>")  # fmt: skip
     elif not has_static:
         parts.append("<p>No static state (analysis.static = false).</p>")
     parts += figure("static_stress", "Principal stresses of the static state at the nodes "
