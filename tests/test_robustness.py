@@ -859,3 +859,28 @@ def test_a_failed_run_leaves_no_former_summary(
     assert "<b>stopped</b>: static analysis failed" in page
     assert "No static state: the run stopped before it was written" in page
     assert "static state only" not in page
+
+
+def test_a_massless_floating_block_is_named() -> None:
+    """A block on a joint with no support and ρ = 0 (a massless foundation put on the wrong
+    side): the dynamic analysis is refused naming it (it failed in the factorisation with
+    "the matrix is not positive definite ... check supports"); with a density it runs."""
+    mesh = pf.rectangle(1.0, 1.0, 1, 2)
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
+    mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
+    mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
+
+    def build(rho: float) -> pf.Model:
+        m = pf.Model(mesh, [pf.Block("base", pf.Elastic(1e9, 0.2, 2000.0)),
+                            pf.Block("block", pf.Elastic(1e9, 0.2, rho))],
+                     interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+        m.fix("ymin")
+        return m
+
+    m = build(0.0)
+    assert [m.body_names()[b] for b in m.massless_floating_bodies()] == ["block"]
+    with pytest.raises(ModelError, match=r"Dynamic: the block\(s\) 'block' float \(no "
+                       r"support\) and have no mass \(rho = 0\)"):  # fmt: skip
+        pf.Dynamic(m, 0.01)
+    assert not build(2000.0).massless_floating_bodies().size
+    pf.Dynamic(build(2000.0), 0.01)

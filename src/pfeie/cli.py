@@ -653,6 +653,11 @@ def _format_check(s: dict[str, object]) -> str:
     if unheld:
         lines.append(f"unsupported  {', '.join(unheld)}: no support, and no joint to a "
                      "supported block (add [[supports]])")  # fmt: skip
+    massless = s.get("massless_floating") or []
+    assert isinstance(massless, list)
+    if massless:
+        lines.append(f"massless     {', '.join(massless)}: floating with rho = 0; a dynamic "
+                     "analysis needs a density or a support")  # fmt: skip
     lines.append(f"cells        {s['cells']}")
     lines.append(f"nodes        {s['nodes']}, DOF {s['dof']} ({s['free_dof']} free)")
     quality = s.get("quality", {})

@@ -151,6 +151,14 @@ class Dynamic:
             except ValidationError as exc:
                 raise ModelError(f"Dynamic: {settings_message(exc)}") from None
         assert settings is not None
+        massless = model.massless_floating_bodies()
+        if massless.size:
+            names = model.body_names()
+            raise ModelError("Dynamic: the block(s) " + ", ".join(repr(names[b]) for b in massless)
+                             + " float (no support) and have no mass (rho = 0): the step's "
+                             "matrix is singular on their rigid motion; expected a density "
+                             "(e.g. 1 % of the rock's for a practically massless foundation) "
+                             "or a support")  # fmt: skip
         self.settings = settings
         self.model = model
         # the blocks' mass lumped; the reservoirs' added mass kept as a matrix where it

@@ -177,6 +177,7 @@ class Job:
             "dimension": m.dim, "blocks": {b.name: b.material for b in m.blocks},
             "bodies": m.n_bodies, "floating": _floating_blocks(m),
             "unsupported": [m.body_names()[b] for b in m.unsupported_bodies()],
+            "massless_floating": [m.body_names()[b] for b in m.massless_floating_bodies()],
             "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
             "free_dof": dof, "pairs": pairs,
             "quality": _quality(m.mesh),

@@ -1189,6 +1189,19 @@ class Model:
         reached[label[held]] = True
         return floating[~reached[label[floating]]]
 
+    def massless_floating_bodies(self) -> IntArray:
+        """The floating bodies (:meth:`floating_bodies`) with no mass, their own or added
+        (ρ = 0, as for a massless foundation, without reservoir): a dynamic step's matrix
+        s M + β h² K is singular on their rigid modes; indices into :meth:`body_names`."""
+        floating = self.floating_bodies()
+        if not floating.size:
+            return floating
+        mdiag = self.mass(lumped=True).diagonal().reshape(-1, self.dim).sum(axis=1)
+        b = self.body_of_node
+        use = b >= 0
+        mass = np.bincount(b[use], mdiag[use], self.n_bodies)
+        return floating[~(mass[floating] > 0)]
+
     def unrestrained_modes(self) -> str:
         """The rigid modes that the supports leave free, per body without interface pairs,
         as text ("body 'a+b': translation y"), or "" when every such body is held. A body
