@@ -884,3 +884,24 @@ def test_a_massless_floating_block_is_named() -> None:
         pf.Dynamic(m, 0.01)
     assert not build(2000.0).massless_floating_bodies().size
     pf.Dynamic(build(2000.0), 0.01)
+
+
+def test_a_support_in_one_component_is_diagnosed() -> None:
+    """Two blocks on a joint, the base held along x only on its bottom line: the static
+    analysis names the blocks and the rigid motions the supports leave free (vertical
+    translation; the rotation about the line with its x translation) instead of blaming
+    the joint's strength; held in both components there is no such group."""
+    from pfeie.errors import MechanismError
+
+    m = _two_blocks()
+    m.fix("ymin", components=[0])
+    m.add_gravity()
+    groups = m.partly_supported_groups()
+    assert groups == [(["base", "block"], ["translation x + rotation about z",
+                                           "translation y"])]  # fmt: skip
+    words = r"the rigid motion of the block\(s\) 'base', 'block' \(.*translation y\): no joint"
+    with pytest.raises(MechanismError, match=r"The supports leave free " + words):
+        pf.solve_static(m)
+    held = _two_blocks()
+    held.fix("ymin")
+    assert held.partly_supported_groups() == []

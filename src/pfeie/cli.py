@@ -653,6 +653,11 @@ def _format_check(s: dict[str, object]) -> str:
     if unheld:
         lines.append(f"unsupported  {', '.join(unheld)}: no support, and no joint to a "
                      "supported block (add [[supports]])")  # fmt: skip
+    free = s.get("free_modes") or []
+    assert isinstance(free, list)
+    for grp in free:
+        lines.append(f"free motion  {', '.join(grp['blocks'])}: the supports leave "
+                     f"{'; '.join(grp['modes'])} free (no joint can hold it)")  # fmt: skip
     massless = s.get("massless_floating") or []
     assert isinstance(massless, list)
     if massless:

@@ -178,6 +178,7 @@ class Job:
             "bodies": m.n_bodies, "floating": _floating_blocks(m),
             "unsupported": [m.body_names()[b] for b in m.unsupported_bodies()],
             "massless_floating": [m.body_names()[b] for b in m.massless_floating_bodies()],
+            "free_modes": [{"blocks": g, "modes": md} for g, md in m.partly_supported_groups()],
             "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
             "free_dof": dof, "pairs": pairs,
             "quality": _quality(m.mesh),

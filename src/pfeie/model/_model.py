@@ -1206,45 +1206,74 @@ class Model:
         """The rigid modes that the supports leave free, per body without interface pairs,
         as text ("body 'a+b': translation y"), or "" when every such body is held. A body
         with pairs may be held by its joints; the static interface problem judges those."""
-        d = self.dim
-        _, pres, _ = self._dofmap
-        flat = np.zeros(self.n_dof, dtype=bool)
-        flat[pres] = True
-        fixed = flat.reshape(-1, d)
         paired = np.zeros(self.mesh.n_points, dtype=bool)
         if self.pairs is not None:
             paired[self.pairs.node_a] = paired[self.pairs.node_b] = True
         names = self.body_names()
-        labels = (["translation x", "translation y", "rotation about z"] if d == 2 else
-                  ["translation x", "translation y", "translation z", "rotation about x",
-                   "rotation about y", "rotation about z"])  # fmt: skip
         out = []
         for b in range(self.n_bodies):
             nodes = np.flatnonzero(self.body_of_node == b)
             if not nodes.size or paired[nodes].any():
                 continue
-            X = self.mesh.points[nodes] - self.mesh.points[nodes].mean(axis=0)
-            basis = np.zeros((nodes.size, d, len(labels)))
-            for i in range(d):
-                basis[:, i, i] = 1.0
-            if d == 2:
-                basis[:, 0, 2], basis[:, 1, 2] = -X[:, 1], X[:, 0]
-            else:
-                for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
-                    basis[:, i, 3 + k], basis[:, j, 3 + k] = -X[:, j], X[:, i]
-            held = basis[fixed[nodes]]  # (prescribed components, modes)
-            if held.size:
-                _, sv, vt = np.linalg.svd(held, full_matrices=True)
-                rank = int((sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)).sum())
-                null = vt[rank:]
-            else:
-                null = np.eye(len(labels))
-            if null.shape[0]:
-                modes = [" + ".join(labels[k] for k in np.flatnonzero(np.abs(v) > 1e-6))
-                         for v in null]  # fmt: skip
+            modes = self._free_rigid_modes(nodes)
+            if modes:
                 out.append(f"body {names[b]!r} can move freely ({'; '.join(modes)}): no "
                            "support holds it and no joint ties it")  # fmt: skip
         return "; ".join(out)
+
+    def partly_supported_groups(self) -> list[tuple[list[str], list[str]]]:
+        """The groups of bodies tied by joints (taken as bonded) that have supports but
+        whose supports leave a rigid motion of the whole group free (a support in one
+        component only, on one line): each group's body names and its free modes as text.
+        No joint strength can hold such a motion against a load along it."""
+        if self.pairs is None:
+            return []
+        n = self.n_bodies
+        body = self.body_of_node
+        a, b = body[self.pairs.node_a], body[self.pairs.node_b]
+        touch = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(n, n))
+        n_parts, label = connected_components(touch, directed=False)
+        floating = set(self.floating_bodies().tolist())
+        names = self.body_names()
+        out = []
+        for k in range(n_parts):
+            members = np.flatnonzero(label == k)
+            if all(int(m) in floating for m in members):
+                continue  # no support at all: unsupported_bodies
+            nodes = np.flatnonzero(np.isin(body, members))
+            modes = self._free_rigid_modes(nodes)
+            if modes:
+                out.append(([names[m] for m in members], modes))
+        return out
+
+    def _free_rigid_modes(self, nodes: IntArray) -> list[str]:
+        """The rigid motions of the nodes ``nodes`` taken as one rigid body that their
+        prescribed components leave free, as text ("translation y"), [] if none."""
+        d = self.dim
+        _, pres, _ = self._dofmap
+        flat = np.zeros(self.n_dof, dtype=bool)
+        flat[pres] = True
+        fixed = flat.reshape(-1, d)
+        labels = (["translation x", "translation y", "rotation about z"] if d == 2 else
+                  ["translation x", "translation y", "translation z", "rotation about x",
+                   "rotation about y", "rotation about z"])  # fmt: skip
+        X = self.mesh.points[nodes] - self.mesh.points[nodes].mean(axis=0)
+        basis = np.zeros((nodes.size, d, len(labels)))
+        for i in range(d):
+            basis[:, i, i] = 1.0
+        if d == 2:
+            basis[:, 0, 2], basis[:, 1, 2] = -X[:, 1], X[:, 0]
+        else:
+            for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
+                basis[:, i, 3 + k], basis[:, j, 3 + k] = -X[:, j], X[:, i]
+        held = basis[fixed[nodes]]  # (prescribed components, modes)
+        if held.size:
+            _, sv, vt = np.linalg.svd(held, full_matrices=True)
+            rank = int((sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)).sum())
+            null = vt[rank:]
+        else:
+            null = np.eye(len(labels))
+        return [" + ".join(labels[k] for k in np.flatnonzero(np.abs(v) > 1e-6)) for v in null]
 
     @cached_property
     def body_weights(self) -> FloatArray:

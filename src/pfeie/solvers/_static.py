@@ -205,6 +205,14 @@ def _floating(model: Model, found: bool = True) -> str:
             "the static loads move them as rigid bodies. Add [[supports]] (Model.fix) to "
             "the foundation's outer faces"
         )  # fmt: skip
+    partly = model.partly_supported_groups()
+    if partly:
+        # nor here: the supports themselves leave a rigid motion free
+        return "The supports leave free the rigid motion of " + "; ".join(
+            f"the block(s) {', '.join(repr(n) for n in group)} ({'; '.join(modes)})"
+            for group, modes in partly
+        ) + (": no joint can hold it. Support the foundation in every component "
+             "(components of [[supports]], or Model.fix), or on two faces")  # fmt: skip
     head = ("No static equilibrium holds the floating block(s) (" + which + ") under the "
             "static loads: their joints' strength is exceeded, so they would slide or "
             "open." if found else
