@@ -326,7 +326,7 @@ def _yield_coefficients(
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
             "analyses": y.analyses,
         }  # fmt: skip
-        if stream is not None:  # (the library logs the same at INFO)
+        if stream is not None:  # (the library logs it at INFO too)
             k_y = "none up to the largest tried" if y.k_y is None else f"{y.k_y:.6g}"
             stream.write(f"yield coefficient {label}: k_y {k_y} ({y.limit}), {y.analyses} "
                          f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip

@@ -111,30 +111,23 @@ def solve_pairs(
     f_up = model.uplift_load(p)
     u_free, st = solve(f_free + f_up[system.free])
     # a crack whose full uplift nothing held (then p is a relaxed step towards its
-    # pressure, not the pressure of ``cracks``), and every such crack met so far
+    # pressure, not the pressure of ``cracks``); every such crack met so far; and the
+    # cracks whose full uplift was held: from such a step on, the iteration depends on
+    # the crack alone, so reaching one again is a cycle
     unheld: tuple[float, ...] | None = None
     not_held: set[tuple[float, ...]] = set()
+    held: set[tuple[float, ...]] = set()
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
         p_new, new = model.uplift_pressure(st.state == OPEN)
         if new == cracks and unheld is None:
             break
-        if (unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True))) or (
-            tuple(new) in not_held
-        ):
-            # a relaxed step did not shorten the crack, or a shorter crack under its full
-            # uplift opened it again to one whose full uplift nothing held: it runs on
-            # under its own uplift (the same problem would fail again; going round that
-            # cycle cost minutes of failing pair solves)
-            log.debug("static analysis: crack %s m after the relaxed crack %s m (%s)",
-                      _lengths(new), _lengths(cracks),
-                      "again" if tuple(new) in not_held else "not shorter")  # fmt: skip
-            raise MechanismError(
-                "static analysis: the crack from the heel grows under its own uplift "
-                f"(full headwater in the open part) to {_lengths(new)} m, where no "
-                f"equilibrium holds. {_floating(model, found=False)}"
-            )
+        if unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True)):
+            # a relaxed step did not shorten the crack: it runs on under its own uplift
+            log.debug("static analysis: the relaxed step towards the crack %s m gave %s m",
+                      _lengths(unheld), _lengths(new))  # fmt: skip
+            raise MechanismError(_runs_on(model, new))
         # a full step can overshoot the settled crack into loads that no equilibrium
         # holds (the whole base opening at once); then relax: p + ω (p_new − p), ω halved
         # down to 1/16, before concluding that the joint cannot hold its block
@@ -154,6 +147,21 @@ def solve_pairs(
         unheld = None if omega == 1.0 else tuple(new)
         if unheld is not None:
             not_held.add(unheld)
+        elif tuple(new) in held:
+            # a cycle (going round it cost minutes of failing pair solves): through a
+            # crack whose full uplift nothing held, the crack runs on once it reaches it;
+            # else it alternates between lengths that each hold
+            log.debug("static analysis: the crack %s m, held under its full uplift, again",
+                      _lengths(new))  # fmt: skip
+            if not_held:
+                raise MechanismError(_runs_on(model, max(not_held)))
+            raise SolverError(
+                f"uplift: the crack from the heel alternates (at {_lengths(new)} m again) "
+                "between lengths that each hold under their full uplift: the joint is on "
+                "the verge of opening further"
+            )
+        else:
+            held.add(tuple(new))
         p, cracks, f_up = p_try, new, f_try
     else:
         if model.uplifts:
@@ -175,6 +183,13 @@ def solve_pairs(
 
 #: static solves at most to settle the crack and its uplift together
 _CRACK_ITERATIONS = 50
+
+
+def _runs_on(model: Model, cracks: Sequence[float]) -> str:
+    """The message of a crack that runs on under its own uplift from ``cracks`` (m)."""
+    return ("static analysis: the crack from the heel grows under its own uplift (full "
+            f"headwater in the open part) to {_lengths(cracks)} m, where no equilibrium "
+            f"holds. {_floating(model, found=False)}")  # fmt: skip
 
 
 def _lengths(cracks: Sequence[float]) -> str:

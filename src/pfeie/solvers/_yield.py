@@ -203,7 +203,7 @@ def yield_coefficient(
         for first in ([start.pairs] if start is not None else []) + [None]:
             count += 1
             log.debug("yield coefficient along %s: static analysis %d at k = %.9g",
-                      np.round(iota, 6).tolist(), count, k)  # fmt: skip
+                      _direction(iota), count, k)  # fmt: skip
             try:
                 st = solve_pairs(problem, f0_free + k * f_h[free], f0_all + k * f_h, first)
                 break
@@ -252,6 +252,9 @@ def yield_coefficient(
             if hi is not None and not lo < k_try < hi:
                 k_try = 0.5 * (lo + hi)
         if hi is None and lo >= k_max:
+            log.info("yield coefficient along %s: held up to k = %g, %d static analyses "
+                     "in %.1f s", _direction(iota), k_max, count,
+                     time.perf_counter() - t0)  # fmt: skip
             return _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
         out = analyse(k_try, st_lo)
         if out is None:  # no equilibrium: beyond the limit
@@ -271,8 +274,13 @@ def yield_coefficient(
                  else "no equilibrium found")  # fmt: skip
         joint = gov
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
-             np.round(iota, 6).tolist(), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
+             _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+
+
+def _direction(iota: FloatArray) -> list[float]:
+    """The direction for a message: rounded, without negative zeros."""
+    return [round(float(v), 6) + 0.0 for v in iota]
 
 
 def _root(
