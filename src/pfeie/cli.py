@@ -25,7 +25,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Literal, NoReturn
+from typing import TYPE_CHECKING, Any, Literal, NoReturn
 
 from ._version import __version__
 from .errors import InputError, MechanismError, MeshError, PfeieError, RecordError, ResultsError
@@ -201,11 +201,12 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``pfeie`` command; returns the exit code (:data:`EXIT_PIPE`,
     without a traceback, when the reader of the output closes it)."""
-    # SIGTERM as Ctrl-C wherever the time stepping (which handles both) is not running:
-    # reading, factorising, the static analysis, the yield search
-    old_term = None
+    # SIGINT and SIGTERM stop the command wherever the time stepping (which handles both)
+    # is not running: reading, factorising, the static analysis, the yield search (SIGINT
+    # too: a process started in the background inherits it ignored)
+    old: dict[int, Any] = {}
     if threading.current_thread() is threading.main_thread():
-        old_term = signal.signal(signal.SIGTERM, _interrupt)
+        old = {sig: signal.signal(sig, _interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         code = _main(argv)
         sys.stdout.flush()  # here, not at exit, where a closed pipe would print a traceback
@@ -222,8 +223,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.close(devnull)
         return EXIT_PIPE
     finally:
-        if old_term is not None:
-            signal.signal(signal.SIGTERM, old_term)
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
 
 
 def _interrupt(signum: int, _frame: object) -> None:
