@@ -112,6 +112,7 @@ def _wait_for_checkpoint(path: Path, row: int, timeout: float = 120.0) -> None:
     raise AssertionError(f"{path}: no checkpoint of row {row} within {timeout} s")
 
 
+@pytest.mark.slow  # 20 s; resume after SIGINT stays in the default run
 def test_command_line_resume_after_kill_9(tmp_path: Path) -> None:
     """``pfeie run --resume`` after SIGKILL (no handler runs: the file is left as the
     process had it) at two moments of the run, checkpoints every 0.05 s: early (row 5) and

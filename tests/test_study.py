@@ -165,6 +165,7 @@ def test_command_line_and_resume(tmp_path: Path, capsys: pytest.CaptureFixture[s
     same(csv, StudyTable.read(tmp_path / "study" / "table.csv"))
 
 
+@pytest.mark.slow  # 19 s; test_command_line_and_resume keeps a resume in the default run
 def test_killed_study_resumes_to_the_same_table(tmp_path: Path) -> None:
     """SIGKILL a `pfeie study` after its second row; the same command finishes it and the
     table equals an uninterrupted study's (the rows are written atomically, each once)."""
