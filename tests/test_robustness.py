@@ -698,6 +698,9 @@ def test_plausibility_warnings(
          "1 m) lies above the headwater (-5 m) and tailwater (none) levels"),
         (text.replace('[[supports]]\ngroup = "bottom"\n', ""), {},
          "no [[supports]]: nothing holds the model, every block floats"),
+        (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n"
+                      "residual_friction_angle = 40.0\n[[supports]]"), {},
+         "interfaces.mid.residual_friction_angle = 40° exceeds its friction_angle = 30°"),
         (text.replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.6\n[[supports]]"),
          {}, "interfaces.mid.friction_angle = 0.6° is very low (joints in concrete and rock: "
          "20° to 60°); the angle is in degrees: a friction coefficient μ = 0.6 is φ = 31.0°"),

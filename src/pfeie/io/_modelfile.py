@@ -270,6 +270,13 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                             "rock: 20° to 60°); the angle is in degrees: a friction "
                             "coefficient μ = %g is φ = %.1f°", p, group, key, float(phi),
                             float(phi), float(np.degrees(np.arctan(float(phi)))))  # fmt: skip
+        phi_r = getattr(js, "residual_friction_angle", None)
+        if phi_r is not None and float(phi_r) > float(js.friction_angle):
+            # a residual friction above the peak: the joint would strengthen as it breaks
+            log.warning("%s: interfaces.%s.residual_friction_angle = %g° exceeds its "
+                        "friction_angle = %g°: the residual friction is usually at most "
+                        "the peak (the angles swapped?)", p, group, float(phi_r),
+                        float(js.friction_angle))  # fmt: skip
     _undeclared_joints(p, cfg, mesh)
     extent = float(np.ptp(mesh.points, axis=0).max(initial=0.0))
     if extent > _EXTENT_MAX:
