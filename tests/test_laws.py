@@ -189,14 +189,15 @@ def test_the_cohesion_ramp_with_a_residual_tensile_strength() -> None:
     assert ramp(-20.0) == (True, 0.0, 0.0)
     end = -20.0 + K * ct
     on, tau, slope = ramp(end * (1 + 1e-15))  # just inside the band
-    assert on and tau == pytest.approx(100.0 + 0.6 * end, rel=1e-12)
+    assert on and tau == pytest.approx(100.0 + 0.6 * end, rel=2e-15)  # measured 1.6e-16
     assert slope == pytest.approx(0.6, abs=1e-9)
     assert not ramp(end + 1e-9)[0]
     for u in (0.1, 0.5, 0.9):
         xn, h = -20.0 + u * K * ct, 1e-9 * K * ct
         fd = (ramp(xn + h)[1] - ramp(xn - h)[1]) / (2 * h)
         assert fd == pytest.approx(ramp(xn)[2], rel=1e-5)  # the differences' own error
-        assert ramp(xn)[1] == pytest.approx(0.6 * (xn + 20.0) + ct * u * (2 - u), rel=1e-12)
+        # u recovered from X_n + t: measured 8.7e-14 at u = 0.1
+        assert ramp(xn)[1] == pytest.approx(0.6 * (xn + 20.0) + ct * u * (2 - u), rel=5e-13)
         x0 = u * K * 100.0
         assert ramp(x0, 0.0)[1] == 0.6 * x0 + 100.0 * u * (2.0 - u)
     with pytest.raises(ModelError, match=r"tensile_r = 60000 Pa lies beyond the apex of the "

@@ -1174,20 +1174,25 @@ class Model:
         (every body of a model without supports): nothing holds them against a static
         load, whatever their joints' strength; indices into :meth:`body_names`."""
         floating = self.floating_bodies()
-        n = self.n_bodies
         if not floating.size:
             return floating
-        held = np.ones(n, dtype=bool)
+        label = self._joint_groups()
+        held = np.ones(self.n_bodies, dtype=bool)
         held[floating] = False
+        reached = np.zeros(int(label.max()) + 1, dtype=bool)
+        reached[label[held]] = True
+        return floating[~reached[label[floating]]]
+
+    def _joint_groups(self) -> IntArray:
+        """The group of every body (n_bodies,): bodies that joints tie, directly or through
+        others, share one (a body without pairs is a group of its own)."""
+        n = self.n_bodies
         if self.pairs is None:
-            return floating
+            return np.arange(n)
         body = self.body_of_node
         a, b = body[self.pairs.node_a], body[self.pairs.node_b]
         touch = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(n, n))
-        n_parts, label = connected_components(touch, directed=False)
-        reached = np.zeros(n_parts, dtype=bool)
-        reached[label[held]] = True
-        return floating[~reached[label[floating]]]
+        return np.asarray(connected_components(touch, directed=False)[1])
 
     def massless_floating_bodies(self) -> IntArray:
         """The floating bodies (:meth:`floating_bodies`) with no mass, their own or added
@@ -1228,15 +1233,12 @@ class Model:
         No joint strength can hold such a motion against a load along it."""
         if self.pairs is None:
             return []
-        n = self.n_bodies
+        label = self._joint_groups()
         body = self.body_of_node
-        a, b = body[self.pairs.node_a], body[self.pairs.node_b]
-        touch = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(n, n))
-        n_parts, label = connected_components(touch, directed=False)
         floating = set(self.floating_bodies().tolist())
         names = self.body_names()
         out = []
-        for k in range(n_parts):
+        for k in range(int(label.max()) + 1):
             members = np.flatnonzero(label == k)
             if all(int(m) in floating for m in members):
                 continue  # no support at all: unsupported_bodies
