@@ -6,6 +6,9 @@ STAMP  := $(VENV)/.installed
 export OMP_NUM_THREADS ?= 1
 export OPENBLAS_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
+# the test files spread over the cores (one thread each), a file's tests on one worker so
+# that its module fixtures are built once; XDIST= runs them in this process
+XDIST  ?= -n auto --maxprocesses 4 --dist loadfile
 
 .PHONY: demo test test-slow verify lint bench bench-quick clean
 
@@ -23,10 +26,10 @@ demo: $(STAMP)
 	$(VENV)/bin/pfeie report examples/koyna/results/results.h5
 
 test: $(STAMP)
-	$(PY) -m pytest -m "not slow" --doctest-modules src tests examples
+	$(PY) -m pytest $(XDIST) -m "not slow" --doctest-modules src tests examples
 
 test-slow: $(STAMP)
-	$(PY) -m pytest -m slow tests
+	$(PY) -m pytest $(XDIST) -m slow tests
 
 verify: $(STAMP)
 	$(VENV)/bin/pfeie verify --manual docs/verification

@@ -203,6 +203,20 @@ def _rownorm(a: FloatArray) -> FloatArray:
     return np.sqrt(np.add.reduce(a * a, axis=1))
 
 
+def _rownorm_scaled(a: FloatArray) -> FloatArray:
+    """:func:`_rownorm` without overflow or underflow of the squares: each row scaled by
+    its largest entry first (for the residual of a problem whose forces lie beyond
+    1e±100, where X·X would leave the double range and fool the residual)."""
+    amax = np.abs(a).max(axis=1, initial=0.0)
+    unit = a / np.where(amax > 0.0, amax, 1.0)[:, None]
+    return amax * np.sqrt(np.add.reduce(unit * unit, axis=1))
+
+
+#: the force scales between which the residual squares forces directly (beyond, its row
+#: norms are scaled first: see _rownorm_scaled)
+SAFE_SCALE = (1e-100, 1e100)
+
+
 @dataclass
 class SolveInfo:
     """How a step's interface problem was solved."""
@@ -836,6 +850,7 @@ class InterfaceSolver:
         """Scaled complementarity residual per pair (see module doc)."""
         X, s = st.X, st.s
         fscale = self._scale(X, w_free)
+        norm = _rownorm if SAFE_SCALE[0] <= fscale <= SAFE_SCALE[1] else _rownorm_scaled
         rho = self.rho
         c, mu, t = self.props.strength(st.broken, prev.path)
         Xn, Xt = X[:, -1], X[:, :-1]
@@ -849,27 +864,27 @@ class InterfaceSolver:
         it = state == INTACT
         any_it = bool(it.any())
         if any_it:
-            r[it] = rho * _rownorm(ds[it])
+            r[it] = rho * norm(ds[it])
             if self._breaking:
                 r[it] += np.maximum(0.0, -(Xn[it] + t[it])) + np.maximum(
-                    0.0, _rownorm(Xt[it]) - tau[it]
+                    0.0, norm(Xt[it]) - tau[it]
                 )
         op = state == OPEN
         any_op = bool(op.any())
         if any_op:
-            r[op] = np.maximum(0.0, -rho * s[op, -1]) + _rownorm(X[op])
+            r[op] = np.maximum(0.0, -rho * s[op, -1]) + norm(X[op])
         cl = ~it & ~op if any_it or any_op else np.ones(self.m, dtype=bool)
         z = Xt[cl] - rho * ds[cl, :-1]
-        nz = _rownorm(z)
+        nz = norm(z)
         proj = z * np.minimum(1.0, tau[cl] / np.maximum(nz, 1e-300))[:, None]
         fx = cl & self._fixed
         if fx.any():
             proj[fx[cl]] = -tau[fx, None] * st.slip_dir[fx]  # sliding along the given ŝ
-        r[cl] = _rownorm(Xt[cl] - proj) + rho * np.abs(s[cl, -1])
+        r[cl] = norm(Xt[cl] - proj) + rho * np.abs(s[cl, -1])
         r[cl] += np.maximum(0.0, -(Xn[cl] + t[cl]))
         off = self._inactive
         if off.any():
-            r[off] = _rownorm(X[off])
+            r[off] = norm(X[off])
         return r / fscale
 
     # -- driver -------------------------------------------------------------------------------
@@ -894,7 +909,27 @@ class InterfaceSolver:
         ``fixed`` (m,) marks sliding pairs whose slip direction ``prev.slip_dir`` is held
         (they slide or open, never stick); with ``breaking=False`` intact pairs stay intact;
         ``inactive`` (m,) pairs are held open with X = 0 (see the module docstring).
+
+        An iterate far from the answer (a Newton that diverges before a fallback takes
+        over) may overflow: every answer is judged by the residual, which inf or NaN
+        fails, so the floating-point warnings of the iterates are silenced here.
         """
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return self._solve(w_free, prev, e, label, fixed=fixed, breaking=breaking,
+                               inactive=inactive, start=start)  # fmt: skip
+
+    def _solve(
+        self,
+        w_free: FloatArray,
+        prev: PairState,
+        e: FloatArray | None,
+        label: str,
+        *,
+        fixed: np.ndarray | None,
+        breaking: bool,
+        inactive: np.ndarray | None,
+        start: PairState | None,
+    ) -> tuple[PairState, FloatArray]:
         self._fixed = (np.zeros(self.m, dtype=bool) if fixed is None
                        else np.asarray(fixed, dtype=bool) & (prev.state == SLIDE))  # fmt: skip
         self._inactive = (np.zeros(self.m, dtype=bool) if inactive is None
@@ -904,6 +939,12 @@ class InterfaceSolver:
         self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
         w_free = w_free + self._gapv  # the internal routines work with s_free
         self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
+        if not self._wscale <= SAFE_SCALE[1]:  # inf or NaN too: no iteration can help
+            raise InterfaceError(
+                f"{label}: the interface problem cannot be solved: its force scale, "
+                f"ρ max|w_free| = {self._wscale:.1e} N, exceeds {SAFE_SCALE[1]:.0e} N, where "
+                "the squares of the law leave double precision: check the units, or "
+                "whether the motion diverged before this step.")  # fmt: skip
         first = None if start is None else start.copy()
         if first is not None:  # breaking is the iteration's, from prev's flags
             fresh = first.broken & ~prev.broken
@@ -1646,10 +1687,16 @@ class InterfaceSolver:
         worst = np.argsort(res)[::-1][:5]
         cyc_txt = ", ".join(f"{k} ({'/'.join(STATE_NAMES[s] for s in sorted(set(H[:, k])))})"
                             for k in cyc[:10]) if cyc.size else "none"  # fmt: skip
+        scale = self.rho * float(np.abs(w_free).max(initial=0.0))  # ρ w_free (N)
+        rng = ("" if not 0.0 < scale < SAFE_SCALE[0] else
+               f" Its force scale, ρ max|w_free| = {scale:.1e} N, lies below"
+               f" {SAFE_SCALE[0]:.0e} N, where the squares of the law leave double"
+               " precision: check the units.")  # fmt: skip
         return (
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
             f"{cyc_txt}; largest residuals at pairs {worst.tolist()}."
+            + rng
             + (f" {self.hint}" if self.hint else "")
         )
 
