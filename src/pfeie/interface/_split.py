@@ -18,9 +18,17 @@ Conventions (all arrays have the pair index first):
   turns) takes the axis least aligned with its own normal;
 - ``area`` (m,): tributary area of the pair, the HRZ-lumped facet "mass" ∫ N_a N_b dA
   (× thickness in 2D), positive for linear and quadratic facets;
-- the normal of an interface is made consistent along it by orienting every facet normal
-  on the side of the interface's dominant direction; an interface must therefore not
-  turn by more than 90° (split a curved joint into several named groups if it does).
+- sides: every facet normal is first oriented on the side of its interface's dominant
+  direction; then all the facets between the same two regions (cells connected through
+  facets that are not interface facets), of one interface or several, take the same
+  region as side a, the one that holds the larger area of them (so that the two planes
+  of a wedge, or a joint that turns by 90° or more, face one way and their shear forces
+  add up in the joint's resultant);
+- sharp edges: where the facets at a node couple meet at more than
+  :data:`EDGE_ANGLE` (the keel of a wedge, a stepped joint), the couple becomes one pair
+  per side of the edge, each with its own plane's normal and area, a redundant
+  constraint like a T junction; elsewhere a couple is one pair, its normal the
+  area-weighted mean of its facets' (a curved joint).
 """
 
 from __future__ import annotations
@@ -144,6 +152,77 @@ def _frames(normal: FloatArray, which: IntArray) -> FloatArray:
     F[:, 0] = t1
     F[:, 1] = np.cross(normal, t1)
     return F
+
+
+#: facets that meet at a node with normals further apart than this (degrees) are a sharp
+#: edge of the interface (the keel of a wedge): each side of it keeps its own pair there
+EDGE_ANGLE = 30.0
+
+
+def _one_side(
+    nrm: FloatArray, ca: IntArray, cb: IntArray, area: FloatArray, link: IntArray,
+    owner: IntArray, twin: IntArray, n_cells: int,
+) -> tuple[FloatArray, IntArray, IntArray]:  # fmt: skip
+    """Interface facets (f,) with their normals ``nrm`` (f, d) pointing from cell ``ca``
+    into cell ``cb``, turned so that every facet between the same two regions (cells
+    connected through facets that are not interface facets) has the same region on its
+    side a: the side that holds the larger area of them (ties: the region of the lower
+    index). The normals of one interface are oriented by its dominant direction, which a
+    joint that turns by 90° (the two planes of a wedge) leaves undecided, and two
+    interfaces (the two planes, named apart) each have their own; a side that changes
+    along a joint would make its shear forces cancel in the joint's resultant and its
+    pairs at a common node face opposite ways."""
+    a, b = owner[link], owner[twin[link]]
+    G = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(n_cells, n_cells))
+    _, region = connected_components(G, directed=False)
+    ra, rb = region[ca], region[cb]
+    lo, hi = np.minimum(ra, rb), np.maximum(ra, rb)
+    between = lo != hi  # a crack inside one region keeps its orientation
+    if not between.any():
+        return nrm, ca, cb
+    _, key = np.unique(np.stack([lo, hi], axis=1)[between], axis=0, return_inverse=True)
+    key = key.ravel()
+    low_a = ra[between] < rb[between]
+    vote = np.bincount(key, np.where(low_a, area[between], -area[between]))
+    turn = np.zeros(ca.size, dtype=bool)
+    turn[between] = low_a != (vote >= 0.0)[key]
+    if not turn.any():
+        return nrm, ca, cb
+    nrm = np.where(turn[:, None], -nrm, nrm)
+    return nrm, np.where(turn, cb, ca), np.where(turn, ca, cb)
+
+
+def _edge_sides(pa: IntArray, pb: IntArray, unit: FloatArray) -> IntArray:
+    """For every facet corner (c,) at the node couple (``pa``, ``pb``) with its facet's
+    unit normal ``unit`` (c, d): 0 where the facets at that couple share a plane (within
+    :data:`EDGE_ANGLE` of their mean), else the index of the corner's side of the sharp
+    edge (facets within :data:`EDGE_ANGLE` of the first facet of the side), so that the
+    couple becomes one pair per side, each with its own normal and area. A single pair
+    there would take the mean normal, which on a wedge's keel points 45° off either plane
+    and holds the wedge up. The pairs of one couple are redundant constraints (as at a T
+    junction: see :attr:`PairGeometry.regularization`)."""
+    side = np.zeros(pa.size, dtype=np.int64)
+    _, couple = np.unique(np.stack([pa, pb], axis=1), axis=0, return_inverse=True)
+    couple = couple.ravel()
+    n_c = int(couple.max(initial=-1)) + 1
+    mean = np.stack([np.bincount(couple, unit[:, i], n_c) for i in range(unit.shape[1])], axis=1)
+    mean = mean / np.maximum(np.linalg.norm(mean, axis=1), 1e-300)[:, None]
+    cos = np.einsum("cd,cd->c", unit, mean[couple])
+    edge = np.unique(couple[cos < np.cos(np.radians(0.5 * EDGE_ANGLE))])
+    if edge.size == 0:
+        return side
+    limit = np.cos(np.radians(EDGE_ANGLE))
+    order = np.argsort(couple, kind="stable")
+    start = np.searchsorted(couple[order], edge)
+    stop = np.searchsorted(couple[order], edge, side="right")
+    for i0, i1 in zip(start.tolist(), stop.tolist(), strict=True):  # sharp edges: set-up only
+        firsts: list[FloatArray] = []
+        for i in order[i0:i1].tolist():
+            near = [j for j, f in enumerate(firsts) if float(unit[i] @ f) >= limit]
+            if not near:
+                firsts.append(unit[i])
+            side[i] = near[0] if near else len(firsts) - 1
+    return side
 
 
 def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0) -> SplitMesh:
@@ -284,6 +363,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     ca, cb = O[inst], O[twin[inst]]
     flip = np.einsum("fd,fd->f", cen[cb] - cen[ca], nrm) < 0
     ca, cb = np.where(flip, cb, ca), np.where(flip, ca, cb)
+    nrm, ca, cb = _one_side(nrm, ca, cb, fv.dA.sum(axis=1), link, O, twin, n_cells)
     me = np.einsum("fq,qa,qb->fab", fv.dA, fv.N, fv.N)
     lumped = lump_hrz(me)  # (f, k)
     fn = F[inst]
@@ -295,7 +375,8 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     w_norm = (lumped.sum(axis=1)[:, None] * nrm).repeat(k, axis=0)
     real = pa != pb  # a crack tip stays one node: no pair
     pa, pb, pj, w_area, w_norm = pa[real], pb[real], pj[real], w_area[real], w_norm[real]
-    pk = np.stack([pa, pb], axis=1)
+    unit = nrm.repeat(k, axis=0)[real]
+    pk = np.stack([pa, pb, _edge_sides(pa, pb, unit)], axis=1)
     uniq, pinv = np.unique(pk, axis=0, return_inverse=True)
     pinv = pinv.ravel()
     m_pairs = uniq.shape[0]

@@ -235,6 +235,7 @@ def yield_coefficient(
     hi: float | None = None
     prev: tuple[float, FloatArray] | None = None  # a held (k, margins) below lo
     widths: list[float] = []
+    targets: list[float] = []  # the predicted roots aimed at (see _creep)
     while hi is None or hi - lo > tol * max(hi, 1e-3):
         if count >= max_analyses:
             log.warning("yield coefficient: the limit bracketed to [%.6g, %s] only, in %d "
@@ -246,6 +247,9 @@ def yield_coefficient(
         else:  # aim just below the predicted root, then, once there, just beyond it
             below = lo >= target * (1 - tol)
             k_try = target * (1 + tol / 4) if below else target * (1 - tol / 2)
+            ahead = None if below else _creep(targets, target, tol)
+            if ahead is not None:
+                k_try = ahead if hi is None or ahead < hi else 0.5 * (target + hi)
             if hi is not None and len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
                 k_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
             k_try = min(k_try, k_max)
@@ -276,6 +280,24 @@ def yield_coefficient(
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
              _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+
+
+def _creep(targets: list[float], target: float, tol: float) -> float | None:
+    """Where to aim when the predicted roots creep up: a margin that falls faster as k
+    grows (a joint whose pairs turn their shear as they slide, the planes of a wedge)
+    puts each secant root short of the limit, and the roots approach it linearly (by a
+    ratio r of about 0.6 a step on a wedge: 30 analyses to reach the limit). Aitken's
+    extrapolation of the last three roots, t + Δ r / (1 − r), overshot by a fifth so
+    that it brackets the limit; None where the roots do not creep (an affine margin, a
+    rigid block: its first root is the limit) (``targets`` gains ``target``)."""
+    targets.append(target)
+    if len(targets) < 3:
+        return None
+    d1, d2 = targets[-2] - targets[-3], targets[-1] - targets[-2]
+    if not (d1 > tol * target and tol * target < d2 < d1):
+        return None
+    r = d2 / d1
+    return target + 1.2 * d2 * r / (1.0 - r)
 
 
 def _direction(iota: FloatArray) -> list[float]:
