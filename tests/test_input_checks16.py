@@ -109,3 +109,23 @@ def test_the_gmsh_readers_warning_is_logged_not_printed(
     assert capsys.readouterr().err == ""
     assert (f"{p}: the section $Elements is not closed by $EndElements: the file may be "
             "truncated") in caplog.text  # fmt: skip
+
+
+# -- 2. a mesh given where a model file is expected -----------------------------------------
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_a_mesh_given_as_the_model_file_is_named_a_mesh(
+    capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    p = DATA / "two_blocks_v22.msh"
+    err = fails(capsys, [command, str(p)])
+    assert err.strip() == (f"pfeie: error: {p}: expected a model file (.toml); this looks like a "
+                           "gmsh mesh, which a model file names under [mesh] file")  # fmt: skip
+
+
+def test_a_mesh_given_as_the_study_file_is_named_a_mesh(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    p = tmp_path / "dam.txt"  # by its content, whatever its name
+    p.write_text((DATA / "two_blocks_v41.msh").read_text())
+    fails(capsys, ["study", str(p)], f"{p}: expected a study file (.toml); this looks like a "
+          "gmsh mesh")  # fmt: skip

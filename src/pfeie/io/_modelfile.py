@@ -32,6 +32,7 @@ from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import Joint, SlipWeakening
 from ..mesh import Mesh, shape_quality
 from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
+from ._files import foreign_file
 from ._gmsh import read_mesh
 from ._records import read_record
 from ._schema import (
@@ -378,6 +379,11 @@ def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
     try:
         data = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        kind = foreign_file(p, raw)
+        if kind is not None:
+            where = ", which a model file names under [mesh] file" if kind == "a gmsh mesh" else ""
+            raise InputError(f"{p}: expected a model file (.toml); this looks like "
+                             f"{kind}{where}") from None  # fmt: skip
         raise InputError(f"{p}: not valid TOML: {exc}") from None
     for ov in overrides:
         _apply(data, ov, str(p))
