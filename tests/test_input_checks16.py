@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from pfeie.cli import main
-from pfeie.errors import MeshError
-from pfeie.io import read_mesh
+from pfeie.errors import MeshError, RecordError
+from pfeie.io import implausible_pga, load_job, read_mesh, read_record
 
 DATA = Path(__file__).parent / "data"
 
@@ -129,3 +129,92 @@ def test_a_mesh_given_as_the_study_file_is_named_a_mesh(
     p.write_text((DATA / "two_blocks_v41.msh").read_text())
     fails(capsys, ["study", str(p)], f"{p}: expected a study file (.toml); this looks like a "
           "gmsh mesh")  # fmt: skip
+
+
+# -- a small model: two blocks on a joint (tests/data/two_blocks_v41.msh) --------------------
+MODEL = f"""
+[mesh]
+file = "{DATA / "two_blocks_v41.msh"}"
+[materials.concrete]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+rock = "concrete"
+dam = "concrete"
+[interfaces.joint]
+friction_angle = 30.0
+[[supports]]
+group = "bottom"
+[[ground_motion]]
+file = "rec.csv"
+units = "UNITS"
+[analysis]
+dt = 0.01
+[output]
+folder = "out"
+"""
+
+
+def _model(tmp: Path, units: str = "g", record: str = "", text: str = MODEL) -> Path:
+    (tmp / "rec.csv").write_text(record or "".join(
+        f"{0.01 * k:.2f},{0.2 * (k % 3 - 1):.4f}\n" for k in range(40)))  # fmt: skip
+    p = tmp / "model.toml"
+    p.write_text(text.replace("UNITS", units))
+    return p
+
+
+# -- 3. a record in g declared in cm/s2 -------------------------------------------------------
+def test_a_record_in_g_declared_in_cm_s2_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    p = _model(tmp_path, units="cm/s2")
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert (f"{p}: ground_motion[0]: rec.csv: the record's PGA is 0.000204 g with its values "
+            "read in cm/s2 (units = 'cm/s2'): below the plausible 0.001 to 10 g; are its "
+            "values in g? (units = 'g' gives 0.2 g)") in caplog.text  # fmt: skip
+
+
+@pytest.mark.parametrize(("units", "extra"), [("g", ""), ("cm/s2", "pga = 0.2")])
+def test_a_plausible_or_rescaled_record_is_not_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, units: str, extra: str
+) -> None:
+    p = _model(tmp_path, units=units, text=MODEL.replace('units = "UNITS"',
+                                                         f'units = "UNITS"\n{extra}'))  # fmt: skip
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert "plausible" not in caplog.text
+
+
+def test_a_record_too_strong_names_the_likely_units() -> None:
+    msg = implausible_pga("r.csv", 9.81 * 98.1, "m/s2")  # 981 cm/s2 read as m/s2: 98 g
+    assert msg == ("r.csv: the record's PGA is 98.1 g with its values read in m/s2 (units = "
+                   "'m/s2'): above the plausible 0.001 to 10 g; are its values in cm/s2? "
+                   "(units = 'cm/s2' gives 0.981 g)")  # fmt: skip
+
+
+# -- 4. decimal commas in a record ----------------------------------------------------------
+@pytest.mark.parametrize(
+    ("text", "dt", "line", "shown"),
+    [("0,0000\n0,0123\n-0,0150\n", 0.01, 1, "0,0000"),
+     ("acc (g)\n0,0000\n0,0123\n-0,0150\n", None, 2, "0,0000"),
+     ("0,5\n-0,3\n0,25\n", 0.01, 1, "0,5"),
+     ("0,5\n-0,3\n0,25\n", None, 1, "0,5"),
+     ("0\t0,0\n0,01\t0,1\n", None, 1, "0\\t0,0")],
+)  # fmt: skip
+def test_decimal_commas_are_named(tmp_path: Path, text: str, dt: float | None, line: int,
+                                  shown: str) -> None:  # fmt: skip
+    p = tmp_path / "r.txt"
+    p.write_text(text)
+    with pytest.raises(RecordError) as exc:
+        read_record(p, units="g", dt=dt)
+    assert str(exc.value) == (f"{p}: line {line}: decimal commas in '{shown}'; expected "
+                              "numbers with a decimal point (0.0123, not 0,0123)")  # fmt: skip
+
+
+@pytest.mark.parametrize("text", ["0,0\n1,5\n2,3\n", "0, 0\n0.01, 0.1\n0.02, 0.0\n"])
+def test_commas_between_columns_are_not_decimal_commas(tmp_path: Path, text: str) -> None:
+    p = tmp_path / "r.csv"
+    p.write_text(text)
+    assert read_record(p, units="m/s2").time.size == 3

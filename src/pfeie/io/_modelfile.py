@@ -34,7 +34,7 @@ from ..mesh import Mesh, shape_quality
 from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import read_record
+from ._records import implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -632,6 +632,10 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                              f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
                              f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
                              "times too strong) and scale")  # fmt: skip
+        if gm.pga is None and gm.target_sa is None:  # scaled to a target: units cancel
+            odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
+            if odd is not None:
+                log.warning("%s: ground_motion[%d]: %s", p, i, odd)
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)
