@@ -218,3 +218,33 @@ def test_commas_between_columns_are_not_decimal_commas(tmp_path: Path, text: str
     p = tmp_path / "r.csv"
     p.write_text(text)
     assert read_record(p, units="m/s2").time.size == 3
+
+
+# -- 5. a tensile strength beyond the apex of the Mohr-Coulomb cone --------------------------
+@pytest.mark.parametrize(
+    ("joint", "words"),
+    [('cohesion = 0.5e6\ntensile_strength = 3.0e6\ninitial = "intact"',
+      "interfaces.joint.tensile_strength: 3e+06 Pa lies beyond the apex of the intact "
+      "strength, cohesion / tan(friction_angle) = 500000 Pa (cohesion = 500000 Pa, "
+      "friction_angle = 45°): an intact pair in tension beyond it has no shear capacity; "
+      "expected tensile_strength <= 500000 Pa (0 without cohesion)"),
+     ("residual_cohesion = 1e5\nresidual_tensile_strength = 1e6\nresidual_friction_angle = 40.0",
+      "interfaces.joint.residual_tensile_strength: 1e+06 Pa lies beyond the apex of the "
+      "residual strength, residual_cohesion / tan(residual_friction_angle) = 119175 Pa "
+      "(residual_cohesion = 100000 Pa, residual_friction_angle = 40°): a broken pair in "
+      "tension beyond it has no shear capacity; expected residual_tensile_strength <= "
+      "119175 Pa (0 without residual_cohesion)")],
+)  # fmt: skip
+def test_a_tensile_strength_beyond_the_apex_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], joint: str, words: str
+) -> None:
+    text = MODEL.replace("friction_angle = 30.0", f"friction_angle = 45.0\n{joint}")
+    p = _model(tmp_path, text=text)
+    fails(capsys, ["check", str(p)], f"{p}: {words}")
+
+
+def test_a_tensile_strength_at_the_apex_or_of_a_broken_joint_is_accepted(tmp_path: Path) -> None:
+    for joint in ('cohesion = 0.5e6\ntensile_strength = 0.5e6\ninitial = "intact"',
+                  "cohesion = 0.5e6\ntensile_strength = 3.0e6"):  # starts broken: not acting
+        text = MODEL.replace("friction_angle = 30.0", f"friction_angle = 45.0\n{joint}")
+        load_job(_model(tmp_path, text=text))
