@@ -9,8 +9,10 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+import pfeie as pf
 from pfeie.cli import main
 from pfeie.errors import MeshError, RecordError
 from pfeie.io import implausible_pga, load_job, read_mesh, read_record
@@ -248,3 +250,87 @@ def test_a_tensile_strength_at_the_apex_or_of_a_broken_joint_is_accepted(tmp_pat
                   "cohesion = 0.5e6\ntensile_strength = 3.0e6"):  # starts broken: not acting
         text = MODEL.replace("friction_angle = 30.0", f"friction_angle = 45.0\n{joint}")
         load_job(_model(tmp_path, text=text))
+
+
+# -- 6. coincident nodes that no cell and no declared joint joins ----------------------------
+def _two_quads_unshared() -> str:
+    """MSH 2.2: quads "rock" (y in [0, 1]) and "dam" (y in [1, 2]) meshed apart: the dam's
+    nodes 5 and 6 lie on the rock's nodes 4 and 3 without being them; "bottom" at y = 0."""
+    nodes = [(0, 0), (1, 0), (1, 1), (0, 1), (0, 1), (1, 1), (1, 2), (0, 2)]
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "3",
+             '2 1 "rock"', '2 2 "dam"', '1 3 "bottom"', "$EndPhysicalNames", "$Nodes", "8"]
+    lines += [f"{i} {x} {y} 0" for i, (x, y) in enumerate(nodes, start=1)]
+    lines += ["$EndNodes", "$Elements", "3", "1 1 2 3 3 1 2", "2 3 2 1 1 1 2 3 4",
+              "3 3 2 2 2 5 6 7 8", "$EndElements"]  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
+UNSHARED = """
+[mesh]
+file = "quads.msh"
+[materials.concrete]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+rock = "concrete"
+dam = "concrete"
+[[supports]]
+group = "bottom"
+[analysis]
+dynamic = false
+[output]
+folder = "out"
+"""
+
+
+def test_coincident_unshared_nodes_are_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    (tmp_path / "quads.msh").write_text(_two_quads_unshared())
+    p = tmp_path / "model.toml"
+    p.write_text(UNSHARED)
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert (f"{p}: 2 pair(s) of coincident nodes between the blocks 'rock' and 'dam' are not "
+            "shared (the first at [1, 1]): the sides are not joined there, a crack that no "
+            "[interfaces] table declares (meshed separately?); expected shared nodes (gmsh: "
+            "fragment the geometry), with an [interfaces] table for a joint"
+            ) in caplog.text  # fmt: skip
+
+
+def test_a_joint_declared_on_unshared_nodes_names_them(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    text = _two_quads_unshared().replace('"bottom"\n', '"bottom"\n1 4 "joint"\n').replace(
+        "$PhysicalNames\n3", "$PhysicalNames\n4").replace("$Elements\n3", "$Elements\n4")
+    (tmp_path / "quads.msh").write_text(text.replace("$EndElements", "4 1 2 4 4 4 3\n$EndElements"))
+    p = tmp_path / "model.toml"
+    p.write_text(UNSHARED.replace("[[supports]]", "[interfaces.joint]\nfriction_angle = 30.0\n"
+                                  "[[supports]]"))  # fmt: skip
+    fails(capsys, ["check", str(p)], "interface 'joint' has facets on the mesh boundary",
+          "; the mesh has 2 pair(s) of coincident nodes that are not shared (the first at [1, "
+          "1]): blocks meshed separately? (gmsh: fragment the geometry, so that they share the "
+          "joint's nodes)")  # fmt: skip
+
+
+def test_the_nodes_of_a_declared_joint_are_not_counted(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    with caplog.at_level(logging.WARNING):
+        job = load_job(_model(tmp_path))
+    assert job.model.pairs is not None and job.model.pairs.n > 0
+    assert job.model.unshared_coincident_nodes() == []
+    assert "coincident" not in caplog.text
+
+
+def test_a_crack_inside_one_block_is_found() -> None:
+    a = pf.rectangle(1.0, 1.0, 2, 2)
+    b = pf.rectangle(1.0, 1.0, 2, 2)
+    pts = np.vstack([a.points, b.points + np.array([1.0, 0.0])])  # side by side, x = 1 twice
+    cells = {"quad": np.vstack([a.cells["quad"], b.cells["quad"] + a.n_points])}
+    mesh = pf.Mesh(pts, cells, {"all": {"quad": np.arange(8)}})
+    model = pf.Model(mesh, [pf.Block("all", pf.Elastic(E=1e9, nu=0.2, rho=2000.0))])
+    ((ga, gb, n, x),) = model.unshared_coincident_nodes()
+    assert (ga, gb, n) == ("all", "all", 3) and x.tolist() == [1.0, 0.0]
+    assert pf.rectangle(2.0, 1.0, 4, 2).coincident_nodes().shape == (0, 2)

@@ -468,7 +468,15 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
                       damping=damping, interfaces=interfaces)  # fmt: skip
     except (ModelError, MeshError) as exc:
-        raise InputError(f"{p}: {exc}") from None
+        hint = ""
+        if "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
+            pairs = mesh.coincident_nodes()
+            if pairs.size:
+                at = ", ".join(f"{v:.6g}" for v in mesh.points[pairs[0, 0]])
+                hint = (f"; the mesh has {len(pairs)} pair(s) of coincident nodes that are not "
+                        f"shared (the first at [{at}]): blocks meshed separately? (gmsh: "
+                        "fragment the geometry, so that they share the joint's nodes)")  # fmt: skip
+        raise InputError(f"{p}: {exc}{hint}") from None
     axes = {"x": 0, "y": 1, "z": 2}
     for i, sup in enumerate(cfg.supports):
         g = sup.group
@@ -480,6 +488,13 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             if max(comps) >= mesh.dim:
                 raise InputError(f"{p}: supports[{i}].components: 'z' in a 2D model")
         model.fix(g, comps, sup.value)
+    for a, b, n, x in model.unshared_coincident_nodes():
+        where = f"inside the block {a!r}" if a == b else f"between the blocks {a!r} and {b!r}"
+        log.warning("%s: %d pair(s) of coincident nodes %s are not shared (the first at "
+                    "[%s]): the sides are not joined there, a crack that no [interfaces] "
+                    "table declares (meshed separately?); expected shared nodes (gmsh: "
+                    "fragment the geometry), with an [interfaces] table for a joint", p, n,
+                    where, ", ".join(f"{v:.6g}" for v in x))  # fmt: skip
     if not cfg.supports:
         log.warning("%s: no [[supports]]: nothing holds the model, every block floats (a "
                     "static analysis finds no equilibrium under gravity, a dynamic one lets "
