@@ -334,3 +334,24 @@ def test_a_crack_inside_one_block_is_found() -> None:
     ((ga, gb, n, x),) = model.unshared_coincident_nodes()
     assert (ga, gb, n) == ("all", "all", 3) and x.tolist() == [1.0, 0.0]
     assert pf.rectangle(2.0, 1.0, 4, 2).coincident_nodes().shape == (0, 2)
+
+
+# -- 7. an unwritable report path is refused before the report is built ----------------------
+def test_an_unwritable_report_path_fails_before_any_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    p = tmp_path / "model.toml"
+    p.write_text(UNSHARED.replace('"quads.msh"', f'"{DATA / "two_blocks_v22.msh"}"'))
+    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    import pfeie.plot._report as report
+
+    def no_work(*args: object) -> None:
+        raise AssertionError("the report was built before its output was checked")
+
+    monkeypatch.setattr(report, "model_of_run", no_work)
+    (tmp_path / "afile").write_text("")
+    out = tmp_path / "afile" / "report.html"
+    fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", str(out)],
+          f"pfeie: error: --out: {out}: cannot write the file: {tmp_path / 'afile'}: is a file, "
+          "not a folder")  # fmt: skip

@@ -369,7 +369,7 @@ def _post(args: argparse.Namespace) -> int:
         else:
             from .plot import write_report
 
-            files = [write_report(args.results, args.out)]
+            files = [write_report(args.results, args.out, "--out" if args.out else "")]
     except PfeieError as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT

@@ -30,7 +30,8 @@ def output_folder(path: str | Path, where: str = "") -> Path:
 
 
 def output_file(path: str | Path, where: str = "") -> Path:
-    """The folder of an output file, created and checked by :func:`output_folder`."""
+    """The folder of an output file, created and checked by :func:`output_folder`; an
+    existing file must be writable. :class:`InputError` names the file (after ``where``)."""
     p = Path(path)
     head = f"{where}: " if where else ""
     if "\x00" in str(p):
@@ -38,7 +39,13 @@ def output_file(path: str | Path, where: str = "") -> Path:
                          "of a file to write)")  # fmt: skip
     if p.is_dir():
         raise InputError(f"{head}{p}: is a folder (expected the path of a file to write)")
-    output_folder(p.parent, where)
+    try:
+        output_folder(p.parent)
+    except InputError as exc:
+        raise InputError(f"{head}{p}: cannot write the file: {exc}") from None
+    if p.exists() and not os.access(p, os.W_OK):
+        raise InputError(f"{head}{p}: the file exists and is not writable (expected the path "
+                         "of a file to write)")  # fmt: skip
     return p
 
 
