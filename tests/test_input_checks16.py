@@ -355,3 +355,34 @@ def test_an_unwritable_report_path_fails_before_any_work(
     fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", str(out)],
           f"pfeie: error: --out: {out}: cannot write the file: {tmp_path / 'afile'}: is a file, "
           "not a folder")  # fmt: skip
+
+
+# -- 8. errors at a key that --set gave say so -------------------------------------------------
+@pytest.mark.parametrize(
+    ("setting", "words"),
+    [("blocks.dam=steel", "blocks.dam (from --set blocks.dam=steel): unknown material 'steel'"),
+     ("mesh.file=none.msh", "mesh.file (from --set mesh.file=none.msh): "),
+     ('supports[0].group="nope"', "supports[0].group (from --set supports[0].group=\"nope\"): "
+      "no physical group 'nope'"),
+     ("ground_motion[3].scale=2", "ground_motion[3].scale (from --set ground_motion[3].scale=2):"
+      " no item 3 (the file has 1)"),
+     ("analysis.dtt=0.1", "analysis.dtt (from --set analysis.dtt=0.1): unknown key"),
+     ("colour.x=1", "colour (from --set colour.x=1): unknown key"),
+     ("interfaces.other.cohesion=1e5", "interfaces.other.friction_angle (from --set "
+      "interfaces.other.cohesion=1e5): missing (required)"),
+     ("ground_motion[0].file=none.csv", "ground_motion[0] (with --set "
+      "ground_motion[0].file=none.csv): ")],
+)  # fmt: skip
+def test_an_error_at_a_key_set_on_the_command_line_names_the_setting(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], setting: str, words: str
+) -> None:
+    p = _model(tmp_path)
+    fails(capsys, ["check", str(p), "--set", setting], f"pfeie: error: {p}: {words}")
+
+
+def test_an_error_elsewhere_does_not_name_the_setting(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    p = _model(tmp_path, text=MODEL.replace('dam = "concrete"', 'dam = "steel"'))
+    err = fails(capsys, ["check", str(p), "--set", "analysis.dt=0.02"], "blocks.dam: unknown")
+    assert "--set" not in err

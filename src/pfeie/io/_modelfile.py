@@ -94,24 +94,56 @@ def _key_parts(key: str) -> list[str | int]:
     return parts
 
 
-def _apply(data: dict[str, Any], ov: Override, where: str) -> None:
+def _related(a: Sequence[str | int], b: Sequence[str | int]) -> bool:
+    """Whether one key path is the other or lies under it."""
+    n = min(len(a), len(b))
+    return n > 0 and list(a[:n]) == list(b[:n])
+
+
+def _blame(text: str, p: Path, overrides: Sequence[Override]) -> str:
+    """The lines of an error message that name a key set by an override say so: ``KEY
+    (from --set KEY=VALUE)`` at the key set or under it, ``(with --set ...)`` at a table
+    above it (the error may have another cause there)."""
+    head = f"{p}: "
+    out = []
+    for line in text.split("\n"):
+        hit = _KEY.match(line[len(head) :]) if line.startswith(head) else None
+        rest = line[len(head) + hit.end() :] if hit else ""
+        if hit and rest.startswith(": "):
+            key = _key_parts(hit.group())
+            for ov in reversed(overrides):
+                mine = _key_parts(ov.key)
+                if _related(mine, key):
+                    how = "from" if len(key) >= len(mine) else "with"
+                    line = f"{head}{hit.group()} ({how} {ov.source}){rest}"
+                    break
+        out.append(line)
+    return "\n".join(out)
+
+
+def _apply(data: dict[str, Any], ov: Override, where: str) -> list[str | int]:
+    """Set the override's key in ``data``; returns the key path that it made: the key, or
+    the first table on its way that the file did not have."""
     cur: Any = data
     parts = _key_parts(ov.key)
+    made = parts
     for i, part in enumerate(parts):
         last = i == len(parts) - 1
         if isinstance(part, int):
             if not isinstance(cur, list) or part >= len(cur):
                 n = len(cur) if isinstance(cur, list) else 0
-                raise InputError(f"{where}: {ov.key} ({ov.source}): no item {part} "
+                raise InputError(f"{where}: {ov.key} (from {ov.source}): no item {part} "
                                  f"(the file has {n})")  # fmt: skip
         elif not isinstance(cur, dict):
-            raise InputError(f"{where}: {ov.key} ({ov.source}): not a table")
+            raise InputError(f"{where}: {ov.key} (from {ov.source}): not a table")
         if last:
             cur[part] = ov.value
         else:
             if isinstance(part, str) and part not in cur:
                 cur[part] = [] if isinstance(parts[i + 1], int) else {}
+                made = parts[: i + 1] if made is parts else made
             cur = cur[part]
+    return made
 
 
 @dataclass
@@ -385,15 +417,13 @@ def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
             raise InputError(f"{p}: expected a model file (.toml); this looks like "
                              f"{kind}{where}") from None  # fmt: skip
         raise InputError(f"{p}: not valid TOML: {exc}") from None
-    for ov in overrides:
-        _apply(data, ov, str(p))
+    made = [(_apply(data, ov, str(p)), ov.source) for ov in overrides]
     try:
         return ModelFile.model_validate(data)
     except ValidationError as exc:
         lines = []
-        for pb in problems(exc, data):
-            src = [o.source for o in overrides if _key_parts(o.key) == list(pb.loc)[: len(
-                _key_parts(o.key))]]  # fmt: skip
+        for pb in problems(exc, data):  # at or under a key set, or a table that one made
+            src = [source for key, source in made if _related(key, list(pb.loc))]
             lines.append(f"{p}: {pb.key}{f' (from {src[-1]})' if src else ''}: {pb.text}")
         raise InputError("\n".join(lines)) from None
 
@@ -411,8 +441,16 @@ def _largest_cell(mesh: Any) -> float:
 def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
-    :class:`RecordError`, each naming the file."""
-    p = Path(path)
+    :class:`RecordError`, each naming the file (and the override, for a key it set)."""
+    if not overrides:
+        return _load_job(Path(path), overrides)
+    try:
+        return _load_job(Path(path), overrides)
+    except (InputError, MeshError, RecordError) as exc:
+        raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
+
+
+def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
     if not p.is_file():
         raise InputError(f"{p}: model file not found")
     raw = p.read_bytes()
