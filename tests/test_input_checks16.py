@@ -386,3 +386,25 @@ def test_an_error_elsewhere_does_not_name_the_setting(
     p = _model(tmp_path, text=MODEL.replace('dam = "concrete"', 'dam = "steel"'))
     err = fails(capsys, ["check", str(p), "--set", "analysis.dt=0.02"], "blocks.dam: unknown")
     assert "--set" not in err
+
+
+# -- 9. the mesh generators refuse sizes <= 0 and counts < 1 ---------------------------------
+@pytest.mark.parametrize(
+    ("make", "words"),
+    [(lambda: pf.box(-1, 1, 1), "box: lx: expected a length > 0 (m), got -1"),
+     (lambda: pf.box(1, 1, 0.0), "box: lz: expected a length > 0 (m), got 0.0"),
+     (lambda: pf.rectangle(1, float("nan")), "rectangle: ly: expected a length > 0 (m), got nan"),
+     (lambda: pf.rectangle(1, 1, 0), "rectangle: nx: expected a whole number of elements >= 1, "
+      "got 0"),
+     (lambda: pf.box(1, 1, 1, 2, np.int64(-3)), "box: ny: expected a whole number of elements "
+      ">= 1, got -3"),
+     (lambda: pf.rectangle(1, 1, 1.5), "rectangle: nx: expected a whole number of elements >= "
+      "1, got 1.5"),
+     (lambda: pf.rectangle(1, 1, origin=(0.0,)), "rectangle: origin: expected 2 finite "
+      "coordinates (m), got (0.0,)")],
+)  # fmt: skip
+def test_a_mesh_generator_refuses_a_size_or_count_out_of_range(make, words: str) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(ValueError) as exc:
+        make()
+    assert str(exc.value) == words
+    assert isinstance(exc.value, MeshError)
