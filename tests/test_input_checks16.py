@@ -14,7 +14,7 @@ import pytest
 
 import pfeie as pf
 from pfeie.cli import main
-from pfeie.errors import MeshError, RecordError
+from pfeie.errors import MeshError, ModelError, RecordError
 from pfeie.io import implausible_pga, load_job, read_mesh, read_record
 
 DATA = Path(__file__).parent / "data"
@@ -408,3 +408,16 @@ def test_a_mesh_generator_refuses_a_size_or_count_out_of_range(make, words: str)
         make()
     assert str(exc.value) == words
     assert isinstance(exc.value, MeshError)
+
+
+# -- 10. numpy scalars in messages are printed as plain numbers ------------------------------
+def test_numpy_scalars_in_messages_print_as_plain_numbers() -> None:
+    model = pf.Model(pf.rectangle(1.0, 1.0), [pf.Block("all", pf.Elastic(1e9, 0.2, 2000.0))])
+    with pytest.raises(ModelError) as exc:
+        model.fix("xmin", components=np.array([2]))
+    assert str(exc.value).endswith("components: expected integers in 0..1 (0 = x), got [2]")
+    with pytest.raises(ModelError) as exc:
+        model.fix("xmin", components=["w"])  # type: ignore[list-item]
+    assert str(exc.value).endswith("got ['w']")
+    with pytest.raises(ModelError, match=r"refine must be an integer >= 1, got 0$"):
+        model.add_reservoir(["xmax"], water_level=1.0, refine=np.int64(0))

@@ -425,8 +425,9 @@ class Model:
         comps = tuple(range(self.dim)) if components is None else tuple(np.atleast_1d(components))
         if any(isinstance(c, bool) or not isinstance(c, int | np.integer) or not 0 <= c < self.dim
                for c in comps):  # fmt: skip
+            shown = [c.item() if isinstance(c, np.generic) else c for c in comps]  # not np.int64(2)
             raise ModelError(f"fix {label}: components: expected integers in 0..{self.dim - 1} "
-                             f"(0 = x), got {list(comps)!r}")  # fmt: skip
+                             f"(0 = x), got {shown!r}")  # fmt: skip
         self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
         self.__dict__.pop("_dofmap", None)
 
