@@ -421,3 +421,77 @@ def test_numpy_scalars_in_messages_print_as_plain_numbers() -> None:
     assert str(exc.value).endswith("got ['w']")
     with pytest.raises(ModelError, match=r"refine must be an integer >= 1, got 0$"):
         model.add_reservoir(["xmax"], water_level=1.0, refine=np.int64(0))
+
+
+# -- 11. the water levels of one reservoir, and the uplift's upstream side --------------------
+DAM = f"""
+[mesh]
+file = "{DATA / "dam_lift_joint.msh"}"
+[materials.concrete]
+E = 25e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+dam_lower = "concrete"
+dam_upper = "concrete"
+rock = "concrete"
+[interfaces.dam_rock]
+friction_angle = 45.0
+cohesion = 0.5e6
+tensile_strength = 0.2e6
+initial = "intact"
+[interfaces.lift]
+friction_angle = 45.0
+cohesion = 0.5e6
+initial = "intact"
+[[supports]]
+group = "rock_bottom"
+[loads]
+gravity = 9.81
+[[loads.hydrostatic]]
+groups = ["upstream", "reservoir_floor"]
+water_level = 18.0
+[[loads.westergaard]]
+groups = ["upstream"]
+water_level = 18.0
+[[loads.uplift]]
+interface = "dam_rock"
+headwater = 18.0
+[analysis]
+dynamic = false
+[output]
+folder = "out"
+"""
+
+
+@pytest.mark.parametrize(
+    ("edit", "words"),
+    [(("headwater = 18.0", "headwater = 16.0"),
+      "loads.uplift[0].headwater = 16 m differs from loads.hydrostatic[0].water_level = 18 m "
+      "(the reservoir: the highest water on the faces): one reservoir, two levels; intended?"),
+     (("water_level = 18.0\n[[loads.uplift]]", "water_level = 17.0\n[[loads.uplift]]"),
+      "loads.westergaard[0].water_level = 17 m differs from loads.hydrostatic[0].water_level = "
+      "18 m on the same face(s) 'upstream': one reservoir, two levels; intended?"),
+     (("headwater = 18.0", 'headwater = 18.0\nupstream = "+x"'),
+      "loads.uplift[0].upstream = '+x' puts the heel of 'dam_rock' at x = 15 m, but the water "
+      "of loads.hydrostatic[0] wets faces about x = -5.526 m, past the joint's other end (x = 0 "
+      "m); expected upstream = '-x'?")],
+)  # fmt: skip
+def test_two_levels_of_one_reservoir_or_the_wrong_side_are_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, edit: tuple[str, str], words: str
+) -> None:
+    p = tmp_path / "dam.toml"
+    p.write_text(DAM.replace(*edit))
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert f"{p}: {words}" in caplog.text
+
+
+def test_one_reservoir_at_one_level_is_not_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    p = tmp_path / "dam.toml"
+    p.write_text(DAM)
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert "two levels" not in caplog.text and "upstream =" not in caplog.text

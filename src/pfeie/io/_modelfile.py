@@ -326,6 +326,74 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                             "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
+    _water_levels(p, cfg, mesh)
+
+
+#: two water levels that differ by more than this (m) are two levels
+_LEVEL_TOL = 1e-6
+
+
+def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
+    """Warnings where one reservoir is given twice with two levels: an uplift's headwater
+    that is not the highest hydrostatic water level (the reservoir on the upstream face),
+    its tailwater that is none of the lower ones, a Westergaard level that is not the
+    hydrostatic level of a face they share; and an uplift whose ``upstream`` side puts the
+    heel at the end of the joint away from the reservoir's wet faces."""
+    loads = cfg.loads
+    hyd = list(loads.hydrostatic)
+    for i, w in enumerate(loads.westergaard):
+        for k, h in enumerate(hyd):
+            shared = sorted(set(w.groups) & set(h.groups))
+            if shared and abs(w.water_level - h.water_level) > _LEVEL_TOL:
+                log.warning("%s: loads.westergaard[%d].water_level = %g m differs from "
+                            "loads.hydrostatic[%d].water_level = %g m on the same face(s) "
+                            "%s: one reservoir, two levels; intended?", p, i, w.water_level,
+                            k, h.water_level, ", ".join(map(repr, shared)))  # fmt: skip
+    if not hyd:
+        return
+    k = max(range(len(hyd)), key=lambda i: hyd[i].water_level)  # the reservoir
+    lower = [i for i in range(len(hyd)) if i != k]
+    for j, up in enumerate(loads.uplift):
+        if abs(up.headwater - hyd[k].water_level) > _LEVEL_TOL:
+            log.warning("%s: loads.uplift[%d].headwater = %g m differs from "
+                        "loads.hydrostatic[%d].water_level = %g m (the reservoir: the highest "
+                        "water on the faces): one reservoir, two levels; intended?", p, j,
+                        up.headwater, k, hyd[k].water_level)  # fmt: skip
+        tail = up.tailwater
+        if tail is not None and all(abs(tail - hyd[i].water_level) > _LEVEL_TOL for i in lower):
+            i = min(lower, key=lambda i: abs(hyd[i].water_level - tail), default=-1)
+            if i >= 0:  # (without water on the downstream faces, nothing to compare)
+                log.warning("%s: loads.uplift[%d].tailwater = %g m differs from "
+                            "loads.hydrostatic[%d].water_level = %g m (the tailwater on the "
+                            "faces): one tailwater, two levels; intended?", p, j, tail, i,
+                            hyd[i].water_level)  # fmt: skip
+        _upstream_side(p, j, up, k, hyd[k], mesh)
+
+
+def _upstream_side(p: Path, j: int, up: Any, k: int, water: Any, mesh: Mesh) -> None:
+    """A warning when the reservoir's wet faces (of ``water``, loads.hydrostatic[k]) lie
+    beyond the far end of the joint from the heel that ``upstream`` sets (by more than a
+    quarter of the joint's span past its middle)."""
+    axis, sign = {"-x": (0, -1.0), "+x": (0, 1.0), "-y": (1, -1.0), "+y": (1, 1.0)}[up.upstream]
+    groups = [g for g in water.groups if g in mesh.facet_groups]
+    if axis >= mesh.dim - 1 or up.interface not in mesh.facet_groups or not groups:
+        return  # refused later, or nothing to compare
+    x = mesh.points[mesh.group_nodes(up.interface), axis]
+    wet = mesh.points[np.unique(np.concatenate([mesh.group_nodes(g) for g in groups]))]
+    wet = wet[wet[:, mesh.dim - 1] < water.water_level, axis]
+    lo, hi = float(x.min()), float(x.max())
+    if not wet.size or hi - lo <= 0.0:
+        return
+    c, mid, span = float(wet.mean()), 0.5 * (lo + hi), hi - lo
+    if sign * (c - mid) < -0.25 * span:  # the reservoir is at the other end
+        name = "xy"[axis]
+        heel, far = (lo, hi) if sign < 0 else (hi, lo)
+        other = ("+" if sign < 0 else "-") + name
+        log.warning("%s: loads.uplift[%d].upstream = %r puts the heel of %r at %s = %.4g m, "
+                    "but the water of loads.hydrostatic[%d] wets faces about %s = %.4g m, past "
+                    "the joint's other end (%s = %.4g m); expected upstream = %r?", p, j,
+                    up.upstream, up.interface, name, heel, k, name, c, name, far,
+                    other)  # fmt: skip
 
 
 def _undeclared_joints(p: Path, cfg: Any, mesh: Mesh) -> None:
