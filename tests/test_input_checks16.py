@@ -133,6 +133,13 @@ def test_a_mesh_given_as_the_study_file_is_named_a_mesh(
           "gmsh mesh")  # fmt: skip
 
 
+def test_a_mesh_given_as_a_record_is_named_a_mesh() -> None:
+    p = DATA / "two_blocks_v41.msh"
+    with pytest.raises(RecordError) as exc:
+        read_record(p, units="g", dt=0.01)
+    assert str(exc.value) == f"{p}: expected a ground-motion record; this looks like a gmsh mesh"
+
+
 # -- a small model: two blocks on a joint (tests/data/two_blocks_v41.msh) --------------------
 MODEL = f"""
 [mesh]

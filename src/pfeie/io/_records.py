@@ -242,6 +242,8 @@ def read_record(
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
+    if text.lstrip().startswith(("$MeshFormat", "$Comments")):
+        raise RecordError(f"{p}: expected a ground-motion record; this looks like a gmsh mesh")
     lines = text.splitlines()
     kind = fmt.lower()
     if kind not in ("auto", "at2", "two-column", "one-column"):
