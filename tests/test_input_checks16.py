@@ -7,6 +7,7 @@ generator arguments, numpy scalars in messages, water levels that disagree."""
 from __future__ import annotations
 
 import logging
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -111,6 +112,23 @@ def test_the_gmsh_readers_warning_is_logged_not_printed(
     assert capsys.readouterr().err == ""
     assert (f"{p}: the section $Elements is not closed by $EndElements: the file may be "
             "truncated") in caplog.text  # fmt: skip
+
+
+def test_a_nan_node_tag_is_named_and_numpy_warnings_are_not_shown(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    lines = (DATA / "two_blocks_v22.msh").read_text().splitlines(keepends=True)
+    k = lines.index("$Nodes\n") + 2
+    lines[k] = "nan " + " ".join(lines[k].split()[1:]) + "\n"
+    p = tmp_path / "nan.msh"
+    p.write_text("".join(lines))
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        with pytest.raises(MeshError, match=rf"line {k + 1} \(section \$Nodes\): 'nan .*' is not "
+                           "finite numbers: the file is corrupt"):  # fmt: skip
+            read_mesh(p)
+    assert [str(w.message) for w in shown] == []  # numpy's, inside the reader
+    assert capsys.readouterr().err == ""
 
 
 # -- 2. a mesh given where a model file is expected -----------------------------------------

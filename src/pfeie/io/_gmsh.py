@@ -21,7 +21,9 @@ from __future__ import annotations
 import contextlib
 import io
 import logging
+import math
 import re
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -48,16 +50,26 @@ def read_mesh(path: str | Path) -> Mesh:
         from meshio import gmsh
     except ImportError:  # pragma: no cover - meshio is in the io extra
         raise MeshError("reading gmsh files needs meshio: pip install 'pfeie[io]'") from None
-    fault = _not_gmsh(p)
+    try:
+        fault = _not_gmsh(p)
+    except OSError as exc:
+        raise MeshError(f"{p}: cannot read the mesh file: {exc.strerror or exc}") from None
     if fault is not None:
         raise MeshError(f"{p}: cannot read the gmsh file: {fault}; {EXPECTED_MSH}")
     said = io.StringIO()  # meshio prints its warnings to stderr (rich): kept and logged
     try:  # meshio's own gmsh reader: meshio.read prints and exits on a ReadError
-        with contextlib.redirect_stderr(said):
+        with contextlib.redirect_stderr(said), warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")  # numpy's, on a corrupt file: logged, not shown
             m = gmsh.read(p)
+        for w in caught:
+            log.debug("%s: the gmsh reader: %s", p, w.message)
     except Exception as exc:
         log.debug("%s: the gmsh reader stopped: %r", p, exc)
-        why = _diagnose(p) or "the file is truncated or corrupt (the gmsh reader stopped there)"
+        try:
+            why = _diagnose(p)
+        except Exception:  # (a diagnosis that fails itself: the general words)
+            why = None
+        why = why or "the file is truncated or corrupt (the gmsh reader could not parse it)"
         raise MeshError(f"{p}: cannot read the gmsh file: {why}; {EXPECTED_MSH}") from None
     finally:
         _log_reader_warnings(p, said.getvalue())
@@ -137,11 +149,13 @@ def _diagnose(path: Path) -> str | None:
             if section in ("Nodes", "Elements") and ascii_ and line:
                 fields = line.split()
                 try:
-                    [float(f) for f in fields]
+                    what = "" if all(math.isfinite(float(f)) for f in fields) else "finite numbers"
                 except ValueError:
+                    what = "numbers"
+                if what:
                     text = line.decode("utf-8", "replace")[:40]
-                    return (f"line {n} (section ${section}): {text!r} is not numbers: the "
-                            "file is corrupt")  # fmt: skip
+                    return (f"line {n} (section ${section}): {text!r} is not {what}: the file "
+                            "is corrupt")  # fmt: skip
                 rows.append(fields)
     if section:
         return (f"the file is truncated: the section ${section} (from line {start}) is not "

@@ -515,6 +515,8 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     try:
         return _load_job(Path(path), overrides)
     except (InputError, MeshError, RecordError) as exc:
+        if type(exc) not in (InputError, MeshError, RecordError):
+            raise  # a subclass (another signature): as it is
         raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
 
 
