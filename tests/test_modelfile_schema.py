@@ -207,7 +207,7 @@ def test_slip_weakening_interface_builds_its_law(tmp_path: Path) -> None:
          "expected a number in [-1/3, 0], found -0.5"),
         (["--set", "analysis.alpa=-0.1"], "analysis.alpa (from --set analysis.alpa=-0.1): "
          "unknown key; expected one of: alpha, backend"),
-        (["--set", "ground_motion[3].scale=2"], "ground_motion[3].scale (--set "
+        (["--set", "ground_motion[3].scale=2"], "ground_motion[3].scale (from --set "
          "ground_motion[3].scale=2): no item 3 (the file has 1)"),
         (["--set", "analysis.alpha"], "--set analysis.alpha: expected KEY=VALUE"),
     ],

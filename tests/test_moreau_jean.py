@@ -175,7 +175,8 @@ def test_model_file_selects_the_scheme(tmp_path, capsys) -> None:  # type: ignor
     args = ["run", str(p), "--quiet", "--set", 'analysis.scheme="moreau-jean"', "--set",
             "analysis.theta=0.5"]  # fmt: skip
     assert main(args) == 2
-    assert "analysis.theta: expected a number in [0.55, 1] with interfaces" in (
+    assert ("analysis.theta (from --set analysis.theta=0.5): expected a number in [0.55, 1] "
+            "with interfaces") in (
         capsys.readouterr().err
     )
 

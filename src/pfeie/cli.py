@@ -369,7 +369,7 @@ def _post(args: argparse.Namespace) -> int:
         else:
             from .plot import write_report
 
-            files = [write_report(args.results, args.out)]
+            files = [write_report(args.results, args.out, "--out" if args.out else "")]
     except PfeieError as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -476,7 +476,7 @@ def _spectrum(args: argparse.Namespace) -> int:
     """``pfeie spectrum``: spectrum.csv, spectrum.png and the intensity measures."""
     from pathlib import Path
 
-    from .io import load_job, output_folder, read_record
+    from .io import implausible_pga, load_job, output_folder, read_record
     from .model import INTENSITY_MEASURES, GroundMotion
 
     try:
@@ -494,6 +494,9 @@ def _spectrum(args: argparse.Namespace) -> int:
         else:
             dt = None if args.dt is None else _number("--dt", args.dt, 0.0)
             records[""] = (read_record(src, units=args.units, dt=dt), t1)
+            odd = implausible_pga(src, records[""][0].pga, args.units or "g")
+            if odd is not None:
+                logging.getLogger("pfeie.cli").warning("%s", odd)
         out = output_folder(args.out, "--out")
         spectra = {}
         for key, (rec, period) in records.items():

@@ -17,7 +17,7 @@ from ._modelfile import (
     reference_rows,
 )
 from ._paraview import write_modes, write_paraview
-from ._records import read_record, write_at2
+from ._records import implausible_pga, read_record, write_at2
 from ._results import Results, ResultsWriter
 from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_file
 
@@ -36,6 +36,7 @@ __all__ = [
     "export_csv",
     "from_gmsh",
     "history",
+    "implausible_pga",
     "json_schema",
     "load_job",
     "output_file",

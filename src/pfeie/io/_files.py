@@ -1,4 +1,5 @@
-"""Output folders: created, or a clear error naming the folder (never an ``OSError``)."""
+"""Output folders: created, or a clear error naming the folder (never an ``OSError``); the
+kind of a file given where a model or study file was expected."""
 
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ def output_folder(path: str | Path, where: str = "") -> Path:
 
 
 def output_file(path: str | Path, where: str = "") -> Path:
-    """The folder of an output file, created and checked by :func:`output_folder`."""
+    """The folder of an output file, created and checked by :func:`output_folder`; an
+    existing file must be writable. :class:`InputError` names the file (after ``where``)."""
     p = Path(path)
     head = f"{where}: " if where else ""
     if "\x00" in str(p):
@@ -37,5 +39,25 @@ def output_file(path: str | Path, where: str = "") -> Path:
                          "of a file to write)")  # fmt: skip
     if p.is_dir():
         raise InputError(f"{head}{p}: is a folder (expected the path of a file to write)")
-    output_folder(p.parent, where)
+    try:
+        output_folder(p.parent)
+    except InputError as exc:
+        raise InputError(f"{head}{p}: cannot write the file: {exc}") from None
+    if p.exists() and not os.access(p, os.W_OK):
+        raise InputError(f"{head}{p}: the file exists and is not writable (expected the path "
+                         "of a file to write)")  # fmt: skip
     return p
+
+
+def foreign_file(path: Path, raw: bytes) -> str | None:
+    """What a file that is not TOML looks like, when it is recognisably another input of
+    pfeie (a gmsh mesh, an HDF5 results file, a ground-motion record); ``None`` else."""
+    head = raw[:4096].lstrip()
+    suffix = path.suffix.lower()
+    if head.startswith((b"$MeshFormat", b"$Comments")) or suffix == ".msh":
+        return "a gmsh mesh"
+    if raw.startswith(b"\x89HDF\r\n\x1a\n") or suffix in (".h5", ".hdf5"):
+        return "an HDF5 file (a results file?)"
+    if suffix in (".at2", ".csv") or head.startswith(b"PEER"):
+        return "a ground-motion record"
+    return None

@@ -18,7 +18,12 @@ Example (the demo's mesh; ``tests/test_io.py`` reads MSH 2.2 and 4.1 files)::
 
 from __future__ import annotations
 
+import contextlib
+import io
 import logging
+import math
+import re
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +37,12 @@ log = logging.getLogger(__name__)
 
 
 def read_mesh(path: str | Path) -> Mesh:
-    """Read a gmsh file; its named physical groups become cell and facet groups."""
+    """Read a gmsh file; its named physical groups become cell and facet groups.
+
+    A file that is empty, not a gmsh file, truncated or corrupt is refused with a
+    :class:`MeshError` that names it and says why (the section not closed, the line that is
+    not numbers, the node that is missing); the gmsh reader's own warnings are logged,
+    naming the file."""
     p = Path(path)
     if not p.is_file():
         raise MeshError(f"{p}: mesh file not found")
@@ -40,17 +50,145 @@ def read_mesh(path: str | Path) -> Mesh:
         from meshio import gmsh
     except ImportError:  # pragma: no cover - meshio is in the io extra
         raise MeshError("reading gmsh files needs meshio: pip install 'pfeie[io]'") from None
+    try:
+        fault = _not_gmsh(p)
+    except OSError as exc:
+        raise MeshError(f"{p}: cannot read the mesh file: {exc.strerror or exc}") from None
+    if fault is not None:
+        raise MeshError(f"{p}: cannot read the gmsh file: {fault}; {EXPECTED_MSH}")
+    said = io.StringIO()  # meshio prints its warnings to stderr (rich): kept and logged
     try:  # meshio's own gmsh reader: meshio.read prints and exits on a ReadError
-        m = gmsh.read(p)
+        with contextlib.redirect_stderr(said), warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")  # numpy's, on a corrupt file: logged, not shown
+            m = gmsh.read(p)
+        for w in caught:
+            log.debug("%s: the gmsh reader: %s", p, w.message)
     except Exception as exc:
-        why = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
-        raise MeshError(f"{p}: cannot read the gmsh file ({why}); expected a gmsh .msh "
-                        "file, format 2.2 or 4.1") from None  # fmt: skip
+        log.debug("%s: the gmsh reader stopped: %r", p, exc)
+        try:
+            why = _diagnose(p)
+        except Exception:  # (a diagnosis that fails itself: the general words)
+            why = None
+        why = why or "the file is truncated or corrupt (the gmsh reader could not parse it)"
+        raise MeshError(f"{p}: cannot read the gmsh file: {why}; {EXPECTED_MSH}") from None
+    finally:
+        _log_reader_warnings(p, said.getvalue())
     try:
         ids = element_ids(p, len(m.cells), [len(b.data) for b in m.cells])
     except Exception:  # the ids only name cells in messages
         ids = None
     return from_gmsh(m, p, ids)
+
+
+EXPECTED_MSH = "expected a gmsh .msh file, format 2.2 or 4.1 (export it again from gmsh)"
+
+
+def _not_gmsh(path: Path) -> str | None:
+    """Why ``path`` is not a gmsh file at all (empty, binary data, another text), or
+    ``None`` when it begins as one (``$MeshFormat``, after optional ``$Comments``)."""
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    if not head.strip():
+        return "the file is empty" if not head else "the file holds only blank space"
+    first = head.lstrip().split(b"\n", 1)[0].strip()
+    if first in (b"$MeshFormat", b"$Comments"):
+        return None
+    try:
+        text = first.decode("utf-8")
+    except UnicodeDecodeError:
+        text = ""
+    if not text or not text.isprintable():
+        return "not a gmsh file: it begins with binary data, not $MeshFormat"
+    return f"not a gmsh file: it begins with {text[:40]!r}, not $MeshFormat"
+
+
+def _log_reader_warnings(path: Path, said: str) -> None:
+    """Log what meshio printed while reading ``path`` (its warnings), naming the file."""
+    for line in said.splitlines():
+        text = line.strip().removeprefix("Warning:").strip()
+        if not text:
+            continue
+        hit = re.fullmatch(r"\$(\w+) not closed by \$End\w+\.?", text)
+        if hit:
+            text = (f"the section ${hit[1]} is not closed by $End{hit[1]}: the file may be "
+                    "truncated (export the mesh again from gmsh)")  # fmt: skip
+        log.warning("%s: %s", path, text)
+
+
+def _diagnose(path: Path) -> str | None:
+    """What is wrong with an ASCII .msh file that meshio could not read: a section that is
+    not closed (a truncated file), a line of ``$Nodes`` or ``$Elements`` that is not
+    numbers, a count of nodes or elements that the section does not hold (MSH 2), an
+    element on a node that ``$Nodes`` lacks (MSH 2); ``None`` when none is found."""
+    version, ascii_ = b"", True
+    section, start, n = "", 0, 0
+    rows: list[list[bytes]] = []
+    nodes: set[int] = set()
+    with path.open("rb") as fh:
+        for n, raw in enumerate(fh, start=1):
+            line = raw.strip()
+            if section == "MeshFormat" and not version and line:
+                fields = line.split()
+                version = fields[0]
+                ascii_ = len(fields) < 2 or fields[1] == b"0"
+            if line.startswith(b"$") and (ascii_ or line[1:].isalpha()):
+                name = line[1:].decode("ascii", "replace")
+                if not section:
+                    section, start, rows = name, n, []
+                    continue
+                if name != f"End{section}":
+                    return (f"line {n}: {name!r} inside the section ${section} (from line "
+                            f"{start}), which is not closed by $End{section}: the file is "
+                            "truncated or corrupt")  # fmt: skip
+                if ascii_ and version.startswith(b"2") and section in ("Nodes", "Elements"):
+                    fault = _check_msh2_section(section, start, rows, nodes)
+                    if fault:
+                        return fault
+                section = ""
+                continue
+            if section in ("Nodes", "Elements") and ascii_ and line:
+                fields = line.split()
+                try:
+                    what = "" if all(math.isfinite(float(f)) for f in fields) else "finite numbers"
+                except ValueError:
+                    what = "numbers"
+                if what:
+                    text = line.decode("utf-8", "replace")[:40]
+                    return (f"line {n} (section ${section}): {text!r} is not {what}: the file "
+                            "is corrupt")  # fmt: skip
+                rows.append(fields)
+    if section:
+        return (f"the file is truncated: the section ${section} (from line {start}) is not "
+                f"closed by $End{section} (the file ends at line {n})")  # fmt: skip
+    return None
+
+
+def _check_msh2_section(section: str, start: int, rows: list[list[bytes]],
+                        nodes: set[int]) -> str | None:  # fmt: skip
+    """A fault of an MSH 2 ASCII ``$Nodes`` or ``$Elements`` section (its rows after the
+    line ``start``): a count that the rows do not match, an element on a missing node."""
+    what = "nodes" if section == "Nodes" else "elements"
+    if not rows or len(rows[0]) != 1:
+        return f"line {start + 1} (section ${section}): expected the number of {what}"
+    declared = int(float(rows[0][0]))
+    if declared != len(rows) - 1:
+        return (f"the section ${section} (line {start}) declares {declared} {what} but holds "
+                f"{len(rows) - 1}: the file is truncated or corrupt")  # fmt: skip
+    if section == "Nodes":
+        short = next((k for k, r in enumerate(rows[1:]) if len(r) != 4), None)
+        if short is not None:
+            return (f"line {start + 2 + short} (section $Nodes): expected 4 numbers (tag, x, "
+                    f"y, z), found {len(rows[short + 1])}: the file is corrupt")  # fmt: skip
+        nodes.update(int(float(r[0])) for r in rows[1:])
+        return None
+    for row in rows[1:]:
+        if len(row) < 3 or len(row) < 3 + int(float(row[2])):
+            return f"gmsh element {row[0].decode()}: too few fields: the file is corrupt"
+        for node in row[3 + int(float(row[2])) :]:
+            if int(float(node)) not in nodes:
+                return (f"gmsh element {row[0].decode()} refers to node {node.decode()}, "
+                        "which is not in the section $Nodes")  # fmt: skip
+    return None
 
 
 def element_ids(path: Path, n_blocks: int, sizes: list[int]) -> list[np.ndarray] | None:

@@ -32,8 +32,9 @@ from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import Joint, SlipWeakening
 from ..mesh import Mesh, shape_quality
 from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
+from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import read_record
+from ._records import implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -93,24 +94,56 @@ def _key_parts(key: str) -> list[str | int]:
     return parts
 
 
-def _apply(data: dict[str, Any], ov: Override, where: str) -> None:
+def _related(a: Sequence[str | int], b: Sequence[str | int]) -> bool:
+    """Whether one key path is the other or lies under it."""
+    n = min(len(a), len(b))
+    return n > 0 and list(a[:n]) == list(b[:n])
+
+
+def _blame(text: str, p: Path, overrides: Sequence[Override]) -> str:
+    """The lines of an error message that name a key set by an override say so: ``KEY
+    (from --set KEY=VALUE)`` at the key set or under it, ``(with --set ...)`` at a table
+    above it (the error may have another cause there)."""
+    head = f"{p}: "
+    out = []
+    for line in text.split("\n"):
+        hit = _KEY.match(line[len(head) :]) if line.startswith(head) else None
+        rest = line[len(head) + hit.end() :] if hit else ""
+        if hit and rest.startswith(": "):
+            key = _key_parts(hit.group())
+            for ov in reversed(overrides):
+                mine = _key_parts(ov.key)
+                if _related(mine, key):
+                    how = "from" if len(key) >= len(mine) else "with"
+                    line = f"{head}{hit.group()} ({how} {ov.source}){rest}"
+                    break
+        out.append(line)
+    return "\n".join(out)
+
+
+def _apply(data: dict[str, Any], ov: Override, where: str) -> list[str | int]:
+    """Set the override's key in ``data``; returns the key path that it made: the key, or
+    the first table on its way that the file did not have."""
     cur: Any = data
     parts = _key_parts(ov.key)
+    made = parts
     for i, part in enumerate(parts):
         last = i == len(parts) - 1
         if isinstance(part, int):
             if not isinstance(cur, list) or part >= len(cur):
                 n = len(cur) if isinstance(cur, list) else 0
-                raise InputError(f"{where}: {ov.key} ({ov.source}): no item {part} "
+                raise InputError(f"{where}: {ov.key} (from {ov.source}): no item {part} "
                                  f"(the file has {n})")  # fmt: skip
         elif not isinstance(cur, dict):
-            raise InputError(f"{where}: {ov.key} ({ov.source}): not a table")
+            raise InputError(f"{where}: {ov.key} (from {ov.source}): not a table")
         if last:
             cur[part] = ov.value
         else:
             if isinstance(part, str) and part not in cur:
                 cur[part] = [] if isinstance(parts[i + 1], int) else {}
+                made = parts[: i + 1] if made is parts else made
             cur = cur[part]
+    return made
 
 
 @dataclass
@@ -293,6 +326,74 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                             "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
+    _water_levels(p, cfg, mesh)
+
+
+#: two water levels that differ by more than this (m) are two levels
+_LEVEL_TOL = 1e-6
+
+
+def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
+    """Warnings where one reservoir is given twice with two levels: an uplift's headwater
+    that is not the highest hydrostatic water level (the reservoir on the upstream face),
+    its tailwater that is none of the lower ones, a Westergaard level that is not the
+    hydrostatic level of a face they share; and an uplift whose ``upstream`` side puts the
+    heel at the end of the joint away from the reservoir's wet faces."""
+    loads = cfg.loads
+    hyd = list(loads.hydrostatic)
+    for i, w in enumerate(loads.westergaard):
+        for k, h in enumerate(hyd):
+            shared = sorted(set(w.groups) & set(h.groups))
+            if shared and abs(w.water_level - h.water_level) > _LEVEL_TOL:
+                log.warning("%s: loads.westergaard[%d].water_level = %g m differs from "
+                            "loads.hydrostatic[%d].water_level = %g m on the same face(s) "
+                            "%s: one reservoir, two levels; intended?", p, i, w.water_level,
+                            k, h.water_level, ", ".join(map(repr, shared)))  # fmt: skip
+    if not hyd:
+        return
+    k = max(range(len(hyd)), key=lambda i: hyd[i].water_level)  # the reservoir
+    lower = [i for i in range(len(hyd)) if i != k]
+    for j, up in enumerate(loads.uplift):
+        if abs(up.headwater - hyd[k].water_level) > _LEVEL_TOL:
+            log.warning("%s: loads.uplift[%d].headwater = %g m differs from "
+                        "loads.hydrostatic[%d].water_level = %g m (the reservoir: the highest "
+                        "water on the faces): one reservoir, two levels; intended?", p, j,
+                        up.headwater, k, hyd[k].water_level)  # fmt: skip
+        tail = up.tailwater
+        if tail is not None and all(abs(tail - hyd[i].water_level) > _LEVEL_TOL for i in lower):
+            i = min(lower, key=lambda i: abs(hyd[i].water_level - tail), default=-1)
+            if i >= 0:  # (without water on the downstream faces, nothing to compare)
+                log.warning("%s: loads.uplift[%d].tailwater = %g m differs from "
+                            "loads.hydrostatic[%d].water_level = %g m (the tailwater on the "
+                            "faces): one tailwater, two levels; intended?", p, j, tail, i,
+                            hyd[i].water_level)  # fmt: skip
+        _upstream_side(p, j, up, k, hyd[k], mesh)
+
+
+def _upstream_side(p: Path, j: int, up: Any, k: int, water: Any, mesh: Mesh) -> None:
+    """A warning when the reservoir's wet faces (of ``water``, loads.hydrostatic[k]) lie
+    beyond the far end of the joint from the heel that ``upstream`` sets (by more than a
+    quarter of the joint's span past its middle)."""
+    axis, sign = {"-x": (0, -1.0), "+x": (0, 1.0), "-y": (1, -1.0), "+y": (1, 1.0)}[up.upstream]
+    groups = [g for g in water.groups if g in mesh.facet_groups]
+    if axis >= mesh.dim - 1 or up.interface not in mesh.facet_groups or not groups:
+        return  # refused later, or nothing to compare
+    x = mesh.points[mesh.group_nodes(up.interface), axis]
+    wet = mesh.points[np.unique(np.concatenate([mesh.group_nodes(g) for g in groups]))]
+    wet = wet[wet[:, mesh.dim - 1] < water.water_level, axis]
+    lo, hi = float(x.min()), float(x.max())
+    if not wet.size or hi - lo <= 0.0:
+        return
+    c, mid, span = float(wet.mean()), 0.5 * (lo + hi), hi - lo
+    if sign * (c - mid) < -0.25 * span:  # the reservoir is at the other end
+        name = "xy"[axis]
+        heel, far = (lo, hi) if sign < 0 else (hi, lo)
+        other = ("+" if sign < 0 else "-") + name
+        log.warning("%s: loads.uplift[%d].upstream = %r puts the heel of %r at %s = %.4g m, "
+                    "but the water of loads.hydrostatic[%d] wets faces about %s = %.4g m, past "
+                    "the joint's other end (%s = %.4g m); expected upstream = %r?", p, j,
+                    up.upstream, up.interface, name, heel, k, name, c, name, far,
+                    other)  # fmt: skip
 
 
 def _undeclared_joints(p: Path, cfg: Any, mesh: Mesh) -> None:
@@ -378,16 +479,19 @@ def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
     try:
         data = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        kind = foreign_file(p, raw)
+        if kind is not None:
+            where = ", which a model file names under [mesh] file" if kind == "a gmsh mesh" else ""
+            raise InputError(f"{p}: expected a model file (.toml); this looks like "
+                             f"{kind}{where}") from None  # fmt: skip
         raise InputError(f"{p}: not valid TOML: {exc}") from None
-    for ov in overrides:
-        _apply(data, ov, str(p))
+    made = [(_apply(data, ov, str(p)), ov.source) for ov in overrides]
     try:
         return ModelFile.model_validate(data)
     except ValidationError as exc:
         lines = []
-        for pb in problems(exc, data):
-            src = [o.source for o in overrides if _key_parts(o.key) == list(pb.loc)[: len(
-                _key_parts(o.key))]]  # fmt: skip
+        for pb in problems(exc, data):  # at or under a key set, or a table that one made
+            src = [source for key, source in made if _related(key, list(pb.loc))]
             lines.append(f"{p}: {pb.key}{f' (from {src[-1]})' if src else ''}: {pb.text}")
         raise InputError("\n".join(lines)) from None
 
@@ -405,8 +509,18 @@ def _largest_cell(mesh: Any) -> float:
 def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
-    :class:`RecordError`, each naming the file."""
-    p = Path(path)
+    :class:`RecordError`, each naming the file (and the override, for a key it set)."""
+    if not overrides:
+        return _load_job(Path(path), overrides)
+    try:
+        return _load_job(Path(path), overrides)
+    except (InputError, MeshError, RecordError) as exc:
+        if type(exc) not in (InputError, MeshError, RecordError):
+            raise  # a subclass (another signature): as it is
+        raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
+
+
+def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
     if not p.is_file():
         raise InputError(f"{p}: model file not found")
     raw = p.read_bytes()
@@ -462,7 +576,15 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
                       damping=damping, interfaces=interfaces)  # fmt: skip
     except (ModelError, MeshError) as exc:
-        raise InputError(f"{p}: {exc}") from None
+        hint = ""
+        if "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
+            pairs = mesh.coincident_nodes()
+            if pairs.size:
+                at = ", ".join(f"{v:.6g}" for v in mesh.points[pairs[0, 0]])
+                hint = (f"; the mesh has {len(pairs)} pair(s) of coincident nodes that are not "
+                        f"shared (the first at [{at}]): blocks meshed separately? (gmsh: "
+                        "fragment the geometry, so that they share the joint's nodes)")  # fmt: skip
+        raise InputError(f"{p}: {exc}{hint}") from None
     axes = {"x": 0, "y": 1, "z": 2}
     for i, sup in enumerate(cfg.supports):
         g = sup.group
@@ -474,6 +596,13 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
             if max(comps) >= mesh.dim:
                 raise InputError(f"{p}: supports[{i}].components: 'z' in a 2D model")
         model.fix(g, comps, sup.value)
+    for a, b, n, x in model.unshared_coincident_nodes():
+        where = f"inside the block {a!r}" if a == b else f"between the blocks {a!r} and {b!r}"
+        log.warning("%s: %d pair(s) of coincident nodes %s are not shared (the first at "
+                    "[%s]): the sides are not joined there, a crack that no [interfaces] "
+                    "table declares (meshed separately?); expected shared nodes (gmsh: "
+                    "fragment the geometry), with an [interfaces] table for a joint", p, n,
+                    where, ", ".join(f"{v:.6g}" for v in x))  # fmt: skip
     if not cfg.supports:
         log.warning("%s: no [[supports]]: nothing holds the model, every block floats (a "
                     "static analysis finds no equilibrium under gravity, a dynamic one lets "
@@ -626,6 +755,10 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
                              f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
                              f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
                              "times too strong) and scale")  # fmt: skip
+        if gm.pga is None and gm.target_sa is None:  # scaled to a target: units cancel
+            odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
+            if odd is not None:
+                log.warning("%s: ground_motion[%d]: %s", p, i, odd)
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)

@@ -52,6 +52,32 @@ _HEADER_UNITS = {
 }
 
 
+#: the peak ground accelerations (g) of a record that are taken as plausible: outside
+#: them, the record's units are suspect (a record in g read as cm/s² peaks near 0.003 g)
+PLAUSIBLE_PGA_G = (1e-3, 10.0)
+_TO_MS2 = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
+
+
+def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
+    """A warning when a record's peak ground acceleration ``pga`` (m/s², as read in
+    ``units``) lies outside :data:`PLAUSIBLE_PGA_G`, naming the file, the units and the
+    units that would give a plausible one; ``None`` when it lies inside (or is 0)."""
+    lo, hi = PLAUSIBLE_PGA_G
+    factor = _TO_MS2.get(units.lower())
+    pga_g = pga / 9.81
+    if factor is None or pga_g == 0.0 or lo <= pga_g <= hi:
+        return None
+    side = "below" if pga_g < lo else "above"
+    msg = (f"{path}: the record's PGA is {pga_g:.3g} g with its values read in {units} "
+           f"(units = {units!r}): {side} the plausible {lo:g} to {hi:g} g")  # fmt: skip
+    options = {u: pga_g * f / factor for u, f in _TO_MS2.items() if u in ("g", "m/s2", "cm/s2")}
+    fits = [u for u, v in options.items() if 0.01 <= v <= 5.0 and u != units.lower()]
+    if fits:  # the units that give a PGA nearest 0.3 g, a typical design earthquake's
+        best = min(fits, key=lambda u: abs(math.log(options[u] / 0.3)))
+        msg += f"; are its values in {best}? (units = {best!r} gives {options[best]:.3g} g)"
+    return msg
+
+
 def _numbers(line: str, path: Path, lineno: int) -> list[float]:
     """All numbers of a data line, fused ones split; non-numeric text is an error."""
     if not _ALLOWED.match(line):
@@ -153,6 +179,36 @@ def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]
                               f"accelerations{hint}")  # fmt: skip
 
 
+_COMMA_DECIMAL = re.compile(r"\d,\d")
+_LEADING_ZERO = re.compile(r"(?<![\d.])[-+]?\d+,0\d")
+
+
+def _decimal_commas(path: Path, lines: list[str], rows: list[tuple[int, list[float]]],
+                    loose: bool = False) -> None:  # fmt: skip
+    """Refuse numbers written with decimal commas (``0,0123``), which would be read as
+    two numbers: the data has no decimal point anywhere, and a line has a comma between
+    digits beside another separator (``0;0,01``, ``0<tab>0,01``), or a comma followed by
+    a leading zero (``0,0123``), or (``loose``: two columns whose times do not increase,
+    or that were given a ``dt``) one comma on every line."""
+    text = [(i, lines[i - 1].strip()) for i, _ in rows]
+    if any("." in t for _, t in text):
+        return
+
+    def evident(t: str) -> bool:
+        other = re.search(r"[;\t]|\d\s+[-+]?\d", t) is not None
+        return bool(_COMMA_DECIMAL.search(t)) and (other or bool(_LEADING_ZERO.search(t)))
+
+    hit = next(((i, t) for i, t in text if evident(t)), None)
+    if hit is None and loose and all(t.count(",") == 1 and _COMMA_DECIMAL.search(t)
+                                     for _, t in text):  # fmt: skip
+        hit = text[0]
+    if hit is None:
+        return
+    i, t = hit
+    raise RecordError(f"{path}: line {i}: decimal commas in {t[:40]!r}; expected numbers with a "
+                      "decimal point (0.0123, not 0,0123)")  # fmt: skip
+
+
 def read_record(
     path: str | Path,
     *,
@@ -186,16 +242,19 @@ def read_record(
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
+    if text.lstrip().startswith(("$MeshFormat", "$Comments")):
+        raise RecordError(f"{p}: expected a ground-motion record; this looks like a gmsh mesh")
     lines = text.splitlines()
     kind = fmt.lower()
     if kind not in ("auto", "at2", "two-column", "one-column"):
         raise RecordError(f"{p}: format must be auto, at2, two-column or one-column, got {fmt!r}")
+    if kind == "auto" and p.suffix.lower() == ".at2":
+        kind = "at2"
+    if kind != "at2":
+        rows, _ = _data_lines(p, lines)
+        _decimal_commas(p, lines, rows)
     if kind == "auto":
-        if p.suffix.lower() == ".at2":
-            kind = "at2"
-        else:
-            rows, _ = _data_lines(p, lines)
-            kind = "two-column" if len(rows[0][1]) == 2 else "one-column"
+        kind = "two-column" if len(rows[0][1]) == 2 else "one-column"
     label = name or p.stem
     if kind == "at2":
         acc, step, title = _read_at2(p, lines, units)
@@ -212,8 +271,10 @@ def read_record(
                 raise RecordError(f"{p}: line {bad[0]}: expected 2 columns (time, acceleration)")
             data = np.array([r for _, r in rows])
             if dt is not None:
+                _decimal_commas(p, lines, rows, loose=True)
                 raise RecordError(f"{p}: a two-column record has its own times; do not give dt")
             if np.any(np.diff(data[:, 0]) <= 0):
+                _decimal_commas(p, lines, rows, loose=True)
                 i = int(np.argmax(np.diff(data[:, 0]) <= 0)) + 1
                 raise RecordError(f"{p}: line {rows[i][0]}: times must increase")
             t, acc = data[:, 0], data[:, 1]

@@ -17,6 +17,7 @@ form). Three views derive from the models and from nothing else:
 
 from __future__ import annotations
 
+import math
 import types
 import typing
 from collections.abc import Iterator, Mapping, Sequence
@@ -184,8 +185,10 @@ class Joint(_Table):
     friction_angle: Annotated[Angle, Field(description="friction angle φ (degrees)")]
     cohesion: Annotated[Strength, Field(description="cohesion c of the intact joint (Pa)")] = 0.0
     tensile_strength: Annotated[
-        Strength, Field(description="tensile strength σ_t of the intact joint (Pa)")
-    ] = 0.0
+        Strength,
+        Field(description="tensile strength σ_t of the intact joint (Pa), at most cohesion / "
+              "tan(friction_angle)"),
+    ] = 0.0  # fmt: skip
     residual_cohesion: Annotated[Strength, Field(description="cohesion once broken (Pa)")] = 0.0
     residual_friction_angle: Annotated[
         Angle | None,
@@ -233,6 +236,35 @@ class Joint(_Table):
         if self.law != "slip-weakening" and self.weakening_distance is not None:
             raise _check("weakening_distance", f"only with law = 'slip-weakening' (law is "
                          f"{self.law!r})")  # fmt: skip
+        return self
+
+    @model_validator(mode="after")
+    def _apex(self) -> Joint:
+        """A tensile strength beyond the apex of its Mohr-Coulomb cone, c / tan φ, is
+        refused: a pair in tension beyond it has no shear capacity (it would break in shear
+        first, so the strength given would never act). The intact strength is checked for
+        an intact joint, the residual one always (a broken pair's friction is at most the
+        peak's with slip weakening)."""
+        phi_r = self.friction_angle if self.residual_friction_angle is None else (
+            self.residual_friction_angle)  # fmt: skip
+        broken = ("residual_friction_angle" if self.residual_friction_angle is not None else
+                  "friction_angle", phi_r)  # fmt: skip
+        if self.law == "slip-weakening" and self.friction_angle > phi_r:
+            broken = ("friction_angle", self.friction_angle)  # the peak, where it starts
+        checks = [("tensile_strength", "cohesion", "an intact", ("friction_angle",
+                   self.friction_angle))] if self.initial == "intact" else []  # fmt: skip
+        checks.append(("residual_tensile_strength", "residual_cohesion", "a broken", broken))
+        for tkey, ckey, which, (pkey, phi) in checks:
+            t, c = float(getattr(self, tkey)), float(getattr(self, ckey))
+            mu = math.tan(math.radians(phi))
+            if t * mu > c * (1.0 + 1e-12):
+                apex = c / mu
+                state = "intact" if tkey == "tensile_strength" else "residual"
+                raise _check(tkey, f"{t:g} Pa lies beyond the apex of the {state} strength, "
+                             f"{ckey} / tan({pkey}) = {apex:g} Pa ({ckey} = {c:g} Pa, {pkey} "
+                             f"= {phi:g}°): {which} pair in tension beyond it has no shear "
+                             f"capacity; expected {tkey} <= {apex:g} Pa (0 without "
+                             f"{ckey})")  # fmt: skip
         return self
 
 

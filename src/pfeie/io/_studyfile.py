@@ -36,6 +36,7 @@ from typing import Annotated, Literal
 from pydantic import Field, ValidationError, model_validator
 
 from ..errors import InputError
+from ._files import foreign_file
 from ._schema import PathText, Positive, RecordReading, _check, _found, _Table, problems
 
 
@@ -195,9 +196,14 @@ def read_study_file(path: str | Path) -> StudyFile:
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: study file not found")
+    raw = p.read_bytes()
     try:
-        data = tomllib.loads(p.read_bytes().decode("utf-8"))
+        data = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        kind = foreign_file(p, raw)
+        if kind is not None:
+            msg = f"{p}: expected a study file (.toml); this looks like {kind}"
+            raise InputError(msg) from None
         raise InputError(f"{p}: not valid TOML: {exc}") from None
     try:
         return StudyFile.model_validate(data)

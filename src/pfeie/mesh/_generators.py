@@ -33,23 +33,75 @@ _LINEAR_2D = {"quad": "quad", "quad8": "quad", "quad9": "quad",
 _LINEAR_3D = {"hexahedron": "hexahedron", "tetra": "tetra", "tetra10": "tetra"}
 
 
-def _axis(n: int | FloatArray, length: float, origin: float, name: str) -> FloatArray:
+class MeshArgumentError(MeshError, ValueError):
+    """An argument of a mesh generator out of its range (a size <= 0, a count < 1): both a
+    :class:`~pfeie.errors.MeshError` and a :class:`ValueError`."""
+
+
+def _plain(value: object) -> object:
+    """A numpy scalar (or 0-d array) as the Python number it holds, for messages."""
+    if isinstance(value, (np.ndarray, np.generic)) and value.ndim == 0:
+        return value.item()
+    return value
+
+
+def _count(n: object, what: str) -> int:
+    """An element count: a whole number >= 1 (not a bool, not 1.5)."""
+    n = _plain(n)
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer, float, np.floating)):
+        raise MeshArgumentError(f"{what}: expected a whole number of elements >= 1, got {n!r}")
+    if not (np.isfinite(n) and float(n) == int(n) and int(n) >= 1):
+        raise MeshArgumentError(f"{what}: expected a whole number of elements >= 1, got {n!r}")
+    return int(n)
+
+
+def _size(value: object, what: str) -> float:
+    """A length (m): a finite number > 0."""
+    value = _plain(value)
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        x = float("nan")
+    if isinstance(value, (bool, np.bool_)) or not (np.isfinite(x) and x > 0):
+        raise MeshArgumentError(f"{what}: expected a length > 0 (m), got {value!r}")
+    return x
+
+
+def _origin(origin: object, dim: int, what: str) -> FloatArray:
+    try:
+        o = np.asarray(origin, dtype=float)
+    except (TypeError, ValueError):
+        o = np.zeros(0)
+    if o.shape != (dim,) or not np.all(np.isfinite(o)):
+        raise MeshArgumentError(f"{what}: origin: expected {dim} finite coordinates (m), got "
+                                f"{origin!r}")  # fmt: skip
+    return o
+
+
+def _axis(n: int | FloatArray, length: float, origin: float, name: str,
+          where: str = "") -> FloatArray:  # fmt: skip
+    """The node coordinates of one axis: ``n`` elements over ``length`` from ``origin``, or
+    the coordinates ``n``; ``name`` is the count's argument (``nx``), ``where`` the
+    generator (for messages)."""
+    head = f"{where}: " if where else ""
     if np.ndim(n) == 0:
-        count = int(n)
-        if count < 1:
-            raise MeshError(f"{name}: need at least one element, got {count}")
-        return origin + np.linspace(0.0, length, count + 1)
+        count = _count(n, f"{head}{name}")
+        size = _size(length, f"{head}l{name[1:]}")
+        return origin + np.linspace(0.0, size, count + 1)
     x = np.asarray(n, dtype=float)
-    if x.ndim != 1 or x.size < 2 or np.any(np.diff(x) <= 0):
-        raise MeshError(f"{name}: coordinates must be a strictly increasing 1-D array")
+    if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)) or np.any(np.diff(x) <= 0):
+        raise MeshArgumentError(f"{head}{name}: coordinates must be a strictly increasing 1-D "
+                                "array of finite numbers")  # fmt: skip
     return x
 
 
 def graded(length: float, n: int, ratio: float, origin: float = 0.0) -> FloatArray:
     """Coordinates of ``n`` elements whose sizes grow geometrically by ``ratio`` in total
     (last size / first size)."""
-    if n < 1 or ratio <= 0:
-        raise MeshError("graded: need n >= 1 and ratio > 0")
+    n = _count(n, "graded: n")
+    length = _size(length, "graded: length")
+    if isinstance(ratio, (bool, np.bool_)) or not (np.isfinite(ratio) and ratio > 0):
+        raise MeshArgumentError(f"graded: ratio: expected a number > 0, got {ratio!r}")
     q = ratio ** (1.0 / max(n - 1, 1))
     h = q ** np.arange(n)
     return origin + np.concatenate([[0.0], np.cumsum(h)]) * length / h.sum()
@@ -70,8 +122,9 @@ def rectangle(
     """
     if cell not in _LINEAR_2D:
         raise MeshError(f"rectangle: unsupported cell {cell!r}; use one of {sorted(_LINEAR_2D)}")
-    x = _axis(nx, lx, origin[0], "nx")
-    y = _axis(ny, ly, origin[1], "ny")
+    o = _origin(origin, 2, "rectangle")
+    x = _axis(nx, lx, o[0], "nx", "rectangle")
+    y = _axis(ny, ly, o[1], "ny", "rectangle")
     X, Y = np.meshgrid(x, y, indexing="ij")
     pts = np.stack([X.ravel(), Y.ravel()], axis=1)
     ids = np.arange(x.size * y.size).reshape(x.size, y.size)
@@ -103,9 +156,10 @@ def box(
     """A structured mesh of a box; ``cell`` is one of hexahedron, tetra, tetra10."""
     if cell not in _LINEAR_3D:
         raise MeshError(f"box: unsupported cell {cell!r}; use one of {sorted(_LINEAR_3D)}")
-    x = _axis(nx, lx, origin[0], "nx")
-    y = _axis(ny, ly, origin[1], "ny")
-    z = _axis(nz, lz, origin[2], "nz")
+    o = _origin(origin, 3, "box")
+    x = _axis(nx, lx, o[0], "nx", "box")
+    y = _axis(ny, ly, o[1], "ny", "box")
+    z = _axis(nz, lz, o[2], "nz", "box")
     X, Y, Z = np.meshgrid(x, y, z, indexing="ij")
     pts = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)
     ids = np.arange(pts.shape[0]).reshape(x.size, y.size, z.size)

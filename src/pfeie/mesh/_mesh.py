@@ -107,6 +107,32 @@ class Mesh:
             out[found] = count[at[found]]
         return out
 
+    def coincident_nodes(self, nodes: IntArray | None = None, rel_tol: float = 1e-3) -> IntArray:
+        """Pairs of distinct nodes at the same place, (k, 2) with i < j, among ``nodes``
+        (default: the nodes of the cells): closer than ``rel_tol`` × the smallest distance
+        between two nodes of one cell (a KD-tree search). A conforming mesh has none; a
+        mesh split along its interfaces has its pairs; blocks meshed separately leave them
+        along the line where they meet without sharing their nodes."""
+        from scipy.spatial import cKDTree
+
+        if nodes is None:
+            nodes = np.unique(np.concatenate([c.ravel() for c in self.cells.values()] or
+                                             [np.zeros(0, dtype=np.int64)]))  # fmt: skip
+        nodes = np.asarray(nodes, dtype=np.int64)
+        h = np.inf
+        for conn in self.cells.values():
+            if conn.shape[0] == 0:
+                continue
+            x = self.points[conn]  # (cells, nodes, dim)
+            for a in range(conn.shape[1] - 1):
+                d = np.linalg.norm(x[:, a + 1 :] - x[:, a : a + 1], axis=2)
+                h = min(h, float(d.min()))
+        if nodes.size < 2 or not np.isfinite(h) or h <= 0.0:
+            return np.zeros((0, 2), dtype=np.int64)
+        pairs = cKDTree(self.points[nodes]).query_pairs(rel_tol * h, output_type="ndarray")
+        out = np.sort(nodes[np.asarray(pairs, dtype=np.int64).reshape(-1, 2)], axis=1)
+        return out[np.lexsort((out[:, 1], out[:, 0]))]
+
     @property
     def dim(self) -> int:
         return int(self.points.shape[1])

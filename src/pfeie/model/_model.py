@@ -361,6 +361,31 @@ class Model:
         """Nodes used by at least one block cell."""
         return np.unique(np.concatenate([s.conn.ravel() for s in self._cellsets]))
 
+    def unshared_coincident_nodes(self) -> list[tuple[str, str, int, FloatArray]]:
+        """Nodes at the same place that no cell and no declared interface joins: cracks
+        that the mesh holds but no interface declares (blocks, or the parts of one block,
+        meshed separately without sharing their nodes), whose sides are not tied. One
+        entry per pair of blocks: the two block names (the same twice inside one block),
+        the number of node pairs and the first pair's point (m). The copies of a node made
+        by splitting the mesh along the interfaces are not counted."""
+        pairs = self.mesh.coincident_nodes(self.active_nodes)
+        if self.split is not None and pairs.size:  # copies of one node of the mesh given
+            parent = self.split.parent
+            pairs = pairs[parent[pairs[:, 0]] != parent[pairs[:, 1]]]
+        if not pairs.size:
+            return []
+        block = np.full(self.mesh.n_points, -1, dtype=np.int64)
+        for cs in self._cellsets:
+            block[cs.conn] = cs.block[:, None]
+        names = [b.name for b in self.blocks]
+        ab = np.sort(block[pairs], axis=1)
+        out = []
+        for key in np.unique(ab, axis=0):
+            hit = np.flatnonzero((ab == key).all(axis=1))
+            out.append((names[int(key[0])], names[int(key[1])], int(hit.size),
+                        self.mesh.points[pairs[hit[0], 0]].copy()))  # fmt: skip
+        return out
+
     def block_nodes(self, name: str) -> IntArray:
         """Nodes of one block."""
         ib = [b.name for b in self.blocks].index(name)
@@ -400,8 +425,9 @@ class Model:
         comps = tuple(range(self.dim)) if components is None else tuple(np.atleast_1d(components))
         if any(isinstance(c, bool) or not isinstance(c, int | np.integer) or not 0 <= c < self.dim
                for c in comps):  # fmt: skip
+            shown = [c.item() if isinstance(c, np.generic) else c for c in comps]  # not np.int64(2)
             raise ModelError(f"fix {label}: components: expected integers in 0..{self.dim - 1} "
-                             f"(0 = x), got {list(comps)!r}")  # fmt: skip
+                             f"(0 = x), got {shown!r}")  # fmt: skip
         self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
         self.__dict__.pop("_dofmap", None)
 

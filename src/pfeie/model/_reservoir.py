@@ -141,7 +141,8 @@ class Reservoir:
         if not (np.isfinite(density) and density > 0):
             raise ModelError(f"reservoir: the water density must be > 0 kg/m³, got {density}")
         if not (isinstance(refine, int | np.integer) and refine >= 1):
-            raise ModelError(f"reservoir: refine must be an integer >= 1, got {refine!r}")
+            shown = refine.item() if isinstance(refine, np.generic) else refine
+            raise ModelError(f"reservoir: refine must be an integer >= 1, got {shown!r}")
         if not np.isfinite(water_level):
             raise ModelError(f"reservoir: the water level must be finite, got {water_level}")
         self.density = float(density)

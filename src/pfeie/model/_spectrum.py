@@ -269,7 +269,8 @@ def _substeps(t: FloatArray, T: FloatArray, substeps: int | None) -> npt.NDArray
     k with h_max/k ≤ T/POINTS_PER_PERIOD (1 at T = 0)."""
     if substeps is not None:
         if not (isinstance(substeps, int | np.integer) and substeps >= 1):
-            raise ModelError(f"substeps: expected an integer >= 1, got {substeps!r}")
+            shown = substeps.item() if isinstance(substeps, np.generic) else substeps
+            raise ModelError(f"substeps: expected an integer >= 1, got {shown!r}")
         return np.full(T.size, int(substeps), dtype=np.int64)
     hmax = float(np.diff(t).max())
     with np.errstate(divide="ignore"):

@@ -641,7 +641,7 @@ SECTIONS = (
 )  # fmt: skip
 
 
-def write_report(results: str | Path, out: str | Path | None = None) -> Path:
+def write_report(results: str | Path, out: str | Path | None = None, where: str = "") -> Path:
     """Write ``report.html`` beside the results file (or at ``out``): one self-contained
     page (figures embedded as PNG) with the sections of :data:`SECTIONS`: the geometry and
     mesh, the materials and joint laws, the loads (table and figure), the static state
@@ -653,10 +653,14 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
     (:func:`model_of_run`); without it the page says why they are missing. A 3D model's
     figures are drawn in 3D (:mod:`pfeie.plot._plots`: the boundary faces in a fixed
     view, the loads and the stress fields on them, each joint in its own plane), with the
-    captions of :data:`CAPTIONS_3D`."""
+    captions of :data:`CAPTIONS_3D`.
+
+    The output location is checked before any work (after the results file): an
+    :class:`~pfeie.errors.InputError` names it (after ``where``, e.g. ``--out``)."""
     rpath = Path(results)
     target = Path(out) if out is not None else rpath.parent / "report.html"
     with Results(rpath) as res:  # a file that is not a results file is refused first
+        output_file(target, where)  # then an output that cannot be written, before the work
         meta = res.meta
         summ = meta["model_summary"]
         job, source = model_of_run(res)
@@ -702,7 +706,6 @@ def write_report(results: str | Path, out: str | Path | None = None) -> Path:
                 figs = []
             images = {f.stem: base64.b64encode(f.read_bytes()).decode()
                       for f in [*extra.values(), *figs]}  # fmt: skip
-    output_file(target)
     esc = html.escape
     status = ("completed" if meta["completed"] else
               f"<b>stopped</b>: {esc(str(meta.get('stop_reason', '')))}")  # fmt: skip
