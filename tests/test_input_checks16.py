@@ -520,3 +520,15 @@ def test_one_reservoir_at_one_level_is_not_warned(
     with caplog.at_level(logging.WARNING):
         load_job(p)
     assert "two levels" not in caplog.text and "upstream =" not in caplog.text
+
+
+def test_an_intact_joint_beyond_its_apex_is_refused_in_python() -> None:
+    """The same rule through the Python API (pf.Joint): an intact joint's tensile strength
+    beyond c / tan φ is refused, naming both; at the apex, or for a broken joint (whose
+    intact strength is never used), it is accepted."""
+    from pfeie.errors import ModelError
+
+    with pytest.raises(ModelError, match=r"tensile = 3e\+06 Pa lies beyond the apex.*500000 Pa"):
+        pf.Joint(c=0.5e6, phi=45.0, tensile=3e6, initial="intact")
+    pf.Joint(c=0.5e6, phi=45.0, tensile=0.5e6, initial="intact")
+    pf.Joint(c=0.5e6, phi=45.0, tensile=3e6)

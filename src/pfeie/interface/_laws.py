@@ -231,6 +231,14 @@ class MohrCoulomb:
         if self.gap > 0 and self.initial == "intact":
             raise ModelError("an intact (bonded) joint cannot start with a gap")
         self._check_residual_apex()
+        if self.initial == "intact" and self.tensile * self.mu > self.c * (1.0 + 1e-12):
+            apex = self.c / self.mu
+            raise ModelError(
+                f"joint tensile = {self.tensile:g} Pa lies beyond the apex of the intact "
+                f"strength, c / tan φ = {apex:g} Pa (c = {self.c:g} Pa, φ = {self.phi:g}°): "
+                "an intact pair in tension beyond it has no shear capacity; expected "
+                f"tensile <= {apex:g} Pa (0 without cohesion)"
+            )
 
     def _check_residual_apex(self) -> None:
         """A residual tensile strength beyond the apex of the residual cone, c_r/μ, would

@@ -1276,7 +1276,10 @@ def v8c(fast: bool) -> CaseResult:
     c, phi = 2e3, 35.0
     a_break = c / 2400.0 + G * np.tan(np.radians(phi))
     dt, k = 0.001, 10.0
-    model = block_on_base(joint=Joint(c=c, phi=phi, tensile=1e6, initial="intact"),
+    # the tensile strength at the apex of the cone (c / tan φ), the largest a joint may
+    # have: the bond breaks in shear
+    model = block_on_base(joint=Joint(c=c, phi=phi, tensile=c / np.tan(np.radians(phi)),
+                                      initial="intact"),
                           height=1e-3, n=4, ny=1, rho=2.4e6)  # fmt: skip
     _, _, gm = _record(lambda t: k * t, 1.2, dt)
     res = Dynamic(model, dt).run(1.2, start=solve_static(model), ground=[gm])
