@@ -4,6 +4,7 @@ independent computation); inputs that changed are refused."""
 
 from __future__ import annotations
 
+import json
 import signal
 import time
 from pathlib import Path
@@ -92,6 +93,14 @@ def test_command_line_resume_after_sigint_and_extension(tmp_path: Path) -> None:
         for key, value in ref.items():
             np.testing.assert_array_equal(got[key], value, err_msg=f"{d.name}: {key}")
     assert 0 < stopped_at < 3.0  # the signal stopped the run inside its duration
+    # the summaries of the resumed runs are that of the uninterrupted one, its static state
+    # included (new-user finding: a resume dropped the static joints from the summary)
+    want = json.loads((ref_dir / "out" / "summary.json").read_text())
+    assert "static_joints" in want
+    for d in (ext_dir, sig_dir):
+        got = json.loads((d / "out" / "summary.json").read_text())
+        assert got.keys() == want.keys(), d.name
+        assert got["static_joints"] == want["static_joints"], d.name
 
 
 def _wait_for_checkpoint(path: Path, row: int, timeout: float = 120.0) -> None:
@@ -213,6 +222,30 @@ def test_resume_refuses_other_inputs(
     assert main(["run", str(p), "--quiet", "--resume"]) == 2
     err = capsys.readouterr().err
     assert "written by pfeie 0.0.9, this is pfeie" in err, err
+
+
+def test_a_stopped_run_is_kept_when_run_again_from_the_start(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A run stopped by SIGINT, then run again without --resume (new-user finding: the
+    stopped run's results were overwritten without a word): the stopped run is moved to
+    results.stopped.h5 with a warning naming its time and how to resume it, and the new
+    run completes in results.h5."""
+    p = _write(tmp_path, SMALL, duration=3.0)
+    proc = start_run(p, wait=0.0)
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=120)
+    out = tmp_path / "out"
+    with Results(out / "results.h5") as res:
+        stopped_at = float(res.time[-1])
+        assert not res.completed
+    with caplog.at_level("WARNING", logger="pfeie"):
+        assert main(["run", str(p), "--quiet"]) == 0
+    assert "results.stopped.h5" in caplog.text and "--resume" in caplog.text
+    with Results(out / "results.stopped.h5") as res:
+        assert not res.completed and float(res.time[-1]) == stopped_at
+    with Results(out / "results.h5") as res:
+        assert res.completed and float(res.time[-1]) == pytest.approx(3.0)
 
 
 def test_one_run_per_output_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

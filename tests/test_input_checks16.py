@@ -532,3 +532,28 @@ def test_an_intact_joint_beyond_its_apex_is_refused_in_python() -> None:
         pf.Joint(c=0.5e6, phi=45.0, tensile=3e6, initial="intact")
     pf.Joint(c=0.5e6, phi=45.0, tensile=0.5e6, initial="intact")
     pf.Joint(c=0.5e6, phi=45.0, tensile=3e6)
+
+
+def test_a_results_file_being_written_is_named_so(tmp_path: Path) -> None:
+    """A results file that a run holds open (HDF5's lock) read by `pfeie plot`, `report`
+    or `Results` (new-user finding: "not an HDF5 file ... unable to lock file"): the error
+    says that a run writes it, with the process id of the folder's lock, and how to read
+    it."""
+    import subprocess
+    import sys
+
+    import h5py
+
+    f = h5py.File(tmp_path / "results.h5", "w")  # this process holds the write lock
+    try:
+        (tmp_path / ".pfeie-run.lock").write_text("12345\nm.toml\n")
+        code = ("from pfeie.io import Results\n"
+                f"try:\n    Results(r'{tmp_path / 'results.h5'}')\n"
+                "except Exception as e:\n    print(type(e).__name__, e)\n")  # fmt: skip
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             check=True).stdout  # fmt: skip
+    finally:
+        f.close()
+    assert out.startswith("ResultsError")
+    assert "being written by a running `pfeie run` (pid 12345)" in out
+    assert "HDF5_USE_FILE_LOCKING=FALSE" in out

@@ -1,6 +1,13 @@
 """Input and output: gmsh meshes, ground-motion records, model files."""
 
-from ._checkpoint import CheckpointWriter, NothingToResume, history, reopen_results, run_key
+from ._checkpoint import (
+    CheckpointWriter,
+    NothingToResume,
+    history,
+    reopen_results,
+    resumable,
+    run_key,
+)
 from ._export import export_csv
 from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
@@ -50,6 +57,7 @@ __all__ = [
     "reference_markdown",
     "reference_rows",
     "reopen_results",
+    "resumable",
     "run_key",
     "write_at2",
     "write_modes",

@@ -224,6 +224,25 @@ class NothingToResume(ResultsError):
     start (the run is deterministic), which :func:`pfeie.run_job` then does."""
 
 
+def resumable(path: str | Path, job: Any) -> float | None:
+    """The time (s) of the checkpoint of a stopped run of ``job``'s inputs (the same run
+    key) in the results file ``path``, which ``pfeie run --resume`` would continue; None
+    for a completed run, a run of other inputs, a file without a checkpoint or one that
+    does not open."""
+    p = Path(path)
+    if not p.is_file():
+        return None
+    try:
+        with _h5py().File(p, "r") as f:
+            name = next((g for g in ("checkpoint", "checkpoint_new") if g in f), None)
+            if (name is None or bool(f.attrs.get("completed", False))
+                    or f.attrs.get("run_key", "") != run_key(job)):  # fmt: skip
+                return None
+            return float(f[name].attrs["t"])
+    except (OSError, KeyError, ValueError):
+        return None
+
+
 def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoint]:
     """The results file of a stopped run opened to continue it: the inputs checked against
     the run key, the histories cut back to the checkpoint's row. Errors

@@ -462,6 +462,22 @@ def read_envelope(f: Any) -> dict[str, FloatArray]:
     return out
 
 
+def _locked(path: Path) -> str:
+    """The message for a results file that HDF5 keeps locked: a run writes it (the folder
+    lock of ``pfeie run`` names its process)."""
+    lock = path.parent / ".pfeie-run.lock"
+    who = "a running `pfeie run`"
+    if lock.is_file():
+        pid = lock.read_text(errors="replace").split("\n")[0].strip()
+        who = f"a running `pfeie run` (pid {pid})"
+    return (
+        f"{path}: being written by {who}, which locks it: read it when the run ends "
+        "(Ctrl-C stops a run and keeps what it computed; `pfeie run --resume` continues "
+        "it), or now with HDF5_USE_FILE_LOCKING=FALSE in the environment (the rows "
+        "written so far; the last one may be incomplete)"
+    )
+
+
 class Results:
     """A results file opened for reading; arrays come with their times and units.
 
@@ -481,6 +497,8 @@ class Results:
         try:
             self.f = h5py.File(self.path, "r")
         except OSError as exc:
+            if "lock" in str(exc).lower():
+                raise ResultsError(_locked(self.path)) from None
             raise ResultsError(f"{self.path}: not an HDF5 file ({what}; {exc})") from None
         lacks = [f"/{k}" for k in REQUIRED if k not in self.f]
         if "pfeie_version" not in self.f.attrs:

@@ -1168,6 +1168,29 @@ class Model:
     def n_bodies(self) -> int:
         return int(self.body_of_node.max()) + 1
 
+    def body_index(self, name: str) -> int:
+        """The index of the body named ``name`` (see :meth:`body_names`: a block's name,
+        or the names of the blocks it joins, with '+'), the body axis of the results'
+        rigid motions (``result.rigid[:, body]``). Bodies are numbered by the mesh, not in
+        the order of the blocks given.
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(1.0, 2.0, 1, 2)
+        >>> _ = mesh.add_cell_group("top", lambda x: x[:, 1] > 1.0)
+        >>> _ = mesh.add_cell_group("bottom", lambda x: x[:, 1] < 1.0)
+        >>> _ = mesh.add_facet_group("j", lambda x: abs(x[:, 1] - 1.0) < 1e-9,
+        ...                          boundary_only=False)
+        >>> m = pf.Model(mesh, [pf.Block("top", pf.Elastic(1e9, 0.2, 2000.0)),
+        ...                     pf.Block("bottom", pf.Elastic(1e9, 0.2, 2000.0))],
+        ...              interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])
+        >>> m.body_names(), m.body_index("top")
+        (['bottom', 'top'], 1)
+        """
+        names = self.body_names()
+        if name not in names:
+            raise ModelError(f"no body named {name!r}; the bodies are {names}")
+        return names.index(name)
+
     def body_names(self) -> list[str]:
         """A name per body: its block names joined by '+', numbered when repeated."""
         names = []
