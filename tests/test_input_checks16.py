@@ -557,3 +557,27 @@ def test_a_results_file_being_written_is_named_so(tmp_path: Path) -> None:
     assert out.startswith("ResultsError")
     assert "being written by a running `pfeie run` (pid 12345)" in out
     assert "HDF5_USE_FILE_LOCKING=FALSE" in out
+
+
+@pytest.mark.parametrize(("pga", "warned"), [(3.0, True), (0.5, False)])
+def test_a_pga_key_in_m_s2_is_warned(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                                     pga: float, warned: bool) -> None:  # fmt: skip
+    """``pga = 3.0`` meant as m/s² runs at 3 g (new-user finding): above 2 g it is warned,
+    giving the value in g of the same number in m/s²."""
+    p = _model(tmp_path, text=MODEL.replace('units = "UNITS"', f'units = "g"\npga = {pga}'))
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert ("ground_motion[0].pga = 3 g lies above 2 g (strong records: 0.1 to 1.5 g); pga is "
+            "in g: for 3 m/s² give pga = 0.306" in caplog.text) == warned  # fmt: skip
+
+
+def test_a_header_line_of_another_format_is_quoted_whole(tmp_path: Path) -> None:
+    """Text in a record's data is quoted as it stands (new-user finding: the quote dropped
+    the letters e and d, 'SAMPLING_INTRVAL_S:'), with the formats pfeie reads."""
+    from pfeie.errors import RecordError
+
+    (tmp_path / "r.asc").write_text("0.0 0.1\nSAMPLING_INTERVAL_S: 0.01\n0.02 0.3\n")
+    with pytest.raises(RecordError, match=r"line 2: non-numeric text .SAMPLING_INTERVAL_S:. in "
+                       r"the data: "
+                       r"'SAMPLING_INTERVAL_S: 0.01'; expected numbers \(pfeie reads PEER"):
+        read_record(tmp_path / "r.asc", units="g")

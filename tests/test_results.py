@@ -78,7 +78,16 @@ def test_paraview_series_read_back(small_run, tmp_path: Path) -> None:  # type: 
         points, _cells = rd.read_points_cells()
         assert points.shape[0] >= job.model.pairs.n
         _t, pd, _cd = rd.read_data(0)
-        assert {"opening", "slip", "normal_stress", "shear_stress", "state", "broken"} <= set(pd)
+        assert {"opening", "slip", "normal_stress", "shear_stress", "state", "broken",
+                "slip_vector", "shear_vector"} <= set(pd)  # fmt: skip
+        _t, pd, _cd = rd.read_data(rd.num_steps - 1)
+        # the global vectors (3 components, for glyphs) have the local components' size
+        for vec, loc in (("slip_vector", "slip"), ("shear_vector", "shear_stress")):
+            v, w = pd[vec], pd[loc].reshape(pd[loc].shape[0], -1)
+            ok = np.isfinite(w).all(axis=1)
+            assert v.shape == (points.shape[0], 3) and np.abs(w[ok]).max() > 0
+            np.testing.assert_allclose(np.linalg.norm(v[ok], axis=1),
+                                       np.linalg.norm(w[ok], axis=1), rtol=1e-6)  # fmt: skip
 
 
 def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[no-untyped-def]

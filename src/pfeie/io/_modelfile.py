@@ -759,6 +759,10 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
             odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
             if odd is not None:
                 log.warning("%s: ground_motion[%d]: %s", p, i, odd)
+        elif gm.pga is not None and gm.pga > PGA_KEY_HIGH_G:
+            log.warning("%s: ground_motion[%d].pga = %g g lies above %g g (strong records: "
+                        "0.1 to 1.5 g); pga is in g: for %g m/s² give pga = %.3g", p, i,
+                        gm.pga, PGA_KEY_HIGH_G, gm.pga, gm.pga / 9.81)  # fmt: skip
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)
@@ -892,6 +896,11 @@ def _hydrostatic(level: float, rho_w: float, g: float, up: int) -> Callable[[Any
         return rho_w * g * np.maximum(level - x[..., up], 0.0)
 
     return pressure
+
+
+#: a target peak ground acceleration (g) above which ``pga`` is warned: the strongest
+#: records reach about 1.5 to 2 g; a value in m/s² read as g is 9.81 times too strong
+PGA_KEY_HIGH_G = 2.0
 
 
 def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:

@@ -14,8 +14,11 @@ them).
 
 ``interfaces.xdmf``: the interfaces as their own mesh (the side-a faces of each joint,
 whose nodes are the pairs) with, at every field output time, point data ``opening`` (m),
-``slip`` (m, tangential components), ``normal_stress`` (Pa, compression +),
-``shear_stress`` (Pa), ``state`` (0 intact, 1 stick, 2 slide, 3 open), ``broken`` (0/1)
+``slip`` (m, tangential components in the pair's frame: t₁ in 2D, t₁ and t₂ in 3D),
+``normal_stress`` (Pa, compression +), ``shear_stress`` (Pa, the same components),
+``slip_vector`` and ``shear_vector`` (the same two as 3-component vectors in global axes,
+through the pairs' frames, for glyphs and Warp By Vector), ``state`` (0 intact, 1 stick,
+2 slide, 3 open), ``broken`` (0/1)
 and the cell data ``interface`` (index into the names). Open either file in ParaView
 (XDMF3 reader) and play the time steps.
 
@@ -80,6 +83,7 @@ def write_paraview(
         if model.pairs is not None and res.interface_names:
             pts, icells, cell_iface, order = _interface_mesh(model)
             pairs = res.pairs()
+            tangent = model.pairs.frame[:, :-1, :]  # (m, d − 1, d): the tangential rows
             with _Series(out / "interfaces.xdmf", pts, icells, st) as s:
                 iface = s.store("interface", np.concatenate(cell_iface))
                 for i, t in enumerate(tf):
@@ -91,6 +95,8 @@ def write_paraview(
                         "shear_stress": pairs["shear_stress"][j],
                         "state": pairs["state"][j].astype(float),
                         "broken": pairs["broken"][j].astype(float),
+                        "slip_vector": _global(tangent, pairs["slip"][j]),
+                        "shear_vector": _global(tangent, pairs["shear_stress"][j]),
                     }
                     point = {k: s.store(f"{k}_{i}", _on_points(v, order).astype(dt))
                              for k, v in data.items()}  # fmt: skip
@@ -454,6 +460,14 @@ def _interface_mesh(model: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]
     cells = merged
     order = np.concatenate([np.arange(P.n), np.full(len(extra), -1)])
     return mesh.points[nodes], cells, tags, order
+
+
+def _global(tangent: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """Tangential components (m, d − 1) in the pairs' frames as 3-component vectors in
+    global axes (m, 3), z = 0 in 2D: Σ_k t_k v_k, for ParaView's glyphs and Warp By
+    Vector, which take 3-component arrays."""
+    g = np.einsum("mkd,mk->md", tangent, local.reshape(tangent.shape[0], -1))
+    return np.pad(g, ((0, 0), (0, 3 - g.shape[1])))
 
 
 def _on_points(values: np.ndarray, order: np.ndarray) -> np.ndarray:

@@ -81,8 +81,13 @@ def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
 def _numbers(line: str, path: Path, lineno: int) -> list[float]:
     """All numbers of a data line, fused ones split; non-numeric text is an error."""
     if not _ALLOWED.match(line):
-        bad = re.sub(r"[\s0-9eEdD.+\-,;]", "", line)[:20]
-        raise RecordError(f"{path}: line {lineno}: non-numeric text {bad!r} in the data")
+        text = line.strip()
+        bad = next((w for w in re.split(r"[\s,;]+", text) if w and not _ALLOWED.match(w)), text)
+        text = text if len(text) <= 60 else text[:57] + "..."
+        raise RecordError(f"{path}: line {lineno}: non-numeric text {bad!r} in the data: {text!r}; "
+                          "expected numbers (pfeie reads PEER .AT2 files and plain records of "
+                          "one column, the accelerations, or two, time and acceleration: "
+                          "format, dt and units in [[ground_motion]])")  # fmt: skip
     tokens = _NUMBER.findall(line)
     rest = _NUMBER.sub(" ", line)
     if rest.replace(",", " ").replace(";", " ").strip():

@@ -384,7 +384,8 @@ def planar_points(points: FloatArray, dim: int, where: str = "") -> FloatArray:
                 f"{where or 'mesh'}: a plane (2D) mesh must lie in the x-y plane, but z "
                 f"ranges from {z.min():.6g} to {z.max():.6g} (e.g. node at "
                 f"{np.round(points[k], 6).tolist()}); expected z = 0: draw the section in "
-                "x-y (a section in x-z or y-z would lose a coordinate)"
+                "x-y (a section in x-z or y-z would lose a coordinate); a 3D model whose "
+                "mesh has no volume cells reads as a plane one: mesh the volumes (gmsh -3)"
             )
     return np.ascontiguousarray(points[:, :dim], dtype=float)
 
