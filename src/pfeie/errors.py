@@ -15,6 +15,11 @@ class MeshError(PfeieError):
     """A mesh is malformed, or names a group it does not have."""
 
 
+class MeshArgumentError(MeshError, ValueError):
+    """An argument of a mesh generator out of its range (a size <= 0, a count < 1): both a
+    :class:`MeshError` and a :class:`ValueError`."""
+
+
 class ModelError(PfeieError):
     """A model is inconsistent: unknown group, bad material, bad load or support."""
 

@@ -510,13 +510,11 @@ def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
     :class:`RecordError`, each naming the file (and the override, for a key it set)."""
-    if not overrides:
-        return _load_job(Path(path), overrides)
     try:
         return _load_job(Path(path), overrides)
     except (InputError, MeshError, RecordError) as exc:
-        if type(exc) not in (InputError, MeshError, RecordError):
-            raise  # a subclass (another signature): as it is
+        if not overrides or type(exc) not in (InputError, MeshError, RecordError):
+            raise  # nothing to blame, or a subclass (another signature): as it is
         raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
 
 

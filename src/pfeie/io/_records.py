@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError, RecordError
-from ..model import GroundMotion
+from ..model import G_UNITS, GroundMotion
 from ..typing import FloatArray
 
 log = logging.getLogger(__name__)
@@ -55,7 +55,6 @@ _HEADER_UNITS = {
 #: the peak ground accelerations (g) of a record that are taken as plausible: outside
 #: them, the record's units are suspect (a record in g read as cm/s² peaks near 0.003 g)
 PLAUSIBLE_PGA_G = (1e-3, 10.0)
-_TO_MS2 = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
 
 
 def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
@@ -63,14 +62,14 @@ def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
     ``units``) lies outside :data:`PLAUSIBLE_PGA_G`, naming the file, the units and the
     units that would give a plausible one; ``None`` when it lies inside (or is 0)."""
     lo, hi = PLAUSIBLE_PGA_G
-    factor = _TO_MS2.get(units.lower())
+    factor = G_UNITS.get(units.lower())
     pga_g = pga / 9.81
     if factor is None or pga_g == 0.0 or lo <= pga_g <= hi:
         return None
     side = "below" if pga_g < lo else "above"
     msg = (f"{path}: the record's PGA is {pga_g:.3g} g with its values read in {units} "
            f"(units = {units!r}): {side} the plausible {lo:g} to {hi:g} g")  # fmt: skip
-    options = {u: pga_g * f / factor for u, f in _TO_MS2.items() if u in ("g", "m/s2", "cm/s2")}
+    options = {u: pga_g * f / factor for u, f in G_UNITS.items() if u in ("g", "m/s2", "cm/s2")}
     fits = [u for u, v in options.items() if 0.01 <= v <= 5.0 and u != units.lower()]
     if fits:  # the units that give a PGA nearest 0.3 g, a typical design earthquake's
         best = min(fits, key=lambda u: abs(math.log(options[u] / 0.3)))

@@ -24,18 +24,13 @@ from itertools import permutations
 import numpy as np
 
 from ..element import reference
-from ..errors import MeshError
+from ..errors import MeshArgumentError, MeshError
 from ..typing import FloatArray, IntArray
 from ._mesh import Mesh
 
 _LINEAR_2D = {"quad": "quad", "quad8": "quad", "quad9": "quad",
               "triangle": "triangle", "triangle6": "triangle"}  # fmt: skip
 _LINEAR_3D = {"hexahedron": "hexahedron", "tetra": "tetra", "tetra10": "tetra"}
-
-
-class MeshArgumentError(MeshError, ValueError):
-    """An argument of a mesh generator out of its range (a size <= 0, a count < 1): both a
-    :class:`~pfeie.errors.MeshError` and a :class:`ValueError`."""
 
 
 def _plain(value: object) -> object:

@@ -2,7 +2,7 @@
 the model, and the response spectra and intensity measures of records."""
 
 from ._frames import BodyFrames
-from ._ground import GroundMotion
+from ._ground import G_UNITS, GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
 from ._reservoir import Reservoir
@@ -16,7 +16,8 @@ from ._spectrum import (
 from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
-    "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames", "Elastic", "GroundMotion", "Interface",
-    "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum", "Support",
+    "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames", "Elastic", "GroundMotion",
+    "Interface", "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum",
+    "Support",
     "Uplift", "intensity_measures", "response_spectrum", "sdof_response", "uplift_force",
 ]  # fmt: skip
