@@ -409,7 +409,8 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
                 c_ = np.repeat(O[at], kk)
                 fgroups.setdefault(gname, {})[gtype] = copy_of(conn.ravel(), c_).reshape(conn.shape)
     out = Mesh(points, cells, {k_: dict(v) for k_, v in mesh.cell_groups.items()}, fgroups,
-               cell_ids={t: i for t, i in mesh.cell_ids.items() if t in cells})  # fmt: skip
+               cell_ids={t: i for t, i in mesh.cell_ids.items() if t in cells},
+               empty_groups=dict(mesh.empty_groups))  # fmt: skip
     # bodies: connected components of the split mesh
     used = np.concatenate([c.ravel() for c in cells.values()])
     cid = np.concatenate([np.repeat(np.arange(c.shape[0]) + offset[t], c.shape[1])

@@ -322,6 +322,7 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         {g: {t: np.unique(np.concatenate(v)) for t, v in d.items()} for g, d in cgroups.items()},
         {g: {t: rm(np.concatenate(v), g) for t, v in d.items()} for g, d in fgroups.items()},
         {t: np.concatenate(v) for t, v in cell_ids.items()} if ids is not None else {},
+        {g: d for g, d in names.values() if g not in cgroups and g not in fgroups},
     )
     flipped = mesh.orient()
     if flipped:

@@ -233,6 +233,10 @@ class Job:
 _E_RANGE = (1e6, 1e13)
 #: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
 _EXTENT_MAX = 1e4
+#: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
+#: 300 m on foundations modelled to a few times that, rock slopes reach about 1 km; a
+#: block of 2 m or more drawn in millimetres lies above
+_HEIGHT_MAX = 2e3
 #: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
 #: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
 #: density beside normal ones is taken for a massless foundation and not warned, unless
@@ -311,10 +315,14 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
                         "the peak (the angles swapped?)", p, group, float(phi_r),
                         float(js.friction_angle))  # fmt: skip
     _undeclared_joints(p, cfg, mesh)
-    extent = float(np.ptp(mesh.points, axis=0).max(initial=0.0))
-    if extent > _EXTENT_MAX:
-        log.warning("%s: the mesh spans %.4g m; pfeie takes coordinates in metres (a mesh "
-                    "drawn in millimetres must be scaled by 1e-3)", p, extent)  # fmt: skip
+    spans = np.ptp(mesh.points, axis=0)
+    extent, height = float(spans.max(initial=0.0)), float(spans[mesh.dim - 1])
+    if extent > _EXTENT_MAX or height > _HEIGHT_MAX:
+        what = (f"spans {extent:.4g} m" if extent > _EXTENT_MAX else
+                f"is {height:.4g} m tall (along {'yz'[mesh.dim - 2]})")  # fmt: skip
+        log.warning("%s: the mesh %s; pfeie takes coordinates in metres (a mesh drawn in "
+                    "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = "
+                    "0.001)", p, what)  # fmt: skip
     # the water above the whole model: an overtopped structure (a reservoir floor given as
     # an item of its own lies below the level, as it should)
     top = float(mesh.points[:, mesh.dim - 1].max(initial=0.0))
@@ -826,14 +834,27 @@ def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) ->
                          "add damping")  # fmt: skip
 
 
+#: the lowest frequency (Hz) up to which the steps must apply a record, 1/(2Δt): an
+#: earthquake's energy lies at about 0.5 to 20 Hz, so steps that apply nothing above
+#: 1 Hz (Δt > 0.5 s) drop most of it and miss every mode of a dam or a rock block
+MIN_APPLIED_HZ = 1.0
+
+
 def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
-    """A record the steps cannot see is an error: one that lasts less than one step;
-    one sampled finer than the step gets a warning (the load is the record interpolated at
-    the steps, so content above 1/(2Δt) is not applied)."""
+    """A record the steps cannot see is an error: one that lasts less than one step, or
+    steps that apply nothing of it above :data:`MIN_APPLIED_HZ`; one sampled finer than
+    the step gets a warning (the load is the record interpolated at the steps, so content
+    above 1/(2Δt) is not applied)."""
     why = shorter_than_a_step(rec, dt)
     if why is not None:
         raise InputError(f"{p}: ground_motion[{i}]: {why}")
     step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
+    if 0.5 / dt < MIN_APPLIED_HZ:
+        raise InputError(f"{p}: analysis.dt: steps of {dt:g} s apply only the "
+                         f"content of ground_motion[{i}] below {0.5 / dt:.3g} Hz (1/(2Δt)), "
+                         "and an earthquake's lies at about 0.5 to 20 Hz; expected "
+                         f"analysis.dt ≤ {0.5 / MIN_APPLIED_HZ:g} s, typically the record's "
+                         f"sampling ({step:g} s) or finer")  # fmt: skip
     if dt > step * (1 + 1e-9):
         log.warning("%s: ground_motion[%d]: analysis.dt = %g s is coarser than the record's "
                     "sampling (%g s): the record is read at the steps, and its content "
@@ -910,7 +931,7 @@ def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:
         return (f"{p}: {key}: {name!r} is an interface (a joint inside the model); expected a "
                 f"group of boundary faces (water in a joint: [[loads.uplift]]); groups of "
                 f"dimension {mesh.dim - 1}: {facets}")  # fmt: skip
-    where = ""
+    where = mesh.empty_note(name)
     if dim == mesh.dim and name in mesh.facet_groups:
         where = f" ({name!r} is a group of dimension {mesh.dim - 1}, a block needs {mesh.dim})"
     elif dim == mesh.dim - 1 and name in mesh.cell_groups:

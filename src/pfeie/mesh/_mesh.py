@@ -38,6 +38,9 @@ class Mesh:
     cell_ids: cell type → the id of each cell in the file it was read from (gmsh element
         ids), for messages; empty for a mesh built in Python (cells are then named by type
         and index).
+    empty_groups: physical groups named in the file that hold no cell of the mesh's
+        dimension and no facet (empty, or of a lower dimension): name → the group's
+        dimension in the file; only for messages.
     """
 
     points: FloatArray
@@ -45,6 +48,7 @@ class Mesh:
     cell_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
     facet_groups: dict[str, dict[str, IntArray]] = field(default_factory=dict)
     cell_ids: dict[str, IntArray] = field(default_factory=dict)
+    empty_groups: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.points = np.ascontiguousarray(self.points, dtype=float)
@@ -148,18 +152,32 @@ class Mesh:
     def cell_group(self, name: str) -> dict[str, IntArray]:
         """Cells of a named group, by type; a clear error lists the groups there are."""
         if name not in self.cell_groups:
-            raise MeshError(
-                f"no cell group {name!r}; the mesh has: {sorted(self.cell_groups) or 'none'}"
-            )
+            raise MeshError(f"no cell group {name!r}{self.empty_note(name)}; the mesh has: "
+                            f"{sorted(self.cell_groups) or 'none'}")  # fmt: skip
         return self.cell_groups[name]
 
     def facet_group(self, name: str) -> dict[str, IntArray]:
         """Facets of a named group, by type; a clear error lists the groups there are."""
         if name not in self.facet_groups:
-            raise MeshError(
-                f"no facet group {name!r}; the mesh has: {sorted(self.facet_groups) or 'none'}"
-            )
+            raise MeshError(f"no facet group {name!r}{self.empty_note(name)}; the mesh has: "
+                            f"{sorted(self.facet_groups) or 'none'}")  # fmt: skip
         return self.facet_groups[name]
+
+    def empty_note(self, name: str) -> str:
+        """For messages about a missing group: why a group named in the file is not one
+        of the mesh's (empty, or of a lower dimension); empty if the file has no such name."""
+        if name not in self.empty_groups:
+            return ""
+        d = self.empty_groups[name]
+        if d < self.dim - 1:
+            return (
+                f" ({name!r} is a physical group of dimension {d} in the mesh file; "
+                f"blocks are of dimension {self.dim}, faces and joints of {self.dim - 1})"
+            )
+        return (
+            f" ({name!r} is a physical group of dimension {d} in the mesh file, but it "
+            "holds no elements: add its entities to it before meshing, or mesh them)"
+        )
 
     def group_nodes(self, name: str) -> IntArray:
         """Sorted unique node indices of a facet group or a cell group."""
@@ -169,8 +187,9 @@ class Mesh:
             parts = [self.cells[t][i].ravel() for t, i in self.cell_groups[name].items()]
         else:
             raise MeshError(
-                f"no group {name!r}; cell groups: {sorted(self.cell_groups) or 'none'}, "
-                f"facet groups: {sorted(self.facet_groups) or 'none'}"
+                f"no group {name!r}{self.empty_note(name)}; cell groups: "
+                f"{sorted(self.cell_groups) or 'none'}, facet groups: "
+                f"{sorted(self.facet_groups) or 'none'}"
             )
         return np.unique(np.concatenate(parts)) if parts else np.zeros(0, dtype=np.int64)
 
@@ -289,7 +308,7 @@ class Mesh:
         }
         ids = {t: i[keep[t]] for t, i in self.cell_ids.items() if t in cells}
         return Mesh(self.points, cells, cgroups, {k: dict(v) for k, v in self.facet_groups.items()},
-                    ids)  # fmt: skip
+                    ids, dict(self.empty_groups))  # fmt: skip
 
     # -- meshio ---------------------------------------------------------------------------
     def to_meshio(self) -> Any:
