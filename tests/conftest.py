@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import pfeie as pf
+from pfeie.cli import main
 from pfeie.element import reference
 
 CELLS_2D = ["triangle", "quad", "triangle6", "quad8", "quad9"]
@@ -55,3 +56,14 @@ def case_result(name: str):  # type: ignore[no-untyped-def]
     if name not in _CASE_RESULTS:
         _CASE_RESULTS[name] = run(fast=True, names=[name])[0]
     return _CASE_RESULTS[name]
+
+
+def cli_fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
+    """``pfeie ARGV`` exits with 2, one or more ``pfeie: error`` lines holding every word,
+    no traceback; returns the error output."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "pfeie: error" in err and "Traceback" not in err, err
+    for w in words:
+        assert w in err, (w, err)
+    return err

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import pfeie as pf
+from conftest import cli_fails
 from pfeie.cli import main
 from pfeie.errors import MeshError, ModelError, RecordError
 from pfeie.io import implausible_pga, load_job, read_mesh, read_record
@@ -21,14 +22,6 @@ from pfeie.io import implausible_pga, load_job, read_mesh, read_record
 DATA = Path(__file__).parent / "data"
 
 
-def fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
-    """Exit 2, a ``pfeie: error`` line holding every word, no traceback."""
-    assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert "pfeie: error" in err and "Traceback" not in err, err
-    for w in words:
-        assert w in err, (w, err)
-    return err
 
 
 # -- 1. a truncated or corrupt .msh file ----------------------------------------------------
@@ -137,7 +130,7 @@ def test_a_mesh_given_as_the_model_file_is_named_a_mesh(
     capsys: pytest.CaptureFixture[str], command: str
 ) -> None:
     p = DATA / "two_blocks_v22.msh"
-    err = fails(capsys, [command, str(p)])
+    err = cli_fails(capsys, [command, str(p)])
     assert err.strip() == (f"pfeie: error: {p}: expected a model file (.toml); this looks like a "
                            "gmsh mesh, which a model file names under [mesh] file")  # fmt: skip
 
@@ -147,7 +140,7 @@ def test_a_mesh_given_as_the_study_file_is_named_a_mesh(
 ) -> None:
     p = tmp_path / "dam.txt"  # by its content, whatever its name
     p.write_text((DATA / "two_blocks_v41.msh").read_text())
-    fails(capsys, ["study", str(p)], f"{p}: expected a study file (.toml); this looks like a "
+    cli_fails(capsys, ["study", str(p)], f"{p}: expected a study file (.toml); this looks like a "
           "gmsh mesh")  # fmt: skip
 
 
@@ -267,7 +260,7 @@ def test_a_tensile_strength_beyond_the_apex_is_refused(
 ) -> None:
     text = MODEL.replace("friction_angle = 30.0", f"friction_angle = 45.0\n{joint}")
     p = _model(tmp_path, text=text)
-    fails(capsys, ["check", str(p)], f"{p}: {words}")
+    cli_fails(capsys, ["check", str(p)], f"{p}: {words}")
 
 
 def test_a_tensile_strength_at_the_apex_or_of_a_broken_joint_is_accepted(tmp_path: Path) -> None:
@@ -333,7 +326,7 @@ def test_a_joint_declared_on_unshared_nodes_names_them(
     p = tmp_path / "model.toml"
     p.write_text(UNSHARED.replace("[[supports]]", "[interfaces.joint]\nfriction_angle = 30.0\n"
                                   "[[supports]]"))  # fmt: skip
-    fails(capsys, ["check", str(p)], "interface 'joint' has facets on the mesh boundary",
+    cli_fails(capsys, ["check", str(p)], "interface 'joint' has facets on the mesh boundary",
           "; the mesh has 2 pair(s) of coincident nodes that are not shared (the first at [1, "
           "1]): blocks meshed separately? (gmsh: fragment the geometry, so that they share the "
           "joint's nodes)")  # fmt: skip
@@ -377,7 +370,7 @@ def test_an_unwritable_report_path_fails_before_any_work(
     monkeypatch.setattr(report, "model_of_run", no_work)
     (tmp_path / "afile").write_text("")
     out = tmp_path / "afile" / "report.html"
-    fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", str(out)],
+    cli_fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", str(out)],
           f"pfeie: error: --out: {out}: cannot write the file: {tmp_path / 'afile'}: is a file, "
           "not a folder")  # fmt: skip
 
@@ -402,14 +395,14 @@ def test_an_error_at_a_key_set_on_the_command_line_names_the_setting(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], setting: str, words: str
 ) -> None:
     p = _model(tmp_path)
-    fails(capsys, ["check", str(p), "--set", setting], f"pfeie: error: {p}: {words}")
+    cli_fails(capsys, ["check", str(p), "--set", setting], f"pfeie: error: {p}: {words}")
 
 
 def test_an_error_elsewhere_does_not_name_the_setting(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     p = _model(tmp_path, text=MODEL.replace('dam = "concrete"', 'dam = "steel"'))
-    err = fails(capsys, ["check", str(p), "--set", "analysis.dt=0.02"], "blocks.dam: unknown")
+    err = cli_fails(capsys, ["check", str(p), "--set", "analysis.dt=0.02"], "blocks.dam: unknown")
     assert "--set" not in err
 
 

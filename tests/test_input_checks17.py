@@ -10,19 +10,10 @@ from pathlib import Path
 
 import pytest
 
+from conftest import cli_fails
 from pfeie.cli import main
 from pfeie.errors import MeshError
 from pfeie.io import load_job, read_mesh
-
-
-def fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
-    """Exit 2, a ``pfeie: error`` line holding every word, no traceback."""
-    assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert "pfeie: error" in err and "Traceback" not in err, err
-    for w in words:
-        assert w in err, (w, err)
-    return err
 
 
 def _quads(scale: float = 1.0) -> str:
@@ -81,7 +72,7 @@ def test_an_empty_block_group_is_named_empty_not_missing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     p = _model(tmp_path, MODEL.replace('dam = "concrete"', 'gallery = "concrete"'))
-    fails(capsys, ["check", str(p)], "blocks.gallery: no physical group 'gallery' of the "
+    cli_fails(capsys, ["check", str(p)], "blocks.gallery: no physical group 'gallery' of the "
           "right dimension in the mesh ('gallery' is a physical group of dimension 2 in the "
           "mesh file, but it holds no elements: add its entities to it before meshing, or "
           "mesh them)")  # fmt: skip
@@ -91,7 +82,7 @@ def test_a_point_group_used_as_a_support_names_its_dimension(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     p = _model(tmp_path, MODEL.replace('group = "bottom"', 'group = "crest"'))
-    fails(capsys, ["check", str(p)], "supports[0].group: no physical group 'crest'",
+    cli_fails(capsys, ["check", str(p)], "supports[0].group: no physical group 'crest'",
           "('crest' is a physical group of dimension 0 in the mesh file; blocks are of "
           "dimension 2, faces and joints of 1)")  # fmt: skip
 
@@ -123,6 +114,6 @@ def test_a_step_that_applies_nothing_above_1_hz_is_refused(
     if not refused:
         assert main(["check", str(p), "--dt", dt]) == 0
         return
-    fails(capsys, ["check", str(p), "--dt", dt], f"analysis.dt (from --dt {dt}): steps of "
+    cli_fails(capsys, ["check", str(p), "--dt", dt], f"analysis.dt (from --dt {dt}): steps of "
           f"{dt} s apply only the content of ground_motion[0] below", "expected analysis.dt "
           "≤ 0.5 s, typically the record's sampling (0.01 s) or finer")  # fmt: skip

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import pfeie as pf
+from conftest import cli_fails
 from pfeie.cli import main
 from pfeie.errors import MeshError, ModelError, RecordError, ResultsError
 from pfeie.io import Results, read_mesh, read_record
@@ -61,14 +62,6 @@ def model(tmp: Path, extra: str = "dynamic = false", text: str = MODEL, **mesh) 
     return p
 
 
-def fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
-    """Exit 2, one or more ``pfeie: error`` lines holding every word, no traceback."""
-    assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert "pfeie: error" in err and "Traceback" not in err
-    for w in words:
-        assert w in err, (w, err)
-    return err
 
 
 # -- item: a static-only run goes through plot, report and export ---------------------------
@@ -106,7 +99,7 @@ def test_static_only_run_without_interfaces(
     assert main(["run", str(p), "--quiet"]) == 0
     res = str(tmp_path / "out" / "results.h5")
     capsys.readouterr()
-    fails(capsys, ["plot", res], "results.h5", "nothing to plot", "static-only")
+    cli_fails(capsys, ["plot", res], "results.h5", "nothing to plot", "static-only")
     assert main(["report", res]) == 0
     assert main(["export", res, "--csv", str(tmp_path / "csv")]) == 0
     assert [f.name for f in sorted((tmp_path / "csv").iterdir())] == ["nodes_static.csv"]
@@ -125,10 +118,10 @@ def test_not_a_results_file(
     text = tmp_path / "text.h5"
     text.write_text("not hdf5\n")
     extra = ["--csv", str(tmp_path / "csv")] if command == "export" else []
-    fails(capsys, [command, str(other), *extra], "other.h5", "not a pfeie results file",
+    cli_fails(capsys, [command, str(other), *extra], "other.h5", "not a pfeie results file",
           "pfeie_version", "written by `pfeie run`")  # fmt: skip
-    fails(capsys, [command, str(text), *extra], "text.h5", "not an HDF5 file")
-    fails(capsys, [command, str(tmp_path / "none.h5"), *extra], "none.h5", "not found")
+    cli_fails(capsys, [command, str(text), *extra], "text.h5", "not an HDF5 file")
+    cli_fails(capsys, [command, str(tmp_path / "none.h5"), *extra], "none.h5", "not found")
     with pytest.raises(ResultsError, match="lacks"):
         Results(other)
 
@@ -139,21 +132,21 @@ def test_output_folder_that_cannot_be_made(
 ) -> None:
     (tmp_path / "afile").write_text("x")
     p = model(tmp_path, text=MODEL.replace('folder = "out"', 'folder = "afile"'))
-    fails(capsys, ["run", str(p), "--quiet"], "model.toml", "output.folder", "afile",
+    cli_fails(capsys, ["run", str(p), "--quiet"], "model.toml", "output.folder", "afile",
           "is a file, not a folder")  # fmt: skip
     p.write_text(MODEL.replace("EXTRA", "dynamic = false").replace(
         'folder = "out"', 'folder = "afile/sub"'))  # fmt: skip
-    fails(capsys, ["run", str(p), "--quiet"], "output.folder", "afile/sub",
+    cli_fails(capsys, ["run", str(p), "--quiet"], "output.folder", "afile/sub",
           "cannot create the output folder")  # fmt: skip
     p.write_text(MODEL.replace("EXTRA", "dynamic = false").replace(
         'folder = "out"', 'folder = "o\\u0000ut"'))  # fmt: skip
-    fails(capsys, ["check", str(p)], "output.folder", "NUL")
+    cli_fails(capsys, ["check", str(p)], "output.folder", "NUL")
     p.write_text(MODEL.replace("EXTRA", "dynamic = false"))
     assert main(["run", str(p), "--quiet"]) == 0
     res = str(tmp_path / "out" / "results.h5")
-    fails(capsys, ["export", res, "--csv", str(tmp_path / "afile")], "afile", "not a folder")
-    fails(capsys, ["report", res, "--out", str(tmp_path / "afile" / "r.html")], "afile")
-    fails(capsys, ["report", res, "--out", str(tmp_path)], str(tmp_path), "is a folder")
+    cli_fails(capsys, ["export", res, "--csv", str(tmp_path / "afile")], "afile", "not a folder")
+    cli_fails(capsys, ["report", res, "--out", str(tmp_path / "afile" / "r.html")], "afile")
+    cli_fails(capsys, ["report", res, "--out", str(tmp_path)], str(tmp_path), "is a folder")
 
 
 # -- item: meshes ----------------------------------------------------------------------------
@@ -162,16 +155,16 @@ def test_bow_tie_and_degenerate_cells_are_named_by_gmsh_id(
 ) -> None:
     bow = [e if e[0] != 11 else (11, 3, 1, [2, 3, 5, 6]) for e in ELEMENTS]
     p = model(tmp_path, elements=bow)
-    fails(capsys, ["check", str(p)], "plate.msh", "inverted or self-intersecting",
+    cli_fails(capsys, ["check", str(p)], "plate.msh", "inverted or self-intersecting",
           "gmsh element 11")  # fmt: skip
     nodes = [*NODES[:5], (3.0, 0.0, 0.0)]  # node 6 on the line of nodes 2, 3: a flat quad
     flat = [e if e[0] != 11 else (11, 3, 1, [2, 3, 6, 5]) for e in ELEMENTS]
     flat[-1] = (11, 2, 1, [2, 3, 6])  # a triangle on three collinear nodes
     p = model(tmp_path, nodes=nodes, elements=flat)
-    fails(capsys, ["check", str(p)], "plate.msh", "degenerate triangle", "gmsh element 11")
+    cli_fails(capsys, ["check", str(p)], "plate.msh", "degenerate triangle", "gmsh element 11")
     twice = [*ELEMENTS, (12, 3, 1, [2, 3, 6, 5])]
     p = model(tmp_path, elements=twice)
-    fails(capsys, ["check", str(p)], "duplicated", "gmsh element 11 and gmsh element 12")
+    cli_fails(capsys, ["check", str(p)], "duplicated", "gmsh element 11 and gmsh element 12")
 
 
 def test_cell_type_without_element_is_refused(tmp_path: Path) -> None:
@@ -240,7 +233,7 @@ def test_cells_named_by_index_without_gmsh() -> None:
 def test_plane_mesh_outside_x_y(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     xz = [(x, 0.0, y) for x, y, _ in NODES]  # the plate drawn in the x-z plane
     p = model(tmp_path, nodes=xz)
-    fails(capsys, ["check", str(p)], "plate.msh", "x-y plane", "expected z = 0")
+    cli_fails(capsys, ["check", str(p)], "plate.msh", "x-y plane", "expected z = 0")
     tilted = [(x, y, 0.1 * y) for x, y, _ in NODES]
     with pytest.raises(MeshError, match="x-y plane"):
         read_mesh(msh22(tmp_path / "t.msh", nodes=tilted))
@@ -254,7 +247,7 @@ def test_3d_mesh_with_plane_stress(tmp_path: Path, capsys: pytest.CaptureFixture
     elements = [(1, 2, 3, [1, 2, 3]), (2, 4, 1, [1, 2, 3, 4])]
     p = model(tmp_path, nodes=nodes, elements=elements, names=names,
               text='plane = "stress"\n' + MODEL)  # fmt: skip
-    fails(capsys, ["check", str(p)], "model.toml", "plane", "3D", "remove plane")
+    cli_fails(capsys, ["check", str(p)], "model.toml", "plane", "3D", "remove plane")
     p.write_text(MODEL.replace("EXTRA", "dynamic = false"))
     assert main(["check", str(p)]) == 0
     import pfeie as pf
@@ -281,7 +274,7 @@ def test_cells_in_two_block_groups(tmp_path: Path, capsys: pytest.CaptureFixture
         pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.2, 1.0)),
                         pf.Block("dam", pf.Elastic(1e9, 0.2, 1.0))])  # fmt: skip
     capsys.readouterr()
-    fails(capsys, ["check", str(model(tmp_path, names=names, text=text,
+    cli_fails(capsys, ["check", str(model(tmp_path, names=names, text=text,
                                       elements=[*ELEMENTS, (12, 3, 2, [2, 3, 6, 5])]))],
           "duplicated", "gmsh element 11 and gmsh element 12")  # fmt: skip
 
@@ -293,7 +286,7 @@ def test_pressure_on_interior_facets(tmp_path: Path, capsys: pytest.CaptureFixtu
     text = text.replace("[analysis]", "[analysis]").replace(
         '[[loads.pressure]]', '[loads]\n[[loads.pressure]]')  # fmt: skip
     p = model(tmp_path, text=text)
-    fails(capsys, ["check", str(p)], "model.toml", "loads.pressure[0].group", "'mid'",
+    cli_fails(capsys, ["check", str(p)], "model.toml", "loads.pressure[0].group", "'mid'",
           "inside a block", "expected facets on the boundary")  # fmt: skip
     import pfeie as pf
 
@@ -307,11 +300,11 @@ def test_pressure_on_interior_facets(tmp_path: Path, capsys: pytest.CaptureFixtu
 def test_unreadable_msh(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     p = model(tmp_path)
     (tmp_path / "plate.msh").write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0\n")
-    fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "expected")
+    cli_fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "expected")
     (tmp_path / "plate.msh").write_bytes(b"\x00\xff" * 50)
-    fails(capsys, ["run", str(p)], "plate.msh", "gmsh")
+    cli_fails(capsys, ["run", str(p)], "plate.msh", "gmsh")
     (tmp_path / "plate.msh").write_text("time,acc\n0,0\n")  # meshio.read would exit
-    fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "2.2 or 4.1")
+    cli_fails(capsys, ["check", str(p)], "plate.msh", "cannot read the gmsh file", "2.2 or 4.1")
 
 
 # -- item: records ---------------------------------------------------------------------------
@@ -404,7 +397,7 @@ def test_msh41_entity_in_two_physical_surfaces(
     assert mesh.cell_groups["rock"]["triangle"].size == 168
     p = tmp_path / "model.toml"
     p.write_text(MODEL.replace("EXTRA", "").replace('all = "rock"', 'rock = "rock"\ndam = "rock"'))
-    fails(capsys, ["check", str(p)], "model.toml", "'rock'", "'dam'", "share 84 triangle",
+    cli_fails(capsys, ["check", str(p)], "model.toml", "'rock'", "'dam'", "share 84 triangle",
           "gmsh element")  # fmt: skip
 
 
@@ -416,7 +409,7 @@ def test_gravity_direction(
     overflow."""
     p = model(tmp_path, text=MODEL + f"[loads]\ngravity_direction = {direction}\n")
     if direction == "[0.0, 0.0]":
-        fails(capsys, ["check", str(p)], "model.toml", "loads.gravity_direction",
+        cli_fails(capsys, ["check", str(p)], "model.toml", "loads.gravity_direction",
               "finite non-zero vector")  # fmt: skip
     else:
         assert main(["check", str(p)]) == 0
@@ -424,7 +417,7 @@ def test_gravity_direction(
 
 def test_nothing_to_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     p = model(tmp_path, extra="dynamic = false\nstatic = false")
-    fails(capsys, ["check", str(p)], "model.toml", "analysis.dynamic", "nothing to run")
+    cli_fails(capsys, ["check", str(p)], "model.toml", "analysis.dynamic", "nothing to run")
 
 
 def test_non_finite_coordinates(tmp_path: Path) -> None:
@@ -602,7 +595,7 @@ def test_output_file_with_a_nul_character(tmp_path: Path,
     p.write_text(text.replace("EXTRA", "dynamic = false"))
     assert main(["run", str(p), "--quiet"]) == 0
     capsys.readouterr()
-    fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", "a\x00b"],
+    cli_fails(capsys, ["report", str(tmp_path / "out" / "results.h5"), "--out", "a\x00b"],
           "NUL character")  # fmt: skip
 
 
