@@ -629,9 +629,10 @@ def test_fe_reservoir_errors_and_model_file(tmp_path, capsys) -> None:  # type: 
         pf.Model(pf.box(1.0, 1.0, 1.0, 1, 1, 1), [pf.Block("all", pf.Elastic(1e9, 0.2, 1.0))]
                  ).add_reservoir("xmin", 0.5)  # fmt: skip
     assert not m.fe_reservoirs
+    from conftest import cli_fails as fails
     from pfeie.cli import main
     from pfeie.io import load_job
-    from test_robustness import ELEMENTS, NAMES, fails, model
+    from test_robustness import ELEMENTS, NAMES, model
 
     names = {**NAMES, 6: (1, "upstream")}
     elements = [*ELEMENTS, (6, 1, 6, [1, 4])]  # the plate's left side, x = 0

@@ -301,7 +301,7 @@ def test_bad_target_sa(tmp_path: Path, capsys: pytest.CaptureFixture[str], extra
                        words: list[str]) -> None:  # fmt: skip
     """A wrong target_sa ends in exit 2 with a ``pfeie: error`` line naming the key and
     what was expected, no traceback (the style of test_robustness)."""
-    from test_robustness import fails
+    from conftest import cli_fails as fails
 
     fails(capsys, ["check", str(_model(tmp_path, extra))], *words)
 
@@ -349,7 +349,7 @@ def test_spectrum_command_on_a_model(tmp_path: Path, capsys: pytest.CaptureFixtu
 def test_spectrum_command_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                  argv: list[str], words: list[str]) -> None:  # fmt: skip
     """Wrong options or a record without units: exit 2 and a ``pfeie: error`` line."""
-    from test_robustness import fails
+    from conftest import cli_fails as fails
 
     units = [] if words == ["give the units of the record"] else ["--units", "g"]
     fails(capsys, ["spectrum", str(ELCENTRO), *units, *argv, "-o", str(tmp_path)], *words)
@@ -360,8 +360,8 @@ def test_scaling_of_a_zero_record_and_the_pga_note(
 ) -> None:
     """``target_sa`` on a record of zeros: exit 2 naming the record; ``pga`` scaling
     states its factor in the summary too (0.3 g / 0.31882 g = 0.94097, 6 digits)."""
+    from conftest import cli_fails as fails
     from pfeie.io import load_job
-    from test_robustness import fails
 
     p = _model(tmp_path, "pga = 0.3\n")
     assert "scaled ×0.94097 to a PGA of 0.3 g" in load_job(p).records[0].summary()
