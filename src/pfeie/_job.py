@@ -41,7 +41,15 @@ from .dynamics import (
     demand_capacity,
     envelope_extremes,
 )  # fmt: skip
-from .errors import InputError, ModelError, PfeieError, ResultsError
+from .errors import (
+    InputError,
+    InterfaceError,
+    MechanismError,
+    ModelError,
+    PfeieError,
+    ResultsError,
+    SolverError,
+)
 from .interface import OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
 from .io import (
     CheckpointWriter,
@@ -238,6 +246,7 @@ def _run(
         writer.close(False, f"interrupted ({str(exc) or 'SIGINT'}) before the time stepping")
         raise
     result: DynamicResult | None = None
+    final: StepState | None = None  # the last state of this process's steps
     stopped: str | None = None
     if dyn is not None:
         try:
@@ -277,9 +286,13 @@ def _run(
         writer.write_envelope(result.envelope)
         if not result.completed:
             stopped = result.stop_reason or "stopped"
+        final = result.final
         if ck is not None:  # the summary of the whole run, not of its resumed part
             result = history(writer, result.completed, result.stop_reason)
+    post = _post_earthquake(job, static, result, final, writer)
     summary = summarize(job, static, result)
+    if post:
+        summary["post_earthquake"] = post
     if yields:
         summary["yield_coefficient"] = yields
     summary["stopped"] = stopped
@@ -362,6 +375,36 @@ def _yield_coefficients(
             stream.write(f"yield coefficient {label}: k_y {k_y} ({y.limit}), {y.analyses} "
                          f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip
             stream.flush()
+    return out
+
+
+def _post_earthquake(
+    job: Job, static: StaticResult | None, result: DynamicResult | None,
+    final: StepState | None, writer: ResultsWriter,
+) -> dict[str, Any]:  # fmt: skip
+    """The post-earthquake static state of a completed run with joints
+    (:func:`~pfeie.solve_static` with the last pair state ``final`` as its ``damage``; a
+    resumed run's own last state), written to
+    the results' ``post_earthquake`` group: per joint its sliding safety factor and forces
+    (as the static state's), the broken share, and each uplift's crack; or, where no
+    static equilibrium holds the blocks after the record, ``error`` says why."""
+    model = job.model
+    if (not job.analysis.post_earthquake or static is None or result is None
+            or not result.completed or final is None or model.pairs is None):  # fmt: skip
+        return {}
+    t0 = time.perf_counter()
+    try:
+        post = solve_static(model, settings=SolverSettings(tolerance=job.analysis.tolerance),
+                            damage=final.pairs)  # fmt: skip
+    except (MechanismError, InterfaceError, SolverError) as exc:
+        log.warning("post-earthquake static state: %s", exc)
+        return {"error": str(exc)}
+    writer.write_static(post, group="post_earthquake")
+    log.info("post-earthquake static state solved in %.2f s", time.perf_counter() - t0)
+    out: dict[str, Any] = {"joints": _static_joints(model, post)}
+    if model.uplifts:
+        out["cracks_m"] = {u.interface: float(c)
+                           for u, c in zip(model.uplifts, post.cracks, strict=True)}  # fmt: skip
     return out
 
 
@@ -667,6 +710,19 @@ def format_summary(s: dict[str, Any]) -> str:
                 "paired node to node (small sliding), so past half a spacing the result is "
                 "not reliable (docs/results.md)"
             )
+    post = s.get("post_earthquake", {})
+    if "error" in post:
+        lines.append(f"  post-EQ      no static equilibrium after the record: {post['error']}")
+    for name, j in post.get("joints", {}).items():
+        fs = j["safety_factor"]
+        crack = post.get("cracks_m", {}).get(name)
+        lines.append(
+            f"  post-EQ {name:<8} FS {'∞' if fs is None else f'{fs:.2f}'}, normal "
+            f"{j['normal_force_N'] / 1e3:.4g} kN, shear {j['shear_force_N'] / 1e3:.4g} kN, "
+            f"broken {100 * j['broken_share']:.0f} %"
+            + ("" if crack is None else f", crack at full uplift {crack:.2f} m")
+            + f", sliding {100 * j['sliding_share']:.0f} %"
+        )
     if "stress" in s:
         st = s["stress"]
 

@@ -115,11 +115,15 @@ class StaticInterfaceProblem:
                                       hint="")  # fmt: skip
 
     def solve(
-        self, f_free: FloatArray, label: str = "static analysis", start: PairState | None = None
-    ) -> tuple[FloatArray, PairState]:
+        self, f_free: FloatArray, label: str = "static analysis", start: PairState | None = None,
+        damage: PairState | None = None,
+    ) -> tuple[FloatArray, PairState]:  # fmt: skip
         """Free-DOF displacements and the pair state under the free-DOF loads ``f_free``;
         ``start``: the pair solver's first iterate (the state under nearby loads), else
-        the initial state."""
+        the initial state; ``damage``: a pair state left by an earlier load (an
+        earthquake's last), whose broken pairs (besides those of joints that start broken)
+        carry their residual strength and whose slip paths set the strength of
+        slip-dependent laws."""
         d = self.model.dim
         keep, Phi = self.keep, self.Phi
         u_pin = np.zeros(self.system.free.size)
@@ -127,7 +131,11 @@ class StaticInterfaceProblem:
         w_free = (self.op.G @ u_pin + self.w_pres).reshape(-1, d)
         e = -(Phi.T @ f_free) if Phi.shape[1] else None
         laws = self.model.pair_laws
-        st, q = self.solver.solve(w_free, laws.initial_state(d), e, label=label, start=start)
+        prev = laws.initial_state(d)
+        if damage is not None:
+            prev = PairState.initial(laws.initially_broken | damage.broken, laws.gap, d)
+            prev.path = damage.path.copy()
+        st, q = self.solver.solve(w_free, prev, e, label=label, start=start)
         u_free = u_pin
         u_free[keep] += self.W.correct(st.X.ravel())
         if Phi.shape[1]:

@@ -337,9 +337,13 @@ class ResultsWriter:
         # converted here (float64 fields to float32: rounded to nearest, as numpy does)
         ds[n:] = np.stack([np.asarray(v) for v in values]).astype(ds.dtype, copy=False)
 
-    def write_static(self, static: Any) -> None:
-        """The static state: displacements and pair state."""
-        g = self.f.create_group("static")
+    def write_static(self, static: Any, group: str = "static") -> None:
+        """The static state (``group`` static) or the post-earthquake one
+        (``post_earthquake``; that of a run extended by ``--resume`` is written again):
+        displacements and pair state."""
+        if group in self.f:
+            del self.f[group]
+        g = self.f.create_group(group)
         self._ds(g, "u", static.u, "m")
         if static.pairs is not None:
             for key in ("X", "w", "s"):

@@ -624,6 +624,12 @@ class Analysis(DynamicSettings):
         "−x (made horizontal): the pseudo-static acceleration, a fraction of g, at which "
         "a joint slides (summary.json yield_coefficient; needs static = true)",
     )] = False  # fmt: skip
+    post_earthquake: Annotated[bool, Field(
+        description="after a completed record, the post-earthquake static state: the "
+        "static loads on the joints as the record left them (the pairs it broke at their "
+        "residual strength, an uplift's crack from the heel at full headwater), with each "
+        "joint's sliding safety factor (summary.json post_earthquake; needs static = true)",
+    )] = True  # fmt: skip
     duration: Annotated[
         Annotated[float, Field(gt=0.0), Unit("s")] | None,
         Field(description="duration (s); default: the longest record"),

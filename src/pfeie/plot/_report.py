@@ -38,8 +38,9 @@ log = logging.getLogger(__name__)
 
 
 def joint_table(res: Results) -> list[dict[str, Any]]:
-    """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share
-    (for a static-only run: the static state, :func:`static_joint_table`)."""
+    """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share,
+    the post-earthquake safety factor (for a static-only run: the static state,
+    :func:`static_joint_table`)."""
     if res.n_times == 0:
         return static_joint_table(res)
     rows = []
@@ -68,6 +69,14 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
             rows[-1]["peak |F_x| (kN)"] = 1e-3 * float(np.abs(jr["force"][:, 0]).max())
             rows[-1]["peak |M| (kN m)"] = 1e-3 * float(
                 np.linalg.norm(jr["moment"], axis=1).max())  # fmt: skip
+    # the post-earthquake static state (analysis.post_earthquake), from the run's summary
+    post = (res.meta.get("results_summary") or {}).get("post_earthquake") or {}
+    for row in rows:
+        if "error" in post:
+            row["post-earthquake safety factor"] = "no static equilibrium"
+        elif row["joint"] in post.get("joints", {}):
+            fs = post["joints"][row["joint"]]["safety_factor"]
+            row["post-earthquake safety factor"] = "∞" if fs is None else f"{fs:.3g}"
     return rows
 
 

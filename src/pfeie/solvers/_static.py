@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
-from ..errors import InterfaceError, MechanismError, SolverError
+from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import OPEN, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
@@ -45,12 +45,21 @@ class StaticResult:
 
 
 def solve_static(
-    model: Model, *, t: float = 0.0, backend: str = "auto", settings: SolverSettings | None = None
-) -> StaticResult:
+    model: Model, *, t: float = 0.0, backend: str = "auto", settings: SolverSettings | None = None,
+    damage: PairState | None = None,
+) -> StaticResult:  # fmt: skip
     """Solve the static problem under the loads at time ``t``.
 
     The reactions are r = K u − f − Gᵀ X on the prescribed DOFs (zero elsewhere); their
     sum balances the applied loads.
+
+    ``damage``: the pair state an earthquake left (``DynamicResult.final.pairs``), for the
+    **post-earthquake** static state (USACE EM 1110-2-6053, §7; FERC Engineering
+    Guidelines, Chapter III): the same static loads on the joints as the earthquake left
+    them, each pair it broke at its residual strength (c_r, φ_r, no tension), its slip
+    path carried over, and an uplift's crack from the heel (its broken pairs from the
+    heel, and those open) at full headwater. The residual slips and openings are small
+    beside the blocks, so the geometry is the undeformed one.
 
     >>> import pfeie as pf
     >>> m = pf.Model(pf.rectangle(2.0, 1.0, 4, 2), [pf.Block("all", pf.Elastic(1e6, 0.0))])
@@ -77,12 +86,12 @@ def solve_static(
         reactions[system.prescribed] = r[system.prescribed]
         return StaticResult(model, u.reshape(-1, d), reactions.reshape(-1, d))
     problem = StaticInterfaceProblem(model, system, backend=backend, settings=settings)
-    return solve_pairs(problem, f_free, model.load_vector(t))
+    return solve_pairs(problem, f_free, model.load_vector(t), damage=damage)
 
 
 def solve_pairs(
     problem: StaticInterfaceProblem, f_free: FloatArray, f_all: FloatArray,
-    start: PairState | None = None,
+    start: PairState | None = None, *, damage: PairState | None = None,
 ) -> StaticResult:  # fmt: skip
     """The static state of a model with interfaces under the free-DOF loads ``f_free``
     (those of :meth:`LinearSystem.load`, the prescribed displacements included) whose
@@ -90,13 +99,21 @@ def solve_pairs(
     (its factorisations serve any number of load cases): the pair problem, and with
     uplifts the crack and its uplift settled together. ``start``: the pair state under
     nearby loads, the pair solver's first iterate (a load step; see
-    :meth:`~pfeie.interface.InterfaceSolver.solve`)."""
+    :meth:`~pfeie.interface.InterfaceSolver.solve`); ``damage``: the pair state an
+    earthquake left (:func:`solve_static`)."""
     model, system = problem.model, problem.system
     d = model.dim
+    cracked = None
+    if damage is not None:
+        n = 0 if model.pairs is None else model.pairs.n
+        if damage.broken.shape != (n,) or damage.path.shape != (n,):
+            raise ModelError(f"post-earthquake static state: the damage is a state of "
+                             f"{damage.broken.size} pairs; this model has {n}")  # fmt: skip
+        cracked = damage.broken
 
     def solve(f: FloatArray) -> tuple[FloatArray, PairState]:
         try:
-            return problem.solve(f, start=start)
+            return problem.solve(f, start=start, damage=damage)
         except MechanismError as exc:
             raise MechanismError(f"{exc}. {_floating(model)}") from None
         except InterfaceError as exc:
@@ -107,7 +124,9 @@ def solve_pairs(
             # without a verdict
             raise InterfaceError(f"{exc} {_floating(model, found=False)}") from None
 
-    p, cracks = model.uplift_pressure()
+    # the crack of an uplift: its pairs open from the heel (and, after an earthquake, the
+    # pairs it broke from the heel)
+    p, cracks = model.uplift_pressure(cracked)
     f_up = model.uplift_load(p)
     u_free, st = solve(f_free + f_up[system.free])
     # a crack whose full uplift nothing held (then p is a relaxed step towards its
@@ -120,7 +139,9 @@ def solve_pairs(
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
-        p_new, new = model.uplift_pressure(st.state == OPEN)
+        p_new, new = model.uplift_pressure(
+            st.state == OPEN if cracked is None else (st.state == OPEN) | cracked
+        )
         if new == cracks and unheld is None:
             break
         if unheld is not None and all(a >= b for a, b in zip(new, unheld, strict=True)):
