@@ -24,12 +24,17 @@ intensity, so that a ladder changed between two runs of a study (a value added, 
 numbers its levels from the current ladder.
 
 The table has one row per record and intensity: the record, the intensity and the scale
-factor; the intensity measures of the scaled record (PGA, PGV, PGD, Arias intensity, CAV,
-D5-95, Sa(T1)); and the demands of the run (per probe the peak relative displacement and
-peak absolute acceleration; per joint the peak and residual slip, the maximum opening, the
-broken share and the minimum sliding safety factor; the extreme principal stresses; the
-solver's worst residual). Columns are ``im.*``, ``probe.<name>.*``, ``joint.<name>.*``,
-``stress.*``, SI units in the name.
+factor; the intensity measures of the scaled record as applied, that is cut at the run's
+duration (PGA, PGV, PGD, Arias intensity, CAV, D5-95, Sa(T1)), which also set the scaling
+to a PGA or Sa ladder; and the demands of the run (per probe the peak relative
+displacement and peak absolute acceleration; per joint the peak and residual slip, the
+maximum opening, the broken share and the minimum sliding safety factor; the extreme
+principal stresses; the solver's worst residual); and its reliability (per joint the peak
+slip over the spacing of its pairs, the energy shares of the position corrections and of
+the time scheme, the ``warnings`` of ``pfeie run``'s summary). Columns are ``im.*``,
+``probe.<name>.*``, ``joint.<name>.*``, ``stress.*``, ``energy.*``, SI units in the name.
+Every record is read and checked before any run (:meth:`Study.runs`), and one study at a
+time writes to a folder (a lock file, :meth:`Study.run`).
 """
 
 from __future__ import annotations
@@ -492,6 +497,7 @@ class Study:
         ``sa`` (the model file's range); ``level`` k of the table is ``values[k]``.
     period: T1 (s) of Sa (the ``sa`` measure and the ``im.sa_t1_g`` column); default the
         model's first period with its joints bonded.
+    damping: the damping ratio ζ of Sa (the ``sa`` measure and ``im.sa_t1_g``).
     duration: of every run (s); default each record's length. A record longer than the
         run is cut at its end: the intensity measures and the scaling to a ``pga`` or
         ``sa`` describe the motion applied, the record up to ``duration``.
