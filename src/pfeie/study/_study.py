@@ -832,13 +832,12 @@ class Study:
                       factors: list[float]) -> None:  # fmt: skip
         """The checks of a model file's ``[[ground_motion]]`` (``pfeie run``, ``pfeie
         check``) on a study's record: its PGA as read (``rec``, in its units) at most
-        :data:`~pfeie.io._modelfile.MAX_PGA_G` (a record in cm/s² read as g is 981 times
+        :data:`~pfeie.io.MAX_PGA_G` (a record in cm/s² read as g is 981 times
         too strong) and plausible (:func:`~pfeie.io.implausible_pga`, a WARNING); the PGA
         of every scaled run (``pga``, m/s², of the part applied, times each factor) at most
         that bound; a record the steps can see (at least one step long)."""
-        from ..dynamics._excitation import shorter_than_a_step
-        from ..io import implausible_pga
-        from ..io._modelfile import MAX_PGA_G
+        from ..dynamics import shorter_than_a_step
+        from ..io import MAX_PGA_G, implausible_pga
 
         where, units = self._entry(r), r.units or "g"
         why = shorter_than_a_step(rec, self._job.analysis.dt)
