@@ -609,7 +609,7 @@ def _study(args: argparse.Namespace) -> int:
     from .study import median_lines
 
     stopped = [f"{r['record']}@{r['intensity']:g}" for r in table.rows if not r["completed"]]
-    for line in median_lines(table):
+    for line in median_lines(table, extra=[str(ls["demand"]) for ls in st.limit_states]):
         print(line)
     print(f"{len(table)} runs in {st.folder / 'table.csv'}")
     for f in st.outputs():

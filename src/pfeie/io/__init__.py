@@ -12,6 +12,7 @@ from ._export import export_csv
 from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import (
+    MAX_PGA_G,
     Job,
     ModelFile,
     Override,
@@ -31,6 +32,7 @@ from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_fil
 __all__ = [
     "BATCH",
     "MAX_BATCH",
+    "MAX_PGA_G",
     "MAX_WORKERS",
     "CheckpointWriter",
     "Job",

@@ -63,7 +63,6 @@ from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy import optimize, special, stats
 
 from ..errors import ModelError
 from ..typing import FloatArray
@@ -124,12 +123,16 @@ class Fragility:
 
     def probability(self, im: ArrayLike) -> FloatArray:
         """Φ(ln(x/θ)/β) at the IM values ``im`` (0 at IM = 0)."""
+        from scipy import special
+
         return np.asarray(special.ndtr(self._u(im)[1]), dtype=float)
 
     def __call__(self, im: ArrayLike) -> FloatArray:
         return self.probability(im)
 
     def _k(self, level: float, simultaneous: bool) -> float:
+        from scipy import stats
+
         if not 0 < level < 1:
             raise ModelError(f"a confidence level is in (0, 1), found {level!r}")
         if simultaneous:
@@ -143,6 +146,8 @@ class Fragility:
         delta method on the probit û = ln(x/θ̂)/β̂ with Var(û) = Cov₀₀/β² + 2û Cov₀₁/β +
         û² Cov₁₁ (Cov of ln θ̂, ln β̂); pointwise, or simultaneous over all IM
         (k = √χ²₂(level))."""
+        from scipy import special
+
         x, u = self._u(im)
         k = self._k(level, simultaneous)
         c = self.cov
@@ -237,6 +242,8 @@ def fit_moments(im_c: ArrayLike, *, name: str = "", empirical: Stripes | None = 
 
 def _log_diff_ndtr(a: FloatArray, b: FloatArray) -> FloatArray:
     """ln(Φ(b) − Φ(a)) for a < b (±inf allowed), accurate in both tails."""
+    from scipy import special
+
     flip = a > 0
     x = np.where(flip, -b, a)
     y = np.where(flip, -a, b)
@@ -327,6 +334,8 @@ def _mle(
     keep = w > 0
     lower, upper, w = lower[keep], upper[keep], w[keep]
     _check_identified(lower, upper, what)
+    from scipy import optimize
+
     nll = _Likelihood(lower, upper, w)
     exact = lower == upper
     if np.count_nonzero(exact) >= 2 and np.ptp(np.log(lower[exact])) > 0:
@@ -431,6 +440,8 @@ def fit_stripes(
     >>> round(f.theta, 3), round(f.beta, 3), round(f.loglik, 3)
     (0.515, 0.539, -7.181)
     """
+    from scipy import special
+
     x = _positive(im, "fit_stripes: the intensities")
     z = np.asarray(exceeded, dtype=float).ravel()
     n = np.ones(x.size) if total is None else np.asarray(total, dtype=float).ravel()

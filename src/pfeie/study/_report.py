@@ -17,6 +17,7 @@ import csv
 import html
 import logging
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -138,10 +139,12 @@ def per_intensity(
     return out
 
 
-def median_lines(table: StudyTable, columns: int = 4) -> list[str]:
+def median_lines(table: StudyTable, columns: int = 4, extra: Sequence[str] = ()) -> list[str]:
     """Text lines: the median over the records of the main demands at each intensity
-    (the first ``columns`` demand columns), for a summary on the terminal."""
+    (the first ``columns`` demand columns, then the ``extra`` columns of the table not
+    among them: the limit states' demands), for a summary on the terminal."""
     demands = _demand_columns(table)[:columns]
+    demands += [c for c in dict.fromkeys(extra) if c in table.columns and c not in demands]
     if not demands or not len(table):
         return []
     head = f"{'level':>5} {'intensity':>10} " + " ".join(f"{c[-34:]:>34}" for c in demands)

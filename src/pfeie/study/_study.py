@@ -24,12 +24,17 @@ intensity, so that a ladder changed between two runs of a study (a value added, 
 numbers its levels from the current ladder.
 
 The table has one row per record and intensity: the record, the intensity and the scale
-factor; the intensity measures of the scaled record (PGA, PGV, PGD, Arias intensity, CAV,
-D5-95, Sa(T1)); and the demands of the run (per probe the peak relative displacement and
-peak absolute acceleration; per joint the peak and residual slip, the maximum opening, the
-broken share and the minimum sliding safety factor; the extreme principal stresses; the
-solver's worst residual). Columns are ``im.*``, ``probe.<name>.*``, ``joint.<name>.*``,
-``stress.*``, SI units in the name.
+factor; the intensity measures of the scaled record as applied, that is cut at the run's
+duration (PGA, PGV, PGD, Arias intensity, CAV, D5-95, Sa(T1)), which also set the scaling
+to a PGA or Sa ladder; and the demands of the run (per probe the peak relative
+displacement and peak absolute acceleration; per joint the peak and residual slip, the
+maximum opening, the broken share and the minimum sliding safety factor; the extreme
+principal stresses; the solver's worst residual); and its reliability (per joint the peak
+slip over the spacing of its pairs, the energy shares of the position corrections and of
+the time scheme, the ``warnings`` of ``pfeie run``'s summary). Columns are ``im.*``,
+``probe.<name>.*``, ``joint.<name>.*``, ``stress.*``, ``energy.*``, SI units in the name.
+Every record is read and checked before any run (:meth:`Study.runs`), and one study at a
+time writes to a folder (a lock file, :meth:`Study.run`).
 """
 
 from __future__ import annotations
@@ -42,6 +47,7 @@ import hashlib
 import json
 import logging
 import math
+import multiprocessing
 import os
 import re
 import time
@@ -49,6 +55,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
 
 from .._version import __version__
 from ..errors import InputError, ModelError, PfeieError, RecordError
@@ -77,14 +85,23 @@ IM_COLUMNS = (
 #: pair), of the stress envelope (the demand-capacity ones with tensile strengths) and of
 #: the pair solver, after ``probe.<name>.``, ``joint.<name>.``, ``stress.``, ``solver.``
 PROBE_KEYS = ("peak_displacement_m", "peak_abs_acceleration_g")
-JOINT_KEYS = ("peak_slip_max_m", "residual_slip_max_m", "residual_slip_mean_m",
-              "max_opening_m", "broken_share", "cracked_length_m", "cracked_area_m2",
-              "max_open_length_m", "max_open_area_m2", "min_safety_factor")  # fmt: skip
+JOINT_KEYS = ("peak_slip_max_m", "peak_slip_to_spacing", "residual_slip_max_m",
+              "residual_slip_mean_m", "max_opening_m", "broken_share", "cracked_length_m",
+              "cracked_area_m2", "max_open_length_m", "max_open_area_m2",
+              "min_safety_factor")  # fmt: skip
 JOINT_KEYS_2D = tuple(k for k in JOINT_KEYS if not k.endswith("_area_m2"))
 JOINT_KEYS_3D = tuple(k for k in JOINT_KEYS if not k.endswith("_length_m"))
 STRESS_KEYS = ("max_principal_Pa", "min_principal_Pa", "max_dcr", "max_cid_s",
                "overstressed_share")  # fmt: skip
 SOLVER_KEYS = ("fallback_steps", "newton_steps", "worst_residual")
+#: the reliability measures of a run's energy balance, after ``energy.``: the share of the
+#: input energy (the external work) that the position corrections of penetrating pairs
+#: added (< 0: took), and the share of the energy through the run that the time scheme
+#: created (a negative algorithmic term; 0 when it took energy), as in ``pfeie run``'s
+#: summary (its "corrections" and "scheme" lines)
+ENERGY_KEYS = ("correction_share", "scheme_created_share")
+#: the demand-capacity columns of the stress envelope: only with tensile strengths
+DCR_KEYS = ("max_dcr", "max_cid_s", "overstressed_share")
 
 #: demand columns that hold a signed value: the principal stresses (tension > 0,
 #: compression < 0), so that a threshold of either sign is meaningful. Every other
@@ -370,8 +387,7 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
         if k in spec.ims:
             row[col] = spec.ims[k] / div
     row["completed"] = bool(s.get("completed", False))
-    if s.get("stopped"):
-        row["stop_reason"] = s["stopped"]
+    row["stop_reason"] = str(s.get("stopped") or "")  # empty when the run completed
     row["time_reached_s"] = s.get("time_reached_s", 0.0)
     row["steps"] = s.get("steps", 0)
     for name, p in s.get("probes", {}).items():
@@ -392,9 +408,45 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
         for k in SOLVER_KEYS:
             if k in s["solver"]:
                 row[f"solver.{k}"] = s["solver"][k]
+    notes = _reliability(s, row)
+    row["warnings"] = "; ".join(notes)
     row["wall_s"] = round(wall, 3)
     row["key"] = spec.key
     return row
+
+
+def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
+    """The run's reliability warnings, as ``pfeie run``'s summary gives them
+    (:func:`pfeie._job.format_summary`: its "large slip", "corrections" and "scheme"
+    lines, with the same thresholds); puts the ``energy.*`` shares into ``row``."""
+    from .._job import CORRECTION_SHARE, CORRECTION_UNRESOLVED, LARGE_SLIP, SCHEME_CREATED
+
+    notes = []
+    for name, j in s.get("joints", {}).items():
+        ratio = j.get("peak_slip_to_spacing", 0.0)
+        if ratio > LARGE_SLIP:
+            notes.append(f"large slip: joint {name}'s slip reaches {ratio:.2g} × the spacing "
+                         f"of its pairs ({j.get('pair_spacing_m', 0.0):.3g} m), beyond "
+                         f"{LARGE_SLIP:g}: its faces are paired node to node (small sliding), "
+                         "the result is not reliable")  # fmt: skip
+    e = s.get("energy_J")
+    if e is not None:
+        work, corr = abs(e.get("external_work", 0.0)), e.get("correction", 0.0)
+        alg = e.get("algorithmic", 0.0)
+        flow = max(work, sum(e.get(k, 0.0) for k in ("interface", "impact", "damping")))
+        share = corr / work if work > 0 else 0.0
+        created = -alg / flow if flow > 0 and alg < 0 else 0.0
+        row["energy.correction_share"], row["energy.scheme_created_share"] = share, created
+        if abs(share) > CORRECTION_SHARE:
+            notes.append(f"corrections: the position corrections of penetrating pairs "
+                         f"{'added' if share > 0 else 'took'} {100 * abs(share):.1f} % of the "
+                         "input energy, impacts this Δt does not resolve"
+                         + (" (more than half: not converged in Δt, halve Δt)"
+                            if abs(share) > CORRECTION_UNRESOLVED else ""))  # fmt: skip
+        if created > SCHEME_CREATED:
+            notes.append(f"scheme: the time scheme created {100 * created:.0f} % of the energy "
+                         "through the run: not converged in Δt, halve Δt")  # fmt: skip
+    return notes
 
 
 def _as_run(row: dict[str, Any], spec: RunSpec) -> dict[str, Any]:
@@ -403,6 +455,7 @@ def _as_run(row: dict[str, Any], spec: RunSpec) -> dict[str, Any]:
     duration), not the record's name in the study, nor its level or intensity in the
     ladder, which come from the current study."""
     out = dict(row)
+    out.setdefault("stop_reason", "")
     out.update(record=spec.record.name, file=str(spec.record.path), level=spec.level,
                intensity=spec.value)  # fmt: skip
     return out
@@ -444,9 +497,15 @@ class Study:
         ``sa`` (the model file's range); ``level`` k of the table is ``values[k]``.
     period: T1 (s) of Sa (the ``sa`` measure and the ``im.sa_t1_g`` column); default the
         model's first period with its joints bonded.
-    duration: of every run (s); default each record's length.
+    damping: the damping ratio ζ of Sa (the ``sa`` measure and ``im.sa_t1_g``).
+    duration: of every run (s); default each record's length. A record longer than the
+        run is cut at its end: the intensity measures and the scaling to a ``pga`` or
+        ``sa`` describe the motion applied, the record up to ``duration``.
     overrides: ``KEY=VALUE`` settings of the model file (as ``pfeie run --set``).
-    folder: output folder (the rows, the table).
+    folder: output folder (the rows, the table; one study at a time: a lock file).
+    histories: also keep every run's results file (``runs/<record>_<level>/results.h5``).
+    parquet: write ``table.parquet`` (pyarrow) beside ``table.csv``.
+    title: the study's title (in ``study.json`` and the report).
     workers: worker processes of a local Dask cluster (0: every run in this process, one
         after the other); ``"auto"`` (the default): one per core available, at most one
         per run, and in this process when Dask is not installed or with one core or one
@@ -523,6 +582,13 @@ class Study:
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
         self._read: dict[RecordSource, GroundMotion] = {}
+        self._entries: list[str] | None = None  # the [[records]] key of each record
+
+    def _entry(self, r: RecordSource) -> str:
+        """``FILE: records[i]`` of a record: the study file's ``[[records]]`` table that
+        gave it (a folder's records share theirs), or its index in :attr:`records`."""
+        k = self.records.index(r)
+        return self._where(self._entries[k] if self._entries is not None else f"records[{k}]")
 
     def _check_values(self) -> None:
         """The ladder: finite values > 0 (scale factors), or in (0, 20] g (``pga``,
@@ -584,6 +650,7 @@ class Study:
         cfg = read_study_file(p)
         base = p.parent
         records: list[RecordSource] = []
+        entries: list[str] = []  # per record, the key of its [[records]] table
         origin: dict[Path, str] = {}  # resolved file: the entry that gave it
         for i, r in enumerate(cfg.records):
             if r.file is not None:
@@ -606,6 +673,7 @@ class Study:
                     raise InputError(f"{p}: {first} and {entry} both give the record file "
                                      f"{f}; expected each record file once")  # fmt: skip
                 flt = r.filter
+                entries.append(f"records[{i}]")
                 records.append(RecordSource(
                     f.stem, f, r.format, r.units, r.dt, r.component,
                     None if r.direction is None else tuple(r.direction), r.baseline,
@@ -616,7 +684,7 @@ class Study:
         records = [dataclasses.replace(r, name=n) for r, n in zip(records, names, strict=True)]
         it = cfg.intensity
         try:
-            return cls(base / cfg.model, records, it.measure, list(it.values), it.period,
+            st = cls(base / cfg.model, records, it.measure, list(it.values), it.period,
                        it.damping, cfg.analysis.duration, list(cfg.analysis.set),
                        base / cfg.output.folder, cfg.output.histories, cfg.output.parquet,
                        cfg.title, cfg.run.workers, cfg.run.scheduler,
@@ -624,6 +692,8 @@ class Study:
                        cfg.run.batch)  # fmt: skip
         except ModelError as exc:
             raise InputError(f"{p}: {exc}") from None
+        st._entries = entries
+        return st
 
     # -- set-up (in the calling process) ---------------------------------------------------
 
@@ -634,6 +704,8 @@ class Study:
             from ..io import Override, load_job, parse_override, parse_value, run_key
 
             ovs = [parse_override(s, f"study set {s!r}") for s in self.overrides]
+            given = [o for o in ovs if o.key == "analysis.duration"]
+            duration = self.duration
             if self.duration is not None:
                 ovs.append(Override("analysis.duration", parse_value(repr(self.duration)),
                                     "study duration"))  # fmt: skip
@@ -645,10 +717,12 @@ class Study:
                 raise InputError(f"{self.model}: analysis.dynamic = false; a study runs "
                                  "the dynamic analysis")  # fmt: skip
             key = hashlib.sha256((run_key(job) + __version__).encode()).hexdigest()
+            if duration is None and given:  # analysis.set = ["analysis.duration=..."]
+                duration = job.analysis.duration
             self._job = job
             self._context = Context(self.model.resolve(),
                                     tuple((o.key, o.value, o.source) for o in ovs),
-                                    self.duration, self.folder.resolve(), self.histories,
+                                    duration, self.folder.resolve(), self.histories,
                                     key)  # fmt: skip
         return self._context
 
@@ -670,7 +744,10 @@ class Study:
         against in :meth:`runs`."""
         hit = self._read.get(r)
         if hit is None:
-            hit = self._read[r] = r.read(len(r.direction or "xyz"))
+            try:
+                hit = self._read[r] = r.read(len(r.direction or "xyz"))
+            except RecordError as exc:
+                raise RecordError(f"{self._entry(r)}: {exc}") from None
         return hit
 
     def t1(self) -> float:
@@ -686,46 +763,123 @@ class Study:
 
     def runs(self) -> list[RunSpec]:
         """Every run of the study, records outer, intensities inner; each with its scale
-        factor, the intensity measures of its scaled record and its key."""
+        factor, the intensity measures of its scaled record as applied (cut at the run's
+        end, :meth:`_applied`) and its key. Every record is read and checked here, before
+        any run (:meth:`_check_record`)."""
         if self._specs is not None:
             return self._specs
         ctx = self.context()
         self._check_demands()
         t1 = self.t1()
+        dim = self._job.model.dim
         specs = []
         for r in self.records:
-            r.direction_in(self._job.model.dim)
+            try:
+                r.direction_in(dim)
+            except RecordError as exc:
+                raise RecordError(f"{self._entry(r)}: {exc}") from None
             rec = self._record(r)
-            ims = rec.intensity_measures(t1, self.damping)
+            applied = self._applied(r, rec, ctx.duration)
+            ims = applied.intensity_measures(t1, self.damping)
             ref = {"scale": 1.0, "pga": ims["pga"] / G, "sa": ims["sa"] / G}[self.measure]
             if not ref > 0:
-                raise RecordError(f"{r.path}: the record is all zeros; it cannot be scaled "
-                                  f"to a {self.measure}")  # fmt: skip
+                within = "" if applied is rec else f" within the runs' {applied.time[-1]:g} s"
+                raise RecordError(f"{self._entry(r)}: {r.path}: the record is all zeros"
+                                  f"{within}; it cannot be scaled to a "
+                                  f"{self.measure}")  # fmt: skip
+            factors = [v / ref for v in self.values]
+            self._check_record(r, rec, ims["pga"], factors)
             fp = r.fingerprint()
-            for level, v in enumerate(self.values):
-                factor = v / ref
+            for level, (v, factor) in enumerate(zip(self.values, factors, strict=True)):
                 scaled = {k: x * (factor * factor if k == "arias" else
                                   (abs(factor) if k in ("pga", "pgv", "pgd", "cav", "sa")
                                    else 1.0)) for k, x in ims.items()}  # fmt: skip
                 key = hashlib.sha256(json.dumps(
-                    [ctx.model_key, fp, repr(factor), repr(self.duration)]).encode()
+                    [ctx.model_key, fp, repr(factor), repr(ctx.duration)]).encode()
                 ).hexdigest()  # fmt: skip
                 specs.append(RunSpec(r, level, float(v), float(factor), scaled, key))
         self._specs = specs
         return specs
 
+    def _applied(self, r: RecordSource, rec: GroundMotion, duration: float | None) -> GroundMotion:
+        """The part of the record a run applies: the run steps from t = 0 to its duration
+        (the study's, else the record's length), so a record that goes on beyond is cut
+        there (its accelerations interpolated at the end). A WARNING names the record and
+        the duration when the cut leaves out the record's peak."""
+        end = rec.duration if duration is None else float(duration)
+        t, a = rec.time, rec.acceleration
+        if t[-1] <= end:
+            return rec
+        keep = t < end
+        if not keep.any():
+            raise RecordError(f"{self._entry(r)}: {r.path}: the record starts at {t[0]:g} s, "
+                              f"at or after the end of the runs ({end:g} s): nothing of it "
+                              "is applied; expected a record that starts before "
+                              "analysis.duration")  # fmt: skip
+        cut = dataclasses.replace(
+            rec, time=np.append(t[keep], end),
+            acceleration=np.append(a[keep], np.interp(end, t, a)))  # fmt: skip
+        full, part = rec.pga, cut.pga
+        if part < full:
+            k = int(np.argmax(np.abs(a)))
+            log.warning("%s: %s: the record's PGA, %.4g g at %.2f s, lies beyond the end of "
+                        "the runs (duration %g s), which apply its first %g s (PGA %.4g g): "
+                        "the intensity measures and the scaling describe that part",
+                        self._entry(r), r.name, full / G, t[k], end, end, part / G)  # fmt: skip
+        return cut
+
+    def _check_record(self, r: RecordSource, rec: GroundMotion, pga: float,
+                      factors: list[float]) -> None:  # fmt: skip
+        """The checks of a model file's ``[[ground_motion]]`` (``pfeie run``, ``pfeie
+        check``) on a study's record: its PGA as read (``rec``, in its units) at most
+        :data:`~pfeie.io.MAX_PGA_G` (a record in cm/s² read as g is 981 times
+        too strong) and plausible (:func:`~pfeie.io.implausible_pga`, a WARNING); the PGA
+        of every scaled run (``pga``, m/s², of the part applied, times each factor) at most
+        that bound; a record the steps can see (at least one step long)."""
+        from ..dynamics import shorter_than_a_step
+        from ..io import MAX_PGA_G, implausible_pga
+
+        where, units = self._entry(r), r.units or "g"
+        why = shorter_than_a_step(rec, self._job.analysis.dt)
+        if why is not None:
+            raise InputError(f"{where}: {r.path}: {why}")
+        if rec.pga > MAX_PGA_G * G:
+            raise InputError(f"{where}: {r.path}: the record's peak ground acceleration is "
+                             f"{rec.pga / G:.4g} g as read (units = {units!r}); expected at "
+                             f"most {MAX_PGA_G:g} g: check units (a record in cm/s2 read as g "
+                             "is 981 times too strong)")  # fmt: skip
+        odd = implausible_pga(r.path, rec.pga, units)
+        if odd is not None:
+            log.warning("%s: %s", where, odd)
+        for k, f in enumerate(factors):
+            if pga * abs(f) > MAX_PGA_G * G * (1 + 1e-12):
+                raise InputError(f"{where}: {r.path}: at intensity.values[{k}] = "
+                                 f"{self.values[k]:g} the record's peak ground acceleration "
+                                 f"is {pga * abs(f) / G:.4g} g (as read and scaled "
+                                 f"×{abs(f):.6g}); expected at most {MAX_PGA_G:g} g: check "
+                                 "units and the intensities")  # fmt: skip
+
     def demand_columns(self) -> list[str]:
         """The numeric columns that a row of this model can have (the model's probes and
-        joints, its dimension's joint columns): what a limit state's demand may name."""
+        joints, its dimension's joint columns, the demand-capacity columns only with
+        tensile strengths in its materials): what a limit state's demand may name."""
         self.context()
         model, probes = self._job.model, self._job.probes
         joints = [] if model.pairs is None else list(model.pairs.names)
         keys = JOINT_KEYS_2D if model.dim == 2 else JOINT_KEYS_3D
+        stress = STRESS_KEYS if self._has_tensile() else tuple(
+            k for k in STRESS_KEYS if k not in DCR_KEYS)  # fmt: skip
         return (["intensity", "scale_factor"] + [c for c, _, _ in IM_COLUMNS]
                 + [f"probe.{p}.{k}" for p in probes for k in PROBE_KEYS]
                 + [f"joint.{j}.{k}" for j in joints for k in keys]
-                + [f"stress.{k}" for k in STRESS_KEYS]
+                + [f"stress.{k}" for k in stress]
+                + [f"energy.{k}" for k in ENERGY_KEYS]
                 + [f"solver.{k}" for k in SOLVER_KEYS])  # fmt: skip
+
+    def _has_tensile(self) -> bool:
+        """Whether a material of the model gives a tensile strength (the demand-capacity
+        columns, ``stress.max_dcr`` ...)."""
+        return bool(np.isfinite(self._job.model.cell_tensile_strength).any())
 
     def _check_demands(self) -> None:
         """Every limit state names a column of this model's table (before any run)."""
@@ -734,6 +888,13 @@ class Study:
         cols = self.demand_columns()
         for i, ls in enumerate(self.limit_states):
             col = str(ls["demand"])
+            if col in (f"stress.{k}" for k in DCR_KEYS) and col not in cols:
+                raise InputError(
+                    f"{self._where(f'limit_states[{i}].demand')}: {col!r} is a "
+                    f"demand-capacity column: it needs the tensile strength of the concrete, "
+                    f"and no material of {self.model} gives one; expected tensile_strength "
+                    "in [materials.<name>] (Pa), or another demand"
+                )
             if col not in cols:
                 near = difflib.get_close_matches(col, cols, n=1)
                 hint = f" (did you mean {near[0]!r}?)" if near else ""
@@ -771,9 +932,37 @@ class Study:
         :func:`~pfeie.study._parallel.local_workers`), or the Dask ``scheduler`` at an
         address; the study's ``workers`` and ``scheduler`` by default (the study file's
         ``[run]``). ``progress(done, total, row)`` is called after each
-        run."""
+        run. One study at a time writes to a folder (a lock file with its process id, as
+        ``pfeie run``'s output folder; another gets an :class:`InputError` naming it)."""
+        from .._job import _FolderLock
+
+        if getattr(multiprocessing.current_process(), "_inheriting", False):
+            # a worker process of a study's cluster that imports the script which started
+            # the study, a script without the __main__ guard: the worker leaves quietly,
+            # and the study's own process alone says why its workers did not start
+            raise SystemExit(1)
         folder = self.prepare_folder().resolve()
         specs = self.runs()
+        try:
+            lock = _FolderLock(folder, self.source if self.source is not None else self.model)
+            lock.__enter__()
+        except InputError as exc:
+            raise InputError(f"{self._where('output.folder')}: {exc}") from None
+        try:
+            return self._run(specs, folder, workers, scheduler, resume, progress)
+        finally:
+            lock.__exit__()
+
+    def _run(
+        self,
+        specs: list[RunSpec],
+        folder: Path,
+        workers: Workers | None,
+        scheduler: str | None,
+        resume: bool,
+        progress: Callable[[int, int, dict[str, Any]], None] | None,
+    ) -> StudyTable:
+        """:meth:`run` with the folder locked."""
         # the output options as they are now (they may be changed after the set-up)
         ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories)
         workers = self.workers if workers is None else check_workers(workers)

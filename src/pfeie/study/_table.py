@@ -19,6 +19,11 @@ import numpy.typing as npt
 
 from ..errors import InputError, ResultsError
 
+#: the text columns that every row has, empty when there is nothing to say (a run that
+#: completed has no stop reason, a reliable one no warnings): an empty cell of the CSV is
+#: read back as "" there, and as a missing value (NaN) in the other columns
+TEXT_COLUMNS = ("stop_reason", "warnings")
+
 
 @dataclass
 class StudyTable:
@@ -88,7 +93,8 @@ class StudyTable:
             rows = pq.read_table(str(p)).to_pylist()
             return cls([{k: v for k, v in r.items() if v is not None} for r in rows])
         with open(p, newline="") as fh:
-            rows = [{k: _parse(v) for k, v in r.items() if v != ""}
+            rows = [{k: v if k in TEXT_COLUMNS else _parse(v) for k, v in r.items()
+                     if v != "" or k in TEXT_COLUMNS}
                     for r in csv.DictReader(fh)]  # fmt: skip
         return cls(rows)
 
