@@ -28,6 +28,7 @@ by itself);
 from __future__ import annotations
 
 import copy
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -49,6 +50,20 @@ REFACTOR_CONTRACTION = 0.02
 """The first contraction factor of a refinement on the reference W_c⁻¹ above which the
 next :meth:`InterfaceStep.update` factorises W_c anew (at 0.02 a state system is solved
 to round-off in about nine corrections of two M × M products each)."""
+
+#: sub-problems (one per pattern of active pairs) kept with their factorisations
+SUBSOLVERS = 16
+#: bytes at most in the kept sub-problems' operators (W, W_c, W_c⁻¹) and factor caches
+#: (``FACTOR_CACHE_BYTES`` each, in pfeie.interface._solver): 16 of a 3D problem of 753
+#: components held 4.7 GB before there was a bound
+SUBSOLVER_BYTES = 256 * 2**20
+
+
+def _footprint(solver: InterfaceSolver) -> int:
+    """The memory a kept sub-problem holds: its dense operators and its factor cache."""
+    arrays = (solver.W, solver.Wc, getattr(solver, "_winv", None))
+    dense = sum(int(a.nbytes) for a in arrays if isinstance(a, np.ndarray))
+    return dense + int(solver.cache_bytes)
 
 
 @dataclass
@@ -162,7 +177,7 @@ class InterfaceStep:
         if not self.solver.refined:  # factorised: the reference of the next updates
             ref.solver, ref.subs, ref.contraction = self.solver, {}, 0.0
         self._last = self.solver
-        self._subsolvers: dict[bytes, InterfaceSolver] = {}
+        self._subsolvers: OrderedDict[bytes, InterfaceSolver] = OrderedDict()
 
     def with_laws(self, laws: PairLaws) -> InterfaceStep:
         """The same problem (operators, weight, settings) for other laws with the same
@@ -174,7 +189,7 @@ class InterfaceStep:
         other.laws = laws
         other.solver = self.solver.with_laws(laws)
         other._last = other.solver
-        other._subsolvers = {}
+        other._subsolvers = OrderedDict()
         return other
 
     def _held_open(self, inactive: BoolArray) -> bool:
@@ -199,12 +214,19 @@ class InterfaceStep:
                                   regularize=self.regularize, reference=base)  # fmt: skip
             ref.track(hit, 0)
             if not hit.refined:
-                if len(ref.subs) >= 16:
+                if len(ref.subs) >= SUBSOLVERS:
                     ref.subs.clear()
                 ref.subs[key] = hit
-            if len(self._subsolvers) >= 16:
-                self._subsolvers.clear()
             self._subsolvers[key] = hit
+            # at most SUBSOLVERS, and their operators and factor caches within
+            # SUBSOLVER_BYTES: the least recently used go first
+            while len(self._subsolvers) > 1 and (
+                len(self._subsolvers) > SUBSOLVERS
+                or sum(_footprint(v) for v in self._subsolvers.values()) > SUBSOLVER_BYTES
+            ):
+                self._subsolvers.popitem(last=False)
+        else:
+            self._subsolvers.move_to_end(key)
         return hit
 
     def solve(

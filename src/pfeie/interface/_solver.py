@@ -95,6 +95,7 @@ from __future__ import annotations
 import copy
 import logging
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import cast
 
@@ -157,6 +158,64 @@ def _stalled(history: list[float]) -> bool:
     """Whether a Newton's residual norms ``history`` (one per iteration) have not halved
     over the last :data:`NEWTON_STALL` iterations."""
     return len(history) > NEWTON_STALL and history[-1] > 0.5 * history[-1 - NEWTON_STALL]
+
+
+#: bytes at most in one solver's cache of factorised state systems (one per pattern of
+#: pair states met): a pattern costs an M × M factor (M = pairs × d), so a count alone
+#: lets the caches of a step's solvers grow with M² (4.7 GB at M = 753 in 3D, measured);
+#: the least recently used factors go first
+FACTOR_CACHE_BYTES = 32 * 2**20
+#: factors at most in one solver's cache, whatever their size
+FACTOR_CACHE_COUNT = 64
+
+
+def _nbytes(value: object) -> int:
+    """The memory of a cached factor: its arrays (a SuperLU object by its nonzeros)."""
+    if isinstance(value, np.ndarray):
+        return int(value.nbytes)
+    if isinstance(value, tuple):
+        return sum(_nbytes(v) for v in value)
+    nnz = getattr(value, "nnz", None)
+    return 12 * int(nnz) if nnz is not None else 0
+
+
+class FactorCache:
+    """Factorised state systems by key (the pattern of pair states), least recently
+    used first out beyond :data:`FACTOR_CACHE_BYTES` or :data:`FACTOR_CACHE_COUNT`
+    entries. A hit returns the factor of the same matrix, so the cache changes the time
+    of a solve, never its bits."""
+
+    def __init__(self, max_bytes: int = FACTOR_CACHE_BYTES,
+                 max_count: int = FACTOR_CACHE_COUNT) -> None:  # fmt: skip
+        self.max_bytes, self.max_count = max_bytes, max_count
+        self._items: OrderedDict[bytes, tuple[tuple[object, ...], int]] = OrderedDict()
+        self.nbytes = 0
+
+    def get(self, key: bytes) -> tuple[object, ...] | None:
+        hit = self._items.get(key)
+        if hit is None:
+            return None
+        self._items.move_to_end(key)
+        return hit[0]
+
+    def __setitem__(self, key: bytes, value: tuple[object, ...]) -> None:
+        size = _nbytes(value)
+        old = self._items.pop(key, None)
+        if old is not None:
+            self.nbytes -= old[1]
+        self._items[key] = (value, size)
+        self.nbytes += size
+        while len(self._items) > 1 and (self.nbytes > self.max_bytes
+                                        or len(self._items) > self.max_count):  # fmt: skip
+            _, (_, gone) = self._items.popitem(last=False)
+            self.nbytes -= gone
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def clear(self) -> None:
+        self._items.clear()
+        self.nbytes = 0
 
 
 def _lu_factor(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -279,7 +338,7 @@ class InterfaceSolver:
         self._gapv = np.zeros((self.m, self.d))
         if self.m:
             self._gapv[:, -1] = props.gap
-        self._cache: dict[bytes, tuple[object, ...]] = {}
+        self._cache = FactorCache()
         self._patterns: dict[bytes, tuple[np.ndarray, ...]] = {}
         self.last = SolveInfo(0, 0.0, "none")
         self._fixed = np.zeros(self.m, dtype=bool)
@@ -389,7 +448,7 @@ class InterfaceSolver:
         other.props = laws
         # on a reference W_c⁻¹ the capacitance factors (W_c⁻¹ and the pattern only) are
         # shared with the reference's other solvers
-        other._cache = self._cache if self.refined else {}
+        other._cache = self._cache if self.refined else FactorCache()
         other._gapv = np.zeros_like(self._gapv)
         if other.m:
             other._gapv[:, -1] = laws.gap
@@ -489,8 +548,6 @@ class InterfaceSolver:
                         "the interface system is singular: with the current pair states some "
                         "block is not restrained (a mechanism)"
                     )
-            if len(self._cache) > 64:
-                self._cache.clear()
             self._cache[key] = (lu,)
             cached = (lu,)
         (lu,) = cached
@@ -535,8 +592,6 @@ class InterfaceSolver:
                         "the interface system is singular: with the current pair states some "
                         "block is not restrained (a mechanism)"
                     ) from exc
-            if len(self._cache) > 64:
-                self._cache.clear()
             self._cache[b"s" + key] = (lu,)
             cached = (lu,)
         lu = cached[0]
@@ -679,8 +734,6 @@ class InterfaceSolver:
         if fr.size:
             cap[rows_fr] -= coef[:, None] * Winv[np.ix_(nidx, oth)]
         lu = _lu_factor(cap)
-        if len(self._cache) > 64:
-            self._cache.clear()
         self._cache[b"w" + key] = (lu,)
         return lu
 
@@ -752,9 +805,14 @@ class InterfaceSolver:
     def _refactorize(self) -> None:
         """Leave the reference: factorise this W_c (a new capacitance cache with it)."""
         self.refined, self.contraction = False, 0.0
-        self._cache = {}
+        self._cache = FactorCache()
         self._winv = None
         self._invert(np.diag(self.W))
+
+    @property
+    def cache_bytes(self) -> int:
+        """The memory of the factorised state systems kept (bytes)."""
+        return self._cache.nbytes
 
     def relative(self, X: FloatArray, q: FloatArray, w_free: FloatArray) -> FloatArray:
         """w = w_free + W X (+ E q)."""

@@ -62,6 +62,14 @@ STATE_LABELS = ["intact", "stick", "slide", "open"]
 AXES = "xyz"
 
 
+def _below_title(fig: Any, text: str) -> float:
+    """The top of the axes' area (a figure fraction) that leaves room for a figure title
+    of the lines of ``text`` (10 pt: about 0.2 inch a line), so that the top row's own
+    titles do not run into it."""
+    lines = text.count("\n") + 1
+    return max(0.5, 1.0 - (0.2 * lines + 0.1) / float(fig.get_figheight()))
+
+
 def _plt() -> Any:
     try:
         import matplotlib
@@ -544,8 +552,8 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
-    fig.suptitle((f"{title}\n" if title else "") + "joint maps", fontsize=10)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    head = fig.suptitle((f"{title}\n" if title else "") + "joint maps", fontsize=10)
+    fig.tight_layout(rect=(0, 0.04, 1, _below_title(fig, head.get_text())))
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
@@ -963,9 +971,9 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
-    fig.suptitle((f"{title}\n" if title else "") + "joint maps, each joint in its plane "
-                 "(a pair: a square of its area)", fontsize=10)  # fmt: skip
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    head = fig.suptitle((f"{title}\n" if title else "") + "joint maps, each joint in its "
+                        "plane (a pair: a square of its area)", fontsize=10)  # fmt: skip
+    fig.tight_layout(rect=(0, 0.03, 1, _below_title(fig, head.get_text())))
     fig.savefig(path, dpi=110, metadata={"Description": json.dumps({"joints": described})})
     plt.close(fig)
     return path

@@ -113,6 +113,14 @@ class YieldCoefficient:
     static: StaticResult
     analyses: int
 
+    def __repr__(self) -> str:
+        """One line: the coefficient, the limit and its joint, the analyses (the static
+        state and the arrays are left out)."""
+        d = ", ".join(f"{x:.4g}" for x in self.direction)
+        k = "None" if self.k_y is None else f"{self.k_y:.6g}"
+        return (f"YieldCoefficient(direction=({d}), k_y={k}, limit={self.limit!r}, "
+                f"joint={self.joint!r}, analyses={self.analyses})")  # fmt: skip
+
 
 def horizontal(
     model: Model, direction: Sequence[float] | FloatArray | None = None
@@ -168,6 +176,8 @@ def yield_coefficient(
     >>> y = pf.yield_coefficient(m)                 # pushed down the dip: tan(40° − 10°)
     >>> round(y.k_y, 5), y.joint
     (0.57735, 'joint')
+    >>> y  # doctest: +ELLIPSIS
+    YieldCoefficient(direction=(1, 0), k_y=0.57735..., limit='sliding', joint='joint', analyses=...)
     >>> round(pf.yield_coefficient(m, [-1.0, 0.0]).k_y, 5)   # up the dip: tan(50°)
     1.19175
     """
