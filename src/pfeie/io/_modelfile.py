@@ -670,7 +670,9 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         faces(f"loads.hydrostatic[{i}].groups", hy.groups)
         for g in hy.groups:
             try:
-                model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
+                model.add_pressure(
+                    g, _hydrostatic(hy.water_level, hy.density, g_acc, up), level=hy.water_level
+                )
             except ModelError as exc:
                 raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
     for i, sl in enumerate(loads.silt):
