@@ -328,3 +328,23 @@ def test_solver_counters_count_steps_through_a_resume(
     assert resumed["solver"]["iterations_mean"] == one["solver"]["iterations_mean"] >= 1.0
     assert "the semismooth Newton finished 30 step(s); 12 step(s) needed a fallback" in (
         tmp_path / "one" / "out" / "summary.txt").read_text()
+
+
+@pytest.mark.parametrize(("dt", "line"), [
+    # 0.6 s / 0.035 s = 17.14: 17 steps reach 17 × 0.035 = 0.595 s, 0.005 s short
+    ("0.035", "time steps   17 of 0.035 s, to t = 0.595 s (the duration, 0.6 s, is not a "
+              "multiple of Δt: the last 0.005 s is not run)"),
+    # 0.6 / 0.07 = 8.57: 9 steps reach 0.63 s, 0.03 s beyond
+    ("0.07", "time steps   9 of 0.07 s, to t = 0.63 s (the duration, 0.6 s, is not a "
+             "multiple of Δt: the run goes 0.03 s beyond it)"),
+    ("0.005", "time steps   120 of 0.005 s, to t = 0.6 s\n"),
+])  # fmt: skip
+def test_check_gives_the_time_the_run_reaches(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], dt: str, line: str
+) -> None:
+    """``check --dt 0.03`` on a 4 s record said "(4.00 s)" where the run ends at 3.99 s
+    (new-user finding): the line gives steps × Δt, the time the run reaches, as the run's
+    own end (``completed at t = ...``), and what Δt leaves out or adds."""
+    p = _write(tmp_path, SMALL)
+    assert main(["check", "--dt", dt, str(p)]) == 0
+    assert line in capsys.readouterr().out

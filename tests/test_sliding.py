@@ -185,3 +185,30 @@ def test_safety_factor_of_a_joint_whose_smooth_force_is_round_off() -> None:
     lam[0] = (-0.5 * mu * 1000.0, 1000.0)  # a resolved smooth force: FS = 2 from λ
     fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
     np.testing.assert_allclose(fs, 2.0, rtol=1e-14)
+
+
+def test_safety_factor_of_a_smooth_force_beyond_the_cone() -> None:
+    """A smooth force λ outside its pair's Coulomb cone (‖λ_t‖ = 2 μ λ_n) gave FS below 1
+    (the 60 m dam sliding at Δt = 2.5 ms: 0.91, where docs/results.md says FS cannot fall
+    below 1): such a pair takes its step force X (at its limit, ‖X_t‖ = μ X_n), the other
+    keeps λ (‖λ_t‖ = μ λ_n / 2). By hand: FS = (μ 1000 + μ 1000)/(μ 1000 + μ 500) = 4/3
+    (it was 2000 μ/2500 μ = 0.8), to 1e-14 (measured 0). The dam now: min FS 1 − 7.8e-16."""
+    from types import SimpleNamespace
+
+    from pfeie.dynamics._recorder import Recorder
+
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    an = pf.Dynamic(model, 0.002)
+    m, mu = an.m, np.tan(np.radians(30.0))
+    pairs = an.initial().pairs.copy()
+    pairs.state[:] = OPEN
+    pairs.state[:2] = 2  # SLIDE
+    pairs.broken[:] = True
+    pairs.X[:] = 0.0
+    pairs.X[0] = (-mu * 1000.0, 1000.0)  # the step's force, at the limit
+    pairs.X[1] = (-0.5 * mu * 1000.0, 1000.0)
+    lam = np.zeros((m, 2))
+    lam[0] = (-2.0 * mu * 1000.0, 1000.0)  # beyond the cone
+    lam[1] = pairs.X[1]
+    fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
+    np.testing.assert_allclose(fs, 4.0 / 3.0, rtol=1e-14)

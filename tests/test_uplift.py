@@ -8,6 +8,7 @@ force and moment: the pair forces are effective forces, N' = W − U)."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -28,6 +29,7 @@ from pfeie.model import Uplift
 from pfeie.solvers._static import solve_pairs
 
 RHO_W, G = 1000.0, 9.81
+ROOT = Path(__file__).resolve().parents[1]
 B, H, Z0 = 10.0, 20.0, 2.0  # dam width and height (m), base joint elevation (m)
 
 
@@ -243,6 +245,14 @@ folder = "out"
         assert up.max() == pytest.approx(RHO_W * 9.81 * 2.0)
         assert res.units("static/uplift") == "Pa"
         U = float((up * np.asarray(res.f["pairs/area"])).sum())
+        # the crack lengths are an attribute of the groups /static and /post_earthquake,
+        # not of their uplift datasets (docs/results.md said /static/uplift)
+        for group in ("static", "post_earthquake"):
+            assert set(json.loads(res.f[group].attrs["cracks"])) == {"base"}
+            assert "cracks" not in res.f[f"{group}/uplift"].attrs
+    rows = (ROOT / "docs" / "results.md").read_text()
+    assert "the attribute `cracks` of the group `/static`" in rows
+    assert "(and `uplift`; the group's attribute `cracks`)" in rows
     assert main(["report", str(tmp_path / "out" / "results.h5")]) == 0
     page = (tmp_path / "out" / "report.html").read_text()
     for words in ("<h2>Analysis</h2>", "nonsmooth-alpha", "<h2>Static state",

@@ -632,6 +632,27 @@ def _input_failure(exc: PfeieError, source: str) -> int:
     return EXIT_INPUT
 
 
+def _steps_line(steps: int, dt: float, duration: float) -> str:
+    """The check's time-step line: the steps, Δt and the time the run reaches, steps × Δt
+    (the steps are round(duration / Δt), as the run takes them); where Δt does not divide
+    the duration, what is left out or run beyond it.
+
+    >>> print(_steps_line(133, 0.03, 4.0))  # doctest: +NORMALIZE_WHITESPACE
+    time steps   133 of 0.03 s, to t = 3.99 s (the duration, 4 s, is not a multiple of Δt:
+    the last 0.01 s is not run)
+    >>> print(_steps_line(400, 0.01, 4.0))
+    time steps   400 of 0.01 s, to t = 4 s
+    """
+    end = steps * dt
+    line = f"time steps   {steps} of {dt:g} s, to t = {end:.6g} s"
+    gap = duration - end
+    if steps and abs(gap) > 1e-9 * max(duration, dt):
+        line += (f" (the duration, {duration:.6g} s, is not a multiple of Δt: "
+                 + (f"the last {gap:.6g} s is not run)" if gap > 0 else
+                    f"the run goes {-gap:.6g} s beyond it)"))  # fmt: skip
+    return line
+
+
 def _format_check(s: dict[str, object]) -> str:
     lines = [f"model file   {s['file']}", f"title        {s['title']}",
              f"dimension    {s['dimension']}D"]  # fmt: skip
@@ -695,7 +716,10 @@ def _format_check(s: dict[str, object]) -> str:
     assert isinstance(records, list)
     for r in records:
         lines.append(f"record       {r}")
-    lines.append(f"time steps   {s['steps']} of {s['dt']} s ({s['duration']:.2f} s)")
+    steps, dt, duration = s["steps"], s["dt"], s["duration"]
+    assert isinstance(steps, int) and isinstance(dt, int | float)
+    assert isinstance(duration, int | float)
+    lines.append(_steps_line(steps, float(dt), float(duration)))
     lines.append(f"memory       about {s['estimated_memory_mb']} MB")
     return "\n".join(lines)
 

@@ -552,7 +552,15 @@ class Recorder:
         X. A joint whose smooth shear is round-off (below :data:`FS_ROUNDOFF` of its pair
         forces, e.g. a pair that closes by an impulse in this step while its smooth force
         is zero) takes its factor from X: the step's impulses meet the
-        velocity-level law, so the factor is that of the force it carried."""
+        velocity-level law, so the factor is that of the force it carried.
+
+        The smooth forces λ are the scheme's acceleration-level forces, which the pair
+        law does not bound: a pair that slides or sticks in a step may have a λ beyond
+        its Coulomb cone, ‖λ_t‖ > c A + μ λ_n⁺ (the dam of docs/results.md sliding at
+        Δt = 2.5 ms: FS 0.91). Such a pair takes its step force X, which meets the law
+        (‖X_t‖ ≤ c A + μ X_n⁺), so every pair's shear is within its capacity and, by the
+        triangle inequality ‖Σ T‖ ≤ Σ ‖T_i‖ ≤ Σ (c A + μ N⁺), FS ≥ 1 (1 while the joint
+        slides)."""
         assert an.model.pairs is not None
         P, laws = st.pairs, an.model.pair_laws
         size = np.abs(P.X).sum(axis=1)
@@ -563,7 +571,13 @@ class Recorder:
         on_x = laws.safety_factor(P.X, *args, opening=P.w[:, -1])
         if st.lam is None:
             return on_x
-        on_lam = laws.safety_factor(st.lam, *args, opening=P.w[:, -1])
+        # the pairs whose smooth force lies outside their cone take the step's force
+        c, mu, _ = laws.strength(P.broken, P.path)
+        lam = st.lam
+        beyond = np.linalg.norm(lam[:, :-1], axis=1) > c + mu * np.maximum(lam[:, -1], 0.0)
+        if beyond.any():
+            lam = np.where(beyond[:, None], P.X, lam)
+        on_lam = laws.safety_factor(lam, *args, opening=P.w[:, -1])
         return np.where(np.isinf(on_lam), on_x, on_lam)
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:

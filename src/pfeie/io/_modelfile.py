@@ -670,7 +670,9 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         faces(f"loads.hydrostatic[{i}].groups", hy.groups)
         for g in hy.groups:
             try:
-                model.add_pressure(g, _hydrostatic(hy.water_level, hy.density, g_acc, up))
+                model.add_pressure(
+                    g, _hydrostatic(hy.water_level, hy.density, g_acc, up), level=hy.water_level
+                )
             except ModelError as exc:
                 raise InputError(f"{p}: loads.hydrostatic[{i}].groups: {exc}") from None
     for i, sl in enumerate(loads.silt):
@@ -775,11 +777,12 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         records.append(rec)
     probes = {}
     reach = _largest_cell(model.mesh)
-    for name, xyz in cfg.output.probes.items():
+    for name, spec in cfg.output.probes.items():
+        xyz, block = spec.at, spec.block
         if len(xyz) != mesh.dim:
             raise InputError(f"{p}: output.probes.{name}: expected {mesh.dim} coordinates, "
                              f"found {xyz!r}")  # fmt: skip
-        node = model.nearest_node(list(xyz))
+        node = _probe_node(p, name, model, xyz, block, reach)
         gap = float(np.linalg.norm(model.mesh.points[node] - np.asarray(xyz, dtype=float)))
         if gap > reach:
             where = ", ".join(f"{v:.6g}" for v in model.mesh.points[node])
@@ -920,6 +923,38 @@ def _hydrostatic(level: float, rho_w: float, g: float, up: int) -> Callable[[Any
 #: a target peak ground acceleration (g) above which ``pga`` is warned: the strongest
 #: records reach about 1.5 to 2 g; a value in m/s² read as g is 9.81 times too strong
 PGA_KEY_HIGH_G = 2.0
+
+
+def _probe_node(p: Path, name: str, model: Model, xyz: list[float], block: str | None,
+                reach: float) -> int:  # fmt: skip
+    """The node of probe ``name``: the node nearest to ``xyz`` (of ``block`` if given).
+    Where the nearest position holds nodes of several blocks (a point on a joint: each
+    block has its own node there) and no block is given, the lowest-numbered node is
+    taken and a warning names the blocks and the one taken."""
+    pts = model.mesh.points
+    names = [b.name for b in model.blocks]
+    owner = np.full(model.mesh.n_points, -1)
+    for k, b in enumerate(names):
+        owner[model.block_nodes(b)] = k
+    dist = np.linalg.norm(pts - np.asarray(xyz, dtype=float), axis=1)
+    if block is not None:
+        if block not in names:
+            raise InputError(f"{p}: output.probes.{name}.block: {block!r} is not a block of "
+                             f"the model (its blocks: {', '.join(names)})")  # fmt: skip
+        cand = model.block_nodes(block)
+        return int(cand[np.argmin(dist[cand])])
+    node = int(np.argmin(dist))
+    # the nodes at the nearest node's position (coincident to 1e-9 of a cell)
+    same = np.flatnonzero(np.linalg.norm(pts - pts[node], axis=1) <= 1e-9 * reach)
+    held = sorted({int(owner[k]) for k in same if owner[k] >= 0})
+    if len(held) > 1:
+        taken = names[int(owner[node])]
+        log.warning("%s: output.probes.%s: the point %s lies on a joint, at a node of each "
+                    "of the blocks %s; the node of %s is taken (to choose: output.probes.%s "
+                    "= { at = %s, block = \"%s\" })", p, name, list(xyz),
+                    ", ".join(names[k] for k in held), taken, name, list(xyz),
+                    taken)  # fmt: skip
+    return node
 
 
 def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:

@@ -31,6 +31,7 @@ from pydantic import (
     ConfigDict,
     Field,
     ValidationError,
+    WithJsonSchema,
     model_validator,
 )
 from pydantic.fields import FieldInfo
@@ -658,6 +659,35 @@ class Analysis(DynamicSettings):
         return DynamicSettings(**{k: getattr(self, k) for k in DynamicSettings.model_fields})
 
 
+class ProbeAt(_Table):
+    """``output.probes.<name> = {at = [...], block = ...}``: a probe at the node of
+    ``block`` nearest to ``at``; a bare array of coordinates is ``at`` alone."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _point(cls, v: Any) -> Any:
+        return {"at": v} if isinstance(v, list) else v
+
+    at: Annotated[Vector, Field(description="probe point coordinates (m); the nearest "
+                                "node is used; output.probes.<name> = [x, y(, z)] is short "
+                                "for { at = [x, y(, z)] }")]  # fmt: skip
+    block: Annotated[
+        str | None,
+        Field(description="the block whose node is taken: a point on a joint has a node "
+              "in each block (without block the first is taken, with a warning naming "
+              "them)"),
+    ] = None  # fmt: skip
+
+
+_POINT_JSON = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 3}
+#: a probe in the JSON schema: the bare point, or the table (ProbeAt)
+_PROBE_JSON: dict[str, Any] = {"anyOf": [
+    _POINT_JSON,
+    {"type": "object", "additionalProperties": False, "required": ["at"],
+     "properties": {"at": _POINT_JSON, "block": {"type": "string"}}},
+]}  # fmt: skip
+
+
 class Output(_Table):
     """``[output]``: where and what to write."""
 
@@ -706,9 +736,13 @@ class Output(_Table):
               "digits); the histories, the mesh and the checkpoint stay float64"),
     ] = "float64"  # fmt: skip
     probes: Annotated[
-        dict[str, Vector],
-        Field(description="probe point coordinates (m); the nearest node is used"),
-    ] = {}
+        dict[str, Annotated[ProbeAt, Expect("an array of 2 to 3 numbers (the point) or a "
+                                            "table { at = [...], block = name }"),
+                            WithJsonSchema(_PROBE_JSON)]],
+        Field(description="probes: each an array of point coordinates (m), or a table "
+              "{ at = [x, y(, z)], block = name }; the nearest node is used (of that block "
+              "if given: a point on a joint has a node in each block)"),
+    ] = {}  # fmt: skip
 
 
 class ModelFile(_Table):
@@ -835,7 +869,7 @@ def _bound(meta: Sequence[Any], name: str) -> Any:
 def _type_words(node: _Node) -> str:
     """The kind of value alone: 'a number', 'one of ...', 'an array of 2 to 3 numbers'."""
     expect = next((m.text for m in node.meta if isinstance(m, Expect)), None)
-    if expect is not None and typing.get_origin(node.tp) is list:
+    if expect is not None and (typing.get_origin(node.tp) is list or _is_model(node.tp)):
         return expect
     tp = node.tp
     if typing.get_origin(tp) is Literal:
@@ -921,6 +955,8 @@ def problems(exc: ValidationError, data: Any, root: type[BaseModel] | None = Non
         typ, loc, ctx = err["type"], tuple(err["loc"]), err.get("ctx") or {}
         n, node, parent = _walk(loc, root)
         loc = loc[:n]
+        if loc and loc[-1] == "at" and isinstance(_at(data, loc[:-1]), list):
+            loc = loc[:-1]  # a bare array is the table's ``at`` (ProbeAt): its own key
         found = _at(data, loc) if n < len(err["loc"]) else err["input"]
         if typ == "missing":
             text = "missing (required)"

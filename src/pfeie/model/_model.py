@@ -497,12 +497,40 @@ class Model:
         group: str,
         value: float | Callable[[FloatArray], FloatArray],
         amplitude: Amplitude | None = None,
+        *,
+        level: float | None = None,
     ) -> None:
         """A pressure (Pa, positive pushing into the body) on a facet group: faces on the
         boundary of the blocks or on a joint (a facet group that also holds facets inside a
-        block is refused: a pressure there has no side to push)."""
+        block is refused: a pressure there has no side to push).
+
+        ``level`` (m, on the vertical axis: y in 2D, z in 3D) declares a pressure that is
+        zero above the level and a polynomial in x below it, such as the hydrostatic
+        p = ρ g (h − z)⁺ with ``level`` = h. A Gauss rule on a facet the level cuts would
+        integrate the kink of p inexactly (about 1e-4 of the facet's load): such facets
+        are integrated on their wet part alone, the rule of the reservoirs' added mass
+        (:meth:`add_westergaard`): the facet's parameter runs from its wet end to the
+        point ξ* where it meets the level, through ξ = ξ* + (ξ_w − ξ*) s², so the depth
+        and the shape functions are polynomials in s and Gauss points in s integrate the
+        wet part exactly on straight (and, in 2D, curved) facets; in 3D the lines of the
+        facet are integrated so, between splits where the level crosses its edges
+        (round-off on triangles and bilinear quads). Without ``level`` every facet takes a
+        Gauss rule of degree 2p + 2 (exact for a polynomial pressure of degree p + 1 on
+        straight facets of degree p).
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(2.0, 10.0, 1, 3)     # nodes at y = 0, 3.33, 6.67, 10
+        >>> m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+        >>> m.add_pressure("xmin", lambda x: 9810.0 * np.maximum(5.0 - x[..., 1], 0.0),
+        ...                level=5.0)
+        >>> bool(np.isclose(m.load_vector()[0::2].sum(), 9810.0 * 5.0**2 / 2, rtol=1e-14))
+        True
+        """
         self._boundary_group(group, "pressure")
-        self.loads.append(Load("pressure", group, value, amplitude))
+        if level is not None and not np.isfinite(level):
+            raise ModelError(f"pressure on {group!r}: the level must be finite, got {level}")
+        self.loads.append(Load("pressure", group, value, amplitude,
+                               level=None if level is None else float(level)))  # fmt: skip
 
     def add_silt(
         self,
@@ -569,7 +597,7 @@ class Model:
             return gam * np.maximum(zs - x[..., up], 0.0)[..., None] * ratio
 
         for g in names:
-            self.loads.append(Load("silt", g, stress, amplitude))
+            self.loads.append(Load("silt", g, stress, amplitude, level=zs))
         return kk
 
     def _boundary_group(self, group: str, what: str) -> None:
@@ -984,19 +1012,28 @@ class Model:
                 f += asm.assemble_vector(asm.element_dofs(cs.conn, d), fe, n)
         elif ld.kind in ("traction", "pressure", "silt"):
             assert ld.target is not None
-            for ftype, conn in self.mesh.facet_group(ld.target).items():
-                fv = asm.facet_values(self.mesh.points, ftype, conn,
-                                      2 * reference(ftype).degree + 2, self.thickness)  # fmt: skip
+
+            def traction(x: FloatArray, normal: FloatArray, outward: FloatArray) -> FloatArray:
                 if ld.kind == "traction":
-                    tr = _field(ld.value, fv.x)
-                elif ld.kind == "silt":  # t = −diag(σ) n, n the outward normal
-                    outward = self._outward(ftype, conn, fv)
-                    tr = -_field(ld.value, fv.x) * fv.normal * outward[:, None, None]
-                else:
-                    outward = self._outward(ftype, conn, fv)
-                    p = _scalar_field(ld.value, fv.x)
-                    tr = -p[..., None] * fv.normal * outward[:, None, None]
-                fe = asm.facet_load(fv, tr).reshape(conn.shape[0], -1)
+                    return np.broadcast_to(_field(ld.value, x), x.shape)
+                if ld.kind == "silt":  # t = −diag(σ) n, n the outward normal
+                    return -_field(ld.value, x) * normal * outward[:, None, None]
+                p = _scalar_field(ld.value, x)
+                return np.asarray(-p[..., None] * normal * outward[:, None, None])
+
+            pts = self.mesh.points
+            for ftype, conn in self.mesh.facet_group(ld.target).items():
+                fv = asm.facet_values(pts, ftype, conn, 2 * reference(ftype).degree + 2,
+                                      self.thickness)  # fmt: skip
+                outward = self._outward(ftype, conn, fv)
+                fe = asm.facet_load(fv, traction(fv.x, fv.normal, outward))
+                if ld.level is not None:
+                    # the facets the level cuts: their wet part alone (add_pressure)
+                    for sel, (N, dA, x, nrm) in _cut_facet_rules(pts, ftype, conn, ld.level,
+                                                                 self.thickness):  # fmt: skip
+                        tr = traction(x, nrm, outward[sel])
+                        fe[sel] = np.einsum("fq,fqa,fqd->fad", dA, N, tr)
+                fe = fe.reshape(conn.shape[0], -1)
                 f += asm.assemble_vector(asm.element_dofs(conn, d), fe, n)
         elif ld.kind == "inertia":
             f += self.inertia_load(np.asarray(ld.value, dtype=float))
@@ -1693,6 +1730,46 @@ def _block_matrix(blocks: FloatArray) -> sp.csr_matrix:
     cols = np.broadcast_to(base + np.arange(d)[None, None, :], blocks.shape)
     keep = blocks != 0.0
     return sp.csr_matrix((blocks[keep], (rows[keep], cols[keep])), shape=(n * d, n * d))
+
+
+def _cut_facet_rules(
+    points: FloatArray, ftype: str, conn: IntArray, level: float, thickness: float
+) -> list[tuple[IntArray, tuple[FloatArray, FloatArray, FloatArray, FloatArray]]]:
+    """Quadratures of the wet part (below ``level``) of the facets ``conn`` that the
+    level cuts (their nodes' heights on both sides of it), for a surface load that is a
+    polynomial below the level and zero above (:meth:`Model.add_pressure` ``level``).
+    The rules of the reservoirs' added mass, whose map ξ = ξ* + (ξ_w − ξ*) s² from the
+    wet end ξ_w to the level's crossing ξ* keeps a polynomial depth a polynomial in s:
+    in 2D :func:`_wet_line_rule` (exact: on a straight facet of degree p the integrand
+    N_a p n dA has degree 4p + 1 in s, on a curved one 6p − 1, below the 24 points'
+    47); in 3D :func:`_wet_face_rule` (exact along its inner lines; between the splits
+    at the level's crossings of the edges the outer integrand is polynomial on quads
+    and rational on triangles, where its 2 × 12 points reach round-off), or a Gauss rule
+    of degree 2p + 48 on curved facets where it does not fit. Returns the selections
+    (indices into ``conn``) with N (f, q, n), dA (f, q), points x (f, q, d) and unit
+    normals (f, q, d), the normals oriented as :func:`pfeie.assembly.facet_values`."""
+    d = points.shape[1]
+    z = points[conn, d - 1]
+    cut = np.flatnonzero((z.min(axis=1) < level) & (z.max(axis=1) > level))
+    out: list[tuple[IntArray, tuple[FloatArray, FloatArray, FloatArray, FloatArray]]] = []
+    if not cut.size:
+        return out
+    if d == 2:
+        N, dA, x, nrm, done = _wet_line_rule(points, ftype, conn[cut], level, thickness)
+        out.append((cut[done], (N[done], dA[done], x[done], nrm[done])))
+        # facets that do not reach the level along their line (curved: cut only at the
+        # nodes) keep the caller's rule
+        return out
+    fits = _face_rule_fits(points, ftype, conn[cut])
+    if fits.any():
+        out.append((cut[fits], _wet_face_rule(points, ftype, conn[cut[fits]], level)))
+    if (~fits).any():
+        rest = cut[~fits]
+        fv = asm.facet_values(points, ftype, conn[rest], 2 * reference(ftype).degree + 48,
+                              thickness)  # fmt: skip
+        N = np.broadcast_to(fv.N, (*fv.dA.shape, fv.N.shape[1]))
+        out.append((rest, (N, fv.dA, fv.x, fv.normal)))
+    return out
 
 
 def _wet_line_rule(

@@ -167,6 +167,9 @@ class Load:
     uniform acceleration ``value``, m/s², the reservoirs' added mass included) or "silt" (a
     geostatic stress on a facet group: ``value`` gives its principal pressures along the
     axes, (..., d) in Pa, and the traction is −diag(value) n with n the outward normal).
+    ``level`` (m, on the vertical axis) marks a surface load that vanishes above it and is
+    a polynomial below (hydrostatic water, silt): the facets the level cuts are then
+    integrated on their wet part alone (:meth:`pfeie.Model.add_pressure`).
     """
 
     kind: str
@@ -175,6 +178,7 @@ class Load:
     amplitude: Amplitude | None
     nodes: IntArray | None = None
     blocks: tuple[str, ...] | None = None
+    level: float | None = None
 
 
 @dataclass(frozen=True)

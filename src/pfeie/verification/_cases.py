@@ -1444,8 +1444,8 @@ def _gravity_section(c: float, phi: float, hw: float, tw: float, drains: float,
     model.fix("ymin")
     model.add_gravity()
     gw = 1000.0 * G
-    model.add_pressure("upstream", lambda x: gw * np.maximum(hw - x[..., 1], 0.0))
-    model.add_pressure("downstream", lambda x: gw * np.maximum(tw - x[..., 1], 0.0))
+    model.add_pressure("upstream", lambda x: gw * np.maximum(hw - x[..., 1], 0.0), level=hw)
+    model.add_pressure("downstream", lambda x: gw * np.maximum(tw - x[..., 1], 0.0), level=tw)
     model.add_uplift("base", headwater=hw, tailwater=tw, drains=drains,
                      efficiency=efficiency)  # fmt: skip
     return model
