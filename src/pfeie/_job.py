@@ -50,7 +50,7 @@ from .errors import (
     ResultsError,
     SolverError,
 )
-from .interface import OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
+from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
 from .io import (
     CheckpointWriter,
     Job,
@@ -428,8 +428,8 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
     than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
-    # a shear at the round-off of the joint's forces (1e-12 of their sum) is no shear
-    noise = 1e-12 * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
+    # a shear at the round-off of the joint's forces (FS_ROUNDOFF of their sum) is no shear
+    noise = FS_ROUNDOFF * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
                                        noise, opening=st.w[:, -1])  # fmt: skip
     out = {}

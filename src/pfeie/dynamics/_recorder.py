@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..assembly import principal_extremes
-from ..interface import OPEN
+from ..interface import FS_ROUNDOFF, OPEN
 from ..typing import FloatArray, IntArray
 from ._excitation import Excitation
 from ._newmark import State
@@ -58,11 +58,6 @@ if TYPE_CHECKING:
 ENERGY_TERMS = ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                 "impact", "algorithmic", "correction")  # fmt: skip
 _INPUTS = ("external_work", "correction")  # the right-hand side of the balance
-FS_ROUNDOFF = 1e-10
-"""A joint's shear force counts for its safety factor above FS_ROUNDOFF times the sum of
-the magnitudes of its own pair forces (smooth and step forces): below, it is round-off
-(a pair closed by an impulse within the step has a smooth force of 1e-16 to 1e-20 of
-its step force), and the ratio would be round-off too."""
 
 
 @dataclass
@@ -549,9 +544,10 @@ class Recorder:
         """The sliding safety factor of each joint at the state ``st``
         (:meth:`~pfeie.interface.PairLaws.safety_factor`), on the smooth pair forces λ
         where the scheme has them (an impact's impulses aside), else on the step's forces
-        X. A joint whose smooth shear is round-off (below :data:`FS_ROUNDOFF` of its pair
-        forces, e.g. a pair that closes by an impulse in this step while its smooth force
-        is zero) takes its factor from X: the step's impulses meet the
+        X. A joint whose smooth shear is round-off (below
+        :data:`~pfeie.interface.FS_ROUNDOFF` of its pair forces, e.g. a pair that closes by
+        an impulse in this step while its smooth force is zero) takes its factor from X:
+        the step's impulses meet the
         velocity-level law, so the factor is that of the force it carried.
 
         The smooth forces λ are the scheme's acceleration-level forces, which the pair

@@ -18,6 +18,7 @@ problems) live in :mod:`pfeie.coupling`.
 from ._fclib import coulomb_laws, load_fclib, natural_map_residual
 from ._laws import (
     COHESION_RAMP,
+    FS_ROUNDOFF,
     OPEN_CRACK_MIN_M,
     Joint,
     JointLaw,
@@ -34,7 +35,8 @@ from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "COHESION_RAMP", "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
+    "COHESION_RAMP", "FS_ROUNDOFF", "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES",
+    "STICK",
     "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
     "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "cohesion_ramp",
     "cohesion_ramp_tangent", "coulomb_laws", "load_fclib", "natural_map_residual", "split",

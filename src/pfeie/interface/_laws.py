@@ -93,6 +93,14 @@ class JointLaw(Protocol):
 OPEN_CRACK_MIN_M = 1e-5
 
 
+FS_ROUNDOFF = 1e-10
+"""A joint's shear force counts for its safety factor above FS_ROUNDOFF times the sum of
+the magnitudes of its own pair forces (smooth and step forces, static ones): below, it
+is round-off (a pair closed by an impulse within the step has a smooth force of 1e-16 to
+1e-20 of its step force; a frictionless joint between blocks at rest carried 8e-12 of
+its normal force in a static state), and the ratio would be round-off too."""
+
+
 #: κ: the normal force over which a broken pair's residual cohesion is mobilised, as a
 #: fraction of its cohesion force c A (:func:`cohesion_ramp`)
 COHESION_RAMP = 1e-3
@@ -505,5 +513,5 @@ class PairLaws:
         return PairState.initial(self.initially_broken, self.gap, dim)
 
 
-__all__ = ["COHESION_RAMP", "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws",
-           "SlipWeakening", "Strength", "cohesion_ramp"]  # fmt: skip
+__all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb",
+           "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp"]  # fmt: skip

@@ -137,12 +137,14 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         return []
     fs_static = None
     if job is not None and job.model.pairs is not None:
-        from ..interface import OPEN
+        from ..interface import FS_ROUNDOFF, OPEN
 
         X = np.asarray(res.f["static/X"])
+        P = job.model.pairs
+        noise = FS_ROUNDOFF * np.array([np.abs(X[P.of(n)]).sum() for n in P.names])
         fs_static = job.model.pair_laws.safety_factor(
             X, np.asarray(res.f["static/state"]) == OPEN, np.asarray(res.f["static/broken"]),
-            np.zeros(X.shape[0]), job.model.pairs.frame,
+            np.zeros(X.shape[0]), P.frame, noise,
             opening=np.asarray(res.f["static/w"][:, -1]))  # fmt: skip
     rows = []
     for name in res.interface_names:
