@@ -117,3 +117,49 @@ def test_a_step_that_applies_nothing_above_1_hz_is_refused(
     cli_fails(capsys, ["check", str(p), "--dt", dt], f"analysis.dt (from --dt {dt}): steps of "
           f"{dt} s apply only the content of ground_motion[0] below", "expected analysis.dt "
           "≤ 0.5 s, typically the record's sampling (0.01 s) or finer")  # fmt: skip
+
+
+# -- 4. a record along a global axis under a tilted gravity ---------------------------------
+@pytest.mark.parametrize(("gravity", "warned"), [("[0.3420201, -0.9396926]", True),
+                                                 ("[0.0, -1.0]", False)])  # fmt: skip
+def test_a_component_along_a_tilted_gravity_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, gravity: str, warned: bool
+) -> None:
+    """Gravity tilted 20° (a mesh drawn in a slope's axes): component = "x" shakes 0.342
+    of the record along gravity; the warning gives x made normal to gravity, (cos 20°,
+    sin 20°) = (0.939693, 0.34202), the direction the yield coefficient takes. A new
+    user's block on a 20° plane drawn flat slid 31.2 mm along x and 53.1 mm along that
+    direction, as on the inclined mesh (53.1 mm; rigid block 53.4 mm)."""
+    (tmp_path / "rec.csv").write_text("".join(f"{0.01 * k:.2f},{0.1 * (k % 3 - 1):.4f}\n"
+                                              for k in range(300)))  # fmt: skip
+    text = MODEL.replace("dynamic = false", "dt = 0.01").replace("[analysis]", (
+        f"[loads]\ngravity = 9.81\ngravity_direction = {gravity}\n"
+        '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\ncomponent = "x"\n[analysis]'))
+    p = _model(tmp_path, text)
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    words = ("ground_motion[0].component = 'x' is the global x axis, which has 0.342 of its "
+             "length along the tilted gravity (loads.gravity_direction): the record shakes "
+             "partly along gravity; for horizontal shaking give direction = [0.939693, "
+             "0.34202] (the axis made normal to gravity)")  # fmt: skip
+    assert (words in caplog.text) is warned, caplog.text
+
+
+# -- 5. a pressure function written for a list of points ------------------------------------
+def test_a_pressure_function_indexing_a_list_of_points_is_named() -> None:
+    """``lambda x: ... x[:, 1]`` on the points (facets, quadrature points, d): the error
+    names the load and the shape to expect and says to write x[..., k], instead of
+    numpy's broadcasting traceback; written so, the load is ρ g h²/2 (the doctest of
+    Model.add_pressure checks it to 1e-14)."""
+    import numpy as np
+
+    import pfeie as pf
+    from pfeie.errors import ModelError
+
+    m = pf.Model(pf.rectangle(2.0, 10.0, 1, 3), [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    m.add_pressure("xmin", lambda x: 9810.0 * np.maximum(5.0 - x[:, 1], 0.0))
+    with pytest.raises(ModelError, match=r"pressure on 'xmin': a function of the points "
+                       r"receives x of shape \(3, 3, 2\) \(facets or cells, quadrature points, "
+                       r"coordinates\): index it as x\[\.\.\., k\]; expected one value per "
+                       r"point, an array of shape \(3, 3\)"):  # fmt: skip
+        m.load_vector()

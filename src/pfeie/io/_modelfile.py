@@ -735,6 +735,7 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                 raise InputError(f"{p}: ground_motion[{i}].component: 'z' in a 2D model")
             direction = [0.0] * mesh.dim
             direction[k] = 1.0
+            _along_gravity(p, i, gm.component, direction, cfg.loads.gravity_direction)
         # scale = -1 beside pga or target_sa is the polarity (the record flipped, then
         # scaled to its target); another factor would be overridden by the target
         factor = "scale" in gm.model_fields_set and abs(gm.scale) != 1.0
@@ -841,6 +842,35 @@ def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) ->
 #: earthquake's energy lies at about 0.5 to 20 Hz, so steps that apply nothing above
 #: 1 Hz (Δt > 0.5 s) drop most of it and miss every mode of a dam or a rock block
 MIN_APPLIED_HZ = 1.0
+
+
+#: the share of a record's axis along a tilted gravity above which a warning says so
+#: (sin 0.06°: a tilt of the model that small is a rounding of its axes)
+ALONG_GRAVITY = 1e-3
+
+
+def _along_gravity(p: Path, i: int, component: str, direction: list[float],
+                   gravity: Sequence[float] | None) -> None:  # fmt: skip
+    """A record given by its ``component`` acts along that global axis; where gravity is
+    tilted (``loads.gravity_direction``: a mesh drawn in the slope's own axes), the axis
+    is not horizontal, and a record meant as horizontal shaking must be given by its
+    ``direction`` made normal to gravity (as the yield coefficient and the pseudo-static
+    loads make theirs): a warning gives that direction."""
+    if gravity is None:
+        return
+    g = np.asarray(gravity, dtype=float)
+    g = g / np.linalg.norm(g)
+    e = np.asarray(direction, dtype=float)
+    along = float(e @ g)
+    if abs(along) <= ALONG_GRAVITY:
+        return
+    h = e - along * g
+    h /= np.linalg.norm(h)
+    log.warning("%s: ground_motion[%d].component = %r is the global %s axis, which has %.3g "
+                "of its length along the tilted gravity (loads.gravity_direction): the record "
+                "shakes partly along gravity; for horizontal shaking give direction = [%s] "
+                "(the axis made normal to gravity)", p, i, component, component, abs(along),
+                ", ".join(f"{v:.6g}" for v in h))  # fmt: skip
 
 
 def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:

@@ -502,7 +502,9 @@ class Model:
     ) -> None:
         """A pressure (Pa, positive pushing into the body) on a facet group: faces on the
         boundary of the blocks or on a joint (a facet group that also holds facets inside a
-        block is refused: a pressure there has no side to push).
+        block is refused: a pressure there has no side to push). ``value``: a number, or
+        a function of the points x, an array (facets, quadrature points, d), that returns
+        the pressure at each, shape x.shape[:-1]: write its coordinates x[..., k].
 
         ``level`` (m, on the vertical axis: y in 2D, z in 3D) declares a pressure that is
         zero above the level and a polynomial in x below it, such as the hydrostatic
@@ -1015,10 +1017,11 @@ class Model:
 
             def traction(x: FloatArray, normal: FloatArray, outward: FloatArray) -> FloatArray:
                 if ld.kind == "traction":
-                    return np.broadcast_to(_field(ld.value, x), x.shape)
+                    return np.broadcast_to(_field(ld.value, x, f"traction on {ld.target!r}"),
+                                           x.shape)  # fmt: skip
                 if ld.kind == "silt":  # t = −diag(σ) n, n the outward normal
                     return -_field(ld.value, x) * normal * outward[:, None, None]
-                p = _scalar_field(ld.value, x)
+                p = _scalar_field(ld.value, x, f"pressure on {ld.target!r}")
                 return np.asarray(-p[..., None] * normal * outward[:, None, None])
 
             pts = self.mesh.points
@@ -1614,14 +1617,31 @@ def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> None:
             own[idx] = ib
 
 
-def _field(value: VectorField | float, x: FloatArray) -> FloatArray:
-    out = value(x) if callable(value) else np.asarray(value, dtype=float)
-    return np.broadcast_to(np.asarray(out, dtype=float), x.shape)
+def _field(value: VectorField | float, x: FloatArray, what: str = "load") -> FloatArray:
+    """A vector field at the points x (..., d): a constant or a function of x."""
+    return _values(value, x, x.shape, what, "a vector of d components per point")
 
 
-def _scalar_field(value: Any, x: FloatArray) -> FloatArray:
-    out = value(x) if callable(value) else np.asarray(value, dtype=float)
-    return np.broadcast_to(np.asarray(out, dtype=float), x.shape[:-1])
+def _scalar_field(value: Any, x: FloatArray, what: str = "pressure") -> FloatArray:
+    """A scalar field at the points x (..., d): a constant or a function of x."""
+    return _values(value, x, x.shape[:-1], what, "one value per point")
+
+
+def _values(value: Any, x: FloatArray, shape: tuple[int, ...], what: str,
+            expected: str) -> FloatArray:  # fmt: skip
+    """A load's values at the quadrature points x (facets or cells, points, d), broadcast
+    to ``shape``; a function that returns another shape (it indexed x as a list of
+    points, ``x[:, k]``, not ``x[..., k]``) or fails on such an array is named."""
+    hint = (f"{what}: a function of the points receives x of shape {x.shape} (facets or "
+            "cells, quadrature points, coordinates): index it as x[..., k]; expected "
+            f"{expected}, an array of shape {shape}")  # fmt: skip
+    try:
+        out = value(x) if callable(value) else np.asarray(value, dtype=float)
+        return np.broadcast_to(np.asarray(out, dtype=float), shape)
+    except (ValueError, IndexError, TypeError) as exc:
+        if not callable(value):
+            raise
+        raise ModelError(f"{hint}; the function gave: {exc}") from None
 
 
 __all__ = ["LinearSystem", "Model"]
