@@ -25,10 +25,11 @@ from ._delassus import (
 )  # fmt: skip
 from ._operators import PairOperator, relative_operator
 from ._static import StaticInterfaceProblem, floating_modes, pins
-from ._step import InterfaceStep, SolveStats, StepSolution
+from ._step import SUBSOLVER_BYTES, SUBSOLVERS, InterfaceStep, SolveStats, StepSolution
 
 __all__ = [
-    "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep",
+    "SUBSOLVERS", "SUBSOLVER_BYTES", "BlockDelassus", "Delassus", "DenseDelassus",
+    "GatheredDelassus", "InterfaceStep",
     "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "SolveStats",
     "StaticInterfaceProblem", "StepSolution", "delassus", "floating_modes", "pins",
     "relative_operator",

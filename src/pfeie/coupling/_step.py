@@ -54,9 +54,9 @@ to round-off in about nine corrections of two M × M products each)."""
 #: sub-problems (one per pattern of active pairs) kept with their factorisations
 SUBSOLVERS = 16
 #: bytes at most in the kept sub-problems' operators (W, W_c, W_c⁻¹) and factor caches
-#: (``FACTOR_CACHE_BYTES`` each, in pfeie.interface._solver): 16 of a 3D problem of 753
+#: (:data:`~pfeie.interface.FACTOR_CACHE_BYTES` each): 16 of a 3D problem of 753
 #: components held 4.7 GB before there was a bound
-SUBSOLVER_BYTES = 256 * 2**20
+SUBSOLVER_BYTES = 128 * 2**20
 
 
 def _footprint(solver: InterfaceSolver) -> int:

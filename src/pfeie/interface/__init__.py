@@ -30,14 +30,14 @@ from ._laws import (
     cohesion_ramp_tangent,
 )
 from ._settings import SolverSettings
-from ._solver import InterfaceSolver, SolveInfo
+from ._solver import FACTOR_CACHE_BYTES, FACTOR_CACHE_COUNT, FactorCache, InterfaceSolver, SolveInfo
 from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "COHESION_RAMP", "FS_ROUNDOFF", "INTACT", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES",
-    "STICK",
-    "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
+    "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT", "OPEN",
+    "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK", "FactorCache", "InterfaceSolver",
+    "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
     "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "cohesion_ramp",
     "cohesion_ramp_tangent", "coulomb_laws", "load_fclib", "natural_map_residual", "split",
 ]  # fmt: skip

@@ -164,7 +164,7 @@ def _stalled(history: list[float]) -> bool:
 #: pair states met): a pattern costs an M × M factor (M = pairs × d), so a count alone
 #: lets the caches of a step's solvers grow with M² (4.7 GB at M = 753 in 3D, measured);
 #: the least recently used factors go first
-FACTOR_CACHE_BYTES = 32 * 2**20
+FACTOR_CACHE_BYTES = 16 * 2**20
 #: factors at most in one solver's cache, whatever their size
 FACTOR_CACHE_COUNT = 64
 
