@@ -477,7 +477,7 @@ def test_last_paraview_frame_is_the_final_time(tmp_path: Path) -> None:
 
 
 def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The results file says its format (1.6); a file of another major version is refused
+    """The results file says its format (1.7); a file of another major version is refused
     with a message naming both versions (exit 2 from ``pfeie report``)."""
     import h5py
 
@@ -485,7 +485,7 @@ def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert main(["run", str(p), "--quiet"]) == 0
     path = tmp_path / "out" / "results.h5"
     with Results(path) as res:
-        assert res.f.attrs["format_version"] == "1.6"
+        assert res.f.attrs["format_version"] == "1.7"
     with h5py.File(path, "r+") as f:
         f.attrs["format_version"] = "2.0"
     with pytest.raises(ResultsError, match=r"format 2.0, but this pfeie .* reads format 1.x"):

@@ -75,7 +75,7 @@ UNITS = {
 #: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
 #: counts steps, no longer solves, and not those the semismooth Newton finished; files
 #: without the attribute are 1.0)
-FORMAT_VERSION = "1.6"
+FORMAT_VERSION = "1.7"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
