@@ -157,7 +157,7 @@ def run_job(
     duration). One run at a time writes to an output folder (a lock file with its process
     id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
-    with _FolderLock(out, job.path):
+    with FolderLock(out, job.path):
         try:
             return _run(job, out, progress, duration, stream, resume, checkpoint_s)
         except OSError as exc:  # a full disk, a quota, a folder removed under the run
@@ -171,14 +171,14 @@ def run_job(
             ) from None
 
 
-class _FolderLock:
+class FolderLock:
     """One run at a time per output folder: a lock file with the process id, created
     exclusively; a lock whose process is gone is taken over."""
 
     def __init__(self, folder: Path, model: Path) -> None:
         self.path, self.model = folder / ".pfeie-run.lock", model
 
-    def __enter__(self) -> _FolderLock:
+    def __enter__(self) -> FolderLock:
         import os
 
         for _ in range(2):

@@ -934,7 +934,7 @@ class Study:
         ``[run]``). ``progress(done, total, row)`` is called after each
         run. One study at a time writes to a folder (a lock file with its process id, as
         ``pfeie run``'s output folder; another gets an :class:`InputError` naming it)."""
-        from .._job import _FolderLock
+        from .._job import FolderLock
 
         if getattr(multiprocessing.current_process(), "_inheriting", False):
             # a worker process of a study's cluster that imports the script which started
@@ -944,7 +944,7 @@ class Study:
         folder = self.prepare_folder().resolve()
         specs = self.runs()
         try:
-            lock = _FolderLock(folder, self.source if self.source is not None else self.model)
+            lock = FolderLock(folder, self.source if self.source is not None else self.model)
             lock.__enter__()
         except InputError as exc:
             raise InputError(f"{self._where('output.folder')}: {exc}") from None
