@@ -74,10 +74,10 @@ def test_post_earthquake_fs_against_limit_equilibrium(a: float) -> None:
 
 
 def test_a_base_broken_through_with_a_low_residual_friction_slides() -> None:
-    """The whole base broken, φ_r = 20°, 18 m of water: (W − U) tan φ_r = 2.5 MN against
-    T = 1.6 MN holds (FS 1.57), but 19 m of water with the crack's full uplift, U =
-    1.86 MN: (W − U) tan 20° = 1.04 MN < T = 1.77 MN: no equilibrium, a MechanismError
-    that names the floating block and its joint."""
+    """The whole base broken, φ_r = 20°, full headwater under it (U = ρ_w g h B): at 12 m
+    of water (W − U) tan φ_r = (4.709 − 1.177) MN × 0.364 = 1.29 MN holds T = 0.71 MN (FS
+    1.82); at 19 m, 1.04 MN against T = 1.77 MN (FS 0.58): no equilibrium, a
+    MechanismError that names the floating block and its joint."""
     joint = pf.Joint(c=C, phi=PHI, tensile=0.2e6, phi_r=20.0, initial="intact")
     model, _ = dam(12.0, joint)
     post = pf.solve_static(model, damage=_damage(model, B))
