@@ -19,11 +19,12 @@ Conventions (all arrays have the pair index first):
 - ``area`` (m,): tributary area of the pair, the HRZ-lumped facet "mass" ∫ N_a N_b dA
   (× thickness in 2D), positive for linear and quadratic facets;
 - sides: every facet normal is first oriented on the side of its interface's dominant
-  direction; then all the facets between the same two regions (cells connected through
-  facets that are not interface facets), of one interface or several, take the same
-  region as side a, the one that holds the larger area of them (so that the two planes
-  of a wedge, or a joint that turns by 90° or more, face one way and their shear forces
-  add up in the joint's resultant);
+  direction, made to point up (towards +x, +y on a joint steeper than 84°), so that a
+  joint's upper block is its side b whatever the mesh; then all the facets between the
+  same two regions (cells connected through facets that are not interface facets), of
+  one interface or several, take the same region as side a, the one that holds the
+  larger area of them (so that the two planes of a wedge, or a joint that turns by 90°
+  or more, face one way and their shear forces add up in the joint's resultant);
 - sharp edges: where the facets at a node couple meet at more than
   :data:`EDGE_ANGLE` (the keel of a wedge, a stepped joint), the couple becomes one pair
   per side of the edge, each with its own plane's normal and area, a redundant
@@ -157,6 +158,24 @@ def _frames(normal: FloatArray, which: IntArray) -> FloatArray:
 #: facets that meet at a node with normals further apart than this (degrees) are a sharp
 #: edge of the interface (the keel of a wedge): each side of it keeps its own pair there
 EDGE_ANGLE = 30.0
+
+
+#: the least component of a joint's dominant direction that fixes its sign: the vertical
+#: one where it is at least this (a joint not steeper than 84°), else the first
+#: horizontal one that is
+UPWARD_MIN = 0.1
+
+
+def _upward(ref: FloatArray) -> FloatArray:
+    """The unit vector ``ref`` (d,) or its opposite, chosen by the geometry alone: its
+    vertical component (the last axis) positive where it is at least
+    :data:`UPWARD_MIN` in magnitude, else its first horizontal component that is (x,
+    then y). An eigenvector's sign is LAPACK's, which two meshes of one joint can give
+    either way; so a joint's normal points up (towards +x, +y on steep joints) and its
+    upper block is side b on every mesh."""
+    big = np.flatnonzero(np.abs(ref) >= UPWARD_MIN)
+    axis = ref.size - 1 if abs(ref[-1]) >= UPWARD_MIN else int(big[0])
+    return ref if ref[axis] > 0 else -ref
 
 
 def _one_side(
@@ -355,7 +374,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
         m = iface[inst] == j
         if m.any():
             S = nrm[m].T @ nrm[m]
-            ref = np.linalg.eigh(S)[1][:, -1]
+            ref = _upward(np.linalg.eigh(S)[1][:, -1])
             nrm[m] *= np.where(nrm[m] @ ref < 0, -1.0, 1.0)[:, None]
     cen = np.zeros((n_cells, dim))
     for c, o_ in cell_conn:
