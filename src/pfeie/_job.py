@@ -390,6 +390,22 @@ def _yield_coefficients(
     return out
 
 
+def energy_shares(s: dict[str, Any]) -> tuple[float, float]:
+    """Of a run's summary: the energy the position corrections stored over the input
+    (signed) and the energy the time scheme created over the energy that went through the
+    run (≥ 0); 0 where those flows lie below :data:`ENERGY_FLOOR` × the static strain
+    energy, the scale of their round-off. The summary's "corrections" and "scheme" lines
+    and a study's ``energy.*`` columns judge these."""
+    e = s.get("energy_J") or {}
+    work, corr = abs(e.get("external_work", 0.0)), e.get("correction", 0.0)
+    alg = e.get("algorithmic", 0.0)
+    flow = max(work, sum(e.get(k, 0.0) for k in ("interface", "impact", "damping")))
+    floor = ENERGY_FLOOR * s.get("static_strain_energy_J", 0.0)
+    share = corr / work if work > floor else 0.0
+    created = -alg / flow if flow > floor and alg < 0 else 0.0
+    return share, created
+
+
 def _post_earthquake(
     job: Job, static: StaticResult | None, result: DynamicResult | None,
     final: StepState | None, writer: ResultsWriter,
@@ -769,27 +785,24 @@ def format_summary(s: dict[str, Any]) -> str:
             f"{e.get('damping', 0):.4g}, algorithmic {e.get('algorithmic', 0):.4g} J; balance "
             f"{e.get('balance', 0):.2e} J"
         )
-        work, corr = abs(e.get("external_work", 0.0)), e.get("correction", 0.0)
-        alg = e.get("algorithmic", 0.0)
-        flow = max(work, sum(e.get(k, 0.0) for k in ("interface", "impact", "damping")))
-        # below a millionth of the static strain energy the flows are round-off
-        floor = ENERGY_FLOOR * s.get("static_strain_energy_J", 0.0)
-        if flow > floor and alg < -SCHEME_CREATED * flow:
+        share, created = energy_shares(s)
+        if created > SCHEME_CREATED:
             lines.append(
-                f"  scheme       WARNING: the time scheme created {-alg:.4g} J, "
-                f"{100 * -alg / flow:.0f} % of the energy that went through the run: contact "
+                f"  scheme       WARNING: the time scheme created {-e['algorithmic']:.4g} J, "
+                f"{100 * created:.0f} % of the energy that went through the run: contact "
                 "events (impacts, stick and slip) that this time step does not resolve; the "
                 "slips and displacements are not converged in Δt: run again with Δt halved "
                 "and compare (docs/results.md)"
             )
-        if work > floor and abs(corr) > CORRECTION_SHARE * work:
+        if abs(share) > CORRECTION_SHARE:
+            corr = e["correction"]
             lines.append(
                 f"  corrections  the position corrections of penetrating pairs "
                 f"{'added' if corr > 0 else 'took'} {abs(corr):.4g} J, "
-                f"{100 * abs(corr) / work:.1f} % of the input: impacts this time step does "
+                f"{100 * abs(share):.1f} % of the input: impacts this time step does "
                 "not resolve (the share falls with Δt; docs/results.md)"
             )
-            if abs(corr) > CORRECTION_UNRESOLVED * work:
+            if abs(share) > CORRECTION_UNRESOLVED:
                 lines.append(
                     "               more than half the input: the results are not converged "
                     "in Δt; run again with Δt halved and compare"

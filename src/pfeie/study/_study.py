@@ -419,7 +419,13 @@ def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
     """The run's reliability warnings, as ``pfeie run``'s summary gives them
     (:func:`pfeie._job.format_summary`: its "large slip", "corrections" and "scheme"
     lines, with the same thresholds); puts the ``energy.*`` shares into ``row``."""
-    from .._job import CORRECTION_SHARE, CORRECTION_UNRESOLVED, LARGE_SLIP, SCHEME_CREATED
+    from .._job import (
+        CORRECTION_SHARE,
+        CORRECTION_UNRESOLVED,
+        LARGE_SLIP,
+        SCHEME_CREATED,
+        energy_shares,
+    )
 
     notes = []
     for name, j in s.get("joints", {}).items():
@@ -429,13 +435,8 @@ def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
                          f"of its pairs ({j.get('pair_spacing_m', 0.0):.3g} m), beyond "
                          f"{LARGE_SLIP:g}: its faces are paired node to node (small sliding), "
                          "the result is not reliable")  # fmt: skip
-    e = s.get("energy_J")
-    if e is not None:
-        work, corr = abs(e.get("external_work", 0.0)), e.get("correction", 0.0)
-        alg = e.get("algorithmic", 0.0)
-        flow = max(work, sum(e.get(k, 0.0) for k in ("interface", "impact", "damping")))
-        share = corr / work if work > 0 else 0.0
-        created = -alg / flow if flow > 0 and alg < 0 else 0.0
+    if s.get("energy_J") is not None:
+        share, created = energy_shares(s)
         row["energy.correction_share"], row["energy.scheme_created_share"] = share, created
         if abs(share) > CORRECTION_SHARE:
             notes.append(f"corrections: the position corrections of penetrating pairs "
