@@ -87,3 +87,31 @@ def test_forces_beyond_double_precision_are_never_accepted(scale: float) -> None
         else:
             with pytest.raises(InterfaceError, match=r"force scale.*double precision"):
                 solver.solve(scale * w_free, prev)
+
+
+def test_a_newton_without_descent_stops(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A static problem with no equilibrium (a rigid-friction block on a 10° incline, φ =
+    40°, pushed down the dip by k_h = 0.6 > tan 30° = 0.577, its yield coefficient): the
+    semismooth Newtons reach a point where no step along their direction lowers the
+    residual and stop after LINE_SEARCH_FAILS such iterations instead of crawling to
+    their limit (measured: 5 and 8 iterations, 22 and 100 before, 0.27 → 0.04 s); the
+    MechanismError stands."""
+    import pfeie as pf
+    from pfeie.errors import MechanismError
+    from pfeie.interface import _solver
+    from pfeie.verification._models import block_on_base
+
+    counts: list[int] = []
+    newton = _solver.InterfaceSolver._newton
+
+    def counted(self: InterfaceSolver, *args: object, **kw: object) -> object:
+        out = newton(self, *args, **kw)  # type: ignore[arg-type]
+        counts.append(out[2])
+        return out
+
+    monkeypatch.setattr(_solver.InterfaceSolver, "_newton", counted)
+    model = block_on_base(joint=pf.Joint(phi=40.0), incline_deg=10.0)
+    model.add_inertia([0.6 * 9.81, 0.0])
+    with pytest.raises(MechanismError):
+        pf.solve_static(model)
+    assert counts and max(counts) <= 2 * _solver.LINE_SEARCH_FAILS, counts

@@ -154,6 +154,17 @@ iterate after the one through W_c⁻¹, the given first iterate, then a cold sta
 runs to its limit) or fallback, instead of running to its iteration limit."""
 
 
+LINE_SEARCH_FAILS = 4
+"""A semismooth Newton whose line search finds no decrease of the residual (30 halvings
+of the step) this many iterations in a row stops there: along its directions the
+residual's norm does not fall, at a kink of the law it cannot cross or at a local minimum
+of that norm (as beyond the limit of equilibrium, where no answer exists), and the next
+start or fallback takes over. Measured: converging Newtons met at most two such
+iterations in a row (the default tests, the slow 3D, wedge and planted-solution tests, the
+FCLIB set); the yield search of a Tet4 block on an intact joint on a 20° plane (31 pairs,
+80 static analyses, 26 without equilibrium) took 16.7 s CPU instead of 22.4."""
+
+
 def _stalled(history: list[float]) -> bool:
     """Whether a Newton's residual norms ``history`` (one per iteration) have not halved
     over the last :data:`NEWTON_STALL` iterations."""
@@ -1256,6 +1267,7 @@ class InterfaceSolver:
             Xv = np.concatenate([X.ravel(), z_q])
             F, J = self._natural_map(Xv, broken, w_free, prev, e)
             norms: list[float] = []
+            flat = 0  # iterations in a row whose line search found no descent
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.linalg.norm(F))
@@ -1274,8 +1286,14 @@ class InterfaceSolver:
                 for _ in range(30):
                     F2, _ = self._natural_map(Xv + step * dX, broken, w_free, prev, e, False)
                     if np.linalg.norm(F2) <= (1 - 1e-4 * step) * nF:
+                        flat = 0
                         break
                     step *= 0.5
+                else:  # no descent along dX
+                    flat += 1
+                    if flat >= LINE_SEARCH_FAILS:
+                        stalled = True
+                        break
                 Xv = Xv + step * dX
                 F, J = self._natural_map(Xv, broken, w_free, prev, e)
             X = Xv[:M].reshape(m, d)
@@ -1621,6 +1639,7 @@ class InterfaceSolver:
             Feq = equilibrium(X, zq)
             norms: list[float] = []
             converged = False
+            flat = 0  # iterations in a row whose line search found no descent
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.sqrt(np.sum(F * F) + Feq @ Feq))
@@ -1651,8 +1670,14 @@ class InterfaceSolver:
                     F2 = self._local_map(X2, s_ + step * dS, broken, prev, False)[0]
                     F2eq = equilibrium(X2, zq2)
                     if np.sqrt(np.sum(F2 * F2) + F2eq @ F2eq) <= (1 - 1e-4 * step) * nF:
+                        flat = 0
                         break
                     step *= 0.5
+                else:  # no descent along (dX, dq)
+                    flat += 1
+                    if flat >= LINE_SEARCH_FAILS:
+                        stalled = True
+                        break
                 X, zq = X + step * dX, zq + step * dq
                 X[self._inactive] = 0.0  # held open: exactly, not the step's round-off
                 s_ = s_ + step * dS
