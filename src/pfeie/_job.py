@@ -438,7 +438,7 @@ def _post_earthquake(
 
 def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float | None]]:
     """Per joint, the static state before any shaking: the sliding safety factor
-    Σ(cA + μN⁺)/‖ΣT‖ (None without shear, or with a shear at the forces' round-off),
+    Σ max(0, cA + μN)/‖ΣT‖ (None without shear, or with a shear at the forces' round-off),
     the normal and shear resultants (N; compression +), the mean normal stress (Pa), the
     largest opening (m) and the shares of the joint's area that slide, are open (by more
     than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken."""

@@ -552,11 +552,11 @@ class Recorder:
 
         The smooth forces λ are the scheme's acceleration-level forces, which the pair
         law does not bound: a pair that slides or sticks in a step may have a λ beyond
-        its Coulomb cone, ‖λ_t‖ > c A + μ λ_n⁺ (the dam of docs/results.md sliding at
-        Δt = 2.5 ms: FS 0.91). Such a pair takes its step force X, which meets the law
-        (‖X_t‖ ≤ c A + μ X_n⁺), so every pair's shear is within its capacity and, by the
-        triangle inequality ‖Σ T‖ ≤ Σ ‖T_i‖ ≤ Σ (c A + μ N⁺), FS ≥ 1 (1 while the joint
-        slides)."""
+        its Coulomb cone, ‖λ_t‖ > max(0, c A + μ λ_n) (the dam of docs/results.md sliding
+        at Δt = 2.5 ms: FS 0.91). Such a pair takes its step force X, which meets the law
+        (‖X_t‖ ≤ max(0, c A + μ X_n), :meth:`~pfeie.interface.PairLaws.cone`), so every
+        pair's shear is within its capacity and, by the triangle inequality
+        ‖Σ T‖ ≤ Σ ‖T_i‖ ≤ Σ max(0, c A + μ N), FS ≥ 1 (1 while the joint slides)."""
         assert an.model.pairs is not None
         P, laws = st.pairs, an.model.pair_laws
         size = np.abs(P.X).sum(axis=1)
@@ -568,9 +568,8 @@ class Recorder:
         if st.lam is None:
             return on_x
         # the pairs whose smooth force lies outside their cone take the step's force
-        c, mu, _ = laws.strength(P.broken, P.path)
         lam = st.lam
-        beyond = np.linalg.norm(lam[:, :-1], axis=1) > c + mu * np.maximum(lam[:, -1], 0.0)
+        beyond = np.linalg.norm(lam[:, :-1], axis=1) > laws.cone(lam[:, -1], P.broken, P.path)
         if beyond.any():
             lam = np.where(beyond[:, None], P.X, lam)
         on_lam = laws.safety_factor(lam, *args, opening=P.w[:, -1])

@@ -422,10 +422,11 @@ class PairLaws:
         """The sliding safety factor of each interface (n_interfaces,), the ratio of the
         joint's shear capacity to its shear force (USACE EM 1110-2-2100; FERC Ch. III):
 
-            FS = Σ (c A + μ N⁺) / ‖Σ T‖,
+            FS = Σ max(0, c A + μ N) / ‖Σ T‖,
 
         over its pairs, with each pair's current strength (intact or residual, the slip
-        path for slip-dependent laws), N its normal force (compression +) and T its shear
+        path for slip-dependent laws), N its normal force (compression +: tension lowers
+        the capacity, :meth:`cone`, as in the law and in the hand computation) and T its shear
         force (vector sum: the joint slides as a whole; with the pairs' ``frames`` (m, d, d)
         the shears are summed as global vectors, Σ t_iᵀ T_i, as a joint whose frames turn
         along it needs, else their local components are added); open pairs carry no shear (a
@@ -463,21 +464,42 @@ class PairLaws:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where((shear > floor) & (shear > 0), capacity / shear, np.inf)
 
+    def cone(
+        self, Xn: FloatArray, broken: BoolArray, path: FloatArray, ramp: bool = False
+    ) -> FloatArray:
+        """Each pair's shear capacity (m,), N, at its normal force ``Xn`` (compression +):
+        the radius of its Mohr-Coulomb cone, max(0, c A + μ X_n), with its current
+        strength (intact or residual, the slip path for slip-dependent laws). Tension
+        lowers it, as in the law (an intact pair holds c A − μ σ_t A ≥ 0 at its tensile
+        strength) and as in the hand computation, whose c B + μ (W − U) counts the
+        normal force with its sign. With ``ramp``, on the residual cohesion's ramp
+        (:func:`cohesion_ramp`) the part that a pair touching with almost no normal force
+        mobilises.
+
+        >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
+        ...                                [MohrCoulomb(c=100.0, phi=45.0, tensile=50.0)], 2)
+        >>> law.cone(np.array([30.0, -30.0]), np.zeros(2, dtype=bool), np.zeros(2)).round(9)
+        array([130.,  70.])
+        """
+        c, mu, t = self.strength(broken, path)
+        cap = np.maximum(c + mu * Xn, 0.0)
+        if ramp:
+            on, tau, _ = cohesion_ramp(c, mu, t, Xn, broken)
+            cap = np.where(on, tau, cap)
+        return np.asarray(cap)
+
     def capacity_and_shear(
         self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
         frames: FloatArray | None = None, opening: FloatArray | None = None,
         ramp: bool = False,
     ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
-        """Each interface's shear capacity Σ (c A + μ N⁺) and the magnitude of its shear
-        force ‖Σ T‖ (n_interfaces,), N, as :meth:`safety_factor` takes them; with ``ramp``
-        each pair's capacity under its law: on the residual cohesion's ramp
-        (:func:`cohesion_ramp`) the part a pair that touches with almost no normal force
-        mobilises (the hand computation counts c A on every pair that touches)."""
-        c, mu, t = self.strength(broken, path)
-        cap = c + mu * np.maximum(X[:, -1], 0.0)
-        if ramp:
-            on, tau, _ = cohesion_ramp(c, mu, t, X[:, -1], broken)
-            cap = np.where(on, tau, cap)
+        """Each interface's shear capacity Σ max(0, c A + μ N) (:meth:`cone`) and the
+        magnitude of its shear force ‖Σ T‖ (n_interfaces,), N, as :meth:`safety_factor`
+        takes them; with ``ramp`` each pair's capacity under its law: on the residual
+        cohesion's ramp (:func:`cohesion_ramp`) the part a pair that touches with almost no
+        normal force mobilises (the hand computation counts c A on every pair that
+        touches)."""
+        cap = self.cone(X[:, -1], broken, path, ramp=ramp)
         cracked = open_ if opening is None else open_ & (opening > OPEN_CRACK_MIN_M)
         cap = np.where(cracked, 0.0, cap)
         T = np.where(open_[:, None], 0.0, X[:, :-1])

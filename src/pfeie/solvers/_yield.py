@@ -27,7 +27,7 @@ limit. The analyses are placed by each joint's margin, its capacity less its she
 
 .. math::
 
-    m_j(k) = Σ_i (c A + μ N_i^+) − ‖Σ_i T_i‖    (N),
+    m_j(k) = Σ_i max(0, c A + μ N_i) − ‖Σ_i T_i‖    (N),
 
 affine in k while the pair states do not change (a rigid block: exactly): the secant
 root of the falling margins from two held analyses (joints at their capacity already left
@@ -90,7 +90,7 @@ class YieldCoefficient:
     - ``joint``: the joint that governs: the one whose margin gives ``k_affine``, else
       the least safety factor at ``k_y``;
     - ``safety_factors``: each joint's sliding safety factor at ``k_y``, Σ capacity / ‖Σ T‖
-      (∞: no shear), with each pair's capacity under its law: c A + μ N⁺, or on the
+      (∞: no shear), with each pair's capacity under its law: max(0, c A + μ N), or on the
       residual cohesion's ramp (:func:`~pfeie.interface.cohesion_ramp`) the part a pair
       that touches with almost no normal force mobilises (the summary's static FS counts
       c A on every pair that touches, as the hand computation);
