@@ -329,3 +329,24 @@ def test_checkpoints_every_n_steps(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     for n in (0, 25):  # when to checkpoint changes no value: a run resumes with any N
         other = load_job(p, [parse_override(f"output.checkpoint_steps={n}")])
         assert _checkpoint.run_key(other) == _checkpoint.run_key(plain)
+
+
+def test_progress_of_a_resumed_run_counts_its_steps() -> None:
+    """The progress line of a run resumed at step 10 of 20 (new-user finding: it showed
+    ``step 11/10`` and, past the remaining count, every step with a negative ETA): the
+    steps as numbered against the run's last step, the ETA from this process's pace,
+    never negative."""
+    from io import StringIO
+    from types import SimpleNamespace
+
+    from pfeie._job import Progress
+
+    out = StringIO()
+    bar = Progress(20, 0.01, out, first=10)
+    pairs = SimpleNamespace(state=np.zeros(0, dtype=np.int8), broken=np.zeros(0, dtype=bool))
+    for k in range(11, 21):
+        bar(SimpleNamespace(step=k, kin=SimpleNamespace(t=0.01 * k), pairs=pairs))  # type: ignore[arg-type]
+    lines = out.getvalue().splitlines()
+    assert lines[0].startswith("step 11/20  t 0.110 s"), lines
+    assert lines[-1].startswith("step 20/20  t 0.200 s") and "ETA 0.0 s" in lines[-1], lines
+    assert len(lines) == 2  # not a line a step (a stream that is not a terminal: every 5 s)

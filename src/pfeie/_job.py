@@ -115,10 +115,15 @@ G = 9.81
 
 
 class Progress:
-    """A one-line progress report on a stream: step, time, elapsed, ETA, pair counts."""
+    """A one-line progress report on a stream: step, time, elapsed, ETA, pair counts.
+    ``n_steps`` is the last step of the run and ``first`` the step it starts from (a
+    resumed run's checkpoint): the report counts the run's steps as they are numbered,
+    and the ETA from the pace of this process's steps."""
 
-    def __init__(self, n_steps: int, dt: float, stream: TextIO | None = None) -> None:
-        self.n, self.dt = n_steps, dt
+    def __init__(
+        self, n_steps: int, dt: float, stream: TextIO | None = None, first: int = 0
+    ) -> None:
+        self.n, self.dt, self.first = n_steps, dt, first
         self.stream = stream or sys.stderr
         self.t0 = time.perf_counter()
         self.last = -1.0
@@ -130,7 +135,7 @@ class Progress:
             return
         self.last = now
         el = now - self.t0
-        eta = el / max(st.step, 1) * (self.n - st.step)
+        eta = el / max(st.step - self.first, 1) * max(self.n - st.step, 0)
         p = st.pairs
         c = (f" open {int((p.state == OPEN).sum())} slide {int((p.state == SLIDE).sum())} "
              f"broken {int(p.broken.sum())}") if p.state.size else ""  # fmt: skip
@@ -266,16 +271,18 @@ def _run(
         except ValueError as exc:
             writer.close(False, f"invalid duration: {exc}")
             raise InputError(f"{job.path}: duration: {exc}") from None
+        first = 0
         if ck is not None:
             log.info("resuming at step %d (t = %.6g s) of %d", ck.state.step, ck.state.kin.t, n)
-            n = max(n - ck.state.step, 0)
+            first = ck.state.step
+            n = max(n - first, 0)
         flag: dict[str, str] = {}
 
         def on_signal(signum: int, _frame: Any) -> None:
             flag["why"] = signal.Signals(signum).name
 
         old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-        bar = Progress(n, a.dt, stream) if progress else None
+        bar = Progress(first + n, a.dt, stream, first) if progress else None
 
         def callback(st: StepState) -> None:
             if bar is not None:
