@@ -32,7 +32,17 @@ from ..dynamics import shorter_than_a_step
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import FACTOR_CACHE_BYTES, FACTOR_CACHE_COUNT, Joint, SlipWeakening
 from ..mesh import Mesh, shape_quality
-from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
+from ..model import (
+    Block,
+    Elastic,
+    GroundMotion,
+    Interface,
+    Model,
+    Rayleigh,
+    implausible_joints,
+    implausible_materials,
+    implausible_mesh,
+)
 from ._files import foreign_file
 from ._gmsh import read_mesh
 from ._records import implausible_pga, read_record
@@ -228,28 +238,8 @@ class Job:
         }  # fmt: skip
 
 
-#: Young's moduli outside this range (Pa) get a warning: concrete and rock lie within
-#: 1 to 100 GPa, soils and weak rock down to some MPa (a modulus in GPa or MPa, written
-#: without its exponent, falls far below)
-_E_RANGE = (1e6, 1e13)
-#: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
-_EXTENT_MAX = 1e4
-#: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
-#: 300 m on foundations modelled to a few times that, rock slopes reach about 1 km; a
-#: block of 2 m or more drawn in millimetres lies above
-_HEIGHT_MAX = 2e3
-#: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
-#: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
-#: density beside normal ones is taken for a massless foundation and not warned, unless
-#: it lies in :data:`_RHO_TONNES`)
-_RHO_RANGE = (500.0, 2e4)
-#: densities (kg/m³) that read as concrete or rock in t/m³: warned even beside normal
-#: ones (a massless foundation takes 0 or about 1 % of the rock's density, 20 to 30)
-_RHO_TONNES = (1.0, 3.5)
-#: friction angles below this (degrees) get a warning: joints in concrete and rock have
-#: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ entered as the
-#: angle falls below 2°)
-_PHI_MIN = 5.0
+#: the names of a joint law's friction angles in the model file's messages
+_JOINT_KEYS = {"phi": "friction_angle", "phi_r": "residual_friction_angle"}
 
 
 #: bytes of the interpreter with numpy, scipy and pfeie loaded (150 to 190 MB measured,
@@ -272,10 +262,12 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
-def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
+def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
+                  interfaces: list[Interface]) -> None:  # fmt: skip
     """Warnings for input that is valid but probably not what was meant: volume groups of
-    the mesh (as read) in no block (their cells are left out), moduli in the wrong unit, a
-    mesh in millimetres, and a water level above the whole model (an overtopped
+    the mesh (as read) in no block (their cells are left out), moduli, densities,
+    friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
+    the file and its keys), and a water level above the whole model (an overtopped
     crest)."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
     for b in cfg.blocks:
@@ -294,56 +286,17 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
     elif total:
         log.warning("%s: %d cell(s) of the mesh belong to no block and are left out of the "
                     "model", p, total)  # fmt: skip
-    lo, hi = _E_RANGE
-    for name, mt in cfg.materials.items():
-        modulus = float(mt.E)
-        if modulus < lo:
-            log.warning("%s: materials.%s.E = %g Pa lies below %g Pa (concrete and rock: 1e9 "
-                        "to 1e11 Pa); pfeie takes SI units: did you mean %g (GPa) or %g "
-                        "(MPa)?", p, name, modulus, lo, modulus * 1e9,
-                        modulus * 1e6)  # fmt: skip
-        elif modulus > hi:
-            log.warning("%s: materials.%s.E = %g Pa lies above %g Pa (concrete and rock: 1e9 "
-                        "to 1e11 Pa); pfeie takes SI units (Pa)", p, name, modulus,
-                        hi)  # fmt: skip
-    lo, hi = _RHO_RANGE
-    # a low density beside materials of normal density is a practically massless
-    # foundation, a common choice: warned only when no material has a normal density
-    normal = any(lo <= float(mt.rho) <= hi for mt in cfg.materials.values())
-    for name, mt in cfg.materials.items():
-        rho = float(mt.rho)
-        if 0.0 < rho < lo and (not normal or _RHO_TONNES[0] <= rho <= _RHO_TONNES[1]):
-            log.warning("%s: materials.%s.rho = %g kg/m³ lies below %g kg/m³ (concrete and "
-                        "rock: 1800 to 3200); pfeie takes SI units: did you mean %g kg/m³ "
-                        "(t/m³ × 1000)?", p, name, rho, lo, rho * 1e3)  # fmt: skip
-        elif rho > hi:
-            log.warning("%s: materials.%s.rho = %g kg/m³ lies above %g kg/m³ (concrete and "
-                        "rock: 1800 to 3200); pfeie takes SI units (kg/m³)", p, name, rho,
-                        hi)  # fmt: skip
-    for group, js in cfg.interfaces.items():
-        for key in ("friction_angle", "residual_friction_angle"):
-            phi = getattr(js, key, None)
-            if phi is not None and 0.0 < float(phi) < _PHI_MIN:
-                log.warning("%s: interfaces.%s.%s = %g° is very low (joints in concrete and "
-                            "rock: 20° to 60°); the angle is in degrees: a friction "
-                            "coefficient μ = %g is φ = %.1f°", p, group, key, float(phi),
-                            float(phi), float(np.degrees(np.arctan(float(phi)))))  # fmt: skip
-        phi_r = getattr(js, "residual_friction_angle", None)
-        if phi_r is not None and float(phi_r) > float(js.friction_angle):
-            # a residual friction above the peak: the joint would strengthen as it breaks
-            log.warning("%s: interfaces.%s.residual_friction_angle = %g° exceeds its "
-                        "friction_angle = %g°: the residual friction is usually at most "
-                        "the peak (the angles swapped?)", p, group, float(phi_r),
-                        float(js.friction_angle))  # fmt: skip
+    # the checks of a model built in Python (pfeie.model.warn_implausible), naming the
+    # file and the keys: the model is built with check_units=False
+    for text in [
+        *implausible_materials(mats, lambda name: f"{p}: materials.{name}."),
+        *implausible_joints({i.group: i.joint for i in interfaces},
+                            lambda name: f"{p}: interfaces.{name}.", _JOINT_KEYS),
+    ]:  # fmt: skip
+        log.warning("%s", text)
     _undeclared_joints(p, cfg, mesh)
-    spans = np.ptp(mesh.points, axis=0)
-    extent, height = float(spans.max(initial=0.0)), float(spans[mesh.dim - 1])
-    if extent > _EXTENT_MAX or height > _HEIGHT_MAX:
-        what = (f"spans {extent:.4g} m" if extent > _EXTENT_MAX else
-                f"is {height:.4g} m tall (along {'yz'[mesh.dim - 2]})")  # fmt: skip
-        log.warning("%s: the mesh %s; pfeie takes coordinates in metres (a mesh drawn in "
-                    "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = "
-                    "0.001)", p, what)  # fmt: skip
+    for text in implausible_mesh(mesh, f"{p}: "):
+        log.warning("%s", text)
     # the water above the whole model: an overtopped structure (a reservoir floor given as
     # an item of its own lies below the level, as it should)
     top = float(mesh.points[:, mesh.dim - 1].max(initial=0.0))
@@ -598,10 +551,10 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
             raise InputError(f"{p}: damping: {exc}") from None
     elif damp.alpha or damp.beta:
         damping = Rayleigh(damp.alpha, damp.beta, damp.deformation_only)
-    _plausibility(p, cfg, mesh)  # before the model: its errors follow from these
-    try:
+    _plausibility(p, cfg, mesh, mats, interfaces)  # before the model: its errors follow
+    try:  # the units checked above, with the keys
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
-                      damping=damping, interfaces=interfaces)  # fmt: skip
+                      damping=damping, interfaces=interfaces, check_units=False)  # fmt: skip
     except (ModelError, MeshError) as exc:
         hint = ""
         if "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
