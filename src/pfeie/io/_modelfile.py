@@ -45,7 +45,7 @@ from ..model import (
 )
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import implausible_pga, read_record
+from ._records import applied_part, implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -163,7 +163,10 @@ class Job:
 
     ``spec`` is the validated file as plain data (defaults filled in); :attr:`analysis`
     and :attr:`output` are its typed settings, validated from ``spec`` when read (so an
-    edit of ``spec`` is seen, and checked)."""
+    edit of ``spec`` is seen, and checked). ``part_factors`` holds the scale factors of
+    the records (by their index in ``[[ground_motion]]``) whose ``pga`` or ``target_sa``
+    was met by the part up to ``analysis.duration`` with another factor than the whole
+    record's: they depend on the duration (the run key holds them)."""
 
     path: Path
     spec: dict[str, Any]
@@ -172,6 +175,7 @@ class Job:
     probes: dict[str, int]
     digest: str
     interface_names: list[str] = field(default_factory=list)
+    part_factors: dict[int, float] = field(default_factory=dict)
 
     @property
     def analysis(self) -> Analysis:
@@ -697,6 +701,9 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                             p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
                             float(z.max()), ut.headwater, tail)  # fmt: skip
     records = []
+    # a run ends at analysis.duration: pga and target_sa scale the part of a record up to it
+    end = cfg.analysis.duration if cfg.analysis.dynamic else None
+    part_factors: dict[int, float] = {}
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:
             direction = list(gm.direction)
@@ -730,14 +737,20 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                 rec = dataclasses.replace(rec, scaling=how)
             rec = _filtered(p, i, rec, gm.filter)
             rec = rec.baseline_corrected() if gm.baseline else rec
-            rec = _scaled(rec, gm)
+            rec, applied, note, on_part = _scaled(rec, gm, end)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
-        if rec.pga > MAX_PGA_G * 9.81:
+        if note is not None:
+            log.warning("%s: ground_motion[%d]: %s: %s scales that part", p, i, note,
+                        "pga" if gm.pga is not None else "target_sa")  # fmt: skip
+        if on_part is not None:
+            part_factors[i] = on_part
+        if applied.pga > MAX_PGA_G * 9.81:
+            within = "" if applied is rec else f" up to analysis.duration = {end:g} s"
             raise InputError(f"{p}: ground_motion[{i}]: the record's peak ground acceleration "
-                             f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
-                             f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
-                             "times too strong) and scale")  # fmt: skip
+                             f"is {applied.pga / 9.81:.4g} g (as read and scaled{within}); "
+                             f"expected at most {MAX_PGA_G:g} g: check units (a record in "
+                             "cm/s2 read as g is 981 times too strong) and scale")  # fmt: skip
         if gm.pga is None and gm.target_sa is None:  # scaled to a target: units cancel
             odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
             if odd is not None:
@@ -784,7 +797,8 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         except ValueError as exc:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
-    return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
+    return Job(p, cfg.model_dump(), model, records, probes, digest,
+               [i.group for i in interfaces], part_factors)  # fmt: skip
 
 
 def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) -> None:
@@ -881,28 +895,52 @@ def _filtered(p: Path, i: int, rec: GroundMotion, spec: Any) -> GroundMotion:
     return rec.filtered(**settings)
 
 
-def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
+def _scaled(rec: GroundMotion, gm: Any, end: float | None
+            ) -> tuple[GroundMotion, GroundMotion, str | None, float | None]:  # fmt: skip
     """The record scaled to the ``pga`` (g) or the ``target_sa`` (Sa(T, ζ) in g) of its
     table: its accelerations times the factor (exact: the spectrum and the baseline
-    correction are linear in the record); the factor is noted for the summary."""
+    correction are linear in the record); the factor is noted for the summary.
+
+    A run that ends at ``end`` (``analysis.duration``; None: the record's end) applies the
+    record up to it, and the target is met by that part, as a study's ladder is
+    (:func:`pfeie.io.applied_part`). Returns the record scaled, the part applied scaled
+    (the record itself when the run applies it whole), the note of
+    :func:`~pfeie.io.applied_part` when the record's peak lies beyond ``end``, and the
+    factor when it differs from the whole record's (it depends on the duration then:
+    the run key holds it), else None."""
+    target = gm.pga is not None or gm.target_sa is not None
+    part, note = applied_part(rec, end) if target and end is not None else (rec, None)
+
+    def measure(r: GroundMotion) -> float:
+        return r.pga if gm.pga is not None else r.sa(gm.target_sa.period, gm.target_sa.damping)
+
     if gm.pga is not None:
-        have, want, what = rec.pga, gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
+        want, what = gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
     elif gm.target_sa is not None:
         ts = gm.target_sa
-        have, want = rec.sa(ts.period, ts.damping), ts.value * 9.81
+        want = ts.value * 9.81
         what = f"Sa({ts.period:g} s, {100 * ts.damping:g} %) = {ts.value:g} g"
     else:
-        return rec
+        return rec, rec, None, None
+    have = measure(part)
     if not have > 0:
-        raise RecordError(f"{gm.file}: the record is all zeros; it cannot be scaled to "
-                          f"{what}")  # fmt: skip
+        within = "" if part is rec else f" up to analysis.duration = {end:g} s"
+        raise RecordError(f"{gm.file}: the record is all zeros{within}; it cannot be scaled "
+                          f"to {what}")  # fmt: skip
     factor = want / have
     if not np.isfinite(factor):
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
+    on_part = None if part is rec or have == measure(rec) else factor
+    how = f"scaled ×{factor:.6g} to {what}"
+    if on_part is not None:
+        how += f" in the motion applied, up to {end:g} s (analysis.duration)"
     flipped = f"{rec.scaling}, " if rec.scaling else ""  # the polarity, scale = -1
-    return dataclasses.replace(rec, acceleration=rec.acceleration * factor,
-                               scaling=f"{flipped}scaled ×{factor:.6g} to {what}")  # fmt: skip
+    out = dataclasses.replace(rec, acceleration=rec.acceleration * factor,
+                              scaling=f"{flipped}{how}")  # fmt: skip
+    applied = out if part is rec else dataclasses.replace(
+        part, acceleration=part.acceleration * factor)  # fmt: skip
+    return out, applied, note, on_part
 
 
 def _slip_weakening(p: Path, group: str, joint: Joint, distance: float | None) -> Any:
