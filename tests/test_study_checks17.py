@@ -215,6 +215,33 @@ def test_the_warnings_of_a_run_summary_go_into_its_row() -> None:
     assert _reliability(quiet, row) == [] and row["energy.correction_share"] == -0.005
 
 
+def test_the_terminal_names_the_runs_with_warnings(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`pfeie study` ends with a line naming the runs that finished with warnings, how
+    many and where they are. Two records at scale 1 for 1 s: r0 (a decaying sine of 0.5 g
+    at 1.5 Hz) leaves the block on its 20° joint in place; r1 (0.8 g one way for 0.6 s)
+    slides it about 1.5 m (by hand, the block on a frictional plane: (0.8 − tan 20°) g
+    for 0.6 s, then tan 20° g braking: 0.77 + 0.74 = 1.51 m; measured 1.494, 1.0 % below,
+    the bond breaking first; tolerance 2 %), 1.5 × the 1 m spacing of the pairs, beyond
+    0.5: its row's warnings hold "large slip". Without r1 the line is not printed."""
+    study = _one_second(STUDY.replace('measure = "pga"\nvalues = [0.2, 0.5]',
+                                      'measure = "scale"\nvalues = [1.0]'))  # fmt: skip
+    p = setup(tmp_path, study, n=1)
+    assert main(["study", str(p), "--quiet"]) == 0
+    assert "finished with warnings" not in capsys.readouterr().out
+    t = np.arange(0.0, 1.0 + 1e-9, 0.01)
+    _record(tmp_path / "rec" / "r1.csv", t, np.where(t < 0.6, 0.8, 0.0))
+    assert main(["study", str(p), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    csv = tmp_path / "study" / "table.csv"
+    assert (f"1 of 2 runs finished with warnings (large slip 1): r1@1; see the warnings column "
+            f"of {csv}") in out  # fmt: skip
+    row = {r["record"]: r for r in StudyTable.read(csv).rows}["r1"]
+    assert row["joint.joint.peak_slip_to_spacing"] == pytest.approx(1.51, rel=0.02)
+    assert row["warnings"].startswith("large slip: joint joint's slip reaches 1.5 ×")
+
+
 # -- 6. a demand-capacity limit state needs tensile strengths --------------------------------
 
 

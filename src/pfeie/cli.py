@@ -606,12 +606,15 @@ def _study(args: argparse.Namespace) -> int:
         return EXIT_FAILED
     finally:
         signal.signal(signal.SIGTERM, old_term)
-    from .study import median_lines
+    from .study import median_lines, run_label, warning_line
 
-    stopped = [f"{r['record']}@{r['intensity']:g}" for r in table.rows if not r["completed"]]
+    stopped = [run_label(r) for r in table.rows if not r["completed"]]
     for line in median_lines(table, extra=[str(ls["demand"]) for ls in st.limit_states]):
         print(line)
     print(f"{len(table)} runs in {st.folder / 'table.csv'}")
+    warned = warning_line(table, st.folder / "table.csv")
+    if warned is not None:
+        print(warned)
     for f in st.outputs():
         print(f"wrote {f}")
     if stopped:

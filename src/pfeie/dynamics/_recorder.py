@@ -161,7 +161,7 @@ class StressEnvelope:
     >>> import pfeie as pf
     >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
     >>> _ = mesh.add_cell_group("b", lambda x: x[:, 0] > -1)
-    >>> model = pf.Model(mesh, [pf.Block("b", pf.Elastic(1e9, 0.0, 1.0))])
+    >>> model = pf.Model(mesh, [pf.Block("b", pf.Elastic(1e9, 0.0, 2000.0))])
     >>> env = StressEnvelope(model)
     >>> u = np.zeros(model.n_dof); u[0::2] = 1e-3 * mesh.points[:, 0]   # ε_xx = 1e-3
     >>> env.update(0.5, u); env.update(1.0, -u)

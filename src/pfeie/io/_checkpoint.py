@@ -54,7 +54,10 @@ def run_key(job: Any) -> str:
     when it is "float64", the precision of every file written before these keys (so
     their run keys stay the same), ``checkpoint_steps`` (when to checkpoint: a
     resumed run may checkpoint otherwise), and ``damping.deformation_only`` when false
-    (the default, as before the option existed)."""
+    (the default, as before the option existed). The scale factors that depend on the
+    duration (a ``pga`` or ``target_sa`` met by the part of a record up to
+    ``analysis.duration``, :attr:`Job.part_factors`) are in it: a run extended to another
+    duration with another factor is not continued."""
     spec = json.loads(json.dumps(job.spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
     out = spec.get("output", {})
@@ -67,6 +70,9 @@ def run_key(job: Any) -> str:
     if damping.get("deformation_only") is False:  # the default: keys as before the option
         damping.pop("deformation_only")
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
+    part = getattr(job, "part_factors", None)
+    if part:  # none: the key as before these factors existed
+        h.update(repr(sorted(part.items())).encode())
     base = Path(job.path).parent
     files = [base / spec["mesh"]["file"]]
     files += [base / g["file"] for g in spec.get("ground_motion", []) if g.get("file")]

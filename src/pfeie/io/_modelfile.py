@@ -32,10 +32,20 @@ from ..dynamics import shorter_than_a_step
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
 from ..interface import FACTOR_CACHE_BYTES, FACTOR_CACHE_COUNT, Joint, SlipWeakening
 from ..mesh import Mesh, shape_quality
-from ..model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh
+from ..model import (
+    Block,
+    Elastic,
+    GroundMotion,
+    Interface,
+    Model,
+    Rayleigh,
+    implausible_joints,
+    implausible_materials,
+    implausible_mesh,
+)
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import implausible_pga, read_record
+from ._records import applied_part, implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -153,7 +163,10 @@ class Job:
 
     ``spec`` is the validated file as plain data (defaults filled in); :attr:`analysis`
     and :attr:`output` are its typed settings, validated from ``spec`` when read (so an
-    edit of ``spec`` is seen, and checked)."""
+    edit of ``spec`` is seen, and checked). ``part_factors`` holds the scale factors of
+    the records (by their index in ``[[ground_motion]]``) whose ``pga`` or ``target_sa``
+    was met by the part up to ``analysis.duration`` with another factor than the whole
+    record's: they depend on the duration (the run key holds them)."""
 
     path: Path
     spec: dict[str, Any]
@@ -162,6 +175,7 @@ class Job:
     probes: dict[str, int]
     digest: str
     interface_names: list[str] = field(default_factory=list)
+    part_factors: dict[int, float] = field(default_factory=dict)
 
     @property
     def analysis(self) -> Analysis:
@@ -228,28 +242,8 @@ class Job:
         }  # fmt: skip
 
 
-#: Young's moduli outside this range (Pa) get a warning: concrete and rock lie within
-#: 1 to 100 GPa, soils and weak rock down to some MPa (a modulus in GPa or MPa, written
-#: without its exponent, falls far below)
-_E_RANGE = (1e6, 1e13)
-#: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
-_EXTENT_MAX = 1e4
-#: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
-#: 300 m on foundations modelled to a few times that, rock slopes reach about 1 km; a
-#: block of 2 m or more drawn in millimetres lies above
-_HEIGHT_MAX = 2e3
-#: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
-#: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
-#: density beside normal ones is taken for a massless foundation and not warned, unless
-#: it lies in :data:`_RHO_TONNES`)
-_RHO_RANGE = (500.0, 2e4)
-#: densities (kg/m³) that read as concrete or rock in t/m³: warned even beside normal
-#: ones (a massless foundation takes 0 or about 1 % of the rock's density, 20 to 30)
-_RHO_TONNES = (1.0, 3.5)
-#: friction angles below this (degrees) get a warning: joints in concrete and rock have
-#: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ entered as the
-#: angle falls below 2°)
-_PHI_MIN = 5.0
+#: the names of a joint law's friction angles in the model file's messages
+_JOINT_KEYS = {"phi": "friction_angle", "phi_r": "residual_friction_angle"}
 
 
 #: bytes of the interpreter with numpy, scipy and pfeie loaded (150 to 190 MB measured,
@@ -272,10 +266,12 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
-def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
+def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
+                  interfaces: list[Interface]) -> None:  # fmt: skip
     """Warnings for input that is valid but probably not what was meant: volume groups of
-    the mesh (as read) in no block (their cells are left out), moduli in the wrong unit, a
-    mesh in millimetres, and a water level above the whole model (an overtopped
+    the mesh (as read) in no block (their cells are left out), moduli, densities,
+    friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
+    the file and its keys), and a water level above the whole model (an overtopped
     crest)."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
     for b in cfg.blocks:
@@ -294,56 +290,17 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh) -> None:
     elif total:
         log.warning("%s: %d cell(s) of the mesh belong to no block and are left out of the "
                     "model", p, total)  # fmt: skip
-    lo, hi = _E_RANGE
-    for name, mt in cfg.materials.items():
-        modulus = float(mt.E)
-        if modulus < lo:
-            log.warning("%s: materials.%s.E = %g Pa lies below %g Pa (concrete and rock: 1e9 "
-                        "to 1e11 Pa); pfeie takes SI units: did you mean %g (GPa) or %g "
-                        "(MPa)?", p, name, modulus, lo, modulus * 1e9,
-                        modulus * 1e6)  # fmt: skip
-        elif modulus > hi:
-            log.warning("%s: materials.%s.E = %g Pa lies above %g Pa (concrete and rock: 1e9 "
-                        "to 1e11 Pa); pfeie takes SI units (Pa)", p, name, modulus,
-                        hi)  # fmt: skip
-    lo, hi = _RHO_RANGE
-    # a low density beside materials of normal density is a practically massless
-    # foundation, a common choice: warned only when no material has a normal density
-    normal = any(lo <= float(mt.rho) <= hi for mt in cfg.materials.values())
-    for name, mt in cfg.materials.items():
-        rho = float(mt.rho)
-        if 0.0 < rho < lo and (not normal or _RHO_TONNES[0] <= rho <= _RHO_TONNES[1]):
-            log.warning("%s: materials.%s.rho = %g kg/m³ lies below %g kg/m³ (concrete and "
-                        "rock: 1800 to 3200); pfeie takes SI units: did you mean %g kg/m³ "
-                        "(t/m³ × 1000)?", p, name, rho, lo, rho * 1e3)  # fmt: skip
-        elif rho > hi:
-            log.warning("%s: materials.%s.rho = %g kg/m³ lies above %g kg/m³ (concrete and "
-                        "rock: 1800 to 3200); pfeie takes SI units (kg/m³)", p, name, rho,
-                        hi)  # fmt: skip
-    for group, js in cfg.interfaces.items():
-        for key in ("friction_angle", "residual_friction_angle"):
-            phi = getattr(js, key, None)
-            if phi is not None and 0.0 < float(phi) < _PHI_MIN:
-                log.warning("%s: interfaces.%s.%s = %g° is very low (joints in concrete and "
-                            "rock: 20° to 60°); the angle is in degrees: a friction "
-                            "coefficient μ = %g is φ = %.1f°", p, group, key, float(phi),
-                            float(phi), float(np.degrees(np.arctan(float(phi)))))  # fmt: skip
-        phi_r = getattr(js, "residual_friction_angle", None)
-        if phi_r is not None and float(phi_r) > float(js.friction_angle):
-            # a residual friction above the peak: the joint would strengthen as it breaks
-            log.warning("%s: interfaces.%s.residual_friction_angle = %g° exceeds its "
-                        "friction_angle = %g°: the residual friction is usually at most "
-                        "the peak (the angles swapped?)", p, group, float(phi_r),
-                        float(js.friction_angle))  # fmt: skip
+    # the checks of a model built in Python (pfeie.model.warn_implausible), naming the
+    # file and the keys: the model is built with check_units=False
+    for text in [
+        *implausible_materials(mats, lambda name: f"{p}: materials.{name}."),
+        *implausible_joints({i.group: i.joint for i in interfaces},
+                            lambda name: f"{p}: interfaces.{name}.", _JOINT_KEYS),
+    ]:  # fmt: skip
+        log.warning("%s", text)
     _undeclared_joints(p, cfg, mesh)
-    spans = np.ptp(mesh.points, axis=0)
-    extent, height = float(spans.max(initial=0.0)), float(spans[mesh.dim - 1])
-    if extent > _EXTENT_MAX or height > _HEIGHT_MAX:
-        what = (f"spans {extent:.4g} m" if extent > _EXTENT_MAX else
-                f"is {height:.4g} m tall (along {'yz'[mesh.dim - 2]})")  # fmt: skip
-        log.warning("%s: the mesh %s; pfeie takes coordinates in metres (a mesh drawn in "
-                    "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = "
-                    "0.001)", p, what)  # fmt: skip
+    for text in implausible_mesh(mesh, f"{p}: "):
+        log.warning("%s", text)
     # the water above the whole model: an overtopped structure (a reservoir floor given as
     # an item of its own lies below the level, as it should)
     top = float(mesh.points[:, mesh.dim - 1].max(initial=0.0))
@@ -598,10 +555,10 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
             raise InputError(f"{p}: damping: {exc}") from None
     elif damp.alpha or damp.beta:
         damping = Rayleigh(damp.alpha, damp.beta, damp.deformation_only)
-    _plausibility(p, cfg, mesh)  # before the model: its errors follow from these
-    try:
+    _plausibility(p, cfg, mesh, mats, interfaces)  # before the model: its errors follow
+    try:  # the units checked above, with the keys
         model = Model(mesh, blocks, plane=cfg.plane, thickness=cfg.thickness,
-                      damping=damping, interfaces=interfaces)  # fmt: skip
+                      damping=damping, interfaces=interfaces, check_units=False)  # fmt: skip
     except (ModelError, MeshError) as exc:
         hint = ""
         if "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
@@ -744,6 +701,9 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                             p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
                             float(z.max()), ut.headwater, tail)  # fmt: skip
     records = []
+    # a run ends at analysis.duration: pga and target_sa scale the part of a record up to it
+    end = cfg.analysis.duration if cfg.analysis.dynamic else None
+    part_factors: dict[int, float] = {}
     for i, gm in enumerate(cfg.ground_motion):
         if gm.direction is not None:
             direction = list(gm.direction)
@@ -777,14 +737,20 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                 rec = dataclasses.replace(rec, scaling=how)
             rec = _filtered(p, i, rec, gm.filter)
             rec = rec.baseline_corrected() if gm.baseline else rec
-            rec = _scaled(rec, gm)
+            rec, applied, note, on_part = _scaled(rec, gm, end)
         except RecordError as exc:
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
-        if rec.pga > MAX_PGA_G * 9.81:
+        if note is not None:
+            log.warning("%s: ground_motion[%d]: %s: %s scales that part", p, i, note,
+                        "pga" if gm.pga is not None else "target_sa")  # fmt: skip
+        if on_part is not None:
+            part_factors[i] = on_part
+        if applied.pga > MAX_PGA_G * 9.81:
+            within = "" if applied is rec else f" up to analysis.duration = {end:g} s"
             raise InputError(f"{p}: ground_motion[{i}]: the record's peak ground acceleration "
-                             f"is {rec.pga / 9.81:.4g} g (as read and scaled); expected at most "
-                             f"{MAX_PGA_G:g} g: check units (a record in cm/s2 read as g is 981 "
-                             "times too strong) and scale")  # fmt: skip
+                             f"is {applied.pga / 9.81:.4g} g (as read and scaled{within}); "
+                             f"expected at most {MAX_PGA_G:g} g: check units (a record in "
+                             "cm/s2 read as g is 981 times too strong) and scale")  # fmt: skip
         if gm.pga is None and gm.target_sa is None:  # scaled to a target: units cancel
             odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
             if odd is not None:
@@ -831,7 +797,8 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         except ValueError as exc:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
-    return Job(p, cfg.model_dump(), model, records, probes, digest, [i.group for i in interfaces])
+    return Job(p, cfg.model_dump(), model, records, probes, digest,
+               [i.group for i in interfaces], part_factors)  # fmt: skip
 
 
 def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) -> None:
@@ -928,28 +895,52 @@ def _filtered(p: Path, i: int, rec: GroundMotion, spec: Any) -> GroundMotion:
     return rec.filtered(**settings)
 
 
-def _scaled(rec: GroundMotion, gm: Any) -> GroundMotion:
+def _scaled(rec: GroundMotion, gm: Any, end: float | None
+            ) -> tuple[GroundMotion, GroundMotion, str | None, float | None]:  # fmt: skip
     """The record scaled to the ``pga`` (g) or the ``target_sa`` (Sa(T, ζ) in g) of its
     table: its accelerations times the factor (exact: the spectrum and the baseline
-    correction are linear in the record); the factor is noted for the summary."""
+    correction are linear in the record); the factor is noted for the summary.
+
+    A run that ends at ``end`` (``analysis.duration``; None: the record's end) applies the
+    record up to it, and the target is met by that part, as a study's ladder is
+    (:func:`pfeie.io.applied_part`). Returns the record scaled, the part applied scaled
+    (the record itself when the run applies it whole), the note of
+    :func:`~pfeie.io.applied_part` when the record's peak lies beyond ``end``, and the
+    factor when it differs from the whole record's (it depends on the duration then:
+    the run key holds it), else None."""
+    target = gm.pga is not None or gm.target_sa is not None
+    part, note = applied_part(rec, end) if target and end is not None else (rec, None)
+
+    def measure(r: GroundMotion) -> float:
+        return r.pga if gm.pga is not None else r.sa(gm.target_sa.period, gm.target_sa.damping)
+
     if gm.pga is not None:
-        have, want, what = rec.pga, gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
+        want, what = gm.pga * 9.81, f"a PGA of {gm.pga:g} g"
     elif gm.target_sa is not None:
         ts = gm.target_sa
-        have, want = rec.sa(ts.period, ts.damping), ts.value * 9.81
+        want = ts.value * 9.81
         what = f"Sa({ts.period:g} s, {100 * ts.damping:g} %) = {ts.value:g} g"
     else:
-        return rec
+        return rec, rec, None, None
+    have = measure(part)
     if not have > 0:
-        raise RecordError(f"{gm.file}: the record is all zeros; it cannot be scaled to "
-                          f"{what}")  # fmt: skip
+        within = "" if part is rec else f" up to analysis.duration = {end:g} s"
+        raise RecordError(f"{gm.file}: the record is all zeros{within}; it cannot be scaled "
+                          f"to {what}")  # fmt: skip
     factor = want / have
     if not np.isfinite(factor):
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
+    on_part = None if part is rec or have == measure(rec) else factor
+    how = f"scaled ×{factor:.6g} to {what}"
+    if on_part is not None:
+        how += f" in the motion applied, up to {end:g} s (analysis.duration)"
     flipped = f"{rec.scaling}, " if rec.scaling else ""  # the polarity, scale = -1
-    return dataclasses.replace(rec, acceleration=rec.acceleration * factor,
-                               scaling=f"{flipped}scaled ×{factor:.6g} to {what}")  # fmt: skip
+    out = dataclasses.replace(rec, acceleration=rec.acceleration * factor,
+                              scaling=f"{flipped}{how}")  # fmt: skip
+    applied = out if part is rec else dataclasses.replace(
+        part, acceleration=part.acceleration * factor)  # fmt: skip
+    return out, applied, note, on_part
 
 
 def _slip_weakening(p: Path, group: str, joint: Joint, distance: float | None) -> Any:

@@ -27,6 +27,7 @@ and, where it applies, the line.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import re
@@ -75,6 +76,44 @@ def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
         best = min(fits, key=lambda u: abs(math.log(options[u] / 0.3)))
         msg += f"; are its values in {best}? (units = {best!r} gives {options[best]:.3g} g)"
     return msg
+
+
+def applied_part(rec: GroundMotion, end: float) -> tuple[GroundMotion, str | None]:
+    """The part of the record ``rec`` that a run ending at ``end`` (s) applies, and a note
+    when the record's peak lies beyond it (None when the part holds the peak).
+
+    A run steps from t = 0 to its duration, so a record that goes on beyond is applied up
+    to ``end`` only: the part is its samples before ``end`` and its acceleration
+    interpolated at ``end`` (``rec`` itself when it ends by then). The scaling of a record
+    to a PGA or an Sa (a study's ladder, a model file's ``pga`` and ``target_sa``) and a
+    study's intensity measures are measured on it, so that they describe the motion the
+    model feels. A record that starts at or after ``end`` is a :class:`RecordError`
+    (nothing of it is applied).
+
+    >>> gm = GroundMotion.from_samples([0.0, 0.2, 0.0, 1.0], dt=1.0, units="g")
+    >>> part, note = applied_part(gm, 2.5)
+    >>> part.time.tolist(), round(part.pga / 9.81, 12)
+    ([0.0, 1.0, 2.0, 2.5], 0.5)
+    >>> note
+    "the record's PGA, 1 g at 3.00 s, lies beyond the end of the run (duration 2.5 s): the motion applied, up to 2.5 s, peaks at 0.5 g"
+    """  # noqa: E501
+    t, a = rec.time, rec.acceleration
+    if t[-1] <= end:
+        return rec, None
+    keep = t < end
+    if not keep.any():
+        raise RecordError(f"the record starts at {t[0]:g} s, at or after the end of the run "
+                          f"({end:g} s): nothing of it is applied; expected a record that "
+                          "starts before analysis.duration")  # fmt: skip
+    part = dataclasses.replace(rec, time=np.append(t[keep], end),
+                               acceleration=np.append(a[keep], np.interp(end, t, a)))  # fmt: skip
+    if not part.pga < rec.pga:
+        return part, None
+    k = int(np.argmax(np.abs(a)))
+    g = G_UNITS["g"]
+    return part, (f"the record's PGA, {rec.pga / g:.4g} g at {t[k]:.2f} s, lies beyond the "
+                  f"end of the run (duration {end:g} s): the motion applied, up to "
+                  f"{end:g} s, peaks at {part.pga / g:.4g} g")  # fmt: skip
 
 
 def _numbers(line: str, path: Path, lineno: int) -> list[float]:

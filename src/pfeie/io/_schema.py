@@ -601,12 +601,13 @@ class GroundMotionRecord(RecordReading):
     pga: Annotated[
         Annotated[float, Field(gt=0.0, le=20.0), Unit("g")] | None,
         Field(description="scale the record to this peak ground acceleration (g), instead of "
-              "scale"),
+              "scale; the peak of the motion applied: the record up to analysis.duration"),
     ] = None  # fmt: skip
     target_sa: Annotated[
         TargetSa | None,
         Field(description="scale the record to a pseudo-spectral acceleration Sa(T, ζ) (a "
-              "table: period (s), value (g), damping), instead of scale or pga"),
+              "table: period (s), value (g), damping), instead of scale or pga; the Sa of the "
+              "motion applied: the record up to analysis.duration"),
     ] = None  # fmt: skip
 
 

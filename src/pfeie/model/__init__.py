@@ -1,10 +1,18 @@
 """Physics objects (materials, blocks, joints, supports, loads, ground motion, damping),
-the model, and the response spectra and intensity measures of records."""
+the model with its checks of values in a probable wrong unit, and the response spectra
+and intensity measures of records."""
 
 from ._frames import BodyFrames
 from ._ground import G_UNITS, GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
+from ._plausible import (
+    implausible_joints,
+    implausible_materials,
+    implausible_mesh,
+    radians_meant,
+    warn_implausible,
+)
 from ._reservoir import Reservoir
 from ._spectrum import (
     INTENSITY_MEASURES,
@@ -19,5 +27,7 @@ __all__ = [
     "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames", "Elastic", "GroundMotion",
     "Interface", "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum",
     "Support",
-    "Uplift", "intensity_measures", "response_spectrum", "sdof_response", "uplift_force",
+    "Uplift", "implausible_joints", "implausible_materials", "implausible_mesh",
+    "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
+    "uplift_force", "warn_implausible",
 ]  # fmt: skip

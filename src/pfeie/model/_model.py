@@ -30,6 +30,7 @@ from ..linalg import LowRankTerm
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
+from ._plausible import warn_implausible
 from ._reservoir import Reservoir
 from ._uplift import Uplift, uplift_force
 
@@ -77,7 +78,7 @@ class StressOperators:
 
     >>> import numpy as np, pfeie as pf
     >>> mesh = pf.rectangle(1.0, 1.0, 1, 1, cell="quad")
-    >>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.25, 1.0))])
+    >>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.25, 2000.0))])
     >>> u = np.zeros(model.n_dof); u[0::2] = 1e-3 * mesh.points[:, 0]  # ε_xx = 1e-3
     >>> model.stress_operators.components(u)[:, 0] / 1e6   # xx, yy, zz, yz, xz, xy (MPa)
     array([1.2, 0.4, 0.4, 0. , 0. , 0. ])
@@ -248,6 +249,11 @@ class Model:
         is split along them (:func:`pfeie.interface.split`); ``self.mesh`` is the split
         mesh and ``self.input_mesh`` the one given. Each connected part of the split mesh
         is a *body* with its own rigid modes.
+    check_units: warn (``logging``) of moduli, densities, friction angles and a mesh size
+        that look like wrong units (:func:`pfeie.model.warn_implausible`: ``E = 30`` for
+        30 GPa, ``rho = 2.4`` in t/m³, ``phi = 0.5236`` in radians, a mesh in millimetres);
+        False for a model with deliberately extreme values (a rigid block of E = 3e13 Pa)
+        or built by a caller that reports them itself (the model file, naming its keys).
 
     Example
     -------
@@ -269,6 +275,7 @@ class Model:
         thickness: float = 1.0,
         damping: Rayleigh | None = None,
         interfaces: Sequence[Interface] = (),
+        check_units: bool = True,
     ) -> None:
         if plane not in ("strain", "stress"):
             raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
@@ -286,6 +293,8 @@ class Model:
         if len(set(names)) != len(names):
             raise ModelError(f"block names must be unique, got {names}")
         _disjoint_blocks(mesh, blocks)
+        if check_units:  # before the split: its errors may follow from these
+            warn_implausible(mesh, blocks, interfaces)
         self.input_mesh = mesh
         self.interfaces = list(interfaces)
         for itf in self.interfaces:

@@ -27,11 +27,11 @@ from ._ida import (
     ida_curves,
     ida_summary,
 )
-from ._report import median_lines
+from ._report import median_lines, run_label, warning_line
 from ._study import RecordSource, RunSpec, Study
 from ._table import StudyTable
 
 __all__ = ["Exceedance", "Fragility", "IDACurves", "IDASummary", "LimitState", "RecordSource",
            "RunSpec", "Stripes", "Study", "StudyTable", "first_exceedance", "fit_censored",
            "fit_ida", "fit_limit_states", "fit_moments", "fit_stripes", "ida_curves",
-           "ida_summary", "median_lines"]  # fmt: skip
+           "ida_summary", "median_lines", "run_label", "warning_line"]  # fmt: skip

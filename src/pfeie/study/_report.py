@@ -19,7 +19,7 @@ import logging
 import re
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -153,6 +153,42 @@ def median_lines(table: StudyTable, columns: int = 4, extra: Sequence[str] = ())
         cells = [f"{p[0]:>34.4g}" if p is not None else f"{'':>34}" for p in stats]
         out.append(f"{lv:>5} {im:>10.4g} " + " ".join(cells))
     return out
+
+
+#: the most runs that the terminal's line on the runs with warnings names (the table's
+#: ``warnings`` column has them all)
+WARNED_NAMED = 10
+
+
+def run_label(row: dict[str, Any]) -> str:
+    """A run as the terminal names it: its record and intensity, ``r1@0.5``."""
+    return f"{row['record']}@{row['intensity']:g}"
+
+
+def warning_line(table: StudyTable, where: Path) -> str | None:
+    """The terminal's line on the runs that finished with reliability warnings (a
+    ``warnings`` cell not empty: `pfeie run`'s "large slip", "corrections" and "scheme"
+    lines): how many, of which kinds, which runs (:func:`run_label`, the first
+    :data:`WARNED_NAMED`) and where the warnings are, the table ``where``; None when no
+    run has any.
+
+    >>> t = StudyTable([{"record": "r0", "intensity": 0.5, "warnings": ""},
+    ...                 {"record": "r1", "intensity": 0.5, "warnings": "large slip: ..."}])
+    >>> warning_line(t, Path("study/table.csv"))
+    '1 of 2 runs finished with warnings (large slip 1): r1@0.5; see the warnings column of study/table.csv'
+    """  # noqa: E501
+    warned = [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
+    if not warned:
+        return None
+    kinds: dict[str, int] = {}
+    for r in warned:
+        for kind in dict.fromkeys(n.partition(":")[0] for n in r["warnings"].split("; ")):
+            kinds[kind] = kinds.get(kind, 0) + 1
+    names = ", ".join(run_label(r) for r in warned[:WARNED_NAMED])
+    more = f" and {len(warned) - WARNED_NAMED} more" if len(warned) > WARNED_NAMED else ""
+    return (f"{len(warned)} of {len(table)} runs finished with warnings "
+            f"({', '.join(f'{k} {n}' for k, n in kinds.items())}): {names}{more}; see the "
+            f"warnings column of {where}")  # fmt: skip
 
 
 def _demand_columns(table: StudyTable) -> list[str]:

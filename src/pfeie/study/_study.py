@@ -60,7 +60,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import InputError, ModelError, PfeieError, RecordError
-from ..io import BATCH, MAX_BATCH, MAX_WORKERS
+from ..io import BATCH, MAX_BATCH, MAX_WORKERS, applied_part
 from ._table import StudyTable
 
 if TYPE_CHECKING:
@@ -803,30 +803,19 @@ class Study:
         return specs
 
     def _applied(self, r: RecordSource, rec: GroundMotion, duration: float | None) -> GroundMotion:
-        """The part of the record a run applies: the run steps from t = 0 to its duration
-        (the study's, else the record's length), so a record that goes on beyond is cut
-        there (its accelerations interpolated at the end). A WARNING names the record and
-        the duration when the cut leaves out the record's peak."""
+        """The part of the record a run applies (:func:`pfeie.io.applied_part`, as a model
+        file's ``pga`` and ``target_sa`` are measured): the run steps from t = 0 to its
+        duration (the study's, else the record's length), so a record that goes on beyond
+        is cut there. A WARNING names the record and the duration when the cut leaves out
+        the record's peak."""
         end = rec.duration if duration is None else float(duration)
-        t, a = rec.time, rec.acceleration
-        if t[-1] <= end:
-            return rec
-        keep = t < end
-        if not keep.any():
-            raise RecordError(f"{self._entry(r)}: {r.path}: the record starts at {t[0]:g} s, "
-                              f"at or after the end of the runs ({end:g} s): nothing of it "
-                              "is applied; expected a record that starts before "
-                              "analysis.duration")  # fmt: skip
-        cut = dataclasses.replace(
-            rec, time=np.append(t[keep], end),
-            acceleration=np.append(a[keep], np.interp(end, t, a)))  # fmt: skip
-        full, part = rec.pga, cut.pga
-        if part < full:
-            k = int(np.argmax(np.abs(a)))
-            log.warning("%s: %s: the record's PGA, %.4g g at %.2f s, lies beyond the end of "
-                        "the runs (duration %g s), which apply its first %g s (PGA %.4g g): "
-                        "the intensity measures and the scaling describe that part",
-                        self._entry(r), r.name, full / G, t[k], end, end, part / G)  # fmt: skip
+        try:
+            cut, note = applied_part(rec, end)
+        except RecordError as exc:
+            raise RecordError(f"{self._entry(r)}: {r.path}: {exc}") from None
+        if note is not None:
+            log.warning("%s: %s: %s: the intensity measures and the scaling describe that "
+                        "part", self._entry(r), r.name, note)  # fmt: skip
         return cut
 
     def _check_record(self, r: RecordSource, rec: GroundMotion, pga: float,

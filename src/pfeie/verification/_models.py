@@ -20,11 +20,13 @@ def block_on_base(
     rho: float = 2400.0,
     gravity: bool = True,
     cell: str = "quad",
+    check_units: bool = True,
 ) -> pf.Model:
     """A width × height block (n × ny cells, ny = n by default) on a fixed base one cell
     thick, joined by the
     interface "joint"; the whole mesh is rotated by ``incline_deg`` (the joint then
-    descends towards +x). The base is fixed in all components."""
+    descends towards +x). The base is fixed in all components. ``check_units=False`` for
+    deliberately extreme values (a rigid block's E, :class:`pfeie.Model`)."""
     ny = n if ny is None else ny
     hb = height / ny
     mesh = pf.rectangle(width, height + hb, n, ny + 1, cell=cell)
@@ -34,7 +36,7 @@ def block_on_base(
         th = -np.radians(incline_deg)
         R = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
         mesh.points[:] = mesh.points @ R.T
-    return _model(mesh, joint, pf.Elastic(E, nu, rho), gravity)
+    return _model(mesh, joint, pf.Elastic(E, nu, rho), gravity, check_units)
 
 
 def _groups(mesh: pf.Mesh, up: int) -> None:
@@ -43,9 +45,11 @@ def _groups(mesh: pf.Mesh, up: int) -> None:
     mesh.add_facet_group("joint", lambda x: np.abs(x[:, up]) < 1e-9, boundary_only=False)
 
 
-def _model(mesh: pf.Mesh, joint: pf.Joint, mat: pf.Elastic, gravity: bool) -> pf.Model:
+def _model(mesh: pf.Mesh, joint: pf.Joint, mat: pf.Elastic, gravity: bool,
+           check_units: bool = True) -> pf.Model:  # fmt: skip
     model = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
-                     interfaces=[pf.Interface("joint", joint)])  # fmt: skip
+                     interfaces=[pf.Interface("joint", joint)],
+                     check_units=check_units)  # fmt: skip
     model.fix("base")
     if gravity:
         model.add_gravity()

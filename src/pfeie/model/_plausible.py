@@ -1,0 +1,191 @@
+"""Values that are valid but probably not in the unit meant.
+
+pfeie takes SI units (Pa, kg/m³, m) and friction angles in degrees. A Young's modulus in
+GPa or MPa written without its exponent, a density in t/m³, a friction coefficient μ or an
+angle in radians given as the friction angle, a mesh drawn in millimetres: each is valid
+input that runs to a wrong answer (a weight 1000× off, a frictionless joint), so each gets
+a warning with the value that was probably meant.
+
+The checks have their one home here. A :class:`pfeie.Model` makes them when it is built
+(:func:`warn_implausible`: warnings through this module's logger that name the block or
+the interface, ``block 'dam': E = 30 Pa lies below ...``); the model file makes the same
+checks naming its file and keys (``model.toml: materials.rock.E = 30 Pa lies below ...``)
+and builds its model with ``check_units=False``, so that each is said once. The functions
+return the messages and raise nothing: valid input stays valid.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..interface import JointLaw
+from ..mesh import Mesh
+from ._physics import Block, Elastic, Interface
+
+log = logging.getLogger(__name__)
+
+#: Young's moduli outside this range (Pa) get a warning: concrete and rock lie within
+#: 1 to 100 GPa, soils and weak rock down to some MPa (a modulus in GPa or MPa, written
+#: without its exponent, falls far below)
+E_RANGE = (1e6, 1e13)
+#: densities outside this range (kg/m³) get a warning: concrete and rock lie within 1,800
+#: to 3,200 kg/m³, soils down to about 1,400 (a density in t/m³ falls far below; a low
+#: density beside normal ones is taken for a massless foundation and not warned, unless
+#: it lies in :data:`RHO_TONNES`)
+RHO_RANGE = (500.0, 2e4)
+#: densities (kg/m³) that read as concrete or rock in t/m³: warned even beside normal
+#: ones (a massless foundation takes 0 or about 1 % of the rock's density, 20 to 30)
+RHO_TONNES = (1.0, 3.5)
+#: friction angles below this (degrees) get a warning: joints in concrete and rock have
+#: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ, or an angle
+#: in radians, entered as the angle falls below :data:`PHI_AS_NUMBER`)
+PHI_MIN = 5.0
+#: friction angles (degrees) below this may be another number: a friction coefficient μ
+#: (0.2 to 1.7 on joints) or the angle in radians (20° to 60° are 0.35 to 1.05 rad)
+PHI_AS_NUMBER = 2.0
+#: the fewest decimals of an angle in radians written by hand (30° is 0.524 or 0.5236): a
+#: value with fewer (a μ of 0.75 is 42.97° as radians) is not taken for radians
+RADIANS_DECIMALS = 3
+#: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
+EXTENT_MAX = 1e4
+#: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
+#: 300 m on foundations modelled to a few times that, rock slopes reach about 1 km; a
+#: block of 2 m or more drawn in millimetres lies above
+HEIGHT_MAX = 2e3
+
+#: the names of a joint law's friction angles in the messages of the Python API (the
+#: model file names its keys, ``friction_angle`` and ``residual_friction_angle``)
+JOINT_KEYS = {"phi": "phi", "phi_r": "phi_r"}
+
+
+def implausible_materials(materials: Mapping[str, Elastic],
+                          prefix: Callable[[str], str]) -> list[str]:  # fmt: skip
+    """Warnings on the moduli and densities of ``materials`` (name → material) outside
+    :data:`E_RANGE` and :data:`RHO_RANGE`, with the value probably meant; ``prefix(name)``
+    starts a material's messages (its key path, before ``E`` and ``rho``).
+
+    A density below the range beside a material of normal density is a practically
+    massless foundation, a common choice: it is warned only when it lies in
+    :data:`RHO_TONNES` (t/m³) or no material has a normal density.
+
+    >>> implausible_materials({"rock": Elastic(30.0, 0.2, 2.4)}, lambda n: f"{n}.")[0]
+    'rock.E = 30 Pa lies below 1e+06 Pa (concrete and rock: 1e9 to 1e11 Pa); pfeie takes SI units: did you mean 3e+10 (GPa) or 3e+07 (MPa)?'
+    """  # noqa: E501
+    out = []
+    lo, hi = E_RANGE
+    for name, mt in materials.items():
+        modulus = float(mt.E)
+        if modulus < lo:
+            out.append(f"{prefix(name)}E = {modulus:g} Pa lies below {lo:g} Pa (concrete and "
+                       "rock: 1e9 to 1e11 Pa); pfeie takes SI units: did you mean "
+                       f"{modulus * 1e9:g} (GPa) or {modulus * 1e6:g} (MPa)?")  # fmt: skip
+        elif modulus > hi:
+            out.append(f"{prefix(name)}E = {modulus:g} Pa lies above {hi:g} Pa (concrete and "
+                       "rock: 1e9 to 1e11 Pa); pfeie takes SI units (Pa)")  # fmt: skip
+    lo, hi = RHO_RANGE
+    normal = any(lo <= float(mt.rho) <= hi for mt in materials.values())
+    for name, mt in materials.items():
+        rho = float(mt.rho)
+        if 0.0 < rho < lo and (not normal or RHO_TONNES[0] <= rho <= RHO_TONNES[1]):
+            out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies below {lo:g} kg/m³ (concrete "
+                       "and rock: 1800 to 3200); pfeie takes SI units: did you mean "
+                       f"{rho * 1e3:g} kg/m³ (t/m³ × 1000)?")  # fmt: skip
+        elif rho > hi:
+            out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies above {hi:g} kg/m³ (concrete "
+                       "and rock: 1800 to 3200); pfeie takes SI units (kg/m³)")  # fmt: skip
+    return out
+
+
+def radians_meant(phi: float) -> float | None:
+    """The whole degree that a friction angle ``phi`` below :data:`PHI_AS_NUMBER` degrees
+    is when read as radians, to the precision ``phi`` is written with (½ of its last
+    decimal, :data:`RADIANS_DECIMALS` decimals or more); else None.
+
+    >>> radians_meant(0.5236), radians_meant(0.6981), radians_meant(0.75), radians_meant(0.6)
+    (30.0, 40.0, None, None)
+    """
+    if not 0.0 < phi < PHI_AS_NUMBER:
+        return None
+    text = repr(float(phi))
+    if "e" in text:  # 1e-05: no angle in radians
+        return None
+    decimals = len(text.partition(".")[2])
+    if decimals < RADIANS_DECIMALS:
+        return None
+    deg = float(np.degrees(phi))
+    tol = max(float(np.degrees(0.5 * 10.0**-decimals)), 1e-9)
+    return float(round(deg)) if abs(deg - round(deg)) <= tol else None
+
+
+def implausible_joints(joints: Mapping[str, JointLaw], prefix: Callable[[str], str],
+                       keys: Mapping[str, str] = JOINT_KEYS) -> list[str]:  # fmt: skip
+    """Warnings on the friction angles of ``joints`` (name → law; laws without a friction
+    angle ``phi`` are skipped): an angle above 0 and below :data:`PHI_MIN` (a friction
+    coefficient μ, the angle atan μ given; or an angle in radians, :func:`radians_meant`),
+    and a residual angle above the peak one (the two swapped?). ``prefix(name)`` starts a
+    joint's messages, ``keys`` names ``phi`` and ``phi_r`` in them.
+
+    >>> from pfeie.interface import Joint
+    >>> implausible_joints({"j": Joint(phi=0.5236)}, lambda n: f"interface {n!r}: ")[0]
+    "interface 'j': phi = 0.5236° is very low (joints in concrete and rock: 20° to 60°); the angle is in degrees: a friction coefficient μ = 0.5236 is φ = 27.6°; did you mean 30.0° (the value in radians)?"
+    """  # noqa: E501
+    out = []
+    for name, law in joints.items():
+        phi, phi_r = getattr(law, "phi", None), getattr(law, "phi_r", None)
+        if phi is None:
+            continue
+        for key, angle in (("phi", phi), ("phi_r", phi_r)):
+            if angle is None or not 0.0 < float(angle) < PHI_MIN:
+                continue
+            angle = float(angle)
+            text = (f"{prefix(name)}{keys[key]} = {angle:g}° is very low (joints in concrete "
+                    "and rock: 20° to 60°); the angle is in degrees: a friction coefficient "
+                    f"μ = {angle:g} is φ = {np.degrees(np.arctan(angle)):.1f}°")  # fmt: skip
+            meant = radians_meant(angle)
+            if meant is not None:
+                text += f"; did you mean {meant:.1f}° (the value in radians)?"
+            out.append(text)
+        if phi_r is not None and float(phi_r) > float(phi):
+            # a residual friction above the peak: the joint would strengthen as it breaks
+            out.append(f"{prefix(name)}{keys['phi_r']} = {float(phi_r):g}° exceeds its "
+                       f"{keys['phi']} = {float(phi):g}°: the residual friction is usually at "
+                       "most the peak (the angles swapped?)")  # fmt: skip
+    return out
+
+
+def implausible_mesh(mesh: Mesh, prefix: str = "") -> list[str]:
+    """A warning on a mesh wider than :data:`EXTENT_MAX` or taller than
+    :data:`HEIGHT_MAX` (along the last axis, the vertical one): drawn in millimetres?
+    ``prefix`` starts the message."""
+    spans = np.ptp(mesh.points, axis=0)
+    extent, height = float(spans.max(initial=0.0)), float(spans[mesh.dim - 1])
+    if not (extent > EXTENT_MAX or height > HEIGHT_MAX):
+        return []
+    what = (f"spans {extent:.4g} m" if extent > EXTENT_MAX else
+            f"is {height:.4g} m tall (along {'yz'[mesh.dim - 2]})")  # fmt: skip
+    return [f"{prefix}the mesh {what}; pfeie takes coordinates in metres (a mesh drawn in "
+            "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = 0.001)"]  # fmt: skip
+
+
+def warn_implausible(mesh: Mesh, blocks: Sequence[Block],
+                     interfaces: Sequence[Interface]) -> list[str]:  # fmt: skip
+    """The checks of a model built in Python (:class:`pfeie.Model`), each a warning of
+    this module's logger: the materials of ``blocks`` (one message per distinct material,
+    naming the blocks that have it), the joint laws of ``interfaces``, the ``mesh``'s size.
+    Returns the messages."""
+    users: dict[Elastic, list[str]] = {}
+    for b in blocks:
+        users.setdefault(b.material, []).append(repr(b.name))
+    label = {f"block{'s' if len(n) > 1 else ''} {', '.join(n)}": m for m, n in users.items()}
+    out = [
+        *implausible_materials(label, lambda name: f"{name}: "),
+        *implausible_joints({i.group: i.joint for i in interfaces},
+                            lambda name: f"interface {name!r}: "),
+        *implausible_mesh(mesh),
+    ]  # fmt: skip
+    for text in out:
+        log.warning("%s", text)
+    return out
