@@ -38,7 +38,8 @@ from ._results import ResultsWriter, _h5py, read_envelope
 
 _KIN = ("u", "v", "a", "f")
 _PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
-_UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "state": "code",
+_UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "shift": "m",
+          "state": "code",
           "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
           "lam": "N", "node_max": "Pa", "node_min": "Pa", "cell_max": "Pa", "cell_min": "Pa",
           "node_max_time": "s", "node_min_time": "s", "cell_max_time": "s",
@@ -139,6 +140,8 @@ class CheckpointWriter:
             data["kin/aux"] = kin.aux
         if st.lam is not None:
             data["pairs/lam"] = st.lam
+        if st.shift is not None:  # the row's stress envelope excludes it (the recorder)
+            data["kin/shift"] = st.shift
         for k, v in (ck.envelope or {}).items():
             data[f"envelope/{k}"] = v
         if w._last is not None:  # the row's fields, when it is off the field grid
@@ -208,8 +211,9 @@ def read_checkpoint(f: Any) -> Checkpoint:
     kin = State(float(g.attrs["t"]), u, v, a, f_, aux)
     pairs = PairState(*(np.asarray(g[f"pairs/{k}"]) for k in _PAIRS))
     lam = np.asarray(g["pairs/lam"]) if "pairs/lam" in g else None
+    shift = np.asarray(g["kin/shift"]) if "kin/shift" in g else None
     t0 = g.attrs.get("time_origin")  # (older files have none: t − step h)
-    st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam,
+    st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam, shift=shift,
                    origin=None if t0 is None else float(t0))  # fmt: skip
     energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
     o0, o1 = json.loads(g.attrs["origin"])
