@@ -99,7 +99,7 @@ SOLVER_KEYS = ("fallback_steps", "newton_steps", "worst_residual")
 #: added (< 0: took), and the share of the energy through the run that the time scheme
 #: created (a negative algorithmic term; 0 when it took energy), as in ``pfeie run``'s
 #: summary (its "corrections" and "scheme" lines)
-ENERGY_KEYS = ("correction_share", "scheme_created_share")
+ENERGY_KEYS = ("correction_share", "scheme_created_share", "scheme_dissipated_share")
 #: the demand-capacity columns of the stress envelope: only with tensile strengths
 DCR_KEYS = ("max_dcr", "max_cid_s", "overstressed_share")
 
@@ -424,6 +424,7 @@ def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
         CORRECTION_UNRESOLVED,
         LARGE_SLIP,
         SCHEME_CREATED,
+        damped_by_scheme,
         energy_shares,
     )
 
@@ -436,14 +437,19 @@ def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
                          f"{LARGE_SLIP:g}: its faces are paired node to node (small sliding), "
                          "the result is not reliable")  # fmt: skip
     if s.get("energy_J") is not None:
-        share, created = energy_shares(s)
+        share, created, dissipated = energy_shares(s)
         row["energy.correction_share"], row["energy.scheme_created_share"] = share, created
+        row["energy.scheme_dissipated_share"] = dissipated
         if abs(share) > CORRECTION_SHARE:
             notes.append(f"corrections: the position corrections of penetrating pairs "
                          f"{'added' if share > 0 else 'took'} {100 * abs(share):.1f} % of the "
                          "input energy, impacts this Δt does not resolve"
-                         + (" (more than half: not converged in Δt, halve Δt)"
-                            if abs(share) > CORRECTION_UNRESOLVED else ""))  # fmt: skip
+                         + (f" (more than {100 * CORRECTION_UNRESOLVED:.0f} %: not converged "
+                            "in Δt, halve Δt)" if abs(share) > CORRECTION_UNRESOLVED
+                            else ""))  # fmt: skip
+        if damped_by_scheme(s):
+            notes.append(f"scheme: the time scheme dissipated {100 * dissipated:.0f} % of the "
+                         "input: damped by the scheme, not converged in Δt, halve Δt")  # fmt: skip
         if created > SCHEME_CREATED:
             notes.append(f"scheme: the time scheme created {100 * created:.0f} % of the energy "
                          "through the run: not converged in Δt, halve Δt")  # fmt: skip
