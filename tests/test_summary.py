@@ -12,6 +12,7 @@ unloaded state, measured 3.1e-7), and exceed its largest component |u_x| = |u| c
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -338,3 +339,30 @@ def test_round_off_energies_are_not_warned(
     text = format_summary(s)
     assert ("scheme       WARNING: the time scheme created" in text) == warned
     assert ("corrections  the position corrections" in text) == warned
+
+
+@pytest.mark.parametrize(("y", "text"), [
+    # a new user's four rock columns on 15° bases: no equilibrium found beyond 0.2655, the
+    # margins vanish at tan 15° = 0.2679 (0.9 % above): a sliding limit the pair solver
+    # fell short of
+    ({"k_y": 0.2655, "k_fail": 0.2656, "limit": "no equilibrium found", "joint": "bases",
+      "safety_factor": 1.009, "k_affine": 0.2679},
+     "k_y 0.2655 (no equilibrium found beyond it; 'bases' reaches its capacity at 0.2679, "
+     "the margins' affine estimate (FS 1.009 at k_y): probably a sliding limit there"),
+    # a block on an intact joint that breaks through at 0.2029 (the margins' 0.2115 lie
+    # 4 % above): not read as sliding
+    ({"k_y": 0.2029, "k_fail": 0.2030, "limit": "no equilibrium found", "joint": "joint",
+      "safety_factor": 1.018, "k_affine": 0.2115},
+     "k_y 0.2029 (no equilibrium found beyond it, not a sliding limit: a joint breaking "
+     "through, opening or rocking, or the pair solver failing short of the limit; least FS "
+     "1.018 on 'joint', the margins' affine estimate 0.2115)"),
+])  # fmt: skip
+def test_yield_line_reads_a_near_sliding_limit(y: dict[str, Any], text: str) -> None:
+    """The summary's yield line when no equilibrium was found beyond k_y: a sliding limit
+    the solver fell short of (the margins' root within 2 % above k_y, FS within 2 % of 1)
+    is said to be one; otherwise the causes are listed, the solver's failure among them."""
+    model = {"title": "t", "file": "m.toml", "sha256": "0" * 64, "blocks": ["a"],
+             "bodies": 1, "dof": 6, "pairs": {}, "records": []}
+    out = format_summary({"model": model, "version": pf.__version__,
+                          "yield_coefficient": {"+x": y}})  # fmt: skip
+    assert text in out, out

@@ -107,6 +107,12 @@ SCHEME_DISSIPATED = 0.10
 #: the elastic response (docs/results.md, "The elastic response"), not of its joints
 CONTACT_ACTIVITY = 0.01
 
+#: a yield coefficient found where no equilibrium holds beyond it is read as a sliding
+#: limit that the pair solver fell short of when the joints' margins vanish within this
+#: share above it and the least safety factor there is within it of 1 (a new user's four
+#: rock columns on 15° bases: k_y 0.2655, FS 1.009, the margins' root 0.2679 = tan 15°)
+NEAR_SLIDING = 0.02
+
 #: the share of the static strain energy below which the energy that went through a run
 #: is round-off, and neither the scheme's created energy nor the position corrections are
 #: judged against it (a share of nothing): the energy terms are sums over the steps of
@@ -752,10 +758,23 @@ def format_summary(s: dict[str, Any]) -> str:
             what = "k_y > the largest tried"
         elif y["limit"] == "sliding":
             what = f"k_y {k:.4g} (sliding on {y['joint']!r})"
+        elif (
+            y["k_affine"] is not None
+            and fs is not None
+            and k < y["k_affine"] <= (1 + NEAR_SLIDING) * k
+            and fs <= 1 + NEAR_SLIDING
+        ):
+            # the margins vanish just beyond: a sliding limit that the pair solver did not
+            # reach (a new user's four columns on 15° bases: 0.2655 against tan 15° = 0.2679)
+            what = (f"k_y {k:.4g} ({y['limit']} beyond it; {y['joint']!r} reaches its "
+                    f"capacity at {y['k_affine']:.4g}, the margins' affine estimate (FS "
+                    f"{fs:.4g} at k_y): probably a sliding limit there, short of which the "
+                    "pair solver found no equilibrium)")  # fmt: skip
         else:
             what = (f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint "
-                    f"breaking through, opening or rocking; least FS "
-                    f"{'∞' if fs is None else f'{fs:.4g}'} on {y['joint']!r}")  # fmt: skip
+                    f"breaking through, opening or rocking, or the pair solver failing short "
+                    f"of the limit; least FS {'∞' if fs is None else f'{fs:.4g}'} on "
+                    f"{y['joint']!r}")  # fmt: skip
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
             what += ")"
