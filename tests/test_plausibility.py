@@ -96,6 +96,13 @@ def test_api_warns_of_units(caplog: pytest.LogCaptureFixture) -> None:
          ["the mesh spans 2e+04 m; pfeie takes coordinates in metres (a mesh drawn in "
           "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = 0.001)"]),
         ({"joint": pf.Joint(phi=30.0)}, []),
+        # a cohesion and a tensile strength in MPa without their factor (0.3 and 0.2 MPa)
+        ({"joint": pf.Joint(c=0.3, phi=40.0, tensile=0.2, initial="intact")},
+         ["interface 'mid': c = 0.3 Pa is very low (joints in concrete and rock: 1e5 to 3e6 "
+          "Pa); pfeie takes SI units: did you mean 300000 Pa (MPa) or 300 Pa (kPa)?",
+          "interface 'mid': tensile = 0.2 Pa is very low (joints in concrete and rock: 1e5 "
+          "to 3e6 Pa); pfeie takes SI units: did you mean 200000 Pa (MPa) or 200 Pa (kPa)?"]),
+        ({"joint": pf.Joint(c=0.3e6, phi=40.0, tensile=0.2e6, initial="intact")}, []),
         ({"bottom": soft, "top": tonnes, "joint": pf.Joint(phi=0.5236), "scale": 1e4,
           "check_units": False}, []),
     ]  # fmt: skip
@@ -111,13 +118,15 @@ def test_model_file_warns_once_with_its_key(
     """The model file's checks are the model's (one home), said once with the file and the
     key: ``friction_angle = 0.5236`` gives one warning naming
     ``interfaces.mid.friction_angle`` with μ = 0.5236 → 27.6° and 0.5236 rad → 30.0°,
-    ``E = 25`` one naming ``materials.rock.E`` (2.5e+10 Pa meant); the model's own logger
+    ``cohesion = 0.3`` one naming ``interfaces.mid.cohesion`` (0.3 MPa meant), ``E = 25``
+    one naming ``materials.rock.E`` (2.5e+10 Pa meant); the model's own logger
     says nothing."""
     names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
     elements = [*ELEMENTS[:-2], (10, 3, 1, [1, 2, 5, 4]), (11, 3, 2, [2, 3, 6, 5])]
     text = (MODEL.replace('all = "rock"', 'left = "rock"\nright = "rock"')
             .replace("E = 1e9", "E = 25")
-            .replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.5236\n[[supports]]"))
+            .replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 0.5236\ncohesion = 0.3\n"
+                     "[[supports]]"))
     p = model(tmp_path, text=text, elements=elements, names=names)
     caplog.clear()
     with caplog.at_level("WARNING"):
@@ -128,8 +137,24 @@ def test_model_file_warns_once_with_its_key(
            "φ = 27.6°; did you mean 30.0° (the value in radians)?")
     modulus = (f"{p}: materials.rock.E = 25 Pa lies below 1e+06 Pa (concrete and rock: 1e9 to "
                "1e11 Pa); pfeie takes SI units: did you mean 2.5e+10 (GPa) or 2.5e+07 (MPa)?")
+    cohesion = (f"{p}: interfaces.mid.cohesion = 0.3 Pa is very low (joints in concrete and "
+                "rock: 1e5 to 3e6 Pa); pfeie takes SI units: did you mean 300000 Pa (MPa) or "
+                "300 Pa (kPa)?")
     messages = [r.getMessage() for r in caplog.records]
     assert messages.count(low) == 1 and messages.count(modulus) == 1, messages
-    assert sum("is very low" in m for m in messages) == 1
+    assert messages.count(cohesion) == 1, messages
+    assert sum("is very low" in m for m in messages) == 2
     assert sum("lies below 1e+06 Pa" in m for m in messages) == 1
     assert not [r for r in caplog.records if r.name == LOGGER]
+
+
+def test_a_damping_ratio_given_as_a_percentage_is_refused() -> None:
+    """``Rayleigh.from_ratio(5.0, ...)`` (5 % meant) is refused, as the model file's
+    ``damping.ratio = 5`` is, with the largest ratio and an example; 1 (critical damping)
+    is taken: its ratio at the two frequencies is 1 to round-off."""
+    with pytest.raises(pf.ModelError, match=r"zeta is a ratio of critical damping, at most "
+                       r"1 \(0\.05 for 5 %\), got 5"):  # fmt: skip
+        pf.Rayleigh.from_ratio(5.0, 3.0, 15.0)
+    critical = pf.Rayleigh.from_ratio(1.0, 3.0, 15.0)
+    assert critical.ratio(3.0) == pytest.approx(1.0, rel=1e-14)
+    assert critical.ratio(15.0) == pytest.approx(1.0, rel=1e-14)

@@ -242,8 +242,15 @@ class Job:
         }  # fmt: skip
 
 
-#: the names of a joint law's friction angles in the model file's messages
-_JOINT_KEYS = {"phi": "friction_angle", "phi_r": "residual_friction_angle"}
+#: the names of a joint law's parameters in the model file's messages
+_JOINT_KEYS = {
+    "phi": "friction_angle",
+    "phi_r": "residual_friction_angle",
+    "c": "cohesion",
+    "tensile": "tensile_strength",
+    "c_r": "residual_cohesion",
+    "tensile_r": "residual_tensile_strength",
+}
 
 
 #: bytes of the interpreter with numpy, scipy and pfeie loaded (150 to 190 MB measured,

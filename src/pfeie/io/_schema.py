@@ -39,6 +39,7 @@ from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
 from pydantic_core import PydanticCustomError, core_schema
 
 from ..dynamics import DynamicSettings
+from ..model import DAMPING_RATIO_MAX
 from ..typing import Unit
 
 
@@ -148,7 +149,7 @@ class Damping(_Table):
         Field(description="Rayleigh stiffness coefficient β (s)"),
     ] = 0.0  # fmt: skip
     ratio: Annotated[
-        float | None, Field(ge=0.0, le=1.0),
+        float | None, Field(ge=0.0, le=DAMPING_RATIO_MAX),
         Field(description="damping ratio ζ at the two frequencies (instead of alpha, beta)"),
     ] = None  # fmt: skip
     frequencies: Annotated[

@@ -5,7 +5,7 @@ and intensity measures of records."""
 from ._frames import BodyFrames
 from ._ground import G_UNITS, GroundMotion
 from ._model import LinearSystem, Model
-from ._physics import Block, Elastic, Interface, Load, Rayleigh, Support
+from ._physics import DAMPING_RATIO_MAX, Block, Elastic, Interface, Load, Rayleigh, Support
 from ._plausible import (
     implausible_joints,
     implausible_materials,
@@ -24,9 +24,9 @@ from ._spectrum import (
 from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
-    "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames", "Elastic", "GroundMotion",
-    "Interface", "LinearSystem", "Load", "Model", "Rayleigh", "Reservoir", "ResponseSpectrum",
-    "Support",
+    "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames",
+    "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
+    "Reservoir", "ResponseSpectrum", "Support",
     "Uplift", "implausible_joints", "implausible_materials", "implausible_mesh",
     "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
     "uplift_force", "warn_implausible",

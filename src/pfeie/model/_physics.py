@@ -104,6 +104,12 @@ class Block:
         return self.group if self.group is not None else self.name
 
 
+#: the largest damping ratio ζ that :meth:`Rayleigh.from_ratio` and the model file's
+#: ``damping.ratio`` take: critical damping (a percentage given as the ratio, 5 for 5 %,
+#: lies far above)
+DAMPING_RATIO_MAX = 1.0
+
+
 @dataclass(frozen=True)
 class Rayleigh:
     """Rayleigh damping C = α M + β K (α in 1/s, β in s).
@@ -139,6 +145,10 @@ class Rayleigh:
         ζ(ω) = α/(2ω) + βω/2, so α = 2ζω₁ω₂/(ω₁ + ω₂), β = 2ζ/(ω₁ + ω₂)."""
         if not (f1 > 0 and f2 > 0 and f1 != f2 and zeta >= 0):
             raise ModelError("Rayleigh.from_ratio needs zeta >= 0 and two distinct f > 0")
+        if zeta > DAMPING_RATIO_MAX:  # a percentage given as the ratio (5 for 5 %)?
+            raise ModelError(f"Rayleigh.from_ratio: zeta is a ratio of critical damping, "
+                             f"at most {DAMPING_RATIO_MAX:g} (0.05 for 5 %), "
+                             f"got {zeta:g}")  # fmt: skip
         w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
         return cls(2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2), deformation_only)
 

@@ -49,6 +49,10 @@ PHI_AS_NUMBER = 2.0
 #: the fewest decimals of an angle in radians written by hand (30° is 0.524 or 0.5236): a
 #: value with fewer (a μ of 0.75 is 42.97° as radians) is not taken for radians
 RADIANS_DECIMALS = 3
+#: cohesions and tensile strengths of joints above 0 and below this (Pa) get a warning:
+#: joints in concrete and rock have 0.1 to 3 MPa, weak filled ones some kPa (a strength in
+#: MPa or kPa written without its factor falls below)
+STRENGTH_MIN = 100.0
 #: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
 EXTENT_MAX = 1e4
 #: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
@@ -58,7 +62,14 @@ HEIGHT_MAX = 2e3
 
 #: the names of a joint law's friction angles in the messages of the Python API (the
 #: model file names its keys, ``friction_angle`` and ``residual_friction_angle``)
-JOINT_KEYS = {"phi": "phi", "phi_r": "phi_r"}
+JOINT_KEYS = {
+    "phi": "phi",
+    "phi_r": "phi_r",
+    "c": "c",
+    "tensile": "tensile",
+    "c_r": "c_r",
+    "tensile_r": "tensile_r",
+}
 
 
 def implausible_materials(materials: Mapping[str, Elastic],
@@ -122,11 +133,14 @@ def radians_meant(phi: float) -> float | None:
 
 def implausible_joints(joints: Mapping[str, JointLaw], prefix: Callable[[str], str],
                        keys: Mapping[str, str] = JOINT_KEYS) -> list[str]:  # fmt: skip
-    """Warnings on the friction angles of ``joints`` (name → law; laws without a friction
-    angle ``phi`` are skipped): an angle above 0 and below :data:`PHI_MIN` (a friction
+    """Warnings on the strengths and friction angles of ``joints`` (name → law): a
+    cohesion or tensile strength above 0 and below :data:`STRENGTH_MIN` (in MPa or kPa,
+    the factor left out); for laws with a friction angle ``phi``, an angle above 0 and
+    below :data:`PHI_MIN` (a friction
     coefficient μ, the angle atan μ given; or an angle in radians, :func:`radians_meant`),
     and a residual angle above the peak one (the two swapped?). ``prefix(name)`` starts a
-    joint's messages, ``keys`` names ``phi`` and ``phi_r`` in them.
+    joint's messages, ``keys`` names ``phi``, ``phi_r``, ``c``, ``tensile``, ``c_r`` and
+    ``tensile_r`` in them.
 
     >>> from pfeie.interface import Joint
     >>> implausible_joints({"j": Joint(phi=0.5236)}, lambda n: f"interface {n!r}: ")[0]
@@ -134,6 +148,14 @@ def implausible_joints(joints: Mapping[str, JointLaw], prefix: Callable[[str], s
     """  # noqa: E501
     out = []
     for name, law in joints.items():
+        for key in ("c", "tensile", "c_r", "tensile_r"):
+            value = getattr(law, key, None)
+            if value is not None and 0.0 < float(value) < STRENGTH_MIN:
+                value = float(value)
+                mpa, kpa = value * 1e6, value * 1e3
+                out.append(f"{prefix(name)}{keys[key]} = {value:g} Pa is very low (joints in "
+                           "concrete and rock: 1e5 to 3e6 Pa); pfeie takes SI units: did you "
+                           f"mean {mpa:g} Pa (MPa) or {kpa:g} Pa (kPa)?")  # fmt: skip
         phi, phi_r = getattr(law, "phi", None), getattr(law, "phi_r", None)
         if phi is None:
             continue
