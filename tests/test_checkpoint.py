@@ -9,6 +9,7 @@ import signal
 import time
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 
@@ -350,3 +351,36 @@ def test_progress_of_a_resumed_run_counts_its_steps() -> None:
     assert lines[0].startswith("step 11/20  t 0.110 s"), lines
     assert lines[-1].startswith("step 20/20  t 0.200 s") and "ETA 0.0 s" in lines[-1], lines
     assert len(lines) == 2  # not a line a step (a stream that is not a terminal: every 5 s)
+
+
+def test_resumed_envelope_after_a_position_correction(tmp_path: Path) -> None:
+    """The dam block of the small model thrown up by the ground (vertical, −2 g for 0.05 s,
+    then +2 g for 0.05 s: the base falls away from it and comes back) lands on the joint:
+    a step penetrates and takes a position correction, which the stress envelope leaves
+    out (its row takes the displacement before it). Run to that step, then extended with
+    ``--resume``: the envelope equals that of one run, array for array (the checkpoint
+    keeps the step's correction, ``kin/shift``: without it the resumed run's first row,
+    the checkpoint's, took the corrected displacement)."""
+    t = np.round(np.arange(0.0, 0.3 + 1e-9, 0.005), 12)
+    a = np.where(t < 0.05, -2.0, np.where(t < 0.1, 2.0, 0.0))
+    text = (SMALL.replace('file = "pulse.csv"', 'file = "drop.csv"\ncomponent = "y"')
+            .replace("dt = 0.005", "dt = 0.0025"))  # fmt: skip
+    ref_dir, ext_dir = tmp_path / "ref", tmp_path / "ext"
+    for d in (ref_dir, ext_dir):
+        d.mkdir()
+        np.savetxt(d / "drop.csv", np.c_[t, a], delimiter=",")
+    assert main(["run", str(_write(ref_dir, text, duration=0.3)), "--quiet"]) == 0
+    with Results(ref_dir / "out" / "results.h5") as res:
+        corr, time_ = res.energy()["correction"], res.time
+    k = int(np.flatnonzero(np.diff(corr) != 0)[0]) + 1  # the first corrected step
+    p = _write(ext_dir, text, duration=0.3)
+    assert main(["run", str(p), "--quiet", "--duration", f"{time_[k]:.6g}"]) == 0
+    with h5py.File(ext_dir / "out" / "results.h5") as f:
+        assert np.abs(f["checkpoint/kin/shift"][()]).max() > 0  # its last step corrected
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.3"]) == 0
+    ref, ext = ref_dir / "out" / "results.h5", ext_dir / "out" / "results.h5"
+    with Results(ref) as ra, Results(ext) as rb:
+        ea, eb = ra.envelope(), rb.envelope()
+        assert ea.keys() == eb.keys()
+        for key, value in ea.items():
+            np.testing.assert_array_equal(eb[key], value, err_msg=key)

@@ -8,6 +8,7 @@ message (30 Pa × 1e9 = 3e10 Pa; atan 0.5236 = 27.6°; 0.5236 rad = 30.0°)."""
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -37,11 +38,18 @@ def _two_blocks(bottom: pf.Elastic, top: pf.Elastic, joint: pf.Joint | None = No
 
 
 def _warnings(caplog: pytest.LogCaptureFixture, build: Callable[[], object]) -> list[str]:
-    """The messages of :data:`LOGGER` while ``build()`` runs."""
+    """The messages of :data:`LOGGER` while ``build()`` runs; each is also a
+    :class:`UserWarning` (a script shows those without configuring logging), pointing at
+    this file's call of ``pf.Model``."""
     caplog.clear()
-    with caplog.at_level("WARNING", logger=LOGGER):
+    with caplog.at_level("WARNING", logger=LOGGER), warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
         build()
-    return [r.getMessage() for r in caplog.records if r.name == LOGGER]
+    logged = [r.getMessage() for r in caplog.records if r.name == LOGGER]
+    shown = [x for x in w if issubclass(x.category, UserWarning)]
+    assert [str(x.message) for x in shown] == logged
+    assert all(x.filename == __file__ for x in shown), [x.filename for x in shown]
+    return logged
 
 
 #: the messages on a modulus and a density, after the names of their blocks
@@ -103,6 +111,10 @@ def test_api_warns_of_units(caplog: pytest.LogCaptureFixture) -> None:
           "interface 'mid': tensile = 0.2 Pa is very low (joints in concrete and rock: 1e5 "
           "to 3e6 Pa); pfeie takes SI units: did you mean 200000 Pa (MPa) or 200 Pa (kPa)?"]),
         ({"joint": pf.Joint(c=0.3e6, phi=40.0, tensile=0.2e6, initial="intact")}, []),
+        # a concrete's tensile strength f_t in MPa (the DCR would be 1e6 times too large)
+        ({"top": pf.Elastic(E=30e9, nu=0.2, rho=2400.0, tensile_strength=2.9)},
+         ["block 'top': tensile_strength = 2.9 Pa is very low (concrete: 1e6 to 5e6 Pa); "
+          "pfeie takes SI units: did you mean 2.9e+06 Pa (MPa)?"]),
         ({"bottom": soft, "top": tonnes, "joint": pf.Joint(phi=0.5236), "scale": 1e4,
           "check_units": False}, []),
     ]  # fmt: skip

@@ -60,7 +60,8 @@ def test_pga_scales_the_motion_applied(
     assert (f"{p}: ground_motion[0]: the record's PGA, 1 g at 3.00 s, lies beyond the end of "
             "the run (duration 2 s): the motion applied, up to 2 s, peaks at 0.2 g: pga "
             "scales that part") in caplog.text  # fmt: skip
-    line = "scaled ×0.5 to a PGA of 0.1 g in the motion applied, up to 2 s (analysis.duration)"
+    line = ("scaled ×0.5 to a PGA of 0.1 g in the motion applied, up to 2 s (analysis.duration; "
+            "the PGA above lies beyond it)")
     assert line in rec.summary()
     assert main(["run", str(p), "--quiet"]) == 0
     out = capsys.readouterr()
@@ -68,6 +69,17 @@ def test_pga_scales_the_motion_applied(
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert line in s["model"]["records"][0]
     assert s["time_reached_s"] == pytest.approx(2.0)
+    # extended to 4 s the factor would be 0.1: the resume is refused, saying why
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "4"]) == 2
+    err = capsys.readouterr().err
+    assert ("cannot resume: ground_motion[0]'s pga or target_sa is met by the record up to "
+            "analysis.duration, so its scale factor depends on the duration: ×0.5 for the run "
+            "in the file, the whole record's for this one") in err, err  # fmt: skip
+    # the spectra of the model file: of the motion applied
+    assert main(["spectrum", str(p), "--out", str(tmp_path / "sp")]) == 0
+    out = capsys.readouterr()
+    assert "(the motion applied: up to 2 s, analysis.duration)" in out.out
+    assert "PGA 0.100 g" in out.out
     # the same duration from the command line
     p = _model(tmp_path, "pga = 0.1", duration="")
     assert main(["check", str(p), "--duration", "2"]) == 0

@@ -268,7 +268,8 @@ def _run(
         _keep_stopped_run(out / "results.h5", job)
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
-    ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps)
+    ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps,
+                           job.part_factors)  # fmt: skip
     ystream = (stream or sys.stderr) if progress else None  # the yield search's progress
     try:
         if a.static and ck is None:

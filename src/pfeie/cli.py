@@ -476,7 +476,7 @@ def _spectrum(args: argparse.Namespace) -> int:
     """``pfeie spectrum``: spectrum.csv, spectrum.png and the intensity measures."""
     from pathlib import Path
 
-    from .io import implausible_pga, load_job, output_folder, read_record
+    from .io import applied_part, implausible_pga, load_job, output_folder, read_record
     from .model import INTENSITY_MEASURES, GroundMotion
 
     try:
@@ -485,11 +485,16 @@ def _spectrum(args: argparse.Namespace) -> int:
         t1 = None if args.t1 is None else _number("--t1", args.t1, 0.0)
         src = Path(args.source)
         records: dict[str, tuple[GroundMotion, float | None]] = {}
+        parts: dict[str, str] = {}  # the records cut at the run's end: what the line adds
         if src.suffix.lower() == ".toml":
             job = load_job(src)
             targets = [g.get("target_sa") for g in job.spec["ground_motion"]]
+            end = job.analysis.duration if job.analysis.dynamic else None
             for i, (rec, tgt) in enumerate(zip(job.records, targets, strict=True)):
                 key = "" if len(job.records) == 1 else f"_{i}"
+                if end is not None and rec.time[-1] > end:  # the motion the run applies
+                    rec = applied_part(rec, end)[0]
+                    parts[key] = f" (the motion applied: up to {end:g} s, analysis.duration)"
                 records[key] = (rec, t1 if t1 is not None or not tgt else tgt["period"])
         else:
             dt = None if args.dt is None else _number("--dt", args.dt, 0.0)
@@ -503,7 +508,7 @@ def _spectrum(args: argparse.Namespace) -> int:
             s = rec.spectrum(periods, damping)
             ims = rec.intensity_measures(period, damping)
             spectra[rec.name + key] = s
-            print(f"record: {rec.summary()}")
+            print(f"record: {rec.summary()}{parts.get(key, '')}")
             for name, value in ims.items():
                 label, unit = INTENSITY_MEASURES[name]
                 if name == "sa":

@@ -159,6 +159,30 @@ def cohesion_ramp(
     return on, tau, slope
 
 
+def cone(
+    c: FloatArray, mu: FloatArray, t: FloatArray, Xn: FloatArray, broken: BoolArray
+) -> tuple[FloatArray, FloatArray]:
+    """The radius τ (m,) of each pair's Mohr-Coulomb cone at its normal force X_n
+    (compression +) and its slope dτ/dX_n: max(0, c + μ X_n) (friction in tension too: an
+    intact pair holds c − μ σ_t ≥ 0 at its tensile strength), μ where the cone is open; on
+    the residual cohesion's ramp, :func:`cohesion_ramp`'s curve and slope. All arrays in
+    N at the rate level of the problem (c = c A, t = σ_t A). The one home of the cone that
+    the pair solvers, the residual and :meth:`PairLaws.cone` take.
+
+    >>> c, mu, t = np.array([10.0, 0.0]), np.array([1.0, 0.5]), np.zeros(2)
+    >>> tau, slope = cone(c, mu, t, np.array([-4.0, -2.0]), np.zeros(2, dtype=bool))
+    >>> tau.tolist(), slope.tolist()
+    ([6.0, 0.0], [1.0, 0.0])
+    """
+    tau = np.maximum(c + mu * Xn, 0.0)
+    slope = np.where(tau > 0, mu, 0.0)
+    ramp, tau_ramp, ramp_slope = cohesion_ramp(c, mu, t, Xn, broken)
+    if ramp.any():
+        tau = np.where(ramp, tau_ramp, tau)
+        slope = np.where(ramp, ramp_slope, slope)
+    return tau, slope
+
+
 def cohesion_ramp_tangent(
     c: FloatArray, mu: FloatArray, t: FloatArray, Xn: FloatArray, broken: BoolArray
 ) -> tuple[BoolArray, FloatArray, FloatArray]:
@@ -482,11 +506,9 @@ class PairLaws:
         array([130.,  70.])
         """
         c, mu, t = self.strength(broken, path)
-        cap = np.maximum(c + mu * Xn, 0.0)
         if ramp:
-            on, tau, _ = cohesion_ramp(c, mu, t, Xn, broken)
-            cap = np.where(on, tau, cap)
-        return np.asarray(cap)
+            return cone(c, mu, t, Xn, broken)[0]
+        return np.asarray(np.maximum(c + mu * Xn, 0.0))
 
     def capacity_and_shear(
         self, X: FloatArray, open_: BoolArray, broken: BoolArray, path: FloatArray,
@@ -536,4 +558,4 @@ class PairLaws:
 
 
 __all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb",
-           "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp"]  # fmt: skip
+           "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp", "cone"]  # fmt: skip

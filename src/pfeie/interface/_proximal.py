@@ -61,7 +61,7 @@ import scipy.sparse.linalg as spla
 
 from ..linalg import symmetric_product
 from ..typing import BoolArray, FloatArray
-from ._laws import cohesion_ramp
+from ._laws import cone
 
 log = logging.getLogger(__name__)
 
@@ -102,13 +102,9 @@ def natural_map(
     Xt = X[:, :-1]
     z = Xt - r[:, None] * (s[:, :-1] - law.s_prev[:, :-1])
     nz = np.sqrt(np.einsum("ki,ki->k", z, z))
-    tau = np.maximum(law.c + law.mu * Xn, 0.0)
+    # the cone and dτ/dX_n, the residual cohesion mobilised near parting on its ramp
+    tau, dtau = cone(law.c, law.mu, law.t, Xn, br)
     cut = sep & (law.c > 0)  # a separated pair carries no shear, whatever its cohesion
-    dtau = np.where(tau > 0, law.mu, 0.0)  # dτ/dX_n
-    ramp, tau_ramp, slope = cohesion_ramp(law.c, law.mu, law.t, Xn, br)
-    if ramp.any():  # the residual cohesion mobilised near parting
-        tau = np.where(ramp, tau_ramp, tau)
-        dtau = np.where(ramp, slope, dtau)
     tau[cut] = 0.0
     dtau[cut] = 0.0
     fixed = br & law.fixed

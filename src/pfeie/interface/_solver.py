@@ -109,7 +109,7 @@ from scipy.linalg.lapack import dgetrs as _getrs
 from ..errors import InterfaceError, MechanismError
 from ..linalg import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ..typing import FloatArray
-from ._laws import PairLaws, cohesion_ramp, cohesion_ramp_tangent
+from ._laws import PairLaws, cohesion_ramp, cohesion_ramp_tangent, cone
 from ._proximal import PairLaw, ShiftedOperator, proximal_newton
 from ._settings import SolverSettings
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
@@ -151,7 +151,8 @@ NEWTON_STALL = 20
 stalled (far from the answer, its line search crawls across the kinks of the law, a
 pair state at a time) and hands over to the next start (the dense Newton from the same
 iterate after the one through W_c⁻¹, the given first iterate, then a cold start, which
-runs to its limit) or fallback, instead of running to its iteration limit."""
+runs to its limit unless its line search fails, :data:`LINE_SEARCH_FAILS`) or fallback,
+instead of running to its iteration limit."""
 
 
 LINE_SEARCH_FAILS = 4
@@ -923,10 +924,7 @@ class InterfaceSolver:
         rho = self.rho
         c, mu, t = self.props.strength(st.broken, prev.path)
         Xn, Xt = X[:, -1], X[:, :-1]
-        tau = np.maximum(c + mu * Xn, 0.0)
-        ramp, tau_ramp, _ = cohesion_ramp(c, mu, t, Xn, st.broken)
-        if ramp.any():
-            tau = np.where(ramp, tau_ramp, tau)
+        tau = cone(c, mu, t, Xn, st.broken)[0]
         ds = s - prev.s
         r = np.zeros(self.m)
         state = st.state
@@ -1250,7 +1248,9 @@ class InterfaceSolver:
         breaks and the Newton solve is repeated (at most once per pair). With a border
         (statics) the unknowns include q and the rows ρ (Eᵀ X − e). With ``stall``, it
         stops when its residual has not halved over :data:`NEWTON_STALL` iterations
-        (another start follows); the last start runs to ``max_iter``.
+        (another start follows); the last start runs to ``max_iter``. Every start stops
+        when its line search finds no descent :data:`LINE_SEARCH_FAILS` iterations in a
+        row.
         """
         m, d = self.m, self.d
         M = m * d
@@ -1382,14 +1382,9 @@ class InterfaceSolver:
         # the Mohr-Coulomb cone as the state iteration and the residual take it (friction
         # in tension too: with a residual tensile strength, X_n⁺ here made the Newton solve
         # another law, whose answers the residual refused)
-        tau = np.maximum(c + mu * X[:, -1], 0.0)
-        cut = br & ~contact & (c > 0)
         # dτ/dX_n: μ where the cone is open (c + μ X_n > 0), the cohesion ramp's slope on it
-        dtau = np.where(tau > 0, mu, 0.0)
-        ramp, tau_ramp, slope = cohesion_ramp(c, mu, t, X[:, -1], br)
-        if ramp.any():
-            tau = np.where(ramp, tau_ramp, tau)
-            dtau = np.where(ramp, slope, dtau)
+        tau, dtau = cone(c, mu, t, X[:, -1], br)
+        cut = br & ~contact & (c > 0)
         tau[cut] = 0.0
         dtau[cut] = 0.0
         fixed = br & self._fixed

@@ -82,6 +82,28 @@ def run_key(job: Any) -> str:
     return h.hexdigest()
 
 
+def _differs(f: Any, job: Any) -> str:
+    """What makes a run's inputs differ from those of the run in the results file ``f``
+    (their run keys differ): a scale factor met by a record up to the duration, which a
+    resume to another duration changes, else the inputs themselves."""
+    was = {int(k): float(v) for k, v in json.loads(f.attrs.get("part_factors", "{}")).items()}
+    now = dict(getattr(job, "part_factors", None) or {})
+    changed = [i for i in sorted(set(was) | set(now)) if was.get(i) != now.get(i)]
+    if changed:
+        i = changed[0]
+        old = "the whole record's" if i not in was else f"×{was[i]:.6g}"
+        new = "the whole record's" if i not in now else f"×{now[i]:.6g}"
+        return (
+            f"ground_motion[{i}]'s pga or target_sa is met by the record up to "
+            f"analysis.duration, so its scale factor depends on the duration: {old} for "
+            f"the run in the file, {new} for this one (another motion from the start)"
+        )
+    return (
+        f"the model file, its --set overrides, the mesh or a record differ from those "
+        f"of the run ({job.path})"
+    )
+
+
 class CheckpointWriter:
     """Writes the checkpoints of a run into its results file (see the module doc): call
     it with every :class:`~pfeie.dynamics.Checkpoint` of the run (``on_checkpoint`` of
@@ -90,7 +112,7 @@ class CheckpointWriter:
     :meth:`close`."""
 
     def __init__(self, writer: ResultsWriter, key: str, interval: float = 30.0,
-                 steps: int = 0) -> None:  # fmt: skip
+                 steps: int = 0, part_factors: dict[int, float] | None = None) -> None:  # fmt: skip
         self.writer, self.key, self.interval = writer, key, float(interval)
         self.steps = int(steps)
         self._pending: Checkpoint | None = None
@@ -98,6 +120,11 @@ class CheckpointWriter:
         self._last_step: int | None = None
         self.written: list[int] = []  # the time steps of the checkpoints written
         writer.f.attrs["run_key"] = key
+        # the scale factors met by the records up to the duration (Job.part_factors): a
+        # resume to another duration that changes one is told so
+        writer.f.attrs["part_factors"] = json.dumps(
+            {str(i): v for i, v in sorted((part_factors or {}).items())}
+        )
 
     def __call__(self, ck: Checkpoint) -> None:
         self._pending = ck
@@ -278,10 +305,7 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
                                "run of an older pfeie, or of other inputs); run without "
                                "--resume")  # fmt: skip
         if f.attrs.get("run_key", "") != key:
-            raise ResultsError(
-                f"{p}: cannot resume: the model file, its --set overrides, the mesh or a "
-                f"record differ from those of the run ({job.path}); run without --resume"
-            )
+            raise ResultsError(f"{p}: cannot resume: {_differs(f, job)}; run without --resume")
         written = str(f.attrs.get("pfeie_version", "?"))
         if written != __version__:  # another version may compute other numbers
             raise ResultsError(f"{p}: cannot resume: the run was written by pfeie {written}, "

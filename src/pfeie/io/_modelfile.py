@@ -277,7 +277,7 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
                   interfaces: list[Interface]) -> None:  # fmt: skip
     """Warnings for input that is valid but probably not what was meant: volume groups of
     the mesh (as read) in no block (their cells are left out), moduli, densities,
-    friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
+    strengths, friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
     the file and its keys), and a water level above the whole model (an overtopped
     crest)."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
@@ -941,7 +941,10 @@ def _scaled(rec: GroundMotion, gm: Any, end: float | None
     on_part = None if part is rec or have == measure(rec) else factor
     how = f"scaled ×{factor:.6g} to {what}"
     if on_part is not None:
-        how += f" in the motion applied, up to {end:g} s (analysis.duration)"
+        how += f" in the motion applied, up to {end:g} s (analysis.duration"
+        # the line gives the whole record's PGA: say when it lies beyond the run
+        k = int(np.argmax(np.abs(rec.acceleration)))
+        how += "; the PGA above lies beyond it)" if rec.time[k] > end else ")"
     flipped = f"{rec.scaling}, " if rec.scaling else ""  # the polarity, scale = -1
     out = dataclasses.replace(rec, acceleration=rec.acceleration * factor,
                               scaling=f"{flipped}{how}")  # fmt: skip

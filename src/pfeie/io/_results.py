@@ -73,9 +73,10 @@ UNITS = {
 #: compression, compression_level, field_precision, and fields that may be float32;
 #: 1.4: history/joints/{cracked,open}, envelope/cells/{dcr,cid}; 1.5: the attributes
 #: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
-#: counts steps, no longer solves, and not those the semismooth Newton finished; files
-#: without the attribute are 1.0)
-FORMAT_VERSION = "1.7"
+#: counts steps, no longer solves, and not those the semismooth Newton finished; 1.7: the
+#: group post_earthquake; 1.8: the attribute part_factors and the checkpoint's kin/shift;
+#: files without the attribute are 1.0)
+FORMAT_VERSION = "1.8"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")

@@ -249,9 +249,10 @@ class Model:
         is split along them (:func:`pfeie.interface.split`); ``self.mesh`` is the split
         mesh and ``self.input_mesh`` the one given. Each connected part of the split mesh
         is a *body* with its own rigid modes.
-    check_units: warn (``logging``) of moduli, densities, friction angles and a mesh size
-        that look like wrong units (:func:`pfeie.model.warn_implausible`: ``E = 30`` for
-        30 GPa, ``rho = 2.4`` in t/m³, ``phi = 0.5236`` in radians, a mesh in millimetres);
+    check_units: warn (a :class:`UserWarning` and ``logging``) of moduli, densities, joint
+        strengths, friction angles and a mesh size that look like wrong units
+        (:func:`pfeie.model.warn_implausible`: ``E = 30`` for 30 GPa, ``rho = 2.4`` in
+        t/m³, ``c = 0.3`` in MPa, ``phi = 0.5236`` in radians, a mesh in millimetres);
         False for a model with deliberately extreme values (a rigid block of E = 3e13 Pa)
         or built by a caller that reports them itself (the model file, naming its keys).
 

@@ -17,6 +17,7 @@ return the messages and raise nothing: valid input stays valid.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
@@ -49,9 +50,10 @@ PHI_AS_NUMBER = 2.0
 #: the fewest decimals of an angle in radians written by hand (30° is 0.524 or 0.5236): a
 #: value with fewer (a μ of 0.75 is 42.97° as radians) is not taken for radians
 RADIANS_DECIMALS = 3
-#: cohesions and tensile strengths of joints above 0 and below this (Pa) get a warning:
-#: joints in concrete and rock have 0.1 to 3 MPa, weak filled ones some kPa (a strength in
-#: MPa or kPa written without its factor falls below)
+#: cohesions and tensile strengths of joints and materials above 0 and below this (Pa)
+#: get a warning: joints in concrete and rock have 0.1 to 3 MPa, weak filled ones some
+#: kPa, concrete's tensile strength 1 to 5 MPa (a strength in MPa or kPa written without
+#: its factor falls below)
 STRENGTH_MIN = 100.0
 #: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
 EXTENT_MAX = 1e4
@@ -60,8 +62,8 @@ EXTENT_MAX = 1e4
 #: block of 2 m or more drawn in millimetres lies above
 HEIGHT_MAX = 2e3
 
-#: the names of a joint law's friction angles in the messages of the Python API (the
-#: model file names its keys, ``friction_angle`` and ``residual_friction_angle``)
+#: the names of a joint law's parameters in the messages of the Python API (the model
+#: file names its keys, ``friction_angle``, ``cohesion``, ...)
 JOINT_KEYS = {
     "phi": "phi",
     "phi_r": "phi_r",
@@ -75,7 +77,8 @@ JOINT_KEYS = {
 def implausible_materials(materials: Mapping[str, Elastic],
                           prefix: Callable[[str], str]) -> list[str]:  # fmt: skip
     """Warnings on the moduli and densities of ``materials`` (name → material) outside
-    :data:`E_RANGE` and :data:`RHO_RANGE`, with the value probably meant; ``prefix(name)``
+    :data:`E_RANGE` and :data:`RHO_RANGE`, and on tensile strengths below
+    :data:`STRENGTH_MIN`, with the value probably meant; ``prefix(name)``
     starts a material's messages (its key path, before ``E`` and ``rho``).
 
     A density below the range beside a material of normal density is a practically
@@ -107,6 +110,13 @@ def implausible_materials(materials: Mapping[str, Elastic],
         elif rho > hi:
             out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies above {hi:g} kg/m³ (concrete "
                        "and rock: 1800 to 3200); pfeie takes SI units (kg/m³)")  # fmt: skip
+    for name, mt in materials.items():
+        ft = mt.tensile_strength
+        if ft is not None and 0.0 < float(ft) < STRENGTH_MIN:  # f_t in MPa: DCR × 1e6
+            ft = float(ft)
+            out.append(f"{prefix(name)}tensile_strength = {ft:g} Pa is very low (concrete: "
+                       "1e6 to 5e6 Pa); pfeie takes SI units: did you mean "
+                       f"{ft * 1e6:g} Pa (MPa)?")  # fmt: skip
     return out
 
 
@@ -195,9 +205,10 @@ def implausible_mesh(mesh: Mesh, prefix: str = "") -> list[str]:
 def warn_implausible(mesh: Mesh, blocks: Sequence[Block],
                      interfaces: Sequence[Interface]) -> list[str]:  # fmt: skip
     """The checks of a model built in Python (:class:`pfeie.Model`), each a warning of
-    this module's logger: the materials of ``blocks`` (one message per distinct material,
-    naming the blocks that have it), the joint laws of ``interfaces``, the ``mesh``'s size.
-    Returns the messages."""
+    this module's logger and a :class:`UserWarning` (shown by a plain script): the
+    materials of ``blocks`` (one message per distinct material, naming the blocks that
+    have it), the joint laws of ``interfaces``, the ``mesh``'s size. Returns the
+    messages."""
     users: dict[Elastic, list[str]] = {}
     for b in blocks:
         users.setdefault(b.material, []).append(repr(b.name))
@@ -210,4 +221,7 @@ def warn_implausible(mesh: Mesh, blocks: Sequence[Block],
     ]  # fmt: skip
     for text in out:
         log.warning("%s", text)
+        # and as a Python warning, which a script shows without configuring logging (the
+        # library's logger has a null handler), at the user's call that built the model
+        warnings.warn(text, UserWarning, stacklevel=3)
     return out
