@@ -69,6 +69,14 @@ def test_pga_scales_the_motion_applied(
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert line in s["model"]["records"][0]
     assert s["time_reached_s"] == pytest.approx(2.0)
+    # the report rebuilds the model of the run: its key holds the factor (new-user
+    # finding: the report said the record had changed, and left out its model sections)
+    from pfeie.io import Results
+    from pfeie.plot._report import model_of_run
+
+    with Results(tmp_path / "out" / "results.h5") as res:
+        job, why = model_of_run(res)
+    assert job is not None, why
     # extended to 4 s the factor would be 0.1: the resume is refused, saying why
     assert main(["run", str(p), "--quiet", "--resume", "--duration", "4"]) == 2
     err = capsys.readouterr().err

@@ -301,7 +301,10 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
             continue
         spec = json.loads(meta["model_spec"]) if "model_spec" in meta else None
         key = meta.get("run_key")
-        ran = SimpleNamespace(spec=spec, path=path)
+        # the scale factors a pga or target_sa took from the records cut at the duration
+        # are in the run key (results format 1.8 records them)
+        part = {int(k): float(v) for k, v in json.loads(meta.get("part_factors", "{}")).items()}
+        ran = SimpleNamespace(spec=spec, path=path, part_factors=part)
         if key is not None and spec is not None and run_key(ran) != key:
             return None, (f"the mesh or a record file of the model file {path} changed since "
                           "the run")  # fmt: skip
