@@ -326,6 +326,12 @@ def test_errors_name_the_problem() -> None:
         fit_moments([0.3, np.inf])
     with pytest.raises(PfeieError, match="0 ≤ lower ≤ upper"):
         fit_censored([0.5], [0.4])
+    # 3 of 4 beyond at the lowest IM (0.15) and the 4th not at the highest (0.3): the same
+    # share at both, no rise; the likelihood grows as β → ∞ (a new user's study wrote
+    # θ = 0, β = 1.7e5 with an empty note)
+    with pytest.raises(ModelError, match=r"maximum-likelihood β is .*, beyond 5: the share "
+                       r"of runs that reach the limit state does not rise"):  # fmt: skip
+        fit_censored([0, 0, 0, 0.3], [0.15, 0.15, 0.15, np.inf])
     with pytest.raises(ModelError, match="limit state names"):
         fit_limit_states(table, [LimitState("a", "slip", 0.1)] * 2, nan_policy="omit")
 
