@@ -83,8 +83,12 @@ def test_a_base_broken_through_with_a_low_residual_friction_slides() -> None:
     post = pf.solve_static(model, damage=_damage(model, B))
     assert len(post.cracks) == 1 and post.cracks[0] == pytest.approx(B)
     model, _ = dam(19.0, joint)
-    with pytest.raises(MechanismError, match="'dam' on 'base'"):
+    with pytest.raises(MechanismError, match="'dam' on 'base'") as err:
         pf.solve_static(model, damage=_damage(model, B))
+    # the message speaks of the damage, not of a joint that should start intact (a new
+    # user was told to set initial = "intact" on joints that had started so)
+    assert "This is the post-earthquake state" in str(err.value)
+    assert "full headwater" in str(err.value) and 'initial = "intact"' not in str(err.value)
 
 
 def test_a_damage_of_another_model_is_refused() -> None:

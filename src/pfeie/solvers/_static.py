@@ -115,14 +115,16 @@ def solve_pairs(
         try:
             return problem.solve(f, start=start, damage=damage)
         except MechanismError as exc:
-            raise MechanismError(f"{exc}. {_floating(model)}") from None
+            raise MechanismError(f"{exc}. {_floating(model, damaged=damage is not None)}"
+                                 ) from None  # fmt: skip
         except InterfaceError as exc:
             if not model.floating_bodies().size:
                 raise
             # with floating blocks, a static problem without a solution ends here too (no
             # pattern balances them), as may one the solver fails on: say what to check,
             # without a verdict
-            raise InterfaceError(f"{exc} {_floating(model, found=False)}") from None
+            why = _floating(model, found=False, damaged=damage is not None)
+            raise InterfaceError(f"{exc} {why}") from None
 
     # the crack of an uplift: its pairs open from the heel (and, after an earthquake, the
     # pairs it broke from the heel)
@@ -217,11 +219,12 @@ def _lengths(cracks: Sequence[float]) -> str:
     return ", ".join(f"{c:.4g}" for c in cracks)
 
 
-def _floating(model: Model, found: bool = True) -> str:
+def _floating(model: Model, found: bool = True, damaged: bool = False) -> str:
     """What a static mechanism means for this model: the floating bodies (no support)
     and the joints that must hold them, with what to check; ``found`` False when the
     solver ended without an answer rather than on a singular pattern (then the loads are
-    beyond the limit of equilibrium, or so near it that no answer was found)."""
+    beyond the limit of equilibrium, or so near it that no answer was found);
+    ``damaged``: the post-earthquake state (the joints as a record left them)."""
     assert model.pairs is not None
     body = model.body_of_node
     names = model.body_names()
@@ -255,6 +258,15 @@ def _floating(model: Model, found: bool = True) -> str:
             "No static equilibrium was found for the floating block(s) (" + which + "): "
             "the static loads may exceed their joints' strength (they would slide or "
             "open), or be at the limit of equilibrium.")  # fmt: skip
+    if damaged:
+        return (
+            head + " This is the post-earthquake state: the pairs the record broke carry "
+            "their residual strength (residual cohesion and friction angle, no tension) "
+            "and each uplift's crack, broken or open from the heel, takes the full "
+            "headwater; a joint broken through that its residual friction cannot hold "
+            "under the static loads leaves the structure unstable after the earthquake "
+            "(a post-earthquake sliding safety factor below 1)"
+        )  # fmt: skip
     return (
         head + " Check the friction angles and cohesions (a joint that starts broken, "
         'initial = "broken", the default, has only its residual strength: '
