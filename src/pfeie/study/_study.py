@@ -96,9 +96,10 @@ STRESS_KEYS = ("max_principal_Pa", "min_principal_Pa", "max_dcr", "max_cid_s",
 SOLVER_KEYS = ("fallback_steps", "newton_steps", "worst_residual")
 #: the reliability measures of a run's energy balance, after ``energy.``: the share of the
 #: input energy (the external work) that the position corrections of penetrating pairs
-#: added (< 0: took), and the share of the energy through the run that the time scheme
-#: created (a negative algorithmic term; 0 when it took energy), as in ``pfeie run``'s
-#: summary (its "corrections" and "scheme" lines)
+#: added (< 0: took), the share of the energy through the run that the time scheme
+#: created (a negative algorithmic term; 0 when it took energy), and the share of the
+#: input it dissipated (a positive algorithmic term), as in ``pfeie run``'s summary (its
+#: "corrections" and "scheme" lines)
 ENERGY_KEYS = ("correction_share", "scheme_created_share", "scheme_dissipated_share")
 #: the demand-capacity columns of the stress envelope: only with tensile strengths
 DCR_KEYS = ("max_dcr", "max_cid_s", "overstressed_share")
