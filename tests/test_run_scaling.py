@@ -127,3 +127,27 @@ def test_target_sa_on_the_motion_applied_and_the_run_key(tmp_path: Path) -> None
                delimiter=",")  # fmt: skip
     keys = [run_key(load_job(_model(tmp_path, "pga = 0.1", f"duration = {d}"))) for d in (2, 4)]
     assert keys[0] == keys[1]
+
+
+def test_target_sa_warns_when_the_part_changes_the_factor(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A record whose PGA (a 0.5 g spike at 0.5 s) lies within a run of 2 s while its
+    later part (0.3 g at the period 0.3 s from 2.5 to 3.5 s) drives Sa(0.3 s): the part's
+    factor differs from the whole record's by more than 5 %, and a warning gives both
+    Sa values and both factors (the review's finding: a tenfold factor without a word)."""
+    t = np.round(np.arange(0.0, 4.0 + 1e-9, 0.01), 12)
+    a = np.where(t == 0.5, 0.5, 0.0)
+    late = (t >= 2.5) & (t <= 3.5)
+    a[late] = 0.3 * np.sin(2 * np.pi * (t[late] - 2.5) / 0.3)
+    np.savetxt(tmp_path / "rec.csv", np.c_[t, a], delimiter=",")
+    p = _model(tmp_path, "target_sa = {period = 0.3, value = 0.5}")
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        rec = load_job(p).records[0]
+    part = applied_part(rec, 2.0)[0]
+    assert part.sa(0.3, 0.05) / G == pytest.approx(0.5, rel=1e-12)
+    whole = rec.sa(0.3, 0.05) / G  # the whole record, scaled by the part's factor
+    assert whole > 1.5
+    assert (f"{p}: ground_motion[0]: Sa(0.3 s) of the motion applied, up to 2 s "
+            "(analysis.duration), is") in caplog.text, caplog.text
+    assert "target_sa scales that part" in caplog.text

@@ -902,6 +902,12 @@ def _filtered(p: Path, i: int, rec: GroundMotion, spec: Any) -> GroundMotion:
     return rec.filtered(**settings)
 
 
+#: a target_sa met by the part of a record up to the duration is warned when its factor
+#: differs from the whole record's by more than this share (the record's PGA may lie
+#: within the run while its later part drives Sa(T): a tenfold factor without a word)
+PART_FACTOR_NOTE = 0.05
+
+
 def _scaled(rec: GroundMotion, gm: Any, end: float | None
             ) -> tuple[GroundMotion, GroundMotion, str | None, float | None]:  # fmt: skip
     """The record scaled to the ``pga`` (g) or the ``target_sa`` (Sa(T, ζ) in g) of its
@@ -939,6 +945,14 @@ def _scaled(rec: GroundMotion, gm: Any, end: float | None
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
     on_part = None if part is rec or have == measure(rec) else factor
+    if on_part is not None and note is None and gm.target_sa is not None:
+        whole = want / measure(rec)  # the factor the whole record would take
+        if abs(whole / factor - 1.0) > PART_FACTOR_NOTE:
+            ts = gm.target_sa
+            note = (f"Sa({ts.period:g} s) of the motion applied, up to {end:g} s "
+                    f"(analysis.duration), is {have / 9.81:.4g} g, the whole record's "
+                    f"{measure(rec) / 9.81:.4g} g: the factor is ×{factor:.4g} instead of "
+                    f"×{whole:.4g}")  # fmt: skip
     how = f"scaled ×{factor:.6g} to {what}"
     if on_part is not None:
         how += f" in the motion applied, up to {end:g} s (analysis.duration"
