@@ -349,6 +349,12 @@ def test_round_off_energies_are_not_warned(
       "safety_factor": 1.009, "k_affine": 0.2679},
      "k_y 0.2655 (no equilibrium found beyond it; 'bases' reaches its capacity at 0.2679, "
      "the margins' affine estimate (FS 1.009 at k_y): probably a sliding limit there"),
+    # a new user's 3D monolith pushed upstream: its upper block overturns on the lift joint
+    # at 0.6232 (by hand), while the least FS is the dam-rock joint's: the line names the
+    # joint that opens
+    ({"k_y": 0.6232, "k_fail": 0.6233, "limit": "no equilibrium found", "joint": "dam_rock",
+      "safety_factor": 1.564, "k_affine": None, "open_joint": "lift", "open_share": 0.62},
+     "least FS 1.564 on 'dam_rock'; at k_y 'lift' is the most open, 62 % of its area)"),
     # a block on an intact joint that breaks through at 0.2029 (the margins' 0.2115 lie
     # 4 % above): not read as sliding
     ({"k_y": 0.2029, "k_fail": 0.2030, "limit": "no equilibrium found", "joint": "joint",

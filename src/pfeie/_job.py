@@ -413,7 +413,7 @@ def _yield_coefficients(
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
             "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
-            "analyses": y.analyses,
+            "analyses": y.analyses, **_most_open(model, y.static),
         }  # fmt: skip
         if stream is not None:  # (the library logs it at INFO too)
             k_y = "none up to the largest tried" if y.k_y is None else f"{y.k_y:.6g}"
@@ -421,6 +421,19 @@ def _yield_coefficients(
                          f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip
             stream.flush()
     return out
+
+
+def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
+    """The joint with the largest open share of its area in the static state ``st`` (at a
+    yield coefficient: the joint that opens, where a block rocks or overturns on it), as
+    ``open_joint`` and ``open_share``; empty where no pair is open."""
+    P, S = model.pairs, st.pairs
+    if P is None or S is None:
+        return {}
+    opened = (S.state == OPEN).astype(float) * P.area
+    shares = {n: float(opened[P.of(n)].sum() / P.area[P.of(n)].sum()) for n in P.names}
+    name = max(shares, key=lambda n: shares[n])
+    return {"open_joint": name, "open_share": shares[name]} if shares[name] > 0 else {}
 
 
 def energy_shares(s: dict[str, Any]) -> tuple[float, float, float]:
@@ -778,6 +791,9 @@ def format_summary(s: dict[str, Any]) -> str:
                     f"{y['joint']!r}")  # fmt: skip
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
+            if y.get("open_joint") not in (None, y["joint"]):  # the joint it rocks on
+                what += (f"; at k_y {y['open_joint']!r} is the most open, "
+                         f"{100 * y['open_share']:.0f} % of its area")  # fmt: skip
             what += ")"
         lines.append(f"  yield {label:<10} {what}")
     for name, j in s.get("joints", {}).items():
