@@ -7,6 +7,7 @@ message (30 Pa × 1e9 = 3e10 Pa; atan 0.5236 = 27.6°; 0.5236 rad = 30.0°)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Callable
@@ -170,3 +171,19 @@ def test_a_damping_ratio_given_as_a_percentage_is_refused() -> None:
     critical = pf.Rayleigh.from_ratio(1.0, 3.0, 15.0)
     assert critical.ratio(3.0) == pytest.approx(1.0, rel=1e-14)
     assert critical.ratio(15.0) == pytest.approx(1.0, rel=1e-14)
+
+
+def test_the_model_files_joint_keys_name_the_python_ones() -> None:
+    """``pf.Joint(cohesion=...)``, a key of the model file's ``[interfaces.<name>]``, is
+    refused with the Python keyword (new-user finding: a bare TypeError with no hint);
+    the model file's messages name its keys from the same table."""
+    from pfeie.interface import MODEL_FILE_KEYS
+
+    with pytest.raises(pf.ModelError, match=r"Joint: 'cohesion' is the model file's name; "
+                       r"the Python keyword is 'c'"):  # fmt: skip
+        pf.Joint(cohesion=0.3e6, phi=40.0)  # type: ignore[call-arg]
+    for key, api in MODEL_FILE_KEYS.items():
+        with pytest.raises(pf.ModelError, match=f"the Python keyword is '{api}'"):
+            pf.Joint(**{key: 1.0})
+        assert api in {f.name for f in dataclasses.fields(pf.Joint)}
+    assert pf.Joint(c=0.3e6, phi=40.0).c == 0.3e6

@@ -19,6 +19,7 @@ from ._fclib import coulomb_laws, load_fclib, natural_map_residual
 from ._laws import (
     COHESION_RAMP,
     FS_ROUNDOFF,
+    MODEL_FILE_KEYS,
     OPEN_CRACK_MIN_M,
     Joint,
     JointLaw,
@@ -35,9 +36,10 @@ from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
-    "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT", "OPEN",
-    "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK", "FactorCache", "InterfaceSolver",
-    "Joint", "JointLaw", "MohrCoulomb", "PairGeometry", "PairLaws", "PairState",
-    "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh", "Strength", "cohesion_ramp",
-    "cohesion_ramp_tangent", "coulomb_laws", "load_fclib", "natural_map_residual", "split",
+    "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT",
+    "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
+    "FactorCache", "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry",
+    "PairLaws", "PairState", "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh",
+    "Strength", "cohesion_ramp", "cohesion_ramp_tangent", "coulomb_laws", "load_fclib",
+    "natural_map_residual", "split",
 ]  # fmt: skip

@@ -206,6 +206,15 @@ def cohesion_ramp_tangent(
     return on, np.where(on, c_l, 0.0), np.where(on, mu_l, 0.0)
 
 
+#: the model file's keys of ``[interfaces.<name>]`` and the Python API's names for them
+MODEL_FILE_KEYS = {
+    "cohesion": "c", "friction_angle": "phi", "tensile_strength": "tensile",
+    "residual_cohesion": "c_r", "residual_friction_angle": "phi_r",
+    "residual_tensile_strength": "tensile_r", "normal_stiffness": "kn",
+    "shear_stiffness": "ks",
+}  # fmt: skip
+
+
 @dataclass(frozen=True)
 class MohrCoulomb:
     """Mohr-Coulomb joint with a tension cut-off and residual strength.
@@ -243,6 +252,20 @@ class MohrCoulomb:
     kn: float | None = None
     ks: float | None = None
     gap: float = 0.0
+
+    def __new__(cls, *args: object, **kwargs: object) -> MohrCoulomb:
+        """A keyword of the model file's ``[interfaces.<name>]`` (``cohesion``, ...) is
+        refused with the Python API's name for it, before the bare ``TypeError`` of an
+        unknown keyword."""
+        for key in kwargs:
+            if key in MODEL_FILE_KEYS:
+                name = "Joint" if cls is MohrCoulomb else cls.__name__
+                raise ModelError(
+                    f"{name}: {key!r} is the model file's name; the Python "
+                    f"keyword is {MODEL_FILE_KEYS[key]!r} (c, phi, tensile, c_r, phi_r, "
+                    "tensile_r, initial, kn, ks, gap; Pa, degrees, Pa/m, m)"
+                )  # fmt: skip
+        return super().__new__(cls)
 
     def __post_init__(self) -> None:
         for key in ("c", "tensile", "c_r", "tensile_r"):
@@ -557,5 +580,6 @@ class PairLaws:
         return PairState.initial(self.initially_broken, self.gap, dim)
 
 
-__all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb",
-           "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp", "cone"]  # fmt: skip
+__all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "MODEL_FILE_KEYS", "OPEN_CRACK_MIN_M", "Joint",
+           "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp",
+           "cone"]  # fmt: skip

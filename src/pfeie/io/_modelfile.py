@@ -30,7 +30,13 @@ from pydantic import ValidationError
 from ..coupling import SUBSOLVER_BYTES, SUBSOLVERS
 from ..dynamics import shorter_than_a_step
 from ..errors import InputError, MeshError, ModelError, PfeieError, RecordError
-from ..interface import FACTOR_CACHE_BYTES, FACTOR_CACHE_COUNT, Joint, SlipWeakening
+from ..interface import (
+    FACTOR_CACHE_BYTES,
+    FACTOR_CACHE_COUNT,
+    MODEL_FILE_KEYS,
+    Joint,
+    SlipWeakening,
+)
 from ..mesh import Mesh, shape_quality
 from ..model import (
     Block,
@@ -242,15 +248,8 @@ class Job:
         }  # fmt: skip
 
 
-#: the names of a joint law's parameters in the model file's messages
-_JOINT_KEYS = {
-    "phi": "friction_angle",
-    "phi_r": "residual_friction_angle",
-    "c": "cohesion",
-    "tensile": "tensile_strength",
-    "c_r": "residual_cohesion",
-    "tensile_r": "residual_tensile_strength",
-}
+#: the names of a joint law's parameters in the model file's messages (its keys)
+_JOINT_KEYS = {api: key for key, api in MODEL_FILE_KEYS.items()}
 
 
 #: bytes of the interpreter with numpy, scipy and pfeie loaded (150 to 190 MB measured,
