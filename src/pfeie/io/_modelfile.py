@@ -943,14 +943,15 @@ def _scaled(rec: GroundMotion, gm: Any, end: float | None
     if not np.isfinite(factor):
         raise RecordError(f"{gm.file}: cannot scale the record to {what} (its value is "
                           f"{have:.6g} m/s²); expected a finite scale factor")  # fmt: skip
-    on_part = None if part is rec or have == measure(rec) else factor
+    full = have if part is rec else measure(rec)  # the whole record's (one spectrum)
+    on_part = None if full == have else factor
     if on_part is not None and note is None and gm.target_sa is not None:
-        whole = want / measure(rec)  # the factor the whole record would take
+        whole = want / full  # the factor the whole record would take
         if abs(whole / factor - 1.0) > PART_FACTOR_NOTE:
             ts = gm.target_sa
             note = (f"Sa({ts.period:g} s) of the motion applied, up to {end:g} s "
                     f"(analysis.duration), is {have / 9.81:.4g} g, the whole record's "
-                    f"{measure(rec) / 9.81:.4g} g: the factor is ×{factor:.4g} instead of "
+                    f"{full / 9.81:.4g} g: the factor is ×{factor:.4g} instead of "
                     f"×{whole:.4g}")  # fmt: skip
     how = f"scaled ×{factor:.6g} to {what}"
     if on_part is not None:
