@@ -57,6 +57,15 @@ def test_levels_by_the_guideline() -> None:
             Uplift("base", 30.0, **bad)  # type: ignore[arg-type]
 
 
+def test_unknown_keyword_names_the_python_keyword() -> None:
+    """``add_uplift`` given the model file's ``drain_efficiency`` (or a misspelt keyword)
+    says which keyword it takes, instead of the dataclass's bare ``TypeError``."""
+    with pytest.raises(ModelError, match="the Python keyword is 'efficiency'"):
+        dam(10.0, pf.Joint(phi=45.0), drains=2.0, drain_efficiency=0.5)
+    with pytest.raises(ModelError, match=r"unknown keyword 'tail'.*tailwater"):
+        dam(10.0, pf.Joint(phi=45.0), tail=2.0)
+
+
 def dam(hw: float, joint: pf.Joint, **uplift: object) -> tuple[pf.Model, float]:
     """A 10 m x 20 m concrete block (Q8) on a rock block on a base joint at y = 2 m, the
     reservoir at hw (m above the base) on its upstream face x = 0, uplift in the joint."""

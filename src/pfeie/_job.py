@@ -23,6 +23,7 @@ import signal
 import sys
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -464,6 +465,92 @@ def damped_by_scheme(s: dict[str, Any]) -> bool:
     return energy_shares(s)[2] > SCHEME_DISSIPATED and contact > CONTACT_ACTIVITY * work
 
 
+@dataclass(frozen=True)
+class RunWarning:
+    """A warning on the reliability of a run's results: ``label`` the summary line's
+    label ("large slip", "scheme", "corrections"), ``text`` the summary's wording (lines
+    after the first indented to its column), ``short`` a study table's one-line form."""
+
+    label: str
+    text: str
+    short: str
+
+
+def reliability(s: dict[str, Any]) -> list[RunWarning]:
+    """The reliability warnings of a run's summary, in the order the text summary gives
+    them: a joint whose slip passes :data:`LARGE_SLIP` × the spacing of its pairs; the
+    scheme's dissipation (:func:`damped_by_scheme`) and created energy
+    (:data:`SCHEME_CREATED`); the position corrections' energy (:data:`CORRECTION_SHARE`,
+    "not converged" beyond :data:`CORRECTION_UNRESOLVED`). ``pfeie run``'s summary and a
+    study's ``warnings`` column are both written from it."""
+    out = []
+    for name, j in s.get("joints", {}).items():
+        ratio = j.get("peak_slip_to_spacing", 0.0)
+        if ratio > LARGE_SLIP:
+            spacing = j.get("pair_spacing_m", 0.0)
+            out.append(RunWarning(
+                "large slip",
+                f"joint {name}: the slip reaches {ratio:.2g} × the spacing of its pairs "
+                f"({spacing:.3g} m); the faces are paired node to node (small sliding), so "
+                "past half a spacing the result is not reliable (docs/results.md)",
+                f"large slip: joint {name}'s slip reaches {ratio:.2g} × the spacing of its "
+                f"pairs ({spacing:.3g} m), beyond {LARGE_SLIP:g}: its faces are paired node "
+                "to node (small sliding), the result is not reliable"))  # fmt: skip
+    e = s.get("energy_J")
+    if e is None:
+        return out
+    share, created, dissipated = energy_shares(s)
+    if damped_by_scheme(s):
+        out.append(RunWarning(
+            "scheme",
+            f"WARNING: the time scheme dissipated {e['algorithmic']:.4g} J, "
+            f"{100 * dissipated:.0f} % of the input: numerical damping of contact events "
+            "(impacts, stick and slip) and of modes that this time step does not resolve; "
+            "the slips, openings and peaks are damped by the scheme and not converged in "
+            "Δt: run again with Δt halved and compare (docs/results.md)",
+            f"scheme: the time scheme dissipated {100 * dissipated:.0f} % of the input: "
+            "damped by the scheme, not converged in Δt, halve Δt"))  # fmt: skip
+    if created > SCHEME_CREATED:
+        out.append(RunWarning(
+            "scheme",
+            f"WARNING: the time scheme created {-e['algorithmic']:.4g} J, "
+            f"{100 * created:.0f} % of the energy that went through the run: contact events "
+            "(impacts, stick and slip) that this time step does not resolve; the slips and "
+            "displacements are not converged in Δt: run again with Δt halved and compare "
+            "(docs/results.md)",
+            f"scheme: the time scheme created {100 * created:.0f} % of the energy through "
+            "the run: not converged in Δt, halve Δt"))  # fmt: skip
+    if abs(share) > CORRECTION_SHARE:
+        corr = e["correction"]
+        verb = "added" if share > 0 else "took"
+        unresolved = abs(share) > CORRECTION_UNRESOLVED
+        out.append(RunWarning(
+            "corrections",
+            f"the position corrections of penetrating pairs {verb} {abs(corr):.4g} J, "
+            f"{100 * abs(share):.1f} % of the input: impacts this time step does not "
+            "resolve (the share falls with Δt; docs/results.md)"
+            + (f"\nmore than {100 * CORRECTION_UNRESOLVED:.0f} % of the input: the results "
+               "are not converged in Δt; run again with Δt halved and compare"
+               if unresolved else ""),
+            f"corrections: the position corrections of penetrating pairs {verb} "
+            f"{100 * abs(share):.1f} % of the input energy, impacts this Δt does not resolve"
+            + (f" (more than {100 * CORRECTION_UNRESOLVED:.0f} %: not converged in Δt, halve "
+               "Δt)" if unresolved else "")))  # fmt: skip
+    return out
+
+
+def _warning_lines(warnings: list[RunWarning], label: str) -> list[str]:
+    """The summary's lines of the warnings ``label``: the label in the first line's
+    column, the text's further lines indented to it."""
+    lines = []
+    for w in warnings:
+        if w.label == label:
+            first, *rest = w.text.split("\n")
+            lines.append(f"  {w.label:<12} {first}")
+            lines += [f"  {'':<12} {line}" for line in rest]
+    return lines
+
+
 def _post_earthquake(
     job: Job, static: StaticResult | None, result: DynamicResult | None,
     final: StepState | None, writer: ResultsWriter,
@@ -809,14 +896,8 @@ def format_summary(s: dict[str, Any]) -> str:
                f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
-    for name, j in s.get("joints", {}).items():
-        if j.get("peak_slip_to_spacing", 0.0) > LARGE_SLIP:
-            lines.append(
-                f"  large slip   joint {name}: the slip reaches {j['peak_slip_to_spacing']:.2g} "
-                f"× the spacing of its pairs ({j['pair_spacing_m']:.3g} m); the faces are "
-                "paired node to node (small sliding), so past half a spacing the result is "
-                "not reliable (docs/results.md)"
-            )
+    warnings = reliability(s)
+    lines += _warning_lines(warnings, "large slip")
     post = s.get("post_earthquake", {})
     if "error" in post:
         lines.append(f"  post-EQ      no static equilibrium after the record: {post['error']}")
@@ -859,37 +940,8 @@ def format_summary(s: dict[str, Any]) -> str:
             f"{e.get('damping', 0):.4g}, algorithmic {e.get('algorithmic', 0):.4g} J; balance "
             f"{e.get('balance', 0):.2e} J"
         )
-        share, created, dissipated = energy_shares(s)
-        if damped_by_scheme(s):
-            lines.append(
-                f"  scheme       WARNING: the time scheme dissipated {e['algorithmic']:.4g} J, "
-                f"{100 * dissipated:.0f} % of the input: numerical damping of contact "
-                "events (impacts, stick and slip) and of modes that this time step does not "
-                "resolve; the slips, openings and peaks are damped by the scheme and not "
-                "converged in Δt: run again with Δt halved and compare (docs/results.md)"
-            )
-        if created > SCHEME_CREATED:
-            lines.append(
-                f"  scheme       WARNING: the time scheme created {-e['algorithmic']:.4g} J, "
-                f"{100 * created:.0f} % of the energy that went through the run: contact "
-                "events (impacts, stick and slip) that this time step does not resolve; the "
-                "slips and displacements are not converged in Δt: run again with Δt halved "
-                "and compare (docs/results.md)"
-            )
-        if abs(share) > CORRECTION_SHARE:
-            corr = e["correction"]
-            lines.append(
-                f"  corrections  the position corrections of penetrating pairs "
-                f"{'added' if corr > 0 else 'took'} {abs(corr):.4g} J, "
-                f"{100 * abs(share):.1f} % of the input: impacts this time step does "
-                "not resolve (the share falls with Δt; docs/results.md)"
-            )
-            if abs(share) > CORRECTION_UNRESOLVED:
-                lines.append(
-                    f"               more than {100 * CORRECTION_UNRESOLVED:.0f} % of the "
-                    "input: the results are not converged in Δt; run again with Δt halved "
-                    "and compare"
-                )
+        lines += _warning_lines(warnings, "scheme")
+        lines += _warning_lines(warnings, "corrections")
     if "solver" in s:
         lines.append(f"  pair solver  {solver_line(s['solver'])}")
     if "wall_time_s" in s:

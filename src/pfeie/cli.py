@@ -728,7 +728,10 @@ def _format_check(s: dict[str, object]) -> str:
     assert isinstance(steps, int) and isinstance(dt, int | float)
     assert isinstance(duration, int | float)
     lines.append(_steps_line(steps, float(dt), float(duration)))
-    lines.append(f"memory       about {s['estimated_memory_mb']} MB")
+    lines.append(
+        f"memory       at most about {s['estimated_memory_mb']} MB (the pair solvers' "
+        "caches full; a run usually needs less)"
+    )
     return "\n".join(lines)
 
 

@@ -367,6 +367,22 @@ class Dynamic:
         self._last_strain = [(u, value), *self._last_strain[:2]]
         return value
 
+    def _strain_added(self, u1: FloatArray, dq: FloatArray) -> float:
+        """U(u1) − U(u1 − dq), the strain energy a position correction dq adds (J).
+
+        With small rotations, dqᵀK u1 − ½ dqᵀK dq: one product K u1, whose U(u1) the
+        energy account and the recorder then find kept (:meth:`strain_energy`), and the
+        rows of K at the few DOFs dq moves (K symmetric: dqᵀK dq = dq_I · (K_I: dq)), where
+        ½(u1 − dq)ᵀK(u1 − dq) would be a second sweep of K."""
+        if self.corot is not None:
+            return self.strain_energy(u1) - self.strain_energy(u1 - dq)
+        K = self.system.K
+        Ku = K @ u1
+        U1 = 0.5 * float(u1 @ Ku)
+        self._last_strain = [(u1, U1), *self._last_strain[:2]]
+        moved = np.flatnonzero(dq)
+        return float(dq @ Ku) - 0.5 * float(dq[moved] @ (K[moved] @ dq))
+
     def rigid(self, u_full: FloatArray, R: FloatArray | None = None) -> FloatArray:
         """Rigid motion of every body (n_bodies, r): centroid translation (m) and
         rotation (rad); with large rotations the rotation of the body frames R."""
@@ -724,8 +740,7 @@ class Dynamic:
         if dq is not None:
             # the potential energy it adds: strain, and the loads' (the step-average load
             # over Δq, as the external work counts it)
-            correction = (self.strain_energy(u1) - self.strain_energy(smooth.u)
-                          - 0.5 * float(dq @ (kin.f + f1)))  # fmt: skip
+            correction = self._strain_added(u1, dq) - 0.5 * float(dq @ (kin.f + f1))
         new = State(t1, u1, v1, acc, f1, smooth.aux)
         if ahead_next and self.corot is None:
             # the next step's free acceleration (it depends on this step's state and the

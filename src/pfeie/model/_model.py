@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cached_property
 from typing import Any
 
@@ -32,6 +32,7 @@ from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
 from ._plausible import warn_implausible
 from ._reservoir import Reservoir
+from ._uplift import MODEL_FILE_KEYS as UPLIFT_FILE_KEYS
 from ._uplift import Uplift, uplift_force
 
 log = logging.getLogger(__name__)
@@ -775,6 +776,17 @@ class Model:
             have = ", ".join(self.pairs.names) if self.pairs is not None else "none"
             raise ModelError(f"uplift: {interface!r} is not an interface of the model "
                              f"(interfaces: {have})")  # fmt: skip
+        known = {f.name for f in fields(Uplift)} - {"interface", "headwater"}
+        for key in options:
+            if key not in known:
+                hint = (
+                    f"; {key!r} is the model file's name, the Python keyword is "
+                    f"{UPLIFT_FILE_KEYS[key]!r}"
+                    if key in UPLIFT_FILE_KEYS
+                    else ""
+                )
+                raise ModelError(f"uplift in {interface!r}: unknown keyword {key!r}{hint} "
+                                 f"(expected {', '.join(sorted(known))})")  # fmt: skip
         up = Uplift(interface, float(headwater), **options)
         _, length = up.abscissa(self.pairs, self.pairs.of(interface))  # the axis exists
         if up.drains is not None and not 0.0 < up.drains < length:
@@ -1437,24 +1449,30 @@ class Model:
                              shape=(self.n_dof, self.n_bodies * r)).tocsr()  # fmt: skip
 
     @cached_property
-    def _rigid_fit(self) -> tuple[sp.csc_matrix, Any]:
-        """(MΦ, Cholesky factor of ΦᵀMΦ) of the mass-norm rigid fit, formed once."""
-        import scipy.linalg as sla
-
+    def _rigid_fit(self) -> sp.csr_matrix:
+        """The mass-norm rigid fit as one operator, A = (ΦᵀMΦ)⁻¹(MΦ)ᵀ (n_bodies·r ×
+        n_dof), formed once: ΦᵀMΦ is block-diagonal (a node is in one body), so its
+        inverse is taken body by body (r × r blocks) and A has the pattern of (MΦ)ᵀ."""
         Phi = self.rigid_modes()
-        mdiag = np.repeat(self.body_weights, self.dim)
-        MPhi = Phi.multiply(mdiag[:, None]).tocsc()
-        return MPhi, sla.cho_factor((Phi.T @ MPhi).toarray())
+        r = 3 if self.dim == 2 else 6
+        nb = self.n_bodies
+        MPhi = sp.csr_matrix(Phi.multiply(np.repeat(self.body_weights, self.dim)[:, None]))
+        B = sp.coo_matrix(Phi.T @ MPhi)
+        blocks = np.zeros((nb, r, r))
+        same = B.row // r == B.col // r
+        np.add.at(blocks, (B.row[same] // r, B.row[same] % r, B.col[same] % r), B.data[same])
+        inv = np.linalg.inv(blocks)
+        rows = (np.arange(nb)[:, None, None] * r + np.arange(r)[None, :, None]).repeat(r, 2)
+        cols = (np.arange(nb)[:, None, None] * r + np.arange(r)[None, None, :]).repeat(r, 1)
+        Binv = sp.csr_matrix((inv.ravel(), (rows.ravel(), cols.ravel())), shape=(nb * r, nb * r))
+        return sp.csr_matrix(Binv @ MPhi.T)
 
     def rigid_motion(self, u: FloatArray) -> FloatArray:
         """Rigid motion (n_bodies, r) of each body about its mass centroid that best fits
         the nodal field u (full DOF vector or (n_points, d)) in the mass norm: the
         translation of the centroid and the rotation (rad)."""
-        import scipy.linalg as sla
-
-        MPhi, factor = self._rigid_fit
         U = np.asarray(u, dtype=float).reshape(self.n_dof, -1)
-        q = sla.cho_solve(factor, MPhi.T @ U)
+        q = self._rigid_fit @ U
         r = 3 if self.dim == 2 else 6
         return (
             q.reshape(self.n_bodies, r, -1).squeeze(-1)

@@ -40,6 +40,9 @@ from ..interface import PairGeometry
 from ..typing import BoolArray, FloatArray
 
 SHAKING = ("keep", "full", "zero")
+
+#: the model file's keys of ``[[loads.uplift]]`` that the Python API names otherwise
+MODEL_FILE_KEYS = {"drain_efficiency": "efficiency"}
 _AXES = {"-x": (0, 1.0), "+x": (0, -1.0), "-y": (1, 1.0), "+y": (1, -1.0)}
 
 

@@ -418,43 +418,15 @@ def _row(spec: RunSpec, s: dict[str, Any], wall: float) -> dict[str, Any]:
 
 def _reliability(s: dict[str, Any], row: dict[str, Any]) -> list[str]:
     """The run's reliability warnings, as ``pfeie run``'s summary gives them
-    (:func:`pfeie._job.format_summary`: its "large slip", "corrections" and "scheme"
-    lines, with the same thresholds); puts the ``energy.*`` shares into ``row``."""
-    from .._job import (
-        CORRECTION_SHARE,
-        CORRECTION_UNRESOLVED,
-        LARGE_SLIP,
-        SCHEME_CREATED,
-        damped_by_scheme,
-        energy_shares,
-    )
+    (:func:`pfeie._job.reliability`, one line each); puts the ``energy.*`` shares into
+    ``row``."""
+    from .._job import energy_shares, reliability
 
-    notes = []
-    for name, j in s.get("joints", {}).items():
-        ratio = j.get("peak_slip_to_spacing", 0.0)
-        if ratio > LARGE_SLIP:
-            notes.append(f"large slip: joint {name}'s slip reaches {ratio:.2g} × the spacing "
-                         f"of its pairs ({j.get('pair_spacing_m', 0.0):.3g} m), beyond "
-                         f"{LARGE_SLIP:g}: its faces are paired node to node (small sliding), "
-                         "the result is not reliable")  # fmt: skip
     if s.get("energy_J") is not None:
         share, created, dissipated = energy_shares(s)
         row["energy.correction_share"], row["energy.scheme_created_share"] = share, created
         row["energy.scheme_dissipated_share"] = dissipated
-        if abs(share) > CORRECTION_SHARE:
-            notes.append(f"corrections: the position corrections of penetrating pairs "
-                         f"{'added' if share > 0 else 'took'} {100 * abs(share):.1f} % of the "
-                         "input energy, impacts this Δt does not resolve"
-                         + (f" (more than {100 * CORRECTION_UNRESOLVED:.0f} %: not converged "
-                            "in Δt, halve Δt)" if abs(share) > CORRECTION_UNRESOLVED
-                            else ""))  # fmt: skip
-        if damped_by_scheme(s):
-            notes.append(f"scheme: the time scheme dissipated {100 * dissipated:.0f} % of the "
-                         "input: damped by the scheme, not converged in Δt, halve Δt")  # fmt: skip
-        if created > SCHEME_CREATED:
-            notes.append(f"scheme: the time scheme created {100 * created:.0f} % of the energy "
-                         "through the run: not converged in Δt, halve Δt")  # fmt: skip
-    return notes
+    return [w.short for w in reliability(s)]
 
 
 def _as_run(row: dict[str, Any], spec: RunSpec) -> dict[str, Any]:
