@@ -107,6 +107,9 @@ def test_check_prints_the_demo_summary(capsys: pytest.CaptureFixture[str]) -> No
     assert main(["check", str(ROOT / "examples" / "koyna" / "koyna.toml")]) == 0
     out = capsys.readouterr().out
     assert "interface    dam_rock: 37 pairs" in out and "interface    neck: 9 pairs" in out
+    # the strengths in force, as examples/koyna/koyna.toml gives them (MPa, degrees)
+    assert ("dam_rock: 37 pairs; intact: c 1 MPa, φ 45°, tensile 0.5 MPa; residual: c 0 MPa, "
+            "φ 40°, tensile 0 MPa") in out  # fmt: skip
     assert "record       elcentro_1940_ns_chopra: PGA 0.191 g" in out
     assert "memory" in out
     assert ("brakes the rigid motion of the floating block(s) dam_lower, dam_upper" in out

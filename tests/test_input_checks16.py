@@ -192,7 +192,7 @@ def test_a_record_in_g_declared_in_cm_s2_is_warned(
     with caplog.at_level(logging.WARNING):
         load_job(p)
     assert (f"{p}: ground_motion[0]: rec.csv: the record's PGA is 0.000204 g with its values "
-            "read in cm/s2 (units = 'cm/s2'): below the plausible 0.001 to 10 g; are its "
+            "read in cm/s2 (units = 'cm/s2'): below the plausible 0.001 to 2.5 g; are its "
             "values in g? (units = 'g' gives 0.2 g)") in caplog.text  # fmt: skip
 
 
@@ -210,8 +210,17 @@ def test_a_plausible_or_rescaled_record_is_not_warned(
 def test_a_record_too_strong_names_the_likely_units() -> None:
     msg = implausible_pga("r.csv", 9.81 * 98.1, "m/s2")  # 981 cm/s2 read as m/s2: 98 g
     assert msg == ("r.csv: the record's PGA is 98.1 g with its values read in m/s2 (units = "
-                   "'m/s2'): above the plausible 0.001 to 10 g; are its values in cm/s2? "
+                   "'m/s2'): above the plausible 0.001 to 2.5 g; are its values in cm/s2? "
                    "(units = 'cm/s2' gives 0.981 g)")  # fmt: skip
+
+
+def test_a_record_in_m_s2_read_as_g_is_warned() -> None:
+    """El Centro's 0.319 g written in m/s² (3.13) and read as g: 3.13 g, beyond the
+    strongest motions recorded (2 to 3 g): warned, with the units that fit (a new user's
+    AT2 file ran without a word when the limit was 10 g)."""
+    msg = implausible_pga("r.AT2", 9.81 * 3.13, "g")
+    assert msg is not None and "above the plausible 0.001 to 2.5 g" in msg
+    assert "are its values in m/s2? (units = 'm/s2' gives 0.319 g)" in msg
 
 
 # -- 4. decimal commas in a record ----------------------------------------------------------

@@ -46,6 +46,25 @@ def test_at2_round_trip_and_header_variants(tmp_path: Path) -> None:
     assert read_record(p2).time[-1] == pytest.approx(1559 * 0.02)
 
 
+@pytest.mark.parametrize(("value", "unit"), [("0.005", "SEC"), ("0.005", ""), ("5.000", "MSEC"),
+                                            ("0.005", "S")])  # fmt: skip
+def test_at2_dt_unit(tmp_path: Path, value: str, unit: str) -> None:
+    """DT's unit after its value: SEC (or none) is seconds, MSEC milliseconds (a header
+    'DT= 5.000 MSEC' had been read as a 5 s step: a 2 h record, without a word)."""
+    p = tmp_path / "r.at2"
+    p.write_text("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF G\n"
+                 f"NPTS=    3, DT=   {value} {unit}\n0.1 0.2 0.1\n")  # fmt: skip
+    assert read_record(p).time[1] == pytest.approx(0.005, rel=1e-12)
+
+
+def test_at2_dt_unknown_unit(tmp_path: Path) -> None:
+    p = tmp_path / "r.at2"
+    p.write_text("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF G\n"
+                 "NPTS=    3, DT=   0.5 MIN\n0.1 0.2 0.1\n")  # fmt: skip
+    with pytest.raises(RecordError, match="line 4: DT: the unit 'MIN'"):
+        read_record(p)
+
+
 def test_at2_fused_numbers(tmp_path: Path) -> None:
     p = tmp_path / "fused.at2"
     p.write_text("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT=   .0100 SEC\n"

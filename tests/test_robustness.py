@@ -650,7 +650,7 @@ def test_plausibility_warnings(
     tmp_path: Path, caplog: pytest.LogCaptureFixture, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """Valid input that is probably not what was meant gets a warning naming the key: a
-    volume group in no block (its cells left out), a modulus written in GPa without its
+    surface group (2D) in no block (its cells left out), a modulus written in GPa without its
     exponent, a mesh drawn in millimetres, a water level above the whole model; the
     summary of ``check`` gives the model's extent and mass (a 2 m × 1 m plate of
     2000 kg/m³, 1 m thick: 4000 kg)."""
@@ -662,7 +662,7 @@ def test_plausibility_warnings(
     assert "extent       2 x 1 m; mass 4000 kg" in capsys.readouterr().out
     cases = [
         (text.replace('right = "rock"\n', ""), {},
-         "the mesh's volume group(s) 'right' (1 cells) are in no block"),
+         "the mesh's surface group(s) 'right' (1 cells) are in no block"),
         (text.replace("E = 1e9", "E = 25"), {},
          "materials.rock.E = 25 Pa lies below 1e+06 Pa (concrete and rock: 1e9 to 1e11 Pa); "
          "pfeie takes SI units: did you mean 2.5e+10 (GPa)"),
@@ -708,6 +708,15 @@ def test_plausibility_warnings(
         between = 'right = "rock"' in text_k and "[interfaces.mid]" not in text_k
         assert ("'mid' lies between" in caplog.text) == between
         capsys.readouterr()
+    # a joint between a block and a group forgotten under [blocks]: the error says which
+    p = model(tmp_path, text=text.replace('right = "rock"\n', "").replace(
+        "[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n[[supports]]"),
+        elements=elements, names=names)  # fmt: skip
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert ("interface 'mid' has facets on the mesh boundary" in err
+            and "the mesh's group(s) 'right' are in no block, so a joint between them and a "
+            "block lies on the model's boundary: list them under [blocks]" in err), err
     caplog.clear()  # a group the model file uses (here as a support) is no joint left out
     p = model(tmp_path, text=text.replace('group = "bottom"', 'group = "mid"'),
               elements=elements, names=names)  # fmt: skip

@@ -372,3 +372,24 @@ def test_yield_line_reads_a_near_sliding_limit(y: dict[str, Any], text: str) -> 
     out = format_summary({"model": model, "version": pf.__version__,
                           "yield_coefficient": {"+x": y}})  # fmt: skip
     assert text in out, out
+
+
+def test_min_safety_factor_is_dated_when_the_joint_first_slides() -> None:
+    """A block on a level joint (φ = 20°) under a ground acceleration ramp a(t) = 0.8 g t/s:
+    it holds while a < μ g and slides from t_s = tan 20°/0.8 = 0.455 s, its FS then 1 to
+    round-off at every step. The summary dates the minimum at the first of those steps
+    (argmin had picked any of them: a new user's block read 9.11, 14.07 and 1.39 s as Δt
+    fell, sliding from 1.315 s in every run)."""
+    model = block_on_base(joint=pf.Joint(phi=20.0), E=1e12, check_units=False)
+    static = pf.solve_static(model)
+    t = np.linspace(0.0, 1.0, 101)
+    gm = pf.GroundMotion.from_samples(0.8 * t, time=t, units="g")
+    res = pf.Dynamic(model, 0.002).run(1.0, start=static, ground=[gm], probes=[0])
+    s = summarize(_job(model, 0), static, res)
+    j = s["joints"]["joint"]
+    t_s = np.tan(np.radians(20.0)) / 0.8
+    assert j["min_safety_factor"] == pytest.approx(1.0, abs=1e-9)
+    # the first recorded step at FS = 1 (Δt = 2 ms; the block is rigid to 1e-12)
+    assert j["min_safety_factor_time_s"] == pytest.approx(t_s, abs=0.0021)
+    fs = res.safety_factor[:, 0]
+    assert (fs[res.t > t_s + 0.01] < 1.0 + 1e-9).all()  # it slides on to the end

@@ -27,6 +27,7 @@ from pfeie.errors import MechanismError, ModelError
 from pfeie.interface import OPEN
 from pfeie.model import Uplift
 from pfeie.solvers._static import solve_pairs
+from pfeie.verification._models import block_on_base
 
 RHO_W, G = 1000.0, 9.81
 ROOT = Path(__file__).resolve().parents[1]
@@ -460,3 +461,58 @@ def test_a_signal_during_the_yield_search_ends_the_run_cleanly(
     with Results(tmp_path / "out" / "results.h5") as res:
         assert not res.completed
         assert f"interrupted ({sig.name}) before the time stepping" in res.meta["stop_reason"]
+
+
+def test_pressure_in_a_joint_by_its_name() -> None:
+    """A uniform water pressure p in an inclined joint, given by the interface's name
+    (``add_pressure("joint", p)``: both faces): the block's normal force is W cos ψ − p L
+    and its sliding safety factor (c L + (W cos ψ − p L) tan φ)/(W sin ψ), the planar
+    sliding formula (Hoek and Bray), to the pair solver's tolerance; the same as the two
+    faces given apart."""
+    psi, phi, c, p = 30.0, 35.0, 2e4, 1e4  # degrees, degrees, Pa, Pa
+    # 4 m wide and 1 m high: the effective normal force's eccentricity, (W sin ψ · ½ m) /
+    # (W cos ψ − p L) = 0.57 m, stays within the kern (L/6 = 0.67 m), so no pair opens
+    model = block_on_base(joint=pf.Joint(phi=phi, c_r=c), width=4.0, height=1.0, n=8, ny=2,
+                          incline_deg=psi, E=1e12, check_units=False)  # fmt: skip
+    model.add_pressure("joint", p)
+    assert [ld.target for ld in model.loads if ld.kind == "pressure"] == ["joint:a", "joint:b"]
+    st = pf.solve_static(model)
+    W, L = 2400.0 * G * 4.0, 4.0  # N/m and m (1 m thick, plane strain)
+    b = np.radians(psi)
+    X = st.pairs.X.sum(axis=0)
+    assert X[-1] == pytest.approx(W * np.cos(b) - p * L, rel=1e-9)
+    fs_hand = (c * L + (W * np.cos(b) - p * L) * np.tan(np.radians(phi))) / (W * np.sin(b))
+    P = st.pairs
+    # the upslope end pair parts by 4e-9 m (the free end of the joint): it touches and
+    # keeps its c A (opening below OPEN_CRACK_MIN_M), as in the hand computation
+    fs = model.pair_laws.safety_factor(P.X, P.state == OPEN, P.broken, P.path,
+                                       model.pairs.frame, opening=P.w[:, -1])  # fmt: skip
+    assert fs[0] == pytest.approx(fs_hand, rel=1e-9)
+
+
+def test_model_file_water_in_a_joint(tmp_path: Path) -> None:
+    """The model file takes an interface as the group of ``[[loads.pressure]]`` and of
+    ``[[loads.hydrostatic]]``: the pressure acts on both faces of the joint (the Koyna
+    demo with 0.2 MPa in its neck joint and the reservoir's water in the dam–rock joint):
+    the loads are on the split faces, equal and opposite, so the joint's water adds
+    nothing to the whole model's resultant."""
+    from pfeie.io import load_job
+
+    root = Path(__file__).resolve().parents[1] / "examples"
+    text = (root / "koyna" / "koyna.toml").read_text()
+    text = text.replace('file = "../data/', f'file = "{root.as_posix()}/data/')
+    text = text.replace('file = "koyna.msh"', f'file = "{(root / "koyna").as_posix()}/koyna.msh"')
+    extra = ('[[loads.pressure]]\ngroup = "neck"\nvalue = 2e5\n\n'
+             '[[loads.hydrostatic]]\ngroups = ["dam_rock"]\nwater_level = 91.75\n\n')  # fmt: skip
+    text = text.replace("[[ground_motion]]", extra + "[[ground_motion]]", 1)
+    p = tmp_path / "koyna.toml"
+    p.write_text(text)
+    model = load_job(p).model
+    targets = [ld.target for ld in model.loads if ld.kind == "pressure"]
+    assert {"neck:a", "neck:b", "dam_rock:a", "dam_rock:b"} <= set(targets)
+    # the joints' water alone: equal and opposite on the two faces of each joint
+    model.loads = [ld for ld in model.loads if ld.target and ld.target.split(":")[0] in
+                   ("neck", "dam_rock")]  # fmt: skip
+    f = model.load_vector().reshape(-1, 2)
+    assert np.abs(f.sum(axis=0)).max() < 1e-9 * np.abs(f).sum()
+    assert np.abs(f).sum() > 1e6  # 0.2 MPa over the neck's ~14 m, and the base's water

@@ -247,3 +247,36 @@ def test_the_yield_coefficient_in_a_model_file(
     capsys.readouterr()
     assert main(["run", str(bad), "--quiet"]) == 2
     assert "analysis.yield_coefficient" in capsys.readouterr().err
+
+
+def test_directions_listed_in_a_model_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``analysis.yield_coefficient = ["-x"]`` searches that direction only (k_y = μ = 0.5
+    on the level joint); a 2D model asked for '+y' (its vertical axis) is refused, naming
+    the key; a repeated direction too."""
+    text = SMALL.replace("[analysis]", '[analysis]\nyield_coefficient = ["-x"]\ndynamic = false')
+    text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
+    p = _write(tmp_path, text)
+    assert main(["run", str(p), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert list(s["yield_coefficient"]) == ["-x"]
+    mu = np.tan(np.radians(26.565))
+    assert mu * (1 - TOL) <= s["yield_coefficient"]["-x"]["k_y"] <= mu
+    for bad, words in (('["+y"]', "names y, the vertical axis of a 2D model"),
+                       ('["-x", "-x"]', "distinct directions")):  # fmt: skip
+        q = _write(tmp_path, text.replace('["-x"]', bad))
+        capsys.readouterr()
+        assert main(["run", str(q), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert "analysis.yield_coefficient" in err and words in err, err
+
+
+def test_horizontal_axis_y_in_3d() -> None:
+    """In 3D, ``horizontal(model, axis=1)`` is +y made normal to gravity: a cube on a
+    level joint (φ = 30°) yields at k_y = tan 30° along +y as along +x."""
+    m = block_on_base_3d(joint=pf.Joint(phi=30.0))
+    _, iota = pf.solvers.horizontal(m, axis=1)
+    assert iota.tolist() == [0.0, 1.0, 0.0]
+    y = pf.yield_coefficient(m, iota)
+    assert np.tan(np.radians(30.0)) * (1 - TOL) <= y.k_y <= np.tan(np.radians(30.0))

@@ -66,7 +66,13 @@ from .io import (
 )  # fmt: skip
 from .model import Model
 from .plot import solver_line
-from .solvers import StaticResult, horizontal, solve_static, yield_coefficient
+from .solvers import (
+    YIELD_K_MAX,
+    StaticResult,
+    horizontal,
+    solve_static,
+    yield_coefficient,
+)
 from .typing import FloatArray
 
 log = logging.getLogger(__name__)
@@ -132,6 +138,11 @@ ENERGY_FLOOR = 1e-6
 #: faces its neighbour's partner more than its own
 LARGE_SLIP = 0.5
 
+#: a joint's minimum safety factor is dated at the first recorded time within this
+#: share of it: the values of a sliding joint are 1 to round-off (1 − 1e-15) at every
+#: step it slides
+MIN_FS_TIES = 1e-9
+
 #: the floating blocks (held by their joints) whose motion the text summary lists; all
 #: bodies are in summary.json
 BODY_LINES = 10
@@ -195,9 +206,17 @@ def run_job(
             import gc
 
             gc.collect()  # close the results file that the run left open
+            import errno
+
+            where = exc.filename if exc.filename else out
+            if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+                fix = ("the file or folder is not writable (permissions, a read-only file "
+                       "system): make it writable or choose another output.folder")  # fmt: skip
+            else:
+                fix = "free some room (a full disk or a quota)"
             raise ResultsError(
-                f"{out}: cannot write the results ({exc.strerror or exc}); what was written "
-                "before stays readable (pfeie report, pfeie export); with room again, "
+                f"{where}: cannot write the results ({exc.strerror or exc}): {fix}; what was "
+                "written before stays readable (pfeie report, pfeie export), and then "
                 "`pfeie run --resume` continues from the last checkpoint"
             ) from None
 
@@ -247,6 +266,12 @@ def _run(
     t0 = time.perf_counter()
     # the dynamic analysis first: a setting it refuses is an input error, found before work
     dyn = dynamic_analysis(job) if a.dynamic else None
+    if isinstance(a.yield_coefficient, list) and model.dim == 2 and any(
+            d[1] == "y" for d in a.yield_coefficient):  # fmt: skip
+        raise InputError(
+            f"{job.path}: analysis.yield_coefficient: {a.yield_coefficient} "
+            "names y, the vertical axis of a 2D model; expected '+x' or '-x'"
+        )
     if a.yield_coefficient and model.pairs is None:
         raise InputError(f"{job.path}: analysis.yield_coefficient: the model has no "
                          "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
@@ -389,8 +414,9 @@ def dynamic_analysis(job: Job) -> Dynamic:
 def _yield_coefficients(
     job: Job, settings: SolverSettings, stream: TextIO | None = None
 ) -> dict[str, dict[str, Any]]:
-    """The yield coefficient along +x and −x, made horizontal (``analysis.yield_coefficient``;
-    :func:`pfeie.yield_coefficient`), with one static problem for both: per direction its
+    """The yield coefficient along +x and −x, or the directions listed, each made
+    horizontal (``analysis.yield_coefficient``; :func:`pfeie.yield_coefficient`), with one
+    static problem for all: per direction its
     unit vector, ``k_y`` (the last coefficient held, None if held up to the largest tried),
     ``k_affine`` (the margins' affine root from the last two held), ``k_fail``, ``limit``,
     the governing ``joint`` and its safety factor at k_y, and the analyses it took. With a
@@ -399,13 +425,16 @@ def _yield_coefficients(
     model = job.model
     problem = StaticInterfaceProblem(model, model.system(), settings=settings)
     out: dict[str, dict[str, Any]] = {}
-    for label, sign in (("+x", 1.0), ("-x", -1.0)):
+    asked = job.analysis.yield_coefficient
+    labels = ["+x", "-x"] if asked is True else list(asked or [])
+    for label in labels:
+        sign, axis = (1.0 if label[0] == "+" else -1.0), "xy".index(label[1])
         t0 = time.perf_counter()
         if stream is not None:
             stream.write(f"yield coefficient {label}: static analyses ...\n")
             stream.flush()
         try:
-            _, iota = horizontal(model)
+            _, iota = horizontal(model, axis=axis)
             y = yield_coefficient(model, sign * iota, problem=problem)
         except ModelError as exc:
             raise InputError(f"{job.path}: analysis.yield_coefficient: {exc}") from None
@@ -414,10 +443,10 @@ def _yield_coefficients(
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
             "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
-            "analyses": y.analyses, **_most_open(model, y.static),
+            "analyses": y.analyses, "k_max": YIELD_K_MAX, **_most_open(model, y.static),
         }  # fmt: skip
         if stream is not None:  # (the library logs it at INFO too)
-            k_y = "none up to the largest tried" if y.k_y is None else f"{y.k_y:.6g}"
+            k_y = f"none up to {YIELD_K_MAX:g}" if y.k_y is None else f"{y.k_y:.6g}"
             stream.write(f"yield coefficient {label}: k_y {k_y} ({y.limit}), {y.analyses} "
                          f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip
             stream.flush()
@@ -707,7 +736,11 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             joints[name]["max_open_time_s"] = float(res.t[k_open])
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
-                k = int(np.argmin(fs))
+                # the first time within round-off of the minimum: a sliding joint sits at
+                # FS = 1 to round-off at every step it slides, and argmin would pick any of
+                # them (a block on a plane: 9.11, 14.07, 1.39 s as Δt fell, sliding from
+                # 1.315 s in every run)
+                k = int(np.argmax(fs <= fs.min() * (1.0 + MIN_FS_TIES)))
                 # a joint that never carries shear has no FS: null (printed ∞)
                 joints[name]["min_safety_factor"] = float(fs[k]) if np.isfinite(fs[k]) else None
                 joints[name]["min_safety_factor_time_s"] = float(res.t[k])
@@ -856,7 +889,7 @@ def format_summary(s: dict[str, Any]) -> str:
     for label, y in s.get("yield_coefficient", {}).items():
         k, fs = y["k_y"], y["safety_factor"]
         if k is None:
-            what = "k_y > the largest tried"
+            what = f"k_y > {y.get('k_max', YIELD_K_MAX):g} (held at the largest coefficient tried)"
         elif y["limit"] == "sliding":
             what = f"k_y {k:.4g} (sliding on {y['joint']!r})"
         elif (

@@ -640,6 +640,27 @@ def _input_failure(exc: PfeieError, source: str) -> int:
     return EXIT_INPUT
 
 
+def _law_text(law: dict[str, Any] | None) -> str:
+    """A joint law of ``pfeie check``'s summary as text: the strengths in force at the
+    start (intact, then residual; or those of a joint that starts broken), MPa and
+    degrees."""
+    if not law or "initial" not in law:
+        return f"; {law['law']}" if law else ""
+
+    def mc(c: str, phi: str, t: str) -> str:
+        return (f"c {law.get(c, 0.0) / 1e6:g} MPa, φ {law.get(phi, 0.0):g}°, tensile "
+                f"{law.get(t, 0.0) / 1e6:g} MPa")  # fmt: skip
+
+    residual = mc("residual_cohesion", "residual_friction_angle", "residual_tensile_strength")
+    if law["initial"] == "intact":
+        text = (f"; intact: {mc('cohesion', 'friction_angle', 'tensile_strength')}; "
+                f"residual: {residual}")  # fmt: skip
+    else:
+        text = f"; starts broken: {residual}"
+    springs = [f"{k} {law[k]:g} Pa/m" for k in ("normal_stiffness", "shear_stiffness") if k in law]
+    return text + (f"; {', '.join(springs)}" if springs else "")
+
+
 def _steps_line(steps: int, dt: float, duration: float) -> str:
     """The check's time-step line: the steps, Δt and the time the run reaches, steps × Δt
     (the steps are round(duration / Δt), as the run takes them); where Δt does not divide
@@ -705,8 +726,10 @@ def _format_check(s: dict[str, object]) -> str:
                      f"the ideal cell), {q['below_0.3']} cell(s) below 0.3")  # fmt: skip
     pairs = s["pairs"]
     assert isinstance(pairs, dict)
+    laws = s.get("joint_laws") or {}
+    assert isinstance(laws, dict)
     for name, n in pairs.items():
-        lines.append(f"interface    {name}: {n} pairs")
+        lines.append(f"interface    {name}: {n} pairs" + _law_text(laws.get(name)))
     damping = s.get("damping")
     if isinstance(damping, dict):
         floating = damping["floating"]

@@ -47,3 +47,23 @@ def test_full_disk(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert main(["run", "model.toml", "--quiet", "--resume", *every_row]) == 0
     with Results("out/results.h5") as res:
         assert res.completed and res.time[-1] == pytest.approx(0.2)
+
+
+def test_results_file_not_writable(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                   capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """A results file that cannot be written (a read-only file: EPERM, as a new user's
+    `chattr +i`) names the file and says that it is not writable, not "room"."""
+    monkeypatch.chdir(tmp_path)
+    setup(tmp_path)
+    (tmp_path / "model.toml").write_text(MODEL)
+
+    def denied(self: ResultsWriter) -> None:
+        raise OSError(errno.EPERM, "Operation not permitted", "out/results.h5")
+
+    monkeypatch.setattr(ResultsWriter, "flush", denied)
+    assert main(["run", "model.toml", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    line = next(ln for ln in err.splitlines() if ln.startswith("pfeie: error: "))
+    assert "out/results.h5: cannot write the results (Operation not permitted)" in line, line
+    assert "not writable" in line and "room" not in line, line

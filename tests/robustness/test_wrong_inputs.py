@@ -462,10 +462,11 @@ CASES: list[Case] = [
             'groups = ["face"]\nwater_level = 1.8\n[[loads.silt]]',
         ),
     ),
-    C("hydrostatic-on-an-interface", M, "loads.hydrostatic[0].groups: 'joint' is an interface",
+    # (water in a joint is [[loads.hydrostatic]] or [[loads.pressure]] on the interface;
+    # silt on one is refused)
+    C("silt-on-an-interface", M, "loads.silt[0].groups: 'joint' is an interface",
       "expected a group of boundary faces", edit=sub(
-          'groups = ["upstream"]\nwater_level = 1.8\n[[loads.silt]]',
-          'groups = ["joint"]\nwater_level = 1.8\n[[loads.silt]]')),
+          '[[loads.silt]]\ngroups = ["upstream"]', '[[loads.silt]]\ngroups = ["joint"]')),
     C("pressure-inside-a-block", M, "loads.pressure[0].group: pressure on 'joint'",
       "inside a block", "expected facets on the boundary of a block or on an interface",
       edit=lambda t: drop("[interfaces.joint]\nfriction_angle = 35.0\ncohesion = 1e5\n",

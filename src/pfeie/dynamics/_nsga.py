@@ -133,9 +133,13 @@ class NonsmoothAlpha:
         """q̈_{n+1} without pair forces: Ŝ⁻¹ s (f − C v̂ − K q̂), one back-substitution."""
         _, q_hat, v_hat = self.known(state)
         sys_ = self.system
-        r = f_next - sys_.K @ q_hat
-        if sys_.C is not None:
-            r = r - damping_product(sys_, v_hat)
+        both = getattr(sys_, "elastic_and_damping", None)  # a model's system: one sweep of K
+        if both is not None:
+            r = f_next - both(q_hat, v_hat)
+        else:
+            r = f_next - sys_.K @ q_hat
+            if sys_.C is not None:
+                r = r - damping_product(sys_, v_hat)
         return self.factor.solve(self.s * r)
 
     def advance(self, state: State, acc: FloatArray, f_next: FloatArray) -> State:

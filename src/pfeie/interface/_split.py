@@ -290,6 +290,13 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
                                 "of the mesh (is the mesh conforming across it?)")  # fmt: skip
             hit = np.isin(fid, fid[at])
             iface[hit] = j
+        if not (iface == j).any():
+            raise MeshError(
+                f"interface {name!r}: its facet group holds no facets (the selection matched "
+                "none: a facet group made with boundary_only=True holds no inner facets, and "
+                "a joint needs a row of element edges or faces along it); expected the facets "
+                "between the two blocks"
+            )  # fmt: skip
         inner = np.isin(fid, fid[iface == j]) & (fcount[fid] == 2)
         if not inner[iface == j].all():
             raise MeshError(

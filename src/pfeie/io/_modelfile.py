@@ -35,6 +35,7 @@ from ..interface import (
     FACTOR_CACHE_COUNT,
     MODEL_FILE_KEYS,
     Joint,
+    MohrCoulomb,
     SlipWeakening,
 )
 from ..mesh import Mesh, shape_quality
@@ -234,7 +235,7 @@ class Job:
             "massless_floating": [m.body_names()[b] for b in m.massless_floating_bodies()],
             "free_modes": [{"blocks": g, "modes": md} for g, md in m.partly_supported_groups()],
             "cells": s["cells"], "nodes": s["nodes"], "dof": s["dof"],
-            "free_dof": dof, "pairs": pairs,
+            "free_dof": dof, "pairs": pairs, "joint_laws": _joint_laws(m),
             "quality": _quality(m.mesh),
             "damping": {"alpha": m.damping.alpha if m.damping else 0.0,
                         "beta": m.damping.beta if m.damping else 0.0,
@@ -246,6 +247,27 @@ class Job:
             "dt": self.analysis.dt, "duration": self.duration,
             "estimated_memory_mb": round(mem / 2**20, 1),
         }  # fmt: skip
+
+
+def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:
+    """Each interface's joint law as its model-file keys (SI; angles in degrees): what
+    ``pfeie check`` shows beside the pair count, so that the strengths in force can be
+    read before a run."""
+    out: dict[str, dict[str, Any]] = {}
+    for it in m.interfaces:
+        law = it.joint
+        if not isinstance(law, MohrCoulomb):
+            out[it.group] = {"law": type(law).__name__}
+            continue
+        entry: dict[str, Any] = {"law": type(law).__name__, "initial": law.initial}
+        for api, key in _JOINT_KEYS.items():
+            value = getattr(law, api, None)
+            if api == "phi_r" and value is None:
+                value = law.phi
+            if value is not None:
+                entry[key] = float(value)
+        out[it.group] = entry
+    return out
 
 
 #: the names of a joint law's parameters in the model file's messages (its keys)
@@ -272,13 +294,9 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
-def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
-                  interfaces: list[Interface]) -> None:  # fmt: skip
-    """Warnings for input that is valid but probably not what was meant: volume groups of
-    the mesh (as read) in no block (their cells are left out), moduli, densities,
-    strengths, friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
-    the file and its keys), and a water level above the whole model (an overtopped
-    crest)."""
+def _left_out(cfg: Any, mesh: Mesh) -> tuple[list[tuple[str, int]], int]:
+    """The mesh's cell groups (2D surfaces, 3D volumes) in no block, with their cells
+    that no block holds, and the count of all cells left out."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
     for b in cfg.blocks:
         for t, idx in mesh.cell_groups.get(b, {}).items():
@@ -287,12 +305,23 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
     for g, parts in sorted(mesh.cell_groups.items()):
         n = sum(int((~covered[t][idx]).sum()) for t, idx in parts.items())
         if g not in cfg.blocks and n:
-            left.append(f"{g!r} ({n} cells)")
-    total = sum(int((~c).sum()) for c in covered.values())
+            left.append((g, n))
+    return left, sum(int((~c).sum()) for c in covered.values())
+
+
+def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
+                  interfaces: list[Interface]) -> None:  # fmt: skip
+    """Warnings for input that is valid but probably not what was meant: volume groups of
+    the mesh (as read) in no block (their cells are left out), moduli, densities,
+    strengths, friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
+    the file and its keys), and a water level above the whole model (an overtopped
+    crest)."""
+    left, total = _left_out(cfg, mesh)
     if left:
-        log.warning("%s: the mesh's volume group(s) %s are in no block: their cells are left "
+        log.warning("%s: the mesh's %s group(s) %s are in no block: their cells are left "
                     "out of the model (list them under [blocks] with a material to include "
-                    "them)", p, ", ".join(left))  # fmt: skip
+                    "them)", p, "surface" if mesh.dim == 2 else "volume",
+                    ", ".join(f"{g!r} ({n} cells)" for g, n in left))  # fmt: skip
     elif total:
         log.warning("%s: %d cell(s) of the mesh belong to no block and are left out of the "
                     "model", p, total)  # fmt: skip
@@ -567,7 +596,12 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                       damping=damping, interfaces=interfaces, check_units=False)  # fmt: skip
     except (ModelError, MeshError) as exc:
         hint = ""
-        if "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
+        left = _left_out(cfg, mesh)[0]
+        if "facets on the mesh boundary" in str(exc) and left:  # a block forgotten?
+            hint = (f"; the mesh's group(s) {', '.join(repr(g) for g, _ in left)} are in no "
+                    "block, so a joint between them and a block lies on the model's "
+                    "boundary: list them under [blocks] with a material")  # fmt: skip
+        elif "facets on the mesh boundary" in str(exc):  # a joint between unshared nodes?
             pairs = mesh.coincident_nodes()
             if pairs.size:
                 at = ", ".join(f"{v:.6g}" for v in mesh.points[pairs[0, 0]])
@@ -636,14 +670,17 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         if ps.kv:
             model.add_inertia((ps.kv * loads.gravity * upward).tolist())
 
-    def faces(key: str, groups: list[str]) -> None:
-        """Each of ``groups`` must be a facet group of the mesh (``key`` names the list)."""
+    joints = model.pairs.names if model.pairs is not None else []
+
+    def faces(key: str, groups: list[str], in_joints: bool = False) -> None:
+        """Each of ``groups`` must be a facet group of the mesh (``key`` names the list),
+        or with ``in_joints`` an interface (water pressure in the joint: on both faces)."""
         for g in groups:
-            if g not in model.mesh.facet_groups:
+            if g not in model.mesh.facet_groups and not (in_joints and g in joints):
                 raise InputError(_group_msg(p, key, g, model.mesh, mesh.dim - 1))
 
     for i, pr in enumerate(loads.pressure):
-        faces(f"loads.pressure[{i}].group", [pr.group])
+        faces(f"loads.pressure[{i}].group", [pr.group], in_joints=True)
         try:
             model.add_pressure(pr.group, pr.value)
         except ModelError as exc:
@@ -651,7 +688,7 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
     up = mesh.dim - 1
     g_acc = loads.gravity or 9.81
     for i, hy in enumerate(loads.hydrostatic):
-        faces(f"loads.hydrostatic[{i}].groups", hy.groups)
+        faces(f"loads.hydrostatic[{i}].groups", hy.groups, in_joints=True)
         for g in hy.groups:
             try:
                 model.add_pressure(
@@ -1030,7 +1067,8 @@ def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:
     facets = sorted({g[:-2] if g.endswith((":a", ":b")) else g for g in mesh.facet_groups})
     if name in joints:
         return (f"{p}: {key}: {name!r} is an interface (a joint inside the model); expected a "
-                f"group of boundary faces (water in a joint: [[loads.uplift]]); groups of "
+                f"group of boundary faces (water in a joint: [[loads.uplift]], or "
+                f"[[loads.pressure]] and [[loads.hydrostatic]] on the interface); groups of "
                 f"dimension {mesh.dim - 1}: {facets}")  # fmt: skip
     where = mesh.empty_note(name)
     if dim == mesh.dim and name in mesh.facet_groups:

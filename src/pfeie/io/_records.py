@@ -54,8 +54,11 @@ _HEADER_UNITS = {
 
 
 #: the peak ground accelerations (g) of a record that are taken as plausible: outside
-#: them, the record's units are suspect (a record in g read as cm/s² peaks near 0.003 g)
-PLAUSIBLE_PGA_G = (1e-3, 10.0)
+#: them, the record's units are suspect (a record in g read as cm/s² peaks near 0.003 g;
+#: a record in m/s² read as g 9.81 times too high, 3.1 g for El Centro's 0.32 g). The
+#: strongest horizontal motions recorded peak near 2 to 3 g; a record beyond 2.5 g is
+#: warned, not refused (:data:`pfeie.io.MAX_PGA_G` refuses)
+PLAUSIBLE_PGA_G = (1e-3, 2.5)
 
 
 def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
@@ -160,6 +163,14 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
         dt = float(m.group(2))
     except ValueError:
         raise RecordError(f"{path}: line 4: DT: expected a number, found {m.group(2)!r}") from None
+    # the unit after DT's value (NGA-West1 writes SEC; none means seconds)
+    unit = re.match(r"\s*([A-Za-z]+)", head[m.end() :]) if m is m1 else None
+    word = unit.group(1).upper() if unit else "SEC"
+    if word in ("MSEC", "MS"):
+        dt *= 1e-3
+    elif word not in ("SEC", "SECS", "S"):
+        raise RecordError(f"{path}: line 4: DT: the unit {word!r} after its value "
+                          "is not a time unit pfeie reads; expected SEC (or MSEC)")  # fmt: skip
     if not (math.isfinite(dt) and 0 < dt <= MAX_DT):
         raise RecordError(f"{path}: line 4: DT: expected a number in (0, {MAX_DT:g}] s, found "
                           f"{m.group(2)!r}")  # fmt: skip

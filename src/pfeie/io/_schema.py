@@ -285,7 +285,9 @@ class Support(_Table):
 class Pressure(_Table):
     """``[[loads.pressure]]``: a uniform pressure on faces."""
 
-    group: Annotated[str, Field(description="physical group of faces")]
+    group: Annotated[str, Field(description="physical group of faces, or an interface: the "
+                                "pressure acts in the joint, on both its faces (water in "
+                                "the joint, pushing the blocks apart)")]  # fmt: skip
     value: Annotated[Stress, Field(description="pressure (Pa), positive pushing into the body")]
 
 
@@ -294,7 +296,9 @@ class Hydrostatic(_Table):
 
     groups: Annotated[list[str], Field(min_length=1), Expect("an array of group names"),
                       AfterValidator(_distinct),
-                      Field(description="physical groups of wetted faces")]  # fmt: skip
+                      Field(description="physical groups of wetted faces, or interfaces: "
+                            "the water pressure ρ g (h − z) in the joint, on both its faces "
+                            "(a water table in a rock slope's joints)")]  # fmt: skip
     water_level: Annotated[Elevation, Field(description="water level (m, on the vertical axis)")]
     density: Annotated[FluidDensity, Field(description="water density (kg/m³)")] = 1000.0
 
@@ -622,10 +626,11 @@ class Analysis(DynamicSettings):
         True
     )
     dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
-    yield_coefficient: Annotated[bool, Field(
+    yield_coefficient: Annotated[bool | list[Literal["+x", "-x", "+y", "-y"]], Field(
         description="after the static state, find the yield coefficient k_y along +x and "
-        "−x (made horizontal): the pseudo-static acceleration, a fraction of g, at which "
-        "a joint slides (summary.json yield_coefficient; needs static = true)",
+        "−x (true), or along the directions listed (in 3D also '+y', '-y'), each made "
+        "horizontal: the pseudo-static acceleration, a fraction of g, at which a joint "
+        "slides (summary.json yield_coefficient; needs static = true)",
     )] = False  # fmt: skip
     post_earthquake: Annotated[bool, Field(
         description="after a completed record, the post-earthquake static state: the "
@@ -646,6 +651,12 @@ class Analysis(DynamicSettings):
         if not (self.static or self.dynamic):
             raise _check("dynamic", "nothing to run: static and dynamic are both false; "
                          "expected one of them (or both) true")  # fmt: skip
+        if isinstance(self.yield_coefficient, list) and (
+            not self.yield_coefficient
+            or len(set(self.yield_coefficient)) < len(self.yield_coefficient)
+        ):
+            raise _check("yield_coefficient", "expected true, false or distinct directions "
+                         "among '+x', '-x', '+y', '-y'")  # fmt: skip
         if self.yield_coefficient and not self.static:
             raise _check("yield_coefficient", "the yield coefficient is found from the "
                          "static state; expected static = true")  # fmt: skip

@@ -215,10 +215,42 @@ class LinearSystem:
     #: prescribed ones (free × prescribed), through which a moving ground acts
     K_fp: sp.csr_matrix | None = None
     C_fp: sp.csr_matrix | None = None
+    #: Rayleigh's (α, β) when ``C`` = α M + β K exactly (None otherwise): then
+    #: K q + C v = K (q + β v) + α M v, one sweep of K (:meth:`elastic_and_damping`)
+    rayleigh: tuple[float, float] | None = None
 
     @property
     def n(self) -> int:
         return int(self.free.size)
+
+    def elastic_and_damping(self, q: FloatArray, v: FloatArray) -> FloatArray:
+        """K q + (C + U B Uᵀ) v (N), the elastic and damping forces on the free DOFs; for
+        Rayleigh damping as K (q + β v) + α M v + U B Uᵀ v, one product with K where
+        K q + C v takes two (C has K's pattern).
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(2.0, 1.0, 2, 1)
+        >>> _ = mesh.add_cell_group("all", lambda x: x[:, 0] > -1)
+        >>> m = pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.2, 2400.0))],
+        ...              damping=pf.Rayleigh(alpha=0.3, beta=2e-3))
+        >>> m.fix("xmin")
+        >>> s = m.system(lumped_mass=True)
+        >>> q, v = np.linspace(0, 1e-3, s.n), np.linspace(1e-2, 0, s.n)
+        >>> bool(np.allclose(s.elastic_and_damping(q, v), s.K @ q + s.C @ v, rtol=1e-13))
+        True
+        """
+        if self.C is None:
+            return np.asarray(self.K @ q)
+        if self.rayleigh is None:
+            out = np.asarray(self.K @ q + self.C @ v)
+        else:
+            alpha, beta = self.rayleigh
+            out = np.asarray(self.K @ (q + beta * v))
+            if alpha:
+                out += alpha * (self.M @ v)
+        if self.C_update is not None:
+            out += self.C_update @ v
+        return out
 
     def load(self, t: float) -> FloatArray:
         """Free-DOF load vector at time t (N)."""
@@ -512,8 +544,12 @@ class Model:
         level: float | None = None,
     ) -> None:
         """A pressure (Pa, positive pushing into the body) on a facet group: faces on the
-        boundary of the blocks or on a joint (a facet group that also holds facets inside a
-        block is refused: a pressure there has no side to push). ``value``: a number, or
+        boundary of the blocks, or in a joint: an interface's name puts the pressure on
+        both its faces (water in the joint, pushing the blocks apart: a uniform or any
+        pore pressure, where :meth:`add_uplift` is the dam guideline's heel-to-toe
+        distribution), ``"<interface>:a"`` or ``":b"`` on one face (a facet group that
+        also holds facets inside a block is refused: a pressure there has no side to
+        push). ``value``: a number, or
         a function of the points x, an array (facets, quadrature points, d), that returns
         the pressure at each, shape x.shape[:-1]: write its coordinates x[..., k].
 
@@ -539,11 +575,15 @@ class Model:
         >>> bool(np.isclose(m.load_vector()[0::2].sum(), 9810.0 * 5.0**2 / 2, rtol=1e-14))
         True
         """
-        self._boundary_group(group, "pressure")
         if level is not None and not np.isfinite(level):
             raise ModelError(f"pressure on {group!r}: the level must be finite, got {level}")
-        self.loads.append(Load("pressure", group, value, amplitude,
-                               level=None if level is None else float(level)))  # fmt: skip
+        faces = [group]
+        if self.pairs is not None and group in self.pairs.names:
+            faces = [f"{group}:a", f"{group}:b"]  # the joint's two faces (split apart)
+        for face in faces:
+            self._boundary_group(face, "pressure")
+            self.loads.append(Load("pressure", face, value, amplitude,
+                                   level=None if level is None else float(level)))  # fmt: skip
 
     def add_silt(
         self,
@@ -1116,6 +1156,8 @@ class Model:
             n_pairs=0 if self.pairs is None else int(self.pairs.n),
             C_update=self._rigid_damping(Mff, free) if C is not None else None,
             M_fp=Mfp if Mfp.nnz else None, K_fp=Kfp, C_fp=Cfp,
+            rayleigh=(None if C is None or self.damping is None
+                      else (float(self.damping.alpha), float(self.damping.beta))),
         )  # fmt: skip
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:

@@ -123,11 +123,12 @@ class YieldCoefficient:
 
 
 def horizontal(
-    model: Model, direction: Sequence[float] | FloatArray | None = None
+    model: Model, direction: Sequence[float] | FloatArray | None = None, axis: int = 0
 ) -> tuple[float, FloatArray]:
     """The magnitude g (m/s²) of the model's gravity and a horizontal unit vector ι:
-    ``direction`` made unit (it must be normal to gravity), or +x made normal to gravity.
-    :class:`ModelError` without gravity or with a direction that is not horizontal."""
+    ``direction`` made unit (it must be normal to gravity), or the coordinate axis ``axis``
+    (0: +x, 1: +y) made normal to gravity. :class:`ModelError` without gravity or with a
+    direction that is not horizontal."""
     gvec = np.zeros(model.dim)
     for ld in model.loads:
         if ld.kind == "gravity" and ld.amplitude is None:
@@ -138,7 +139,7 @@ def horizontal(
                          "fraction of g; add_gravity first)")  # fmt: skip
     up = -gvec / g
     if direction is None:
-        iota = np.eye(model.dim)[0] - up[0] * up
+        iota = np.eye(model.dim)[axis] - up[axis] * up
     else:
         iota = np.asarray(direction, dtype=float)
         if iota.shape != (model.dim,) or not np.all(np.isfinite(iota)):
@@ -146,7 +147,8 @@ def horizontal(
                              f"components, got {list(direction)}")  # fmt: skip
     norm = float(np.linalg.norm(iota))
     if not norm > 0:
-        raise ModelError("yield coefficient: the direction is zero (or +x is vertical)")
+        raise ModelError(f"yield coefficient: the direction is zero (or {'xyz'[axis]} is "
+                         "vertical)")  # fmt: skip
     iota = iota / norm
     if abs(float(iota @ up)) > 1e-9:
         raise ModelError(f"yield coefficient: the direction {list(np.round(iota, 6))} is not "
