@@ -84,6 +84,24 @@ def test_interface_on_boundary_is_an_error() -> None:
                  interfaces=[pf.Interface("ymin", STRONG)])  # fmt: skip
 
 
+def test_interfaces_that_overlap_or_are_empty_are_errors() -> None:
+    """Two interfaces that share facets (a group of both planes of a wedge beside one of
+    its planes: a new user's check gave the plane 0 pairs, without a word), and an
+    interface whose group holds no facet (an IndexError before), name the groups."""
+    mesh = pf.rectangle(2.0, 2.0, 2, 2)
+    mesh.add_cell_group("a", lambda x: x[:, 1] < 1)
+    mesh.add_cell_group("b", lambda x: x[:, 1] > 1)
+    mesh.add_facet_group("j", lambda x: np.abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("half", lambda x: (np.abs(x[:, 1] - 1) < 1e-9) & (x[:, 0] < 1),
+                         boundary_only=False)  # fmt: skip
+    mesh.add_facet_group("none", lambda x: x[:, 0] > 5.0, boundary_only=False)
+    blocks = [pf.Block("a", pf.Elastic(1e9, 0.2, 1000)), pf.Block("b", pf.Elastic(1e9, 0.2, 1000))]
+    with pytest.raises(pf.ModelError, match="interfaces 'j' and 'half' share 1 facet"):
+        pf.Model(mesh, blocks, interfaces=[pf.Interface("j", STRONG), pf.Interface("half", STRONG)])
+    with pytest.raises(pf.ModelError, match="interface 'none': its facet group holds no facets"):
+        pf.Model(mesh, blocks, interfaces=[pf.Interface("none", STRONG)])
+
+
 def _dam_models(dim: int) -> tuple[pf.Model, pf.Model]:
     """Monolithic and cut versions of a two-material model (2D with a T junction)."""
     if dim == 2:

@@ -230,7 +230,9 @@ def test_histories_kept_on_request(tmp_path: Path) -> None:
     p = setup(tmp_path, STUDY.replace('folder = "study"', 'folder = "study"\nhistories = true'),
               n=1)  # fmt: skip
     t = Study.from_file(p).run()
-    f = tmp_path / "study" / "runs" / "r0_001" / "results.h5"
+    # named by the intensity, not the level's index (which a value added to the ladder
+    # would renumber)
+    f = tmp_path / "study" / "runs" / f"r0_{t.column('intensity')[1]:g}" / "results.h5"
     with Results(f) as res:
         assert res.completed
         slip = np.linalg.norm(res.pairs("joint")["s"][-1], axis=-1).max()
@@ -383,3 +385,25 @@ def test_runs_in_lockstep_give_the_rows_of_runs_alone(tmp_path: Path,
     same(want, st.run())
     assert calls == [3, 3]  # six runs in two groups of at most four
     assert len(list((tmp_path / "study" / "rows").glob("*.json"))) == 6
+
+
+def test_a_kept_history_says_when_the_records_peak_lies_beyond_the_run(tmp_path: Path) -> None:
+    """A record whose peak comes after the run's end: the kept history's record line
+    gives the whole record's PGA (its summary), and says that it lies beyond the run and
+    what the motion applied peaks at: the study's target (a new user's history read
+    "PGA 2.608 g at 29.14 s" for a 4 s run that peaked at 0.37 g)."""
+    import json
+
+    import h5py
+
+    p = setup(tmp_path, STUDY.replace('folder = "study"', 'folder = "study"\nhistories = true')
+              .replace("values = [0.2, 0.5]", "values = [0.5]\n[analysis]\nduration = 0.5"),
+              n=1)  # fmt: skip
+    t = np.arange(0.0, 2.0, 0.01)
+    np.savetxt(tmp_path / "rec" / "r0.csv", np.c_[t, t * np.sin(2 * np.pi * 2.0 * t)],
+               delimiter=",")  # fmt: skip
+    Study.from_file(p).run()
+    with h5py.File(tmp_path / "study" / "runs" / "r0_0.5" / "results.h5") as f:
+        line = json.loads(f.attrs["results_summary"])["model"]["records"][0]
+    assert "the PGA above lies beyond the end of the run, 0.5 s: the motion applied peaks " \
+           "at 0.5 g" in line, line

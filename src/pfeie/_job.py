@@ -140,7 +140,8 @@ LARGE_SLIP = 0.5
 
 #: a joint's minimum safety factor is dated at the first recorded time within this
 #: share of it: the values of a sliding joint are 1 to round-off (1 − 1e-15) at every
-#: step it slides
+#: step it slides; a minimum within it of 1 is given as 1 (the joint slid: a study's
+#: limit state FS ≤ 1 counts it, which 1 + 4.7e-14 missed)
 MIN_FS_TIES = 1e-9
 
 #: the floating blocks (held by their joints) whose motion the text summary lists; all
@@ -741,8 +742,13 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 # them (a block on a plane: 9.11, 14.07, 1.39 s as Δt fell, sliding from
                 # 1.315 s in every run)
                 k = int(np.argmax(fs <= fs.min() * (1.0 + MIN_FS_TIES)))
-                # a joint that never carries shear has no FS: null (printed ∞)
-                joints[name]["min_safety_factor"] = float(fs[k]) if np.isfinite(fs[k]) else None
+                # a joint that never carries shear has no FS: null (printed ∞); one that
+                # slides has FS 1, its values 1 to round-off (1 + 4.7e-14 was seen): 1, so
+                # that a limit state FS ≤ 1 counts it
+                fs_min = float(fs[k])
+                if abs(fs_min - 1.0) <= MIN_FS_TIES:
+                    fs_min = 1.0
+                joints[name]["min_safety_factor"] = fs_min if np.isfinite(fs_min) else None
                 joints[name]["min_safety_factor_time_s"] = float(res.t[k])
     s["joints"] = joints
     stress = envelope_extremes(res.envelope, model.mesh.points)
@@ -796,7 +802,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             "floating": b in floating,
             "peak_displacement_m": float(u[:, b].max()),
             "residual_displacement_m": float(u[-1, b]),
-            "residual_displacement_xyz_m": q[-1, b, :d].round(6).tolist(),
+            "residual_displacement_xyz_m": (q[-1, b, :d].round(6) + 0.0).tolist(),  # no -0.0
             "residual_rotation_deg": float(rot[b]),
         }
     return out

@@ -601,8 +601,10 @@ def _study(args: argparse.Namespace) -> int:
                        progress=progress)  # fmt: skip
     except KeyboardInterrupt as exc:
         why = f" ({exc.args[0]})" if exc.args else ""
-        print(f"pfeie: interrupted{why}; the runs finished so far are kept: the same "
-              "command resumes the study", file=sys.stderr)  # fmt: skip
+        again = ("the same command without --restart resumes the study" if args.restart
+                 else "the same command resumes the study")  # fmt: skip
+        print(f"pfeie: interrupted{why}; the runs finished so far are kept: {again}",
+              file=sys.stderr)  # fmt: skip
         return EXIT_INTERRUPTED
     except (InputError, MeshError, RecordError, ResultsError) as exc:
         return _input_failure(exc, args.study)
@@ -671,7 +673,11 @@ def _steps_line(steps: int, dt: float, duration: float) -> str:
     the last 0.01 s is not run)
     >>> print(_steps_line(400, 0.01, 4.0))
     time steps   400 of 0.01 s, to t = 4 s
+    >>> print(_steps_line(0, 0.01, 0.0))
+    time steps   none (no dynamic analysis: analysis.dynamic = false)
     """
+    if not steps and not duration:
+        return "time steps   none (no dynamic analysis: analysis.dynamic = false)"
     end = steps * dt
     line = f"time steps   {steps} of {dt:g} s, to t = {end:.6g} s"
     gap = duration - end

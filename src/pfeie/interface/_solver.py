@@ -166,6 +166,23 @@ FCLIB set); the yield search of a Tet4 block on an intact joint on a 20° plane 
 80 static analyses, 26 without equilibrium) took 16.7 s CPU instead of 22.4."""
 
 
+LINE_SEARCH_CRAWL = 10
+"""A semismooth Newton whose line search accepts steps shorter than
+:data:`CRAWL_STEP` this many iterations in a row stops there, as one that finds no descent
+(:data:`LINE_SEARCH_FAILS`): it crawls along the kinks of the law, a sliver of a step at a
+time, and does not reach an answer that way. Measured on the Newtons of the interface,
+planted-solution, wedge, FCLIB and yield tests, the slow planted, wedge, 3D-solver and
+verification tests, and a new user's yield search with uplift (2,485 Newtons): a
+converging Newton (2,070) took at most 7 such steps in a row; 200 of the 415 that failed
+crawled 10 in a row, and stopping them there saves 30 to 44 % of the Newton iterations
+of the test sets where Newtons fail (that yield search, 34
+static analyses, 69 of its 74 Newtons failing: 8.9 → 3.1 s, the same k_y)."""
+
+CRAWL_STEP = 2.0**-10
+"""The step of the Newton's line search below which an iteration crawls
+(:data:`LINE_SEARCH_CRAWL`)."""
+
+
 def _stalled(history: list[float]) -> bool:
     """Whether a Newton's residual norms ``history`` (one per iteration) have not halved
     over the last :data:`NEWTON_STALL` iterations."""
@@ -1250,6 +1267,7 @@ class InterfaceSolver:
         stops when its residual has not halved over :data:`NEWTON_STALL` iterations
         (another start follows); the last start runs to ``max_iter``. Every start stops
         when its line search finds no descent :data:`LINE_SEARCH_FAILS` iterations in a
+        row, or crawls (steps below :data:`CRAWL_STEP`) :data:`LINE_SEARCH_CRAWL` in a
         row.
         """
         m, d = self.m, self.d
@@ -1268,6 +1286,7 @@ class InterfaceSolver:
             F, J = self._natural_map(Xv, broken, w_free, prev, e)
             norms: list[float] = []
             flat = 0  # iterations in a row whose line search found no descent
+            crawl = 0  # iterations in a row whose line search took a sliver of a step
             for _ in range(max_iter):
                 total += 1
                 nF = float(np.linalg.norm(F))
@@ -1294,6 +1313,10 @@ class InterfaceSolver:
                     if flat >= LINE_SEARCH_FAILS:
                         stalled = True
                         break
+                crawl = crawl + 1 if step < CRAWL_STEP else 0
+                if crawl >= LINE_SEARCH_CRAWL:
+                    stalled = True
+                    break
                 Xv = Xv + step * dX
                 F, J = self._natural_map(Xv, broken, w_free, prev, e)
             X = Xv[:M].reshape(m, d)

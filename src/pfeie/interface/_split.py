@@ -289,6 +289,15 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
                 raise MeshError(f"interface {name!r}: {int((~found).sum())} facet(s) are not faces "
                                 "of the mesh (is the mesh conforming across it?)")  # fmt: skip
             hit = np.isin(fid, fid[at])
+            other = np.unique(iface[hit & (iface >= 0) & (iface != j)])
+            if other.size:
+                shared = int(np.unique(fid[hit & (iface == other[0])]).size)
+                raise MeshError(
+                    f"interfaces {names[int(other[0])]!r} and {name!r} share {shared} "
+                    "facet(s): a facet belongs to one joint; expected facet groups that do "
+                    "not overlap (a group that holds both planes of a wedge is one joint, "
+                    "or its planes are two)"
+                )  # fmt: skip
             iface[hit] = j
         if not (iface == j).any():
             raise MeshError(

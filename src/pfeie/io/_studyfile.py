@@ -101,7 +101,10 @@ class StudyOutput(_Table):
 
     folder: Annotated[PathText, Field(description="output folder")] = "study"
     histories: Annotated[
-        bool, Field(description="also keep every run's results file (runs/<name>/results.h5)")
+        bool,
+        Field(
+            description="also keep every run's results file (runs/<record>_<intensity>/results.h5)"
+        ),
     ] = False
     parquet: Annotated[
         bool, Field(description="write the table as Parquet (needs pyarrow) beside the CSV")

@@ -150,7 +150,7 @@ def record_names(paths: list[Path], base: Path) -> list[str]:
 
 
 def _slug(name: str) -> str:
-    """A folder name for a run: the record name and level, other characters as ``_``."""
+    """A folder name for a run: the record name and intensity, other characters as ``_``."""
     return re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("_.") or "run"
 
 
@@ -333,16 +333,24 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
 
     job = sysm.job
     rec = spec.record.read(job.model.dim)
-    rec = dataclasses.replace(rec, acceleration=rec.acceleration * spec.factor,
-                              scaling=f"scaled ×{spec.factor:.6g}")  # fmt: skip
-    run_job = _job_of_run(job, spec, rec)
     duration = ctx.duration if ctx.duration is not None else rec.duration
+    how = f"scaled ×{spec.factor:.6g}"
+    k = int(np.argmax(np.abs(rec.acceleration)))
+    if rec.time[k] > duration:  # the record line gives the whole record's PGA: say so
+        part = applied_part(rec, duration)[0]
+        how += (f" (the PGA above lies beyond the end of the run, {duration:g} s: the "
+                f"motion applied peaks at {spec.factor * part.pga / 9.81:.4g} g)")  # fmt: skip
+    rec = dataclasses.replace(rec, acceleration=rec.acceleration * spec.factor, scaling=how)
+    run_job = _job_of_run(job, spec, rec)
     t0 = time.perf_counter()
     writer = None
     if ctx.histories:
         from ..io import ResultsWriter
 
-        folder = ctx.folder / "runs" / _slug(spec.name)
+        # named by the record and the intensity's value, not the level's index: a value
+        # added to the ladder renumbers the levels, and a kept history would then sit
+        # under another level's name (or be overwritten by another run)
+        folder = ctx.folder / "runs" / _slug(f"{spec.record.name}@{spec.value:.6g}")
         folder.mkdir(parents=True, exist_ok=True)
         writer = ResultsWriter(folder / "results.h5", run_job,
                                field_every=job.output.field_every)  # fmt: skip
@@ -483,7 +491,8 @@ class Study:
         ``sa`` describe the motion applied, the record up to ``duration``.
     overrides: ``KEY=VALUE`` settings of the model file (as ``pfeie run --set``).
     folder: output folder (the rows, the table; one study at a time: a lock file).
-    histories: also keep every run's results file (``runs/<record>_<level>/results.h5``).
+    histories: also keep every run's results file
+        (``runs/<record>_<intensity>/results.h5``, the intensity's value as ``%g``).
     parquet: write ``table.parquet`` (pyarrow) beside ``table.csv``.
     title: the study's title (in ``study.json`` and the report).
     workers: worker processes of a local Dask cluster (0: every run in this process, one
