@@ -89,6 +89,22 @@ def test_forces_beyond_double_precision_are_never_accepted(scale: float) -> None
                 solver.solve(scale * w_free, prev)
 
 
+def _count_newtons(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The iterations of each semismooth Newton run from now on (appended as they end)."""
+    from pfeie.interface import _solver
+
+    counts: list[int] = []
+    newton = _solver.InterfaceSolver._newton
+
+    def counted(self: InterfaceSolver, *args: object, **kw: object) -> object:
+        out = newton(self, *args, **kw)  # type: ignore[arg-type]
+        counts.append(out[2])
+        return out
+
+    monkeypatch.setattr(_solver.InterfaceSolver, "_newton", counted)
+    return counts
+
+
 def test_a_newton_without_descent_stops(monkeypatch: pytest.MonkeyPatch) -> None:
     """A static problem with no equilibrium (a rigid-friction block on a 10° incline, φ =
     40°, pushed down the dip by k_h = 0.6 > tan 30° = 0.577, its yield coefficient): the
@@ -101,15 +117,7 @@ def test_a_newton_without_descent_stops(monkeypatch: pytest.MonkeyPatch) -> None
     from pfeie.interface import _solver
     from pfeie.verification._models import block_on_base
 
-    counts: list[int] = []
-    newton = _solver.InterfaceSolver._newton
-
-    def counted(self: InterfaceSolver, *args: object, **kw: object) -> object:
-        out = newton(self, *args, **kw)  # type: ignore[arg-type]
-        counts.append(out[2])
-        return out
-
-    monkeypatch.setattr(_solver.InterfaceSolver, "_newton", counted)
+    counts = _count_newtons(monkeypatch)
     model = block_on_base(joint=pf.Joint(phi=40.0), incline_deg=10.0)
     model.add_inertia([0.6 * 9.81, 0.0])
     with pytest.raises(MechanismError):
@@ -127,15 +135,7 @@ def test_a_crawling_newton_stops(monkeypatch: pytest.MonkeyPatch) -> None:
     from pfeie.interface import _solver
     from pfeie.verification._models import block_on_base
 
-    counts: list[int] = []
-    newton = _solver.InterfaceSolver._newton
-
-    def counted(self: InterfaceSolver, *args: object, **kw: object) -> object:
-        out = newton(self, *args, **kw)  # type: ignore[arg-type]
-        counts.append(out[2])
-        return out
-
-    monkeypatch.setattr(_solver.InterfaceSolver, "_newton", counted)
+    counts = _count_newtons(monkeypatch)
     k_y = []
     for crawl in (10**9, _solver.LINE_SEARCH_CRAWL):
         monkeypatch.setattr(_solver, "LINE_SEARCH_CRAWL", crawl)
