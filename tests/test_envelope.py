@@ -212,8 +212,16 @@ def test_envelope_through_the_model_file(tmp_path: Path) -> None:
     # and in the report: the envelope's extremes, the joints' resultants and minimum FS
     assert main(["report", str(out / "results.h5")]) == 0
     page = (out / "report.html").read_text()
-    assert "<h2>Stress envelope</h2>" in page and "peak |F_x| (kN)" in page
+    assert "<h2>Stress envelope</h2>" in page and "peak horizontal |F| (kN)" in page
     assert f"{summary['min_principal_Pa'] / 1e6:.3g} MPa" in page and "min safety factor" in page
+    # the probes' peaks and the floating blocks' permanent displacement, as the summary
+    full = json.loads((out / "summary.json").read_text())
+    for name, pr in full["probes"].items():
+        assert f"<td>{name}</td><td>{1e3 * pr['peak_displacement_m']:.4g}</td>" in page
+    floating = {k: b for k, b in full["bodies"].items() if b["floating"]}
+    assert floating and "Blocks held by their joints: permanent displacement" in page
+    for name, b in floating.items():
+        assert f"<td>{name}</td><td>{1e3 * b['residual_displacement_m']:.4g}</td>" in page
     vtu = meshio.read(out / "envelope.vtu")
     np.testing.assert_array_equal(vtu.point_data["min_principal"], env["node_min"])
     np.testing.assert_array_equal(np.concatenate(vtu.cell_data["max_principal_time"]),

@@ -407,3 +407,29 @@ def test_a_kept_history_says_when_the_records_peak_lies_beyond_the_run(tmp_path:
         line = json.loads(f.attrs["results_summary"])["model"]["records"][0]
     assert "the PGA above lies beyond the end of the run, 0.5 s: the motion applied peaks " \
            "at 0.5 g" in line, line
+
+
+def test_a_batch_given_anew_runs_only_what_is_left(tmp_path: Path) -> None:
+    """A batch whose runs have rows on disk (a lost Dask worker's batch, recomputed after
+    some of its runs ended: a new user's killed worker had three finished runs run again)
+    returns those rows without running them; a restarted study (``resume`` false) runs
+    them again."""
+    import dataclasses
+    import json
+
+    from pfeie.study._study import run_batch
+
+    p = setup(tmp_path, n=1)
+    st = Study.from_file(p)
+    st.run()
+    specs = st.runs()
+    ctx = dataclasses.replace(st.context(), folder=tmp_path / "study")
+    row_file = tmp_path / "study" / "rows" / f"{specs[0].key}.json"
+    row = json.loads(row_file.read_text())
+    row["wall_s"] = -1.0  # a mark: a run made again writes its own wall time
+    row_file.write_text(json.dumps(row))
+    out = run_batch(ctx, specs)
+    assert [r["key"] for r in out] == [s.key for s in specs]  # type: ignore[index]
+    assert out[0]["wall_s"] == -1.0  # type: ignore[index]
+    again = run_batch(dataclasses.replace(ctx, resume=False), specs[:1])
+    assert again[0]["wall_s"] > 0.0  # type: ignore[index]

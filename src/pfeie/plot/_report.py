@@ -37,6 +37,34 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 
+def motion_tables(res: Results) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """From the run's summary: the blocks held by their joints (floating) with their
+    permanent displacement (the residual rigid motion of their centroid, the figure a
+    Newmark sliding-block analysis estimates), its components, peak and rotation; and
+    the probes' peak displacement and absolute acceleration. Empty for a static run."""
+    summ = res.meta.get("results_summary") or {}
+    axes = "xyz"
+    blocks = []
+    for name, b in (summ.get("bodies") or {}).items():
+        if not b.get("floating"):
+            continue
+        row: dict[str, Any] = {
+            "block": name,
+            "residual displacement (mm)": 1e3 * b["residual_displacement_m"],
+        }
+        for k, v in enumerate(b.get("residual_displacement_xyz_m", [])):
+            row[f"{axes[k]} (mm)"] = 1e3 * v
+        row["peak (mm)"] = 1e3 * b["peak_displacement_m"]
+        row["residual rotation (°)"] = b["residual_rotation_deg"]
+        blocks.append(row)
+    probes = [{"probe": name, "peak |u| (mm)": 1e3 * p["peak_displacement_m"],
+               "peak |u| at (s)": p["peak_displacement_time_s"],
+               "peak absolute |a| (g)": p["peak_abs_acceleration_g"],
+               "peak |a| at (s)": p["peak_abs_acceleration_time_s"]}
+              for name, p in (summ.get("probes") or {}).items()]  # fmt: skip
+    return blocks, probes
+
+
 def joint_table(res: Results) -> list[dict[str, Any]]:
     """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share,
     the post-earthquake safety factor (for a static-only run: the static state,
@@ -66,7 +94,10 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
             rows[-1][f"largest open crack ({unit})"] = float(open_crack(pr, cr).max())
         if "joints/force" in res.f["history"]:
             jr = res.joint_resultants(name)
-            rows[-1]["peak |F_x| (kN)"] = 1e-3 * float(np.abs(jr["force"][:, 0]).max())
+            # the horizontal part of the joint's resultant (the shear a dam's joint
+            # carries; in 3D both horizontal axes: a wedge sliding along y too)
+            horiz = np.linalg.norm(jr["force"][:, :-1], axis=1)
+            rows[-1]["peak horizontal |F| (kN)"] = 1e-3 * float(horiz.max())
             rows[-1]["peak |M| (kN m)"] = 1e-3 * float(
                 np.linalg.norm(jr["moment"], axis=1).max())  # fmt: skip
     # the post-earthquake static state (analysis.post_earthquake), from the run's summary
@@ -681,6 +712,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         two_d = res.f["mesh/points"].shape[1] == 2
         has_static = "static/u" in res.f
         joints = joint_table(res)
+        blocks, probes = motion_tables(res)
         static = static_joint_table(res, job) if res.n_times else []
         if not res.n_times:
             joints = static_joint_table(res, job)
@@ -827,6 +859,11 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         parts.append("<p>No histories (a static-only run).</p>")
     for name in hist:
         parts += figure(name)
+    if probes:
+        parts += ["<h3>Probes</h3>", *_table(probes)]
+    if blocks:
+        parts += ["<h3>Blocks held by their joints: permanent displacement</h3>",
+                  *_table(blocks)]  # fmt: skip
     parts.append(_heading(2, "Joints", "joints"))
     if joints:
         parts += _table(joints)

@@ -234,6 +234,7 @@ class Context:
     folder: Path
     histories: bool
     model_key: str  # SHA-256 of the model, its overrides and its mesh
+    resume: bool = True  # a run whose row is on disk is not run again (False: --restart)
 
 
 @dataclass
@@ -302,7 +303,21 @@ def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | P
     from it (:meth:`_System.lockstep`: their block solves made in one call per step,
     :func:`pfeie.linalg.run_lockstep`; each row the same bits as the run alone), else
     one after the other. Returns each run's row, or the :class:`PfeieError` that
-    stopped it; the rows are written as the runs end."""
+    stopped it; the rows are written as the runs end. A run whose row is already on disk
+    is not run again (unless the study restarts, ``ctx.resume`` false): a batch the
+    scheduler gives anew (a worker lost after some of its runs ended, whose batch Dask
+    recomputes) runs only what is left."""
+    done = {s.key: read_row(ctx.folder, s.key) if ctx.resume else None for s in specs}
+    todo = [s for s in specs if done[s.key] is None]
+    if len(todo) < len(specs):
+        log.info("pid %d: %d of the batch's %d runs have their rows already", os.getpid(),
+                 len(specs) - len(todo), len(specs))  # fmt: skip
+    ran = iter(_run_batch(ctx, todo) if todo else [])
+    return [row if (row := done[s.key]) is not None else next(ran) for s in specs]
+
+
+def _run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | PfeieError]:
+    """:func:`run_batch` on runs that have no row yet."""
     sysm = system(ctx)
     if len(specs) > 1 and sysm.lockstep():
         from ..linalg import LockstepStats, run_lockstep
@@ -942,7 +957,8 @@ class Study:
     ) -> StudyTable:
         """:meth:`run` with the folder locked."""
         # the output options as they are now (they may be changed after the set-up)
-        ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories)
+        ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories,
+                                  resume=resume)  # fmt: skip
         workers = self.workers if workers is None else check_workers(workers)
         scheduler = self.scheduler if scheduler is None else scheduler
         done: dict[str, dict[str, Any]] = {}
