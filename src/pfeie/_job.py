@@ -17,6 +17,7 @@ keeps everything computed so far, and says so (``completed = false``).
 
 from __future__ import annotations
 
+import errno
 import json
 import logging
 import signal
@@ -207,8 +208,6 @@ def run_job(
             import gc
 
             gc.collect()  # close the results file that the run left open
-            import errno
-
             where = exc.filename if exc.filename else out
             if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
                 fix = ("the file or folder is not writable (permissions, a read-only file "

@@ -311,10 +311,11 @@ def _left_out(cfg: Any, mesh: Mesh) -> tuple[list[tuple[str, int]], int]:
 
 def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
                   interfaces: list[Interface]) -> None:  # fmt: skip
-    """Warnings for input that is valid but probably not what was meant: volume groups of
-    the mesh (as read) in no block (their cells are left out), moduli, densities,
-    strengths, friction angles and a mesh in the wrong unit (the checks of :mod:`pfeie.model`, with
-    the file and its keys), and a water level above the whole model (an overtopped
+    """Warnings for input that is valid but probably not what was meant: cell groups of
+    the mesh (as read; 2D surfaces, 3D volumes) in no block (their cells are left out),
+    moduli, densities, strengths, friction angles and a mesh in the wrong unit (the checks
+    of :mod:`pfeie.model`, with the file and its keys), and a water level above the whole
+    model (an overtopped
     crest)."""
     left, total = _left_out(cfg, mesh)
     if left:

@@ -577,13 +577,9 @@ class Model:
         """
         if level is not None and not np.isfinite(level):
             raise ModelError(f"pressure on {group!r}: the level must be finite, got {level}")
-        faces = [group]
-        if self.pairs is not None and group in self.pairs.names:
-            faces = [f"{group}:a", f"{group}:b"]  # the joint's two faces (split apart)
-        for face in faces:
-            self._boundary_group(face, "pressure")
-            self.loads.append(Load("pressure", face, value, amplitude,
-                                   level=None if level is None else float(level)))  # fmt: skip
+        self._boundary_group(group, "pressure")
+        self.loads.append(Load("pressure", group, value, amplitude,
+                               level=None if level is None else float(level)))  # fmt: skip
 
     def add_silt(
         self,
@@ -653,10 +649,21 @@ class Model:
             self.loads.append(Load("silt", g, stress, amplitude, level=zs))
         return kk
 
+    def facets_of(self, group: str) -> dict[str, IntArray]:
+        """The facets (by type) of a facet group of the (split) mesh; for an interface's
+        name, those of both its faces, ``"<name>:a"`` and ``":b"`` (a pressure in the joint
+        pushes both blocks, each along its own outward normal)."""
+        if self.pairs is not None and group in self.pairs.names and (
+                group not in self.mesh.facet_groups):  # fmt: skip
+            a, b = self.mesh.facet_group(f"{group}:a"), self.mesh.facet_group(f"{group}:b")
+            return {t: np.concatenate([c for c in (a.get(t), b.get(t)) if c is not None])
+                    for t in {*a, *b}}  # fmt: skip
+        return self.mesh.facet_group(group)
+
     def _boundary_group(self, group: str, what: str) -> None:
         """Refuse a surface load on facets that are not on the boundary of a block (after
         the interfaces are split, a joint's faces are on the boundary of its blocks)."""
-        for ftype, conn in self.mesh.facet_group(group).items():
+        for ftype, conn in self.facets_of(group).items():
             inside = np.flatnonzero(self.mesh.facet_multiplicity(ftype, conn) > 1)
             if inside.size:
                 x = self.mesh.points[conn[inside[0]]].mean(axis=0)
@@ -1087,7 +1094,7 @@ class Model:
                 return np.asarray(-p[..., None] * normal * outward[:, None, None])
 
             pts = self.mesh.points
-            for ftype, conn in self.mesh.facet_group(ld.target).items():
+            for ftype, conn in self.facets_of(ld.target).items():
                 fv = asm.facet_values(pts, ftype, conn, 2 * reference(ftype).degree + 2,
                                       self.thickness)  # fmt: skip
                 outward = self._outward(ftype, conn, fv)

@@ -560,9 +560,12 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
 
 
 def _facet_polylines(model: Any, group: str) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The facets of a 2D group as (points (5, 2) along the facet, outward normal (2,))."""
+    """The facets of a 2D group as (points (5, 2) along the facet, outward normal (2,));
+    an interface's (a pressure in the joint) drawn on its first face."""
     mesh = model.mesh
     out = []
+    if group not in mesh.facet_groups and f"{group}:a" in mesh.facet_groups:
+        group = f"{group}:a"
     for ftype, conn in mesh.facet_group(group).items():
         conn = np.asarray(conn)
         centre = mesh.facet_cell_centres(ftype, conn)[:, :2]
