@@ -223,6 +223,22 @@ def test_a_record_in_m_s2_read_as_g_is_warned() -> None:
     assert "are its values in m/s2? (units = 'm/s2' gives 0.319 g)" in msg
 
 
+def test_a_record_cut_short_is_warned(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    """A record that ends before analysis.duration with its last sample at its PGA (a new
+    user's study padded a final −0.115 g with zeros, without a word): a warning names the
+    file, the time and the step; a run of the record's own length has none."""
+    p = _model(tmp_path, text=MODEL.replace("dt = 0.01", "dt = 0.01\nduration = 1.0"))
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert (f"{p}: ground_motion[0]: rec.csv: the record ends at 0.39 s with -0.2 g (100 % of "
+            "its PGA), before the end of the run (1 s): from there the ground acceleration is "
+            "zero, a step of -0.2 g (a record cut short?)") in caplog.text  # fmt: skip
+    caplog.clear()
+    with caplog.at_level(logging.WARNING):
+        load_job(_model(tmp_path))
+    assert "cut short" not in caplog.text
+
+
 # -- 4. decimal commas in a record ----------------------------------------------------------
 @pytest.mark.parametrize(
     ("text", "dt", "line", "shown"),

@@ -25,7 +25,7 @@ from ._modelfile import (
     reference_rows,
 )
 from ._paraview import write_modes, write_paraview
-from ._records import applied_part, implausible_pga, read_record, write_at2
+from ._records import abrupt_end, applied_part, implausible_pga, read_record, write_at2
 from ._results import Results, ResultsWriter
 from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_file
 
@@ -42,6 +42,7 @@ __all__ = [
     "Results",
     "ResultsWriter",
     "StudyFile",
+    "abrupt_end",
     "applied_part",
     "export_csv",
     "from_gmsh",

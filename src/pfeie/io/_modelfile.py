@@ -52,7 +52,7 @@ from ..model import (
 )
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import applied_part, implausible_pga, read_record
+from ._records import abrupt_end, applied_part, implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -787,6 +787,8 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
         if note is not None:
             log.warning("%s: ground_motion[%d]: %s: %s scales that part", p, i, note,
                         "pga" if gm.pga is not None else "target_sa")  # fmt: skip
+        if end is not None and (cut := abrupt_end(rec, end)) is not None:
+            log.warning("%s: ground_motion[%d]: %s: %s", p, i, gm.file, cut)
         if on_part is not None:
             part_factors[i] = on_part
         if applied.pga > MAX_PGA_G * 9.81:

@@ -81,6 +81,34 @@ def implausible_pga(path: str | Path, pga: float, units: str) -> str | None:
     return msg
 
 
+#: a record that ends before the run with its last sample above this share of its PGA is
+#: warned (a record cut short: the ground acceleration drops to zero in one step)
+ABRUPT_END = 0.05
+
+
+def abrupt_end(rec: GroundMotion, end: float) -> str | None:
+    """A note when the record ends before the run's end ``end`` (s) with its last sample
+    above :data:`ABRUPT_END` of its PGA: from there the run has no ground acceleration,
+    and the record's last value drops to zero in one step (a record cut short, or the
+    wrong file); ``None`` otherwise.
+
+    >>> gm = GroundMotion.from_samples([0.0, 0.3, -0.2], dt=1.0, units="g")
+    >>> abrupt_end(gm, 5.0)
+    'the record ends at 2 s with -0.2 g (67 % of its PGA), before the end of the run (5 s): from there the ground acceleration is zero, a step of -0.2 g (a record cut short?)'
+    >>> abrupt_end(gm, 2.0) is None
+    True
+    """  # noqa: E501
+    t, a = rec.time, rec.acceleration
+    last = float(a[-1])
+    if t[-1] >= end or not rec.pga > 0 or abs(last) <= ABRUPT_END * rec.pga:
+        return None
+    g = G_UNITS["g"]
+    return (f"the record ends at {t[-1]:g} s with {last / g:.3g} g "
+            f"({100 * abs(last) / rec.pga:.0f} % of its PGA), before the end of the run "
+            f"({end:g} s): from there the ground acceleration is zero, a step of "
+            f"{last / g:.3g} g (a record cut short?)")  # fmt: skip
+
+
 def applied_part(rec: GroundMotion, end: float) -> tuple[GroundMotion, str | None]:
     """The part of the record ``rec`` that a run ending at ``end`` (s) applies, and a note
     when the record's peak lies beyond it (None when the part holds the peak).

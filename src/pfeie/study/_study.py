@@ -60,7 +60,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import InputError, ModelError, PfeieError, RecordError
-from ..io import BATCH, MAX_BATCH, MAX_WORKERS, applied_part
+from ..io import BATCH, MAX_BATCH, MAX_WORKERS, abrupt_end, applied_part
 from ._table import StudyTable
 
 if TYPE_CHECKING:
@@ -819,6 +819,8 @@ class Study:
         if note is not None:
             log.warning("%s: %s: %s: the intensity measures and the scaling describe that "
                         "part", self._entry(r), r.name, note)  # fmt: skip
+        if (short := abrupt_end(rec, end)) is not None:
+            log.warning("%s: %s: %s", self._entry(r), r.name, short)
         return cut
 
     def _check_record(self, r: RecordSource, rec: GroundMotion, pga: float,
