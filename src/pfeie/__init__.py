@@ -12,7 +12,8 @@ The public API is flat; the subpackages mirror the method:
   the interface solver;
 - :mod:`pfeie.coupling` — the operators that couple blocks and pairs: G, the Delassus
   operator W, the static and the one-step interface problems;
-- :mod:`pfeie.solvers` — statics, modal analysis;
+- :mod:`pfeie.solvers` — statics, modal analysis, the yield coefficient, the factor of
+  safety by strength reduction;
 - :mod:`pfeie.dynamics` — Newmark / HHT-α time integration and the PFE/IE analysis.
 
 A whole analysis:
@@ -45,10 +46,12 @@ from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh, Res
 from .solvers import (
     ModalResult,
     StaticResult,
+    StrengthReduction,
     YieldCoefficient,
     factorize,
     modal,
     solve_static,
+    strength_reduction,
     yield_coefficient,
 )
 from .study import Study, StudyTable
@@ -60,6 +63,7 @@ __all__ = [
     "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
-    "StaticResult", "Study", "StudyTable", "YieldCoefficient", "__version__", "box", "factorize",
-    "graded", "modal", "rectangle", "solve_static", "yield_coefficient",
+    "StaticResult", "StrengthReduction", "Study", "StudyTable", "YieldCoefficient", "__version__",
+    "box", "factorize", "graded", "modal", "rectangle", "solve_static", "strength_reduction",
+    "yield_coefficient",
 ]  # fmt: skip

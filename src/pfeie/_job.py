@@ -68,10 +68,12 @@ from .io import (
 from .model import Model
 from .plot import solver_line
 from .solvers import (
+    REDUCTION_F_MAX,
     YIELD_K_MAX,
     StaticResult,
     horizontal,
     solve_static,
+    strength_reduction,
     yield_coefficient,
 )
 from .typing import FloatArray
@@ -272,6 +274,9 @@ def _run(
             f"{job.path}: analysis.yield_coefficient: {a.yield_coefficient} "
             "names y, the vertical axis of a 2D model; expected '+x' or '-x'"
         )
+    if a.strength_reduction and model.pairs is None:
+        raise InputError(f"{job.path}: analysis.strength_reduction: the model has no "
+                         "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
     if a.yield_coefficient and model.pairs is None:
         raise InputError(f"{job.path}: analysis.yield_coefficient: the model has no "
                          "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
@@ -280,6 +285,7 @@ def _run(
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
     ck: Checkpoint | None = None
     yields: dict[str, dict[str, Any]] = {}
+    reduction: dict[str, Any] = {}
     if resume:
         try:
             writer, ck = reopen_results(out / "results.h5", job)
@@ -308,6 +314,8 @@ def _run(
             static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
         if a.yield_coefficient and ck is not None:  # resumed: the summary keeps it
             yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
+        if a.strength_reduction:  # (resumed too: the summary keeps it)
+            reduction = _strength_reduction(job, SolverSettings(tolerance=a.tolerance), ystream)
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
         raise
@@ -366,6 +374,8 @@ def _run(
         summary["post_earthquake"] = post
     if yields:
         summary["yield_coefficient"] = yields
+    if reduction:
+        summary["strength_reduction"] = reduction
     summary["stopped"] = stopped
     summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
     writer.close(stopped is None, stopped, summary)
@@ -453,6 +463,33 @@ def _yield_coefficients(
     return out
 
 
+def _strength_reduction(
+    job: Job, settings: SolverSettings, stream: TextIO | None = None
+) -> dict[str, Any]:
+    """The factor of safety by strength reduction (``analysis.strength_reduction``;
+    :func:`pfeie.strength_reduction`): ``factor`` (the largest held, None if held up to
+    ``f_max``), ``factor_fail``, ``limit``, the governing ``joint``, each joint's safety
+    factor under the reduced strengths and the analyses it took. With a ``stream``, a
+    line on it as it starts and ends."""
+    t0 = time.perf_counter()
+    if stream is not None:
+        stream.write("strength reduction: static analyses ...\n")
+        stream.flush()
+    r = strength_reduction(job.model, settings=settings)
+    out = {
+        "factor": r.factor, "factor_fail": r.factor_fail, "limit": r.limit, "joint": r.joint,
+        "safety_factors": {n: (f if np.isfinite(f) else None)
+                           for n, f in r.safety_factors.items()},
+        "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
+    }  # fmt: skip
+    if stream is not None:
+        f = f"none up to {REDUCTION_F_MAX:g}" if r.factor is None else f"{r.factor:.5g}"
+        stream.write(f"strength reduction: F {f} ({r.limit}), {r.analyses} static analyses in "
+                     f"{time.perf_counter() - t0:.1f} s\n")  # fmt: skip
+        stream.flush()
+    return out
+
+
 def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
     """The joint with the largest open share of its area in the static state ``st`` (at a
     yield coefficient: the joint that opens, where a block rocks or overturns on it), as
@@ -464,6 +501,26 @@ def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
     shares = {n: float(opened[P.of(n)].sum() / P.area[P.of(n)].sum()) for n in P.names}
     name = max(shares, key=lambda n: shares[n])
     return {"open_joint": name, "open_share": shares[name]} if shares[name] > 0 else {}
+
+
+def _reduction_text(sr: dict[str, Any]) -> str:
+    """The summary's line of the factor of safety by strength reduction."""
+    if sr["factor"] is None:
+        return (f"FS > {sr.get('f_max', REDUCTION_F_MAX):g} by strength reduction (held with "
+                "the joints' strengths divided by the largest factor tried)")  # fmt: skip
+    fs = ", ".join(f"{n} {'∞' if f is None else f'{f:.3g}'}"
+                   for n, f in sr["safety_factors"].items())  # fmt: skip
+    if sr["limit"] == "sliding":
+        return (f"FS {sr['factor']:.4g} by strength reduction (sliding on {sr['joint']!r}; "
+                f"joint FS with the strengths / {sr['factor']:.4g}: {fs})")  # fmt: skip
+    what = (f"FS {sr['factor']:.4g} by strength reduction ({sr['limit']} beyond it, not a "
+            "sliding limit: a joint breaking through, opening or rocking, or the pair solver "
+            f"failing short of the limit; joint FS with the strengths / {sr['factor']:.4g}: "
+            f"{fs}")  # fmt: skip
+    if sr.get("open_joint"):
+        what += (f"; {sr['open_joint']!r} is the most open, {100 * sr['open_share']:.0f} % "
+                 "of its area")  # fmt: skip
+    return what + ")"
 
 
 def energy_shares(s: dict[str, Any]) -> tuple[float, float, float]:
@@ -921,6 +978,9 @@ def format_summary(s: dict[str, Any]) -> str:
                          f"{100 * y['open_share']:.0f} % of its area")  # fmt: skip
             what += ")"
         lines.append(f"  yield {label:<10} {what}")
+    sr = s.get("strength_reduction")
+    if sr:
+        lines.append(f"  reduction    {_reduction_text(sr)}")
     for name, j in s.get("joints", {}).items():
         lines.append(
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "

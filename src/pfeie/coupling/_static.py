@@ -18,12 +18,14 @@ cannot hold a body (it would slide or fall), :class:`~pfeie.errors.MechanismErro
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import MechanismError
-from ..interface import InterfaceSolver, PairState, SolverSettings
+from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import LinearSystem, Model
 from ..typing import FloatArray, IntArray
@@ -109,6 +111,7 @@ class StaticInterfaceProblem:
         self.w_pres = self.op.w_prescribed(system.prescribed_values)
         self.W = delassus(self.factor, self.op.G[:, self.keep].tocsr())
         E = self.op.G @ self.Phi if k else None
+        self.laws = model.pair_laws
         self.solver = InterfaceSolver(self.W.matrix(), model.pair_laws, border=E,
                                       settings=settings,
                                       regularize=model.pairs.regularization,
@@ -130,7 +133,7 @@ class StaticInterfaceProblem:
         u_pin[keep] = self.factor.solve(f_free[keep])
         w_free = (self.op.G @ u_pin + self.w_pres).reshape(-1, d)
         e = -(Phi.T @ f_free) if Phi.shape[1] else None
-        laws = self.model.pair_laws
+        laws = self.laws
         prev = laws.initial_state(d)
         if damage is not None:
             prev = PairState.initial(laws.initially_broken | damage.broken, laws.gap, d)
@@ -141,6 +144,15 @@ class StaticInterfaceProblem:
         if Phi.shape[1]:
             u_free = u_free + Phi @ q
         return u_free, st
+
+    def with_laws(self, laws: PairLaws) -> StaticInterfaceProblem:
+        """This problem (its factorisation, W_pin and border, built once) for other laws of
+        the same pairs, e.g. the model's strengths divided by a factor
+        (:meth:`PairLaws.reduced`; :meth:`InterfaceSolver.with_laws`)."""
+        other = copy.copy(self)
+        other.laws = laws
+        other.solver = self.solver.with_laws(laws)
+        return other
 
     @property
     def operator(self) -> sp.csr_matrix:

@@ -3,7 +3,8 @@
 - :func:`split` duplicates the nodes of named facet groups and pairs the copies
   (:class:`PairGeometry`: nodes, frames, tributary areas);
 - joint laws behind the :class:`JointLaw` protocol (:class:`MohrCoulomb`, alias
-  :class:`Joint`; :class:`SlipWeakening`), gathered per pair by :class:`PairLaws`;
+  :class:`Joint`; :class:`SlipWeakening`; :class:`Reduced`, a law's strength divided by
+  a factor), gathered per pair by :class:`PairLaws`;
 - :class:`PairState`: the pair states with explicit trial and commit (the solver returns
   a trial state; the analysis commits it when the step is accepted);
 - :func:`load_fclib`, :func:`coulomb_laws`, :func:`natural_map_residual`: frictional-
@@ -25,6 +26,7 @@ from ._laws import (
     JointLaw,
     MohrCoulomb,
     PairLaws,
+    Reduced,
     SlipWeakening,
     Strength,
     cohesion_ramp,
@@ -39,7 +41,7 @@ __all__ = [
     "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT",
     "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
     "FactorCache", "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry",
-    "PairLaws", "PairState", "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh",
+    "PairLaws", "PairState", "Reduced", "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh",
     "Strength", "cohesion_ramp", "cohesion_ramp_tangent", "coulomb_laws", "load_fclib",
     "natural_map_residual", "split",
 ]  # fmt: skip

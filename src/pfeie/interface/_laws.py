@@ -341,6 +341,54 @@ Joint = MohrCoulomb
 
 
 @dataclass(frozen=True)
+class Reduced:
+    """A joint law whose strength is another's divided by a factor F > 0: cohesion,
+    friction coefficient and tensile strength, intact and residual alike,
+
+        c/F,  tan φ / F,  σ_t/F,
+
+    the reduction of a strength-reduction analysis (Dawson, Roth and Drescher 1999;
+    Griffiths and Lane 1999): the least F at which the structure loses its static
+    equilibrium is its factor of safety against sliding. The contact data (initial state,
+    springs, gap) are the law's own.
+
+    >>> law = Reduced(MohrCoulomb(c=1e5, phi=45.0, initial="intact"), 2.0)
+    >>> st = law.strength(np.array([1.0]), np.array([False]), np.zeros(1))
+    >>> float(st.cohesion[0]), round(float(st.friction[0]), 12)   # N, -
+    (50000.0, 0.5)
+    """
+
+    law: JointLaw
+    factor: float
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.factor) and self.factor > 0):
+            raise ModelError(f"a strength reduction factor must be > 0, got {self.factor}")
+
+    @property
+    def initial(self) -> str:
+        return self.law.initial
+
+    @property
+    def kn(self) -> float | None:
+        return self.law.kn
+
+    @property
+    def ks(self) -> float | None:
+        return self.law.ks
+
+    @property
+    def gap(self) -> float:
+        return self.law.gap
+
+    def strength(self, area: FloatArray, broken: BoolArray, path: FloatArray) -> Strength:
+        """The law's (c A, μ, σ_t A) divided by the factor (N, -, N)."""
+        st = self.law.strength(area, broken, path)
+        f = self.factor
+        return Strength(st.cohesion / f, st.friction / f, st.tension / f)
+
+
+@dataclass(frozen=True)
 class SlipWeakening(MohrCoulomb):
     """Linear slip-weakening friction (Ida 1972; Andrews 1976).
 
@@ -567,6 +615,15 @@ class PairLaws:
                         np.where(spring, self.gap, 0.0), self.initially_broken, self.laws,
                         self.index)  # fmt: skip
 
+    def reduced(self, factor: float) -> PairLaws:
+        """These laws with every strength divided by ``factor`` (:class:`Reduced`): the
+        laws of a strength-reduction analysis (:func:`pfeie.strength_reduction`); the
+        areas, compliances, gaps and initial states are the same, so that a solver of W
+        takes them by :meth:`~pfeie.interface.InterfaceSolver.with_laws`."""
+        return PairLaws(self.area, self.compliance, self.gap, self.initially_broken,
+                        tuple(Reduced(law, factor) for law in self.laws),
+                        self.index)  # fmt: skip
+
     def subset(self, idx: IntArray) -> PairLaws:
         """The laws of the pairs ``idx`` only (a sub-problem of these pairs)."""
         pos = np.full(self.n, -1, dtype=np.int64)
@@ -581,5 +638,5 @@ class PairLaws:
 
 
 __all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "MODEL_FILE_KEYS", "OPEN_CRACK_MIN_M", "Joint",
-           "JointLaw", "MohrCoulomb", "PairLaws", "SlipWeakening", "Strength", "cohesion_ramp",
-           "cone"]  # fmt: skip
+           "JointLaw", "MohrCoulomb", "PairLaws", "Reduced", "SlipWeakening", "Strength",
+           "cohesion_ramp", "cone"]  # fmt: skip

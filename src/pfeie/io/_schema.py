@@ -632,6 +632,12 @@ class Analysis(DynamicSettings):
         "horizontal: the pseudo-static acceleration, a fraction of g, at which a joint "
         "slides (summary.json yield_coefficient; needs static = true)",
     )] = False  # fmt: skip
+    strength_reduction: Annotated[bool, Field(
+        description="after the static state, the factor of safety by strength reduction: "
+        "the least factor F by which every joint's strength (c, tan φ, σ_t, intact and "
+        "residual) must be divided for the static equilibrium to be lost (summary.json "
+        "strength_reduction; needs static = true)",
+    )] = False  # fmt: skip
     post_earthquake: Annotated[bool, Field(
         description="after a completed record, the post-earthquake static state: the "
         "static loads on the joints as the record left them (the pairs it broke at their "
@@ -659,6 +665,9 @@ class Analysis(DynamicSettings):
                          "among '+x', '-x', '+y', '-y'")  # fmt: skip
         if self.yield_coefficient and not self.static:
             raise _check("yield_coefficient", "the yield coefficient is found from the "
+                         "static state; expected static = true")  # fmt: skip
+        if self.strength_reduction and not self.static:
+            raise _check("strength_reduction", "the factor of safety is found from the "
                          "static state; expected static = true")  # fmt: skip
         if self.duration is not None:
             try:

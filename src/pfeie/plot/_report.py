@@ -213,6 +213,12 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         for label, y in yields.items():
             if y.get("joint") == row["joint"] and y.get("k_y") is not None:
                 row[f"yield coefficient k_y along {label}"] = f"{y['k_y']:.4g} ({y['limit']})"
+    # the factor of safety by strength reduction (analysis.strength_reduction), on the joint
+    # that governs it
+    sr = (res.meta.get("results_summary") or {}).get("strength_reduction") or {}
+    for row in rows:
+        if sr.get("joint") == row["joint"] and sr.get("factor") is not None:
+            row["FS by strength reduction"] = f"{sr['factor']:.4g} ({sr['limit']})"
     return rows
 
 

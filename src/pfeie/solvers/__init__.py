@@ -1,12 +1,21 @@
-"""Solvers: sparse factorisations, linear statics and modal analysis."""
+"""Solvers: sparse factorisations, linear statics, modal analysis, the yield coefficient and
+the factor of safety by strength reduction."""
 
 from ..linalg import Factorization, available_backends, factorize
 from ._modal import ModalResult, modal
 from ._static import StaticResult, solve_static
-from ._yield import YIELD_K_MAX, YieldCoefficient, horizontal, yield_coefficient
+from ._strength import (
+    REDUCTION_F_MAX,
+    REDUCTION_MAX_ANALYSES,
+    REDUCTION_TOL,
+    StrengthReduction,
+    strength_reduction,
+)
+from ._yield import SLIDING_FS, YIELD_K_MAX, YieldCoefficient, horizontal, yield_coefficient
 
 __all__ = [
-    "YIELD_K_MAX", "Factorization", "ModalResult", "StaticResult", "YieldCoefficient",
+    "REDUCTION_F_MAX", "REDUCTION_MAX_ANALYSES", "REDUCTION_TOL", "SLIDING_FS", "YIELD_K_MAX",
+    "Factorization", "ModalResult", "StaticResult", "StrengthReduction", "YieldCoefficient",
     "available_backends", "factorize", "horizontal", "modal", "solve_static",
-    "yield_coefficient",
+    "strength_reduction", "yield_coefficient",
 ]  # fmt: skip

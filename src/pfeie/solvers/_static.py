@@ -15,7 +15,7 @@ import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
-from ..interface import OPEN, PairState, SolverSettings
+from ..interface import OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
 from ..typing import FloatArray
@@ -272,3 +272,42 @@ def _floating(model: Model, found: bool = True, damaged: bool = False) -> str:
         'initial = "broken", the default, has only its residual strength: '
         'initial = "intact" for a bonded joint) and the loads'
     )
+
+
+def held(
+    problem: StaticInterfaceProblem, f_free: FloatArray, f_all: FloatArray,
+    start: StaticResult | None, what: str,
+) -> tuple[StaticResult | None, int]:  # fmt: skip
+    """The static state under the loads (:func:`solve_pairs`), None where no static
+    equilibrium is found, and the analyses it took: the pair solver starts from
+    ``start``'s pair state (under nearby loads or strengths), then, if that fails, from the
+    initial state; the answer does not depend on the start
+    (:meth:`~pfeie.interface.InterfaceSolver.solve`). ``what`` names the analysis in the
+    debug log. The step of the limit searches (:func:`pfeie.yield_coefficient`,
+    :func:`pfeie.strength_reduction`)."""
+    count = 0
+    for first in ([start.pairs] if start is not None else []) + [None]:
+        count += 1
+        log.debug("%s: static analysis", what)
+        try:
+            return solve_pairs(problem, f_free, f_all, first), count
+        except (MechanismError, InterfaceError, SolverError) as exc:
+            log.debug("%s: no equilibrium found (%s): %s", what,
+                      "warm" if first is not None else "cold", exc)  # fmt: skip
+    return None, count
+
+
+def joint_factors(
+    laws: PairLaws, st: StaticResult, frames: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Each joint's shear capacity and shear force (N) in the static state ``st`` and
+    their ratio, its sliding safety factor (∞ without shear), with each pair's capacity
+    under ``laws`` (the residual cohesion's ramp included:
+    :meth:`~pfeie.interface.PairLaws.capacity_and_shear`)."""
+    P = st.pairs
+    assert P is not None
+    capacity, shear = laws.capacity_and_shear(P.X, P.state == OPEN, P.broken, P.path, frames,
+                                              P.w[:, -1], ramp=True)  # fmt: skip
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fs = np.where(shear > 0, capacity / shear, np.inf)
+    return capacity, shear, fs

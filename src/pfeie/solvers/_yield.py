@@ -49,11 +49,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..coupling import StaticInterfaceProblem
-from ..errors import InterfaceError, MechanismError, ModelError, SolverError
-from ..interface import OPEN, SolverSettings
+from ..errors import ModelError, SolverError
+from ..interface import SolverSettings
 from ..model import Model
 from ..typing import FloatArray
-from ._static import StaticResult, solve_pairs
+from ._static import StaticResult, held, joint_factors, solve_pairs
 
 log = logging.getLogger(__name__)
 
@@ -211,26 +211,12 @@ def yield_coefficient(
         ``start`` (the last coefficient held), then, if that fails, from the initial state;
         the answer does not depend on the start (:meth:`InterfaceSolver.solve`)."""
         nonlocal count
-        st = None
-        for first in ([start.pairs] if start is not None else []) + [None]:
-            count += 1
-            log.debug("yield coefficient along %s: static analysis %d at k = %.9g",
-                      _direction(iota), count, k)  # fmt: skip
-            try:
-                st = solve_pairs(problem, f0_free + k * f_h[free], f0_all + k * f_h, first)
-                break
-            except (MechanismError, InterfaceError, SolverError) as exc:
-                log.debug("yield coefficient: no equilibrium found at k = %.9g (%s): %s", k,
-                          "warm" if first is not None else "cold", exc)  # fmt: skip
+        st, n = held(problem, f0_free + k * f_h[free], f0_all + k * f_h, start,
+                     f"yield coefficient along {_direction(iota)} at k = {k:.9g}")  # fmt: skip
+        count += n
         if st is None:
             return None
-        P = st.pairs
-        assert P is not None
-        # each pair's capacity under its law (the residual cohesion's ramp included)
-        capacity, shear = laws.capacity_and_shear(P.X, P.state == OPEN, P.broken, P.path,
-                                                  frames, P.w[:, -1], ramp=True)  # fmt: skip
-        with np.errstate(divide="ignore", invalid="ignore"):
-            fs = np.where(shear > 0, capacity / shear, np.inf)
+        capacity, shear, fs = joint_factors(laws, st, frames)
         # the margin, capacity − shear (N, affine in k while no state changes); NaN where
         # the joint is at its capacity already (relatively, to AT_CAPACITY) or has none:
         # it does not predict the limit

@@ -1,0 +1,224 @@
+r"""The factor of safety by strength reduction: the least factor F by which the joints'
+strengths must be divided for the structure to lose its static equilibrium.
+
+A joint's sliding safety factor in a static state, Σ capacity / ‖Σ T‖
+(:meth:`~pfeie.interface.PairLaws.safety_factor`), measures how much of its strength the
+state mobilises. For a plane joint under a rigid block it is the limit-equilibrium factor
+of the textbooks, but where the friction can act in more than one direction it is not: an
+elastic wedge loaded by its weight from a stress-free state sinks into its V by its own
+compression, and the friction on both planes holds it up the dip, at its capacity on
+every pair, so each plane reads FS ≈ 1 while the wedge needs a push of a sixth of g to
+slide (docs/theory.md, "Two safety factors"). The factor against sliding is a limit, and
+pfeie finds it as the finite-element codes of geotechnics do (Dawson, Roth and Drescher
+1999; Griffiths and Lane 1999): static analyses of the model, with its loads, water and
+uplift, blocks and joints, with every joint law's strength divided by F
+(:class:`~pfeie.interface.Reduced`),
+
+.. math::
+
+    c_F = c / F,\qquad \tan φ_F = \tan φ / F,\qquad σ_{t,F} = σ_t / F,
+
+intact and residual alike; the factor of safety is the largest F at which a static
+equilibrium holds, within a relative ``tol`` of the least F at which none does. Each
+analysis is the static analysis from the model's initial pair state (bonded joints break
+where the loads exceed their reduced strength: no loading path is followed), on the
+factorisations and the Delassus operator built once for all.
+
+The search: the least joint safety factor at a held F, times F, is where a rigid block's
+joints reach their capacity (its margins are affine in 1/F), so a block on a plane takes
+four analyses: the static state, one just beyond that estimate (tried from the last state
+held, then from the initial state, as every analysis that fails) and one just below it.
+Where the estimate creeps (the wedge's friction turning towards the line of
+intersection as F grows), the step grows geometrically until the limit is bracketed, then
+bisection safeguards the estimate.
+
+A rigid block of weight W on a plane of dip β, with a joint of cohesion c over its area A
+and friction tan φ: F = (c A + W cos β tan φ) / (W sin β). A symmetric wedge whose planes
+make the angle ξ with the vertical plane through its line of intersection, which plunges
+by ψ (Hoek and Bray 1981, ch. 7): F = tan φ / (sin ξ tan ψ).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..coupling import StaticInterfaceProblem
+from ..errors import ModelError, SolverError
+from ..interface import SolverSettings
+from ..model import Model
+from ..typing import FloatArray
+from ._static import StaticResult, held, joint_factors, solve_pairs
+from ._yield import SLIDING_FS
+
+log = logging.getLogger(__name__)
+
+#: the relative width of the final bracket [F, F_fail] (default of ``tol``)
+REDUCTION_TOL = 1e-4
+
+#: the largest factor tried; a structure held with its strengths divided by it is reported
+#: with factor None (no limit up to it)
+REDUCTION_F_MAX = 20.0
+
+#: the static analyses a search may take
+REDUCTION_MAX_ANALYSES = 60
+
+
+@dataclass(frozen=True)
+class StrengthReduction:
+    """The factor of safety by strength reduction (see the module docstring).
+
+    - ``factor``: the largest factor F held (strengths divided by it), None if the
+      structure holds up to ``f_max``;
+    - ``factor_fail``: the least factor found beyond the limit (None with ``factor`` None);
+    - ``joint``: the joint that governs, the least safety factor at ``factor`` under the
+      reduced strengths;
+    - ``safety_factors``: each joint's sliding safety factor at ``factor`` under the
+      reduced strengths, Σ capacity / ‖Σ T‖ (∞: no shear); about 1 on the joints that
+      slide at the limit;
+    - ``limit``: "sliding" (the governing joint's safety factor is 1 within
+      :data:`~pfeie.solvers.SLIDING_FS`), "no equilibrium found" (the analyses fail beyond
+      ``factor`` while every joint is short of its reduced capacity: a mechanism of
+      opening, a bonded joint breaking through, or the pair solver failing short of the
+      limit), "none" (held up to ``f_max``) or "not bracketed" (``max_analyses`` first);
+    - ``static``: the static state at ``factor``; ``analyses``: how many static analyses.
+    """
+
+    factor: float | None
+    factor_fail: float | None
+    joint: str | None
+    safety_factors: dict[str, float]
+    limit: str
+    static: StaticResult
+    analyses: int
+
+    def __repr__(self) -> str:
+        """One line: the factor, the limit and its joint, the analyses."""
+        f = "None" if self.factor is None else f"{self.factor:.6g}"
+        return (f"StrengthReduction(factor={f}, limit={self.limit!r}, joint={self.joint!r}, "
+                f"analyses={self.analyses})")  # fmt: skip
+
+
+def strength_reduction(
+    model: Model,
+    *,
+    tol: float = REDUCTION_TOL,
+    f_max: float = REDUCTION_F_MAX,
+    backend: str = "auto",
+    settings: SolverSettings | None = None,
+    problem: StaticInterfaceProblem | None = None,
+    max_analyses: int = REDUCTION_MAX_ANALYSES,
+) -> StrengthReduction:
+    """The factor of safety of ``model`` against sliding on its joints by strength
+    reduction (see the module docstring): static analyses under the loads at t = 0 with
+    every joint's strength divided by F. ``problem``: a
+    :class:`~pfeie.coupling.StaticInterfaceProblem` of the model to reuse. The static
+    state itself (F = 1) must exist (else its error is raised).
+
+    >>> import pfeie as pf
+    >>> from pfeie.verification._models import block_on_base
+    >>> m = block_on_base(joint=pf.Joint(phi=40.0), incline_deg=20.0)
+    >>> r = pf.strength_reduction(m)          # tan 40° / tan 20°
+    >>> round(r.factor, 3), r.limit, r.analyses
+    (2.305, 'sliding', 4)
+    """
+    if model.pairs is None:
+        raise ModelError("strength reduction: the model has no interfaces (no joint to slide)")
+    if not (0 < tol < 1e-2 and 1 < f_max <= 1000):
+        raise ModelError(f"strength reduction: expected 0 < tol < 0.01 and 1 < f_max <= 1000, "
+                         f"got tol = {tol}, f_max = {f_max}")  # fmt: skip
+    t0 = time.perf_counter()
+    if problem is None:
+        problem = StaticInterfaceProblem(model, model.system(), backend=backend,
+                                         settings=settings)  # fmt: skip
+    system = problem.system
+    f0_free, f0_all = system.load(0.0), model.load_vector(0.0)
+    names = list(model.pairs.names)
+    laws = model.pair_laws
+    frames = model.pairs.frame
+    count = 0
+
+    def analyse(
+        F: float, start: StaticResult | None = None
+    ) -> tuple[StaticResult, FloatArray] | None:
+        """The static state with the strengths divided by F and each joint's safety
+        factor under them; None where no static equilibrium is found. The pair solver
+        starts from ``start``'s state (the last factor held), then from the initial
+        state."""
+        nonlocal count
+        reduced = laws if F == 1.0 else laws.reduced(F)
+        prob = problem if F == 1.0 else problem.with_laws(reduced)
+        st, n = held(prob, f0_free, f0_all, start, f"strength reduction at F = {F:.9g}")
+        count += n
+        if st is None:
+            return None
+        fs = joint_factors(reduced, st, frames)[2]
+        return st, fs
+
+    base = analyse(1.0)
+    if base is None:
+        solve_pairs(problem, f0_free, f0_all)  # the static state's own error
+        raise SolverError("strength reduction: no static equilibrium with the joints' own "
+                          "strengths")  # fmt: skip
+    lo, (st_lo, fs_lo) = 1.0, base
+    hi: float | None = None
+    grow = 2.0 * tol  # the least relative step while the limit is not bracketed
+    widths: list[float] = []
+    while hi is None or hi - lo > tol * lo:
+        if count >= max_analyses:
+            log.warning("strength reduction: the limit bracketed to [%.6g, %s] only, in %d "
+                        "static analyses", lo, hi, count)  # fmt: skip
+            break
+        finite = fs_lo[np.isfinite(fs_lo)]
+        est = lo * float(finite.min()) if finite.size else np.inf
+        if hi is None:
+            if lo >= f_max:
+                log.info("strength reduction: held up to F = %g, %d static analyses in %.1f s",
+                         f_max, count, time.perf_counter() - t0)  # fmt: skip
+                return _result(None, None, names, fs_lo, st_lo, count, "none")
+            f_try = max(est * (1 + tol / 4), lo * (1 + grow))
+            grow *= 2.0
+        elif lo * (1 + tol) < est < hi:
+            # the estimate inside the bracket and a step ahead (else it creeps: bisect):
+            # just below it once the bracket is that close above it, else just beyond it
+            f_try = est * (1 - tol / 4) if hi <= est * (1 + tol / 2) else est * (1 + tol / 4)
+            if len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
+                f_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
+        else:
+            f_try = 0.5 * (lo + hi)
+        f_try = min(f_try, f_max)
+        if hi is not None and not lo < f_try < hi:
+            f_try = 0.5 * (lo + hi)
+        out = analyse(f_try, st_lo)
+        if out is None:  # no equilibrium: beyond the limit
+            hi = f_try
+        else:
+            lo, (st_lo, fs_lo) = f_try, out
+        if hi is not None:
+            widths.append(hi - lo)
+    if hi is None:
+        limit = "not bracketed"
+    else:
+        gov = int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None
+        limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
+                 else "no equilibrium found")  # fmt: skip
+    log.info("strength reduction: F = %.6g (%s), %d static analyses in %.1f s", lo, limit,
+             count, time.perf_counter() - t0)  # fmt: skip
+    return _result(lo, hi, names, fs_lo, st_lo, count, limit)
+
+
+def _result(
+    factor: float | None, fail: float | None, names: list[str], fs: FloatArray,
+    st: StaticResult, count: int, limit: str,
+) -> StrengthReduction:  # fmt: skip
+    joint = int(np.argmin(fs)) if np.isfinite(fs).any() else None
+    return StrengthReduction(factor, fail, None if joint is None else names[joint],
+                             {n: float(f) for n, f in zip(names, fs, strict=True)}, limit, st,
+                             count)  # fmt: skip
+
+
+__all__ = ["REDUCTION_F_MAX", "REDUCTION_MAX_ANALYSES", "REDUCTION_TOL", "StrengthReduction",
+           "strength_reduction"]  # fmt: skip

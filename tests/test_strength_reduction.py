@@ -1,0 +1,132 @@
+"""The factor of safety by strength reduction (pfeie.strength_reduction; docs/theory.md,
+"Two safety factors"), against limit equilibrium.
+
+At the limit every pair of the joints that slide is at its reduced capacity, whatever the
+blocks' elasticity, so the static analyses reproduce the closed forms of rigid blocks up
+to the search's tolerance: the factor held lies below the closed form and the least
+factor that fails above it, within REDUCTION_TOL (1e-4) relative.
+
+- a block of weight W on a plane of dip β, residual cohesion c over its base area A and
+  friction φ: F = (c A + W cos β tan φ) / (W sin β);
+- a symmetric wedge whose planes make ξ = 45° with the vertical plane through the keel,
+  plunging by ψ (Hoek and Bray 1981, ch. 7): F = tan φ / (sin ξ tan ψ), √2 at φ = ψ = 30°.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.cli import main
+from pfeie.interface import SLIDE
+from pfeie.solvers import REDUCTION_TOL
+from pfeie.verification._models import block_on_base
+from test_cli import SMALL, _write
+from test_wedge import _wedge
+
+
+def _bracketed(r: pf.StrengthReduction, ref: float) -> None:
+    """The closed form ``ref`` lies in the bracket [factor, factor_fail], which is at most
+    REDUCTION_TOL relative wide."""
+    assert r.factor is not None and r.factor_fail is not None
+    assert r.factor <= ref * (1 + 1e-9) and r.factor_fail >= ref * (1 - 1e-9), (r, ref)
+    assert r.factor_fail - r.factor <= REDUCTION_TOL * r.factor
+
+
+@pytest.mark.parametrize(("beta", "c_r", "width", "height"),
+                         [(20.0, 0.0, 1.0, 1.0), (20.0, 1e4, 2.0, 0.5), (35.0, 2e4, 2.0, 0.5)])
+def test_a_block_on_an_incline(beta: float, c_r: float, width: float, height: float) -> None:
+    """A block (ρ = 2400 kg/m³) on a plane of dip β, φ = 30° and residual cohesion c_r (a
+    joint that starts broken has only its residual strength): the closed form within the
+    bracket, sliding on the joint, whose safety factor under the reduced strengths is 1
+    within the bracket; 4 static analyses (the static state, one just beyond the
+    rigid-block estimate, tried warm and cold, and one just below it). The blocks with
+    cohesion are flat: a 1 m × 1 m block on 35° with c_r = 20 kPa lifts its heel pair at
+    the limit, whose cohesion then goes (F 1.935 against 2.306; not the closed form's
+    mechanism)."""
+    m = block_on_base(joint=pf.Joint(phi=30.0, c_r=c_r), incline_deg=beta, width=width,
+                      height=height, n=int(2 * width))  # fmt: skip
+    r = pf.strength_reduction(m)
+    W, b = 2400.0 * 9.81 * width * height, np.radians(beta)
+    ref = (c_r * width + W * np.cos(b) * np.tan(np.radians(30.0))) / (W * np.sin(b))
+    _bracketed(r, ref)
+    assert r.limit == "sliding" and r.joint == "joint"
+    assert abs(r.safety_factors["joint"] - 1.0) <= REDUCTION_TOL
+    assert r.analyses == 4
+
+
+@pytest.mark.parametrize("groups", [1, 2])
+def test_a_wedge_against_hoek_and_bray(groups: int) -> None:
+    """The symmetric wedge of tests/test_wedge.py (ξ = 45°, ψ = 30°, φ = 30°, the rock
+    fixed at its base), its planes one joint or two: F = √2 within the bracket (measured
+    1.4142 and 1.41419), sliding. Its static state shows why the joints' own safety
+    factors are no factor against sliding: the elastic wedge, loaded by its weight from a
+    stress-free state, is held up the dip by friction at the capacity of every pair, so
+    each plane's mobilised safety factor is within 4 % of 1 (measured 1.0345 and 1.0847)
+    where Hoek and Bray's is 1.414."""
+    m = _wedge(30.0, groups)
+    static = pf.solve_static(m)
+    assert static.pairs is not None
+    assert np.all(static.pairs.state == SLIDE)
+    r = pf.strength_reduction(m)
+    _bracketed(r, float(np.sqrt(2.0)))
+    assert r.limit == "sliding"
+    assert all(abs(f - 1.0) <= REDUCTION_TOL for f in r.safety_factors.values())
+
+
+def test_a_wedge_whose_keel_is_level_holds() -> None:
+    """ψ = 0: nothing drives the wedge along its keel, so it holds with its strengths
+    divided by the largest factor tried (REDUCTION_F_MAX): factor None, limit 'none'."""
+    r = pf.strength_reduction(_wedge(0.0, 2))
+    assert r.factor is None and r.factor_fail is None and r.limit == "none"
+
+
+def test_refused_without_interfaces_and_with_bad_settings() -> None:
+    """No interface, a tolerance or a largest factor out of range: ModelError naming what
+    was expected."""
+    mesh = pf.rectangle(1.0, 1.0, 2, 2)
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    with pytest.raises(pf.ModelError, match="no interfaces"):
+        pf.strength_reduction(m)
+    block = block_on_base(joint=pf.Joint(phi=30.0), incline_deg=10.0)
+    for kw in ({"tol": 0.1}, {"f_max": 1.0}):
+        with pytest.raises(pf.ModelError, match=r"expected 0 < tol < 0\.01 and 1 < f_max"):
+            pf.strength_reduction(block, **kw)  # type: ignore[arg-type]
+
+
+def test_in_a_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``analysis.strength_reduction = true`` on two blocks cut by a level joint with
+    μ = tan 26.565° = 0.5 under a pseudo-static k_h = 0.25: F = μ / k_h = 2 within the
+    bracket in summary.json, a line in summary.txt and the progress, a column of the
+    report's static joint table. Without the static state, or without interfaces, it is
+    refused, naming the key."""
+    text = SMALL.replace("[analysis]", "[loads]\npseudo_static = { kh = 0.25 }\n[analysis]\n"
+                         "strength_reduction = true\ndynamic = false")  # fmt: skip
+    text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
+    p = _write(tmp_path, text)
+    capsys.readouterr()
+    assert main(["run", str(p)]) == 0
+    err = capsys.readouterr().err
+    assert "strength reduction: static analyses ..." in err
+    assert "(sliding), 4 static analyses in" in err, err
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    sr = s["strength_reduction"]
+    ref = np.tan(np.radians(26.565)) / 0.25
+    assert sr["factor"] <= ref * (1 + 1e-9) <= sr["factor_fail"] * (1 + 2e-9)
+    assert sr["factor_fail"] - sr["factor"] <= REDUCTION_TOL * sr["factor"]
+    assert sr["limit"] == "sliding" and sr["joint"] == "joint" and sr["analyses"] == 4
+    txt = (tmp_path / "out" / "summary.txt").read_text()
+    assert f"reduction    FS {sr['factor']:.4g} by strength reduction (sliding on 'joint'" in txt
+    from pfeie.plot import write_report
+
+    html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
+    assert "FS by strength reduction" in html and f"{sr['factor']:.4g} (sliding)" in html
+    bad = _write(tmp_path, text.replace("dynamic = false", "dynamic = true\nstatic = false"))
+    capsys.readouterr()
+    assert main(["run", str(bad), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "analysis.strength_reduction" in err and "expected static = true" in err, err
