@@ -125,8 +125,25 @@ def test_in_a_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> 
 
     html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
     assert "FS by strength reduction" in html and f"{sr['factor']:.4g} (sliding)" in html
+    assert "at its capacity in the static state" not in txt
     bad = _write(tmp_path, text.replace("dynamic = false", "dynamic = true\nstatic = false"))
     capsys.readouterr()
     assert main(["run", str(bad), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "analysis.strength_reduction" in err and "expected static = true" in err, err
+
+
+def test_a_joint_at_its_capacity_points_to_the_factor(tmp_path: Path) -> None:
+    """A static state that holds with a joint within 5 % of its capacity (the level joint,
+    μ = 0.5, under k_h = 0.49: FS = 0.5/0.49 = 1.02): its summary line says that the factor
+    against sliding is the strength reduction's, unless that was asked for."""
+    text = SMALL.replace("[analysis]", "[loads]\npseudo_static = { kh = 0.49 }\n[analysis]\n"
+                         "dynamic = false")  # fmt: skip
+    text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
+    assert main(["run", str(_write(tmp_path, text)), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["static_joints"]["joint"]["safety_factor"] == pytest.approx(
+        np.tan(np.radians(26.565)) / 0.49, rel=1e-9)  # fmt: skip
+    txt = (tmp_path / "out" / "summary.txt").read_text()
+    assert ("at its capacity in the static state, which holds: the factor against sliding "
+            "is analysis.strength_reduction's") in txt  # fmt: skip

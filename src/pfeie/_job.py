@@ -123,6 +123,11 @@ CONTACT_ACTIVITY = 0.01
 #: rock columns on 15° bases: k_y 0.2655, FS 1.009, the margins' root 0.2679 = tan 15°)
 NEAR_SLIDING = 0.02
 
+#: a joint whose static safety factor is within this of 1 is at its capacity in a state that
+#: holds (a wedge whose planes hold it by friction up their dip: 1.03 where Hoek and Bray's
+#: factor is 1.41): its line points to the factor against sliding, the strength reduction's
+AT_CAPACITY_FS = 0.05
+
 #: the share of the static strain energy below which the energy that went through a run
 #: is round-off, and neither the scheme's created energy nor the position corrections are
 #: judged against it (a share of nothing): the energy terms are sums over the steps of
@@ -941,12 +946,20 @@ def format_summary(s: dict[str, Any]) -> str:
                      "summary.json (bodies)")  # fmt: skip
     for name, j in s.get("static_joints", {}).items():
         fs = j["safety_factor"]
+        at_capacity = (fs is not None and fs <= 1 + AT_CAPACITY_FS
+                       and "strength_reduction" not in s)  # fmt: skip
         lines.append(
             f"  static {name:<9} FS {'∞' if fs is None else f'{fs:.2f}'}, normal "
             f"{j['normal_force_N'] / 1e3:.4g} kN, shear {j['shear_force_N'] / 1e3:.4g} kN "
             f"(mean normal stress {j['mean_normal_stress_Pa'] / 1e6:.3g} MPa), max opening "
             f"{1e3 * j['max_opening_m']:.2f} mm, sliding {100 * j['sliding_share']:.0f} %, "
             f"open {100 * j['open_share']:.0f} %"
+            + (
+                "; at its capacity in the static state, which holds: the factor against "
+                "sliding is analysis.strength_reduction's"
+                if at_capacity
+                else ""
+            )
         )
     for label, y in s.get("yield_coefficient", {}).items():
         k, fs = y["k_y"], y["safety_factor"]
