@@ -156,6 +156,29 @@ def test_header_units_that_contradict_the_given_ones_are_warned(
                 f"record is read in {units}") in caplog.text  # fmt: skip
 
 
+def test_a_jump_in_the_time_column_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A two-column record with a gap in its times (El Centro with 1 s of samples cut out
+    between 5 and 6 s: one step of 1.02 s among steps of 0.02 s) gets a warning naming the
+    file, the line after the gap and its length; the record itself reads as written.
+    El Centro as it is gets none."""
+    data = _elcentro()
+    cut = data[(data[:, 0] <= 5.0 + 1e-9) | (data[:, 0] >= 6.02 - 1e-9)]
+    p = tmp_path / "gap.csv"
+    np.savetxt(p, cut, delimiter=",", header="time,acc", comments="")
+    with caplog.at_level("WARNING"):
+        gm = read_record(p, units="g")
+    assert gm.time.size == cut.shape[0]
+    line = 2 + int(np.flatnonzero(cut[:, 0] > 5.0 + 1e-9)[0])  # the header is line 1
+    assert (f"gap.csv: the time step jumps beyond 2.5 × its median of 0.02 s at 1 place(s) "
+            f"(line {line}: 1.02 s after t = 5 s)") in caplog.text, caplog.text
+    caplog.clear()
+    with caplog.at_level("WARNING"):
+        read_record(ELCENTRO, units="g")
+    assert "time step jumps" not in caplog.text
+
+
 def test_missing_record_file(tmp_path: Path) -> None:
     with pytest.raises(RecordError, match="not found"):
         read_record(tmp_path / "none.at2")

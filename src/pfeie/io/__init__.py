@@ -25,7 +25,15 @@ from ._modelfile import (
     reference_rows,
 )
 from ._paraview import write_modes, write_paraview
-from ._records import abrupt_end, applied_part, implausible_pga, read_record, write_at2
+from ._records import (
+    TIME_GAP,
+    abrupt_end,
+    applied_part,
+    implausible_pga,
+    read_record,
+    time_gaps,
+    write_at2,
+)
 from ._results import Results, ResultsWriter
 from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_file
 
@@ -34,6 +42,7 @@ __all__ = [
     "MAX_BATCH",
     "MAX_PGA_G",
     "MAX_WORKERS",
+    "TIME_GAP",
     "CheckpointWriter",
     "Job",
     "ModelFile",
@@ -63,6 +72,7 @@ __all__ = [
     "reopen_results",
     "resumable",
     "run_key",
+    "time_gaps",
     "write_at2",
     "write_modes",
     "write_paraview",

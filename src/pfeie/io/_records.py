@@ -109,6 +109,29 @@ def abrupt_end(rec: GroundMotion, end: float) -> str | None:
             f"{last / g:.3g} g (a record cut short?)")  # fmt: skip
 
 
+#: a two-column record whose time step jumps beyond this multiple of its median step is
+#: warned (samples missing, or two records joined): across the gap the acceleration is
+#: interpolated linearly
+TIME_GAP = 2.5
+
+
+def time_gaps(t: FloatArray) -> list[tuple[int, float, float]]:
+    """The steps of a record's times ``t`` (s, increasing) longer than :data:`TIME_GAP`
+    times their median: (index i of the step t[i] → t[i+1], its length, the median), at
+    most the first 3; none for fewer than 10 samples.
+
+    >>> t = [0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.5, 0.51, 0.52]
+    >>> [(i, round(h, 6), round(m, 6)) for i, h, m in time_gaps(t)]
+    [(7, 0.43, 0.01)]
+    """
+    steps = np.diff(np.asarray(t, dtype=float))
+    if steps.size < 9:
+        return []
+    med = float(np.median(steps))
+    big = np.flatnonzero(steps > TIME_GAP * med)[:3]
+    return [(int(i), float(steps[i]), med) for i in big]
+
+
 def applied_part(rec: GroundMotion, end: float) -> tuple[GroundMotion, str | None]:
     """The part of the record ``rec`` that a run ending at ``end`` (s) applies, and a note
     when the record's peak lies beyond it (None when the part holds the peak).
@@ -360,6 +383,15 @@ def read_record(
                 i = int(np.argmax(np.diff(data[:, 0]) <= 0)) + 1
                 raise RecordError(f"{p}: line {rows[i][0]}: times must increase")
             t, acc = data[:, 0], data[:, 1]
+            gaps = time_gaps(t)
+            if gaps:
+                where = "; ".join(f"line {rows[i + 1][0]}: {h:g} s after t = {t[i]:g} s"
+                                  for i, h, _ in gaps)  # fmt: skip
+                n = int(np.count_nonzero(np.diff(t) > TIME_GAP * gaps[0][2]))
+                log.warning("%s: the time step jumps beyond %g × its median of %g s at %d "
+                            "place(s) (%s): samples missing, or records joined? The "
+                            "acceleration is interpolated linearly across each gap", p,
+                            TIME_GAP, gaps[0][2], n, where)  # fmt: skip
             gm = _make(p, acc, None, t, units, scale, direction, label)
         else:
             if dt is None:
