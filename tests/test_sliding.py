@@ -190,9 +190,13 @@ def test_safety_factor_of_a_joint_whose_smooth_force_is_round_off() -> None:
 def test_safety_factor_of_a_smooth_force_beyond_the_cone() -> None:
     """A smooth force λ outside its pair's Coulomb cone (‖λ_t‖ = 2 μ λ_n) gave FS below 1
     (the 60 m dam sliding at Δt = 2.5 ms: 0.91, where docs/results.md says FS cannot fall
-    below 1): such a pair takes its step force X (at its limit, ‖X_t‖ = μ X_n), the other
-    keeps λ (‖λ_t‖ = μ λ_n / 2). By hand: FS = (μ 1000 + μ 1000)/(μ 1000 + μ 500) = 4/3
-    (it was 2000 μ/2500 μ = 0.8), to 1e-14 (measured 0). The dam now: min FS 1 − 7.8e-16."""
+    below 1): such a pair's shear is taken on its cone, ‖λ_t‖ = μ λ_n, the other pair keeps
+    λ (‖λ_t‖ = μ λ_n / 2). By hand: FS = (μ 1000 + μ 1000)/(μ 1000 + μ 500) = 4/3 (it was
+    2000 μ/2500 μ = 0.8), to 1e-14 (measured 0). And the factor is continuous as λ crosses
+    the cone: just inside it, 4/3 again (to 1e-11: the shear 1e-12 inside). Before, the
+    pair beyond took its step force X, here (−μ 600, 600): 1600/1100 = 1.4545, a jump that
+    round-off could flip (the demo's dam–rock minimum FS moved from 1.9895 to 1.9845 with
+    the summation order of K u)."""
     from types import SimpleNamespace
 
     from pfeie.dynamics._recorder import Recorder
@@ -205,10 +209,13 @@ def test_safety_factor_of_a_smooth_force_beyond_the_cone() -> None:
     pairs.state[:2] = 2  # SLIDE
     pairs.broken[:] = True
     pairs.X[:] = 0.0
-    pairs.X[0] = (-mu * 1000.0, 1000.0)  # the step's force, at the limit
+    pairs.X[0] = (-mu * 600.0, 600.0)  # the step's force, at the limit
     pairs.X[1] = (-0.5 * mu * 1000.0, 1000.0)
     lam = np.zeros((m, 2))
     lam[0] = (-2.0 * mu * 1000.0, 1000.0)  # beyond the cone
     lam[1] = pairs.X[1]
     fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
     np.testing.assert_allclose(fs, 4.0 / 3.0, rtol=1e-14)
+    lam[0] = (-(1.0 - 1e-12) * mu * 1000.0, 1000.0)  # just inside
+    fs = Recorder._safety_factor(an, SimpleNamespace(pairs=pairs, lam=lam))  # type: ignore[arg-type]
+    np.testing.assert_allclose(fs, 4.0 / 3.0, rtol=1e-11)

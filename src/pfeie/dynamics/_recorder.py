@@ -559,11 +559,14 @@ class Recorder:
 
         The smooth forces λ are the scheme's acceleration-level forces, which the pair
         law does not bound: a pair that slides or sticks in a step may have a λ beyond
-        its Coulomb cone, ‖λ_t‖ > max(0, c A + μ λ_n) (the dam of docs/results.md sliding
-        at Δt = 2.5 ms: FS 0.91). Such a pair takes its step force X, which meets the law
-        (‖X_t‖ ≤ max(0, c A + μ X_n), :meth:`~pfeie.interface.PairLaws.cone`), so every
-        pair's shear is within its capacity and, by the triangle inequality
-        ‖Σ T‖ ≤ Σ ‖T_i‖ ≤ Σ max(0, c A + μ N), FS ≥ 1 (1 while the joint slides)."""
+        its Coulomb cone, ‖λ_t‖ > τ = max(0, c A + μ λ_n) (the dam of docs/results.md
+        sliding at Δt = 2.5 ms: FS 0.91). Such a pair's shear is taken on its cone, λ_t τ /
+        ‖λ_t‖ (the largest shear it carries at that normal force, in the direction of its
+        smooth shear; :meth:`~pfeie.interface.PairLaws.cone`), so every pair's shear is
+        within its capacity and, by the triangle inequality ‖Σ T‖ ≤ Σ ‖T_i‖ ≤
+        Σ max(0, c A + μ N), FS ≥ 1 (1 while the joint slides); and the factor is
+        continuous as a pair's λ crosses its cone (taking the step's force X there instead
+        made the factor jump with round-off that moved a pair to either side)."""
         assert an.model.pairs is not None
         P, laws = st.pairs, an.model.pair_laws
         size = np.abs(P.X).sum(axis=1)
@@ -574,11 +577,14 @@ class Recorder:
         on_x = laws.safety_factor(P.X, *args, opening=P.w[:, -1])
         if st.lam is None:
             return on_x
-        # the pairs whose smooth force lies outside their cone take the step's force
+        # the pairs whose smooth force lies outside their cone: the shear on the cone
         lam = st.lam
-        beyond = np.linalg.norm(lam[:, :-1], axis=1) > laws.cone(lam[:, -1], P.broken, P.path)
+        shear = np.linalg.norm(lam[:, :-1], axis=1)
+        tau = laws.cone(lam[:, -1], P.broken, P.path)
+        beyond = shear > tau
         if beyond.any():
-            lam = np.where(beyond[:, None], P.X, lam)
+            lam = lam.copy()
+            lam[beyond, :-1] *= (tau[beyond] / shear[beyond])[:, None]
         on_lam = laws.safety_factor(lam, *args, opening=P.w[:, -1])
         return np.where(np.isinf(on_lam), on_x, on_lam)
 
