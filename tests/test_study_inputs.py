@@ -295,3 +295,16 @@ def test_3d_table_columns_are_documented(tmp_path: Path) -> None:
     cols = {_generic(c) for c in Study.from_file(p).run().columns}
     assert {"joint.<name>.cracked_area_m2", "joint.<name>.max_open_area_m2"} <= cols
     assert cols - _documented() == set()
+
+
+def test_a_record_warning_is_given_once(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    """A record whose header names other units than the study's (``t, a (m/s2)`` read in
+    g) is warned once, when the study reads it to plan the runs, not again by each of its
+    runs (two intensities: it was printed by every run too)."""
+    p = setup(tmp_path, _one_second(STUDY), n=1)
+    rec = tmp_path / "rec" / "r0.csv"
+    rec.write_text("t, a (m/s2)\n" + rec.read_text())
+    with caplog.at_level("WARNING"):
+        Study.from_file(p).run()
+    said = [r for r in caplog.records if "names the units m/s2" in r.getMessage()]
+    assert len(said) == 1, [r.getMessage() for r in said]

@@ -255,17 +255,17 @@ def _data_lines(
     return rows, header
 
 
-def _header_units(path: Path, header: tuple[int, str], units: str) -> None:
-    """A warning when the text header line (number, text) names other units than
-    ``units`` (a record in g read as m/s² is 9.81 times too weak, and runs without any
-    other sign)."""
+def _header_units(path: Path, header: tuple[int, str], units: str, level: int) -> None:
+    """A warning (at ``level``) when the text header line (number, text) names other
+    units than ``units`` (a record in g read as m/s² is 9.81 times too weak, and runs
+    without any other sign)."""
     i, line = header
     named = [u for u, pat in _HEADER_UNITS.items() if pat.search(line.lower())]
     given = {"gal": "cm/s2", "m/s^2": "m/s2"}.get(units.lower(), units.lower())
     if len(named) == 1 and named[0] != given:
-        log.warning("%s: line %d: the header %r names the units %s but the record is read "
-                    "in %s (units = %r): check the units", path, i, line.strip()[:60],
-                    named[0], units, units)  # fmt: skip
+        log.log(level, "%s: line %d: the header %r names the units %s but the record is "
+                "read in %s (units = %r): check the units", path, i, line.strip()[:60],
+                named[0], units, units)  # fmt: skip
 
 
 def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]]) -> None:
@@ -327,6 +327,7 @@ def read_record(
     highpass: float | None = None,
     lowpass: float | None = None,
     order: int = 4,
+    quiet: bool = False,
 ) -> GroundMotion:
     """Read an acceleration record into a :class:`GroundMotion` (see the module doc).
 
@@ -336,7 +337,10 @@ def read_record(
     order ``order``), then, with ``baseline``, corrected by
     :meth:`GroundMotion.baseline_corrected`: the baseline correction comes last, so that
     the record as applied ends at rest (the filter would change its final velocity).
+    With ``quiet`` its warnings (a header naming other units, gaps in the times) are logged
+    at DEBUG: a record read again after a reading that warned (a study's runs).
     """
+    level = logging.DEBUG if quiet else logging.WARNING
     p = Path(path)
     if not p.is_file():
         raise RecordError(f"{p}: record file not found")
@@ -369,7 +373,7 @@ def read_record(
             raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")
         rows, header = _data_lines(p, lines)
         if header is not None:
-            _header_units(p, header, units)
+            _header_units(p, header, units, level)
         if kind == "two-column":
             bad = [i for i, r in rows if len(r) != 2]
             if bad:
@@ -388,10 +392,10 @@ def read_record(
                 where = "; ".join(f"line {rows[i + 1][0]}: {h:g} s after t = {t[i]:g} s"
                                   for i, h, _ in gaps)  # fmt: skip
                 n = int(np.count_nonzero(np.diff(t) > TIME_GAP * gaps[0][2]))
-                log.warning("%s: the time step jumps beyond %g × its median of %g s at %d "
-                            "place(s) (%s): samples missing, or records joined? The "
-                            "acceleration is interpolated linearly across each gap", p,
-                            TIME_GAP, gaps[0][2], n, where)  # fmt: skip
+                log.log(level, "%s: the time step jumps beyond %g × its median of %g s at "
+                        "%d place(s) (%s): samples missing, or records joined? The "
+                        "acceleration is interpolated linearly across each gap", p,
+                        TIME_GAP, gaps[0][2], n, where)  # fmt: skip
             gm = _make(p, acc, None, t, units, scale, direction, label)
         else:
             if dt is None:

@@ -188,15 +188,17 @@ class RecordSource:
             raise RecordError(f"{self.path}: component {self.component!r} in a {dim}D model")
         return [float(i == k) for i in range(dim)]
 
-    def read(self, dim: int) -> GroundMotion:
-        """The record as a :class:`~pfeie.model.GroundMotion` along its direction."""
+    def read(self, dim: int, quiet: bool = False) -> GroundMotion:
+        """The record as a :class:`~pfeie.model.GroundMotion` along its direction; with
+        ``quiet`` the reader's warnings are logged at DEBUG (a run reads again the record
+        that the study's plan read and warned about)."""
         from ..io import read_record
 
         direction = self.direction_in(dim)
         return read_record(self.path, fmt=self.format, dt=self.dt, units=self.units,
                            direction=direction, baseline=self.baseline, name=self.name,
-                           highpass=self.highpass, lowpass=self.lowpass,
-                           order=self.order)  # fmt: skip
+                           highpass=self.highpass, lowpass=self.lowpass, order=self.order,
+                           quiet=quiet)  # fmt: skip
 
     def fingerprint(self) -> str:
         """SHA-256 of the record's bytes and reading options."""
@@ -347,7 +349,7 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
     from .._job import summarize
 
     job = sysm.job
-    rec = spec.record.read(job.model.dim)
+    rec = spec.record.read(job.model.dim, quiet=True)  # (the plan warned about it)
     duration = ctx.duration if ctx.duration is not None else rec.duration
     how = f"scaled ×{spec.factor:.6g}"
     k = int(np.argmax(np.abs(rec.acceleration)))
