@@ -26,7 +26,7 @@ import scipy.sparse as sp
 
 from ..errors import MechanismError
 from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
-from ..linalg import factorize
+from ..linalg import factorize, null_space
 from ..model import LinearSystem, Model
 from ..typing import FloatArray, IntArray
 from ._delassus import delassus
@@ -41,7 +41,7 @@ def floating_modes(model: Model, prescribed: IntArray) -> FloatArray:
     cols = []
     for b in range(model.n_bodies):
         sl = slice(b * r, (b + 1) * r)
-        N = sla.null_space(Pp[:, sl]) if Pp.shape[0] else np.eye(r)
+        N = null_space(Pp[:, sl], max(Pp.shape[0], r) * float(np.finfo(float).eps))
         if N.shape[1]:
             cols.append(Phi[:, sl] @ N)
     return np.hstack(cols) if cols else np.zeros((model.n_dof, 0))

@@ -6,6 +6,7 @@ sides. Used by statics, modal analysis, the Delassus operator and time integrati
 low-rank term such as the damping of the floating bodies' deformation only.
 ``symmetric_product`` multiplies by a large dense symmetric matrix (W, W_c⁻¹) reading one
 triangle, ``symmetric_columns`` gathers its columns along the contiguous axis;
+``null_space`` gives the null space of a tall matrix without its left singular vectors;
 ``Workspace`` keeps the work arrays of repeated large dense computations, ``MixedLU``
 solves a large dense system by a single-precision LU refined in double precision.
 ``run_lockstep`` runs several computations on shared factors in turn, their block solves
@@ -13,7 +14,14 @@ made together (a study's records; the same bits as each alone).
 """
 
 from ._block import SMALL_BLOCK_MIN_DOF
-from ._dense import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
+from ._dense import (
+    SYMMETRIC_MIN,
+    MixedLU,
+    Workspace,
+    null_space,
+    symmetric_columns,
+    symmetric_product,
+)
 from ._factor import (
     Factorization,
     available_backends,
@@ -36,6 +44,7 @@ __all__ = [
     "available_backends",
     "factorize",
     "nested_dissection",
+    "null_space",
     "run_lockstep",
     "shares_block_solves",
     "symmetric_columns",

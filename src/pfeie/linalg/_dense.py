@@ -55,6 +55,26 @@ _COLUMN_LOOP_MAX = 8
 few columns)."""
 
 
+def null_space(C: FloatArray, rtol: float) -> FloatArray:
+    """An orthonormal basis (k, r) of the null space of C (m × k, k small): the right
+    singular vectors of the singular values at most ``rtol`` times the largest; the
+    identity for a C without rows or entries. Only Vᵀ is formed: the left singular vectors
+    of a C with many rows are never needed (a block's rigid modes on its 13,000 supported
+    DOFs: 13,000² doubles, 1.4 GB and 11 s, for a 6 × 6 answer).
+
+    >>> null_space(np.array([[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]), 1e-10).shape
+    (3, 2)
+    >>> null_space(np.zeros((0, 2)), 1e-10).tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    m, k = C.shape
+    if m == 0 or not np.any(C):
+        return np.eye(k)
+    _, sv, vt = np.linalg.svd(C, full_matrices=m < k)  # Vᵀ is k × k either way
+    rank = int((sv > rtol * float(sv.max())).sum())
+    return np.asarray(vt[rank:].T)
+
+
 def symmetric_product(A: FloatArray, X: FloatArray) -> FloatArray:
     """A X for a symmetric (M, M) float64 array ``A`` and X (M,) or (M, k).
 

@@ -26,7 +26,7 @@ from .. import assembly as asm
 from ..element import quadrature, reference
 from ..errors import MeshError, ModelError
 from ..interface import MohrCoulomb, PairGeometry, PairLaws, SplitMesh, split
-from ..linalg import LowRankTerm
+from ..linalg import LowRankTerm, null_space
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
@@ -1197,10 +1197,9 @@ class Model:
             if not C.any():
                 cols.append(Rb)
                 continue
-            _, sv, Vt = np.linalg.svd(C, full_matrices=True)
-            rank = int((sv > 1e-10 * sv.max()).sum())
-            if rank < k:
-                cols.append(sp.csc_matrix(Rb @ Vt[rank:].T))
+            N = null_space(C, 1e-10)
+            if N.shape[1]:
+                cols.append(sp.csc_matrix(Rb @ N))
         return sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n_dof, 0))
 
     def rigid_motion_projector(self, M: sp.spmatrix, free: IntArray) -> LowRankTerm | None:
@@ -1429,12 +1428,7 @@ class Model:
             for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
                 basis[:, i, 3 + k], basis[:, j, 3 + k] = -X[:, j], X[:, i]
         held = basis[fixed[nodes]]  # (prescribed components, modes)
-        if held.size:
-            _, sv, vt = np.linalg.svd(held, full_matrices=True)
-            rank = int((sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)).sum())
-            null = vt[rank:]
-        else:
-            null = np.eye(len(labels))
+        null = null_space(held, 1e-9).T
         return [" + ".join(labels[k] for k in np.flatnonzero(np.abs(v) > 1e-6)) for v in null]
 
     @cached_property
