@@ -557,10 +557,13 @@ def test_mechanism_names_the_free_modes(tmp_path: Path, capsys: pytest.CaptureFi
     assert "body 'all' can move freely (" in err and "translation y" in err, err
 
 
-def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                      caplog: pytest.LogCaptureFixture) -> None:  # fmt: skip
     """``pga = 0.3`` scales a record to a peak of 0.3 g (to round-off); ``scale = -1``
     beside it flips the record first (its polarity, named in the record's line); with
-    another ``scale`` too, or on a record of zeros, exit 2 naming the record."""
+    another ``scale`` too, or on a record of zeros, exit 2 naming the record. A static-only
+    model (analysis.dynamic = false) does not use its records: the record of zeros is
+    warned there, as not used, and the check passes."""
     from pfeie.io import load_job
 
     p = model(tmp_path)
@@ -580,9 +583,20 @@ def test_record_scaled_to_a_target_pga(tmp_path: Path, capsys: pytest.CaptureFix
     assert main(["check", str(p)]) == 2
     assert "ground_motion[0]: give either scale or pga, not both" in capsys.readouterr().err
     np.savetxt(tmp_path / "rec.csv", np.c_[[0.0, 0.1], [0.0, 0.0]], delimiter=",")
-    p.write_text(text + '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n')
+    zeros = '[[ground_motion]]\nfile = "rec.csv"\nunits = "g"\npga = 0.3\n'
+    p.write_text(text.replace("dynamic = false", "duration = 0.1") + zeros)
     assert main(["check", str(p)]) == 2
     assert "the record is all zeros" in capsys.readouterr().err
+    p.write_text(text + zeros)
+    with caplog.at_level("WARNING"):
+        assert main(["check", str(p)]) == 0
+    assert "the record is all zeros" in caplog.text
+    assert "(not used: analysis.dynamic = false)" in caplog.text
+    caplog.clear()  # a record file missing: the static-only run goes on (a new user's case)
+    p.write_text(text + zeros.replace("rec.csv", "gone.csv"))
+    with caplog.at_level("WARNING"):
+        assert main(["run", str(p), "--quiet"]) == 0
+    assert "gone.csv: record file not found (not used: analysis.dynamic = false)" in caplog.text
 
 
 def test_output_file_with_a_nul_character(tmp_path: Path,

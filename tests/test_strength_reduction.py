@@ -45,9 +45,9 @@ def test_a_block_on_an_incline(beta: float, c_r: float, width: float, height: fl
     bracket, sliding on the joint, whose safety factor under the reduced strengths is 1
     within the bracket; 4 static analyses (the static state, one just beyond the
     rigid-block estimate, tried warm and cold, and one just below it). The blocks with
-    cohesion are flat: a 1 m × 1 m block on 35° with c_r = 20 kPa lifts its heel pair at
-    the limit, whose cohesion then goes (F 1.935 against 2.306; not the closed form's
-    mechanism)."""
+    cohesion are flat: a 1 m × 1 m block on 35° with c_r = 20 kPa lifts its heel at the
+    limit, whose cohesion then goes (F 1.935 on 2 × 2 cells, 1.63 to 1.75 finer, against
+    2.306; not the closed form's mechanism)."""
     m = block_on_base(joint=pf.Joint(phi=30.0, c_r=c_r), incline_deg=beta, width=width,
                       height=height, n=int(2 * width))  # fmt: skip
     r = pf.strength_reduction(m)
@@ -147,3 +147,23 @@ def test_a_joint_at_its_capacity_points_to_the_factor(tmp_path: Path) -> None:
     txt = (tmp_path / "out" / "summary.txt").read_text()
     assert ("at its capacity in the static state, which holds: the factor against sliding "
             "is analysis.strength_reduction's") in txt  # fmt: skip
+
+
+def test_a_joint_without_shear_and_the_text_lines() -> None:
+    """A block on a level joint under its weight alone: no joint carries shear, so it
+    holds up to REDUCTION_F_MAX with its safety factor ∞ (not the 4e16 of a round-off
+    shear, as a new user saw), and the summary's line says why. A sliding limit at which a
+    joint opens names it and its open share."""
+    from pfeie._job import _reduction_text
+
+    r = pf.strength_reduction(block_on_base(joint=pf.Joint(phi=30.0)))
+    assert r.factor is None and r.limit == "none"
+    assert r.safety_factors == {"joint": np.inf}
+    line = _reduction_text({"factor": None, "safety_factors": {"joint": None}, "f_max": 20.0})
+    assert line == ("FS > 20 by strength reduction (held with the joints' strengths divided "
+                    "by the largest factor tried; no joint carries shear under the static "
+                    "loads)")  # fmt: skip
+    line = _reduction_text({"factor": 1.658, "limit": "sliding", "joint": "joint",
+                            "safety_factors": {"joint": 1.0}, "open_joint": "joint",
+                            "open_share": 0.44})  # fmt: skip
+    assert line.endswith("'joint' is open over 44 % of its area there)"), line

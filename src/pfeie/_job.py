@@ -488,8 +488,9 @@ def _strength_reduction(
         "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
     }  # fmt: skip
     if stream is not None:
-        f = f"none up to {REDUCTION_F_MAX:g}" if r.factor is None else f"{r.factor:.5g}"
-        stream.write(f"strength reduction: F {f} ({r.limit}), {r.analyses} static analyses in "
+        f = (f"held up to F = {REDUCTION_F_MAX:g}" if r.factor is None
+             else f"F {r.factor:.4g} ({r.limit})")  # fmt: skip
+        stream.write(f"strength reduction: {f}, {r.analyses} static analyses in "
                      f"{time.perf_counter() - t0:.1f} s\n")  # fmt: skip
         stream.flush()
     return out
@@ -498,11 +499,13 @@ def _strength_reduction(
 def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
     """The joint with the largest open share of its area in the static state ``st`` (at a
     yield coefficient: the joint that opens, where a block rocks or overturns on it), as
-    ``open_joint`` and ``open_share``; empty where no pair is open."""
+    ``open_joint`` and ``open_share``; empty where no pair is open by more than
+    :data:`~pfeie.interface.OPEN_CRACK_MIN_M` (the summary's open share)."""
     P, S = model.pairs, st.pairs
     if P is None or S is None:
         return {}
-    opened = (S.state == OPEN).astype(float) * P.area
+    # open as in the summary's joint lines: by more than OPEN_CRACK_MIN_M
+    opened = ((S.state == OPEN) & (S.w[:, -1] > OPEN_CRACK_MIN_M)).astype(float) * P.area
     shares = {n: float(opened[P.of(n)].sum() / P.area[P.of(n)].sum()) for n in P.names}
     name = max(shares, key=lambda n: shares[n])
     return {"open_joint": name, "open_share": shares[name]} if shares[name] > 0 else {}
@@ -511,13 +514,19 @@ def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
 def _reduction_text(sr: dict[str, Any]) -> str:
     """The summary's line of the factor of safety by strength reduction."""
     if sr["factor"] is None:
+        why = ("; no joint carries shear under the static loads"
+               if all(f is None for f in sr["safety_factors"].values()) else "")  # fmt: skip
         return (f"FS > {sr.get('f_max', REDUCTION_F_MAX):g} by strength reduction (held with "
-                "the joints' strengths divided by the largest factor tried)")  # fmt: skip
+                f"the joints' strengths divided by the largest factor tried{why})")  # fmt: skip
     fs = ", ".join(f"{n} {'∞' if f is None else f'{f:.3g}'}"
                    for n, f in sr["safety_factors"].items())  # fmt: skip
     if sr["limit"] == "sliding":
-        return (f"FS {sr['factor']:.4g} by strength reduction (sliding on {sr['joint']!r}; "
-                f"joint FS with the strengths / {sr['factor']:.4g}: {fs})")  # fmt: skip
+        what = (f"FS {sr['factor']:.4g} by strength reduction (sliding on {sr['joint']!r}; "
+                f"joint FS with the strengths / {sr['factor']:.4g}: {fs}")  # fmt: skip
+        if sr.get("open_joint"):  # a block that also lifts on its joint at the limit
+            what += (f"; {sr['open_joint']!r} is open over {100 * sr['open_share']:.0f} % of "
+                     "its area there")  # fmt: skip
+        return what + ")"
     what = (f"FS {sr['factor']:.4g} by strength reduction ({sr['limit']} beyond it, not a "
             "sliding limit: a joint breaking through, opening or rocking, or the pair solver "
             f"failing short of the limit; joint FS with the strengths / {sr['factor']:.4g}: "

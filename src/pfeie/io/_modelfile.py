@@ -783,6 +783,10 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
             rec = rec.baseline_corrected() if gm.baseline else rec
             rec, applied, note, on_part = _scaled(rec, gm, end)
         except RecordError as exc:
+            if not cfg.analysis.dynamic:  # a static-only run does not need it: said, not fatal
+                log.warning("%s: ground_motion[%d]: %s (not used: analysis.dynamic = false)", p,
+                            i, exc)  # fmt: skip
+                continue
             raise RecordError(f"{p}: ground_motion[{i}]: {exc}") from None
         if note is not None:
             log.warning("%s: ground_motion[%d]: %s: %s scales that part", p, i, note,

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..coupling import StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
-from ..interface import OPEN, PairLaws, PairState, SolverSettings
+from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
 from ..typing import FloatArray
@@ -301,13 +301,17 @@ def joint_factors(
     laws: PairLaws, st: StaticResult, frames: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Each joint's shear capacity and shear force (N) in the static state ``st`` and
-    their ratio, its sliding safety factor (∞ without shear), with each pair's capacity
+    their ratio, its sliding safety factor (∞ without shear, or with a shear at the round-off
+    of its forces, :data:`~pfeie.interface.FS_ROUNDOFF`), with each pair's capacity
     under ``laws`` (the residual cohesion's ramp included:
     :meth:`~pfeie.interface.PairLaws.capacity_and_shear`)."""
     P = st.pairs
     assert P is not None
     capacity, shear = laws.capacity_and_shear(P.X, P.state == OPEN, P.broken, P.path, frames,
                                               P.w[:, -1], ramp=True)  # fmt: skip
+    # a shear of the round-off of the joint's forces is none (∞, as the summary's FS)
+    size = np.abs(P.X).sum(axis=1)
+    noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
     with np.errstate(divide="ignore", invalid="ignore"):
-        fs = np.where(shear > 0, capacity / shear, np.inf)
+        fs = np.where((shear > noise) & (shear > 0), capacity / shear, np.inf)
     return capacity, shear, fs
