@@ -358,14 +358,16 @@ def test_spectrum_command_errors(tmp_path: Path, capsys: pytest.CaptureFixture[s
 def test_scaling_of_a_zero_record_and_the_pga_note(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """``target_sa`` on a record of zeros: exit 2 naming the record; ``pga`` scaling
-    states its factor in the summary too (0.3 g / 0.31882 g = 0.94097, 6 digits)."""
+    """``target_sa`` on a record of zeros: exit 2 naming the record (in a dynamic model; a
+    static-only one warns, the record unused); ``pga`` scaling states its factor in the
+    summary too (0.3 g / 0.31882 g = 0.94097, 6 digits)."""
     from conftest import cli_fails as fails
     from pfeie.io import load_job
 
     p = _model(tmp_path, "pga = 0.3\n")
     assert "scaled ×0.94097 to a PGA of 0.3 g" in load_job(p).records[0].summary()
     p = _model(tmp_path, "target_sa = {period = 0.3, value = 0.5}\n")
+    p.write_text(p.read_text().replace("dynamic = false", "duration = 0.1"))
     np.savetxt(tmp_path / "elcentro.csv", np.c_[[0.0, 0.1], [0.0, 0.0]], delimiter=",")
     fails(capsys, ["check", str(p)], "ground_motion[0]", "the record is all zeros",
           "Sa(0.3 s, 5 %) = 0.5 g")  # fmt: skip
