@@ -183,15 +183,20 @@ def test_bordered_static_problem_on_the_inverse(
 
 def test_solve_statistics_tell_the_newton_from_the_fallbacks() -> None:
     """The per-step counters: the state iteration counts as neither, the semismooth
-    Newton after it as ``newton``, the cold start, the proximal-point Newton and projected
-    Gauss-Seidel as fallbacks; iterations add up, the residual is the worst."""
+    Newton after it and the proximal-point Newton as the 3D second stage
+    (PROXIMAL_FIRST_3D) as ``newton``, the cold start, the proximal-point Newton after the
+    Newtons and projected Gauss-Seidel as fallbacks; iterations add up, the residual is
+    the worst."""
+    from pfeie.interface import SECOND_STAGE_PROXIMAL
+
     stats = SolveStats()
     methods = ["state iteration", "semismooth Newton", "semismooth Newton (cold start)",
-               "proximal Newton", "projected Gauss-Seidel", "semismooth Newton"]
+               "proximal Newton", "projected Gauss-Seidel", "semismooth Newton",
+               SECOND_STAGE_PROXIMAL]  # fmt: skip
     for k, method in enumerate(methods):
         stats.add(SolveInfo(k + 1, 1e-10 * (k + 1), method))
-    assert (stats.newton, stats.fallbacks, stats.solves, stats.iterations) == (2, 3, 6, 21)
-    assert stats.residual == 6e-10
+    assert (stats.newton, stats.fallbacks, stats.solves, stats.iterations) == (3, 3, 7, 28)
+    assert stats.residual == 1e-10 * 7
     stats.reset()
     assert (stats.newton, stats.fallbacks, stats.solves, stats.residual) == (0, 0, 0, 0.0)
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..interface import (
     OPEN,
+    SECOND_STAGE_PROXIMAL,
     STICK,
     InterfaceSolver,
     PairLaws,
@@ -88,10 +89,11 @@ class _Reference:
 class SolveStats:
     """What the pair problems of one time step cost: solver iterations, the solves that
     the semismooth Newton finished after the state iteration (``newton``: its second
-    stage, in 3D from 300 components the Newton through W_c⁻¹), the solves that needed a
-    fallback beyond it (the Newton from a cold start, the proximal-point Newton or
-    projected Gauss-Seidel), and the worst final residual (scaled, as the solver's
-    tolerance)."""
+    stage, in 3D from 300 components the Newton through W_c⁻¹, else in 3D the
+    proximal-point Newton, :data:`~pfeie.interface.PROXIMAL_FIRST_3D`), the solves that
+    needed a fallback beyond it (the Newton from a cold start, the proximal-point Newton
+    after the Newtons, or projected Gauss-Seidel), and the worst final residual (scaled,
+    as the solver's tolerance)."""
 
     iterations: int = 0
     fallbacks: int = 0
@@ -106,8 +108,9 @@ class SolveStats:
     def add(self, info: SolveInfo) -> None:
         """Account for one solve (its :class:`~pfeie.interface.SolveInfo`)."""
         self.iterations += info.iterations
-        self.newton += info.method == "semismooth Newton"
-        self.fallbacks += info.method not in ("state iteration", "semismooth Newton", "none")
+        second = info.method in ("semismooth Newton", SECOND_STAGE_PROXIMAL)
+        self.newton += second
+        self.fallbacks += not second and info.method not in ("state iteration", "none")
         self.residual = max(self.residual, info.residual)
         self.solves += 1
 

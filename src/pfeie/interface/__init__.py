@@ -33,13 +33,22 @@ from ._laws import (
     cohesion_ramp_tangent,
 )
 from ._settings import SolverSettings
-from ._solver import FACTOR_CACHE_BYTES, FACTOR_CACHE_COUNT, FactorCache, InterfaceSolver, SolveInfo
+from ._solver import (
+    FACTOR_CACHE_BYTES,
+    FACTOR_CACHE_COUNT,
+    PROXIMAL_FIRST_3D,
+    SECOND_STAGE_PROXIMAL,
+    FactorCache,
+    InterfaceSolver,
+    SolveInfo,
+)
 from ._split import PairGeometry, SplitMesh, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
     "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT",
-    "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "SLIDE", "STATE_NAMES", "STICK",
+    "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "PROXIMAL_FIRST_3D", "SECOND_STAGE_PROXIMAL",
+    "SLIDE", "STATE_NAMES", "STICK",
     "FactorCache", "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry",
     "PairLaws", "PairState", "Reduced", "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh",
     "Strength", "cohesion_ramp", "cohesion_ramp_tangent", "coulomb_laws", "load_fclib",

@@ -120,6 +120,10 @@ SPARSE_MIN = 1000
 """Smallest W (rows) kept sparse when it is sparse enough (:data:`SPARSE_FILL`)."""
 SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
+#: the method of a solve that the proximal Newton finished as the second stage of a 3D
+#: problem (:data:`PROXIMAL_FIRST_3D`), after the state iteration: not a fallback
+SECOND_STAGE_PROXIMAL = "proximal Newton (second stage)"
+
 PROXIMAL_FIRST_3D = True
 """Where the state iteration does not settle a 3D problem without a border that the Newton
 through W_c⁻¹ does not take (fewer than :data:`NEWTON_WOODBURY_MIN` components, or a W_c⁻¹
@@ -1131,7 +1135,7 @@ class InterfaceSolver:
             it += n6
             res6 = float(self.residual(st6, prev, w_free).max(initial=0.0))
             if res6 <= self.tol:
-                self.last = SolveInfo(it, res6, "proximal Newton")
+                self.last = SolveInfo(it, res6, SECOND_STAGE_PROXIMAL)
                 log.debug("%s: solved by the proximal Newton, residual %.2e", label, res6)
                 return st6, np.zeros(0)
         if self._vectorised_newton:
