@@ -126,6 +126,10 @@ def test_in_a_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> 
     html = Path(write_report(tmp_path / "out" / "results.h5")).read_text()
     assert "FS by strength reduction" in html and f"{sr['factor']:.4g} (sliding)" in html
     assert "at its capacity in the static state" not in txt
+    capsys.readouterr()
+    assert main(["check", str(p)]) == 0  # the check names the analyses the run makes
+    assert ("analyses     static state; factor of safety by strength reduction\n"
+            in capsys.readouterr().out)  # fmt: skip
     bad = _write(tmp_path, text.replace("dynamic = false", "dynamic = true\nstatic = false"))
     capsys.readouterr()
     assert main(["run", str(bad), "--quiet"]) == 2

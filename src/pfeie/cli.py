@@ -757,6 +757,9 @@ def _format_check(s: dict[str, object]) -> str:
     assert isinstance(steps, int) and isinstance(dt, int | float)
     assert isinstance(duration, int | float)
     lines.append(_steps_line(steps, float(dt), float(duration)))
+    analyses = s.get("analyses")
+    if isinstance(analyses, list) and analyses:
+        lines.append(f"analyses     {'; '.join(analyses)}")
     lines.append(
         f"memory       at most about {s['estimated_memory_mb']} MB (the pair solvers' "
         "caches full; a run usually needs less)"

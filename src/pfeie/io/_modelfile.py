@@ -245,8 +245,23 @@ class Job:
             "mass_kg": float(m.total_mass()),
             "records": [g.summary() for g in self.records], "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
-            "estimated_memory_mb": round(mem / 2**20, 1),
+            "estimated_memory_mb": round(mem / 2**20, 1), "analyses": self._analyses(),
         }  # fmt: skip
+
+    def _analyses(self) -> list[str]:
+        """The analyses the run makes, in its order (``pfeie check``'s line)."""
+        a = self.analysis
+        out = ["static state"] if a.static else []
+        if a.yield_coefficient:
+            labels = ["+x", "-x"] if a.yield_coefficient is True else list(a.yield_coefficient)
+            out.append(f"yield coefficient along {', '.join(labels)}")
+        if a.strength_reduction:
+            out.append("factor of safety by strength reduction")
+        if a.dynamic:
+            out.append("dynamic")
+            if a.static and a.post_earthquake and self.model.pairs is not None:
+                out.append("post-earthquake static state")
+        return out
 
 
 def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:
