@@ -900,7 +900,8 @@ def joint_plane(x: np.ndarray, frame: np.ndarray) -> tuple[np.ndarray, np.ndarra
     nrm = nrm * np.where(nrm @ nrm[0] < 0, -1.0, 1.0)[:, None]
     n = nrm.mean(axis=0)
     if np.linalg.norm(n) < 1e-9:
-        n = np.linalg.svd(x - x.mean(axis=0), full_matrices=True)[2][-1]
+        # Vᵀ only (3 × 3): the left vectors of thousands of pairs are not needed
+        n = np.linalg.svd(x - x.mean(axis=0), full_matrices=x.shape[0] < 3)[2][-1]
     n = n / np.linalg.norm(n)
     axes = [n]
     labels = []
