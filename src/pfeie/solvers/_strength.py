@@ -29,7 +29,8 @@ joints reach their capacity (its margins are affine in 1/F), so a block on a pla
 four analyses: the static state, one just beyond that estimate (tried from the last state
 held, then from the initial state, as every analysis that fails) and one just below it.
 Where the estimate creeps (the wedge's friction turning towards the line of
-intersection as F grows), the step grows geometrically until the limit is bracketed, then
+intersection as F grows), the step grows geometrically, or by the estimates'
+extrapolation (:func:`~pfeie.solvers._yield._creep`), until the limit is bracketed, then
 bisection safeguards the estimate.
 
 A rigid block of weight W on a plane of dip β, with a joint of cohesion c over its area A
@@ -52,7 +53,7 @@ from ..interface import SolverSettings
 from ..model import Model
 from ..typing import FloatArray
 from ._static import StaticResult, held, joint_factors, solve_pairs
-from ._yield import SLIDING_FS
+from ._yield import SLIDING_FS, _creep
 
 log = logging.getLogger(__name__)
 
@@ -167,6 +168,7 @@ def strength_reduction(
     hi: float | None = None
     grow = 2.0 * tol  # the least relative step while the limit is not bracketed
     widths: list[float] = []
+    targets: list[float] = []  # the estimates aimed at while the limit is not bracketed
     while hi is None or hi - lo > tol * lo:
         if count >= max_analyses:
             log.warning("strength reduction: the limit bracketed to [%.6g, %s] only, in %d "
@@ -181,6 +183,9 @@ def strength_reduction(
                 return _result(None, None, names, fs_lo, st_lo, count, "none")
             f_try = max(est * (1 + tol / 4), lo * (1 + grow))
             grow *= 2.0
+            ahead = _creep(targets, est, tol)  # estimates that creep up: extrapolated
+            if ahead is not None:
+                f_try = max(f_try, ahead)
         elif lo * (1 + tol) < est < hi:
             # the estimate inside the bracket and a step ahead (else it creeps: bisect):
             # just below it once the bracket is that close above it, else just beyond it
