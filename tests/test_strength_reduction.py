@@ -63,7 +63,7 @@ def test_a_block_on_an_incline(beta: float, c_r: float, width: float, height: fl
 def test_a_wedge_against_hoek_and_bray(groups: int) -> None:
     """The symmetric wedge of tests/test_wedge.py (ξ = 45°, ψ = 30°, φ = 30°, the rock
     fixed at its base), its planes one joint or two: F = √2 within the bracket (measured
-    1.4142 and 1.41419), sliding. Its static state shows why the joints' own safety
+    1.41418 and 1.41413), sliding. Its static state shows why the joints' own safety
     factors are no factor against sliding: the elastic wedge, loaded by its weight from a
     stress-free state, is held up the dip by friction at the capacity of every pair, so
     each plane's mobilised safety factor is within 4 % of 1 (measured 1.0345 and 1.0847)
