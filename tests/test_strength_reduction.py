@@ -75,7 +75,9 @@ def test_a_wedge_against_hoek_and_bray(groups: int) -> None:
     r = pf.strength_reduction(m)
     _bracketed(r, float(np.sqrt(2.0)))
     assert r.limit == "sliding"
-    assert all(abs(f - 1.0) <= REDUCTION_TOL for f in r.safety_factors.values())
+    # every pair at its reduced cone to the pair solver's tolerance 1e-8 (measured FS − 1
+    # of 1.9e-9 and 9.8e-9)
+    assert all(abs(f - 1.0) <= 1e-7 for f in r.safety_factors.values())
 
 
 def test_a_wedge_whose_keel_is_level_holds() -> None:
@@ -139,7 +141,8 @@ def test_in_a_model_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> 
 
 def test_a_joint_at_its_capacity_points_to_the_factor(tmp_path: Path) -> None:
     """A static state that holds with a joint within 5 % of its capacity (the level joint,
-    μ = 0.5, under k_h = 0.49: FS = 0.5/0.49 = 1.02): its summary line says that the factor
+    μ = 0.5, under k_h = 0.49: FS = 0.5/0.49 = 1.02, to 5e-15, measured 4.4e-16): its
+    summary line says that the factor
     against sliding is the strength reduction's, unless that was asked for."""
     text = SMALL.replace("[analysis]", "[loads]\npseudo_static = { kh = 0.49 }\n[analysis]\n"
                          "dynamic = false")  # fmt: skip
@@ -147,7 +150,7 @@ def test_a_joint_at_its_capacity_points_to_the_factor(tmp_path: Path) -> None:
     assert main(["run", str(_write(tmp_path, text)), "--quiet"]) == 0
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert s["static_joints"]["joint"]["safety_factor"] == pytest.approx(
-        np.tan(np.radians(26.565)) / 0.49, rel=1e-9)  # fmt: skip
+        np.tan(np.radians(26.565)) / 0.49, rel=5e-15)  # fmt: skip
     txt = (tmp_path / "out" / "summary.txt").read_text()
     assert ("at its capacity in the static state, which holds: the factor against sliding "
             "is analysis.strength_reduction's") in txt  # fmt: skip
