@@ -308,19 +308,21 @@ def _run(
     ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps,
                            job.part_factors)  # fmt: skip
     ystream = (stream or sys.stderr) if progress else None  # the yield search's progress
+    settings = SolverSettings(tolerance=a.tolerance)
     try:
         if a.static and ck is None:
-            static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
+            static = solve_static(model, settings=settings)
             writer.write_static(static)
             log.info("static state solved in %.2f s", time.perf_counter() - t0)
-            if a.yield_coefficient:
-                yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
         elif a.static:  # resumed: the static state again, for the summary and the uplift
-            static = solve_static(model, settings=SolverSettings(tolerance=a.tolerance))
-        if a.yield_coefficient and ck is not None:  # resumed: the summary keeps it
-            yields = _yield_coefficients(job, SolverSettings(tolerance=a.tolerance), ystream)
-        if a.strength_reduction:  # (resumed too: the summary keeps it)
-            reduction = _strength_reduction(job, SolverSettings(tolerance=a.tolerance), ystream)
+            static = solve_static(model, settings=settings)
+        if a.yield_coefficient or a.strength_reduction:  # (resumed too: the summary keeps them)
+            # one static problem (factorisations, W) for both searches
+            problem = StaticInterfaceProblem(model, model.system(), settings=settings)
+            if a.yield_coefficient:
+                yields = _yield_coefficients(job, problem, ystream)
+            if a.strength_reduction:
+                reduction = _strength_reduction(job, problem, ystream)
     except PfeieError as exc:
         writer.close(False, f"static analysis failed: {exc}")
         raise
@@ -427,18 +429,17 @@ def dynamic_analysis(job: Job) -> Dynamic:
 
 
 def _yield_coefficients(
-    job: Job, settings: SolverSettings, stream: TextIO | None = None
+    job: Job, problem: StaticInterfaceProblem, stream: TextIO | None = None
 ) -> dict[str, dict[str, Any]]:
     """The yield coefficient along +x and −x, or the directions listed, each made
-    horizontal (``analysis.yield_coefficient``; :func:`pfeie.yield_coefficient`), with one
-    static problem for all: per direction its
+    horizontal (``analysis.yield_coefficient``; :func:`pfeie.yield_coefficient`), on the
+    model's static ``problem`` for all: per direction its
     unit vector, ``k_y`` (the last coefficient held, None if held up to the largest tried),
     ``k_affine`` (the margins' affine root from the last two held), ``k_fail``, ``limit``,
     the governing ``joint`` and its safety factor at k_y, and the analyses it took. With a
     ``stream``, a line on it as each direction starts and ends (the search takes tens of
     static analyses)."""
     model = job.model
-    problem = StaticInterfaceProblem(model, model.system(), settings=settings)
     out: dict[str, dict[str, Any]] = {}
     asked = job.analysis.yield_coefficient
     labels = ["+x", "-x"] if asked is True else list(asked or [])
@@ -469,18 +470,19 @@ def _yield_coefficients(
 
 
 def _strength_reduction(
-    job: Job, settings: SolverSettings, stream: TextIO | None = None
+    job: Job, problem: StaticInterfaceProblem, stream: TextIO | None = None
 ) -> dict[str, Any]:
     """The factor of safety by strength reduction (``analysis.strength_reduction``;
-    :func:`pfeie.strength_reduction`): ``factor`` (the largest held, None if held up to
-    ``f_max``), ``factor_fail``, ``limit``, the governing ``joint``, each joint's safety
-    factor under the reduced strengths and the analyses it took. With a ``stream``, a
+    :func:`pfeie.strength_reduction`, on the model's static ``problem``): ``factor`` (the
+    largest held, None if held up to ``f_max``), ``factor_fail``, ``limit``, the governing
+    ``joint``, each joint's safety factor under the reduced strengths and the analyses it
+    took. With a ``stream``, a
     line on it as it starts and ends."""
     t0 = time.perf_counter()
     if stream is not None:
         stream.write("strength reduction: static analyses ...\n")
         stream.flush()
-    r = strength_reduction(job.model, settings=settings)
+    r = strength_reduction(job.model, problem=problem)
     out = {
         "factor": r.factor, "factor_fail": r.factor_fail, "limit": r.limit, "joint": r.joint,
         "safety_factors": {n: (f if np.isfinite(f) else None)
