@@ -77,7 +77,9 @@ def test_a_base_broken_through_with_a_low_residual_friction_slides() -> None:
     """The whole base broken, φ_r = 20°, full headwater under it (U = ρ_w g h B): at 12 m
     of water (W − U) tan φ_r = (4.709 − 1.177) MN × 0.364 = 1.29 MN holds T = 0.71 MN (FS
     1.82); at 19 m, 1.04 MN against T = 1.77 MN (FS 0.58): no equilibrium, a
-    MechanismError that names the floating block and its joint."""
+    MechanismError that names the floating block and its joint, and the share of its load
+    that no forces within the joint's strength balance (the rigid-block check):
+    (T − (W − U) tan φ_r) / ‖(T, W − U)‖ = 21.9 %."""
     joint = pf.Joint(c=C, phi=PHI, tensile=0.2e6, phi_r=20.0, initial="intact")
     model, _ = dam(12.0, joint)
     post = pf.solve_static(model, damage=_damage(model, B))
@@ -89,6 +91,10 @@ def test_a_base_broken_through_with_a_low_residual_friction_slides() -> None:
     # user was told to set initial = "intact" on joints that had started so)
     assert "This is the post-earthquake state" in str(err.value)
     assert "full headwater" in str(err.value) and 'initial = "intact"' not in str(err.value)
+    W, U, T = 2400.0 * G * B * H, RHO_W * G * 19.0 * B, RHO_W * G * 19.0**2 / 2
+    share = (T - (W - U) * np.tan(np.radians(20.0))) / np.hypot(T, W - U)
+    assert f"('dam' on 'base': unbalanced by about {100 * share:.3g} % of its load)" in str(
+        err.value)  # fmt: skip
 
 
 def test_a_damage_of_another_model_is_refused() -> None:

@@ -62,16 +62,17 @@ def test_held_up_to_the_limit(dim: int, theta: float) -> None:
 def test_refused_beyond_the_limit(dim: int) -> None:
     """θ = 30.5° > φ: no equilibrium; the message names the floating block, its joint and
     what to check."""
-    with pytest.raises(MechanismError, match=r"floating block\(s\) \('block' on 'joint'\).*"
-                       r"friction angles"):  # fmt: skip
+    # the rigid-block check's share: sin θ − cos θ tan φ of the weight (1.01 %)
+    with pytest.raises(MechanismError, match=r"floating block\(s\) \('block' on 'joint': "
+                       r"unbalanced by about 1\.01 % of its load\).*friction angles"):  # fmt: skip
         pf.solve_static(_tilted(dim, 30.5))
 
 
 def test_refused_when_the_solver_finds_no_pattern() -> None:
     """A Tet10 block at θ = 35° > φ: the state iteration and the Newtons end without an
     answer (no singular pattern on the way); the static analysis says that no equilibrium
-    was found for the floating block on its joint, and gives no time-step advice (a time
-    step means nothing there)."""
+    holds the floating block on its joint (the rigid-block check proves it), and gives no
+    time-step advice (a time step means nothing there)."""
     from pfeie.verification._models import _groups, _model
 
     mesh = pf.box(1.0, 1.0, 1.5, 3, 3, 4, cell="tetra10")
@@ -84,7 +85,118 @@ def test_refused_when_the_solver_finds_no_pattern() -> None:
         pf.solve_static(m)
     msg = str(info.value)
     assert "did not converge" in msg and "time step" not in msg
-    assert "No static equilibrium was found for the floating block(s) ('block' on 'joint')" in msg
+    # the rigid-block check proves that none exists: sin 35° − cos 35° tan 30° = 10.1 %
+    assert ("No static equilibrium holds the floating block(s) ('block' on 'joint': "
+            "unbalanced by about 10.1 % of its load)") in msg  # fmt: skip
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("theta", [29.0, 30.5, 35.0, 45.0])
+def test_rigid_block_check(dim: int, theta: float) -> None:
+    """The rigid-block check of the tilted block: the share of its weight W that the
+    joint cannot balance is max(0, sin θ − cos θ tan φ) (limit equilibrium: N = W cos θ,
+    T ≤ N tan φ); 3D with the tilt along x, a side of the cone's octagon. To 1e-14
+    (measured 3e-16: the linear programme's answer is a vertex)."""
+    m = _tilted(dim, theta)
+    problem = pf.coupling.StaticInterfaceProblem(m, m.system())
+    share = problem.rigid_check(m.system().load(0.0))
+    t = np.radians(theta)
+    ref = max(0.0, np.sin(t) - np.cos(t) * np.tan(np.radians(PHI)))
+    block = m.body_names().index("block")
+    assert share[block] == pytest.approx(ref, abs=1e-14)
+    assert np.isnan(np.delete(share, block)).all()  # the supported base: not checked
+
+
+def _l1_to_octagon(p: np.ndarray, r: float) -> float:
+    """The L1 distance from the point p (2,) to the octagon circumscribed about the circle
+    of radius r with sides normal to 0°, 45°, …: on each side, |p − q|₁ is piecewise
+    linear, so its least value is at a corner or where q_x = p_x or q_y = p_y."""
+    th = np.arange(8) * np.pi / 4
+    corners = r / np.cos(np.pi / 8) * np.column_stack([np.cos(th + np.pi / 8),
+                                                       np.sin(th + np.pi / 8)])  # fmt: skip
+    best = np.inf
+    for a, b in zip(corners, np.roll(corners, -1, axis=0), strict=True):
+        ts = [0.0, 1.0]
+        for k in range(2):
+            if b[k] != a[k]:
+                ts.append(float(np.clip((p[k] - a[k]) / (b[k] - a[k]), 0.0, 1.0)))
+        best = min(best, min(float(np.abs(p - (a + t * (b - a))).sum()) for t in ts))
+    return best
+
+
+def test_rigid_block_check_3d_between_the_octagons_sides() -> None:
+    """3D, the tilt turned 22.5° in plan, towards a corner of the octagon circumscribed
+    about the Coulomb cone's section (which bounds the capacity from outside: never a
+    block named that an equilibrium could hold): the share is the L1 distance from the
+    load's shear W sin θ (cos 22.5°, sin 22.5°) to the octagon of radius μ W cos θ, over W
+    (an independent computation, :func:`_l1_to_octagon`: 8.06 % at θ = 35°, against 10.06 %
+    beyond the circle along the load). To 1e-14 (measured round-off)."""
+    m = block_on_base_3d(joint=pf.Joint(phi=PHI), gravity=False, n=3)
+    t, a = np.radians(35.0), np.pi / 8
+    m.add_gravity(direction=[np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), -np.cos(t)])
+    share = pf.coupling.StaticInterfaceProblem(m, m.system()).rigid_check(m.system().load(0.0))
+    p = np.sin(t) * np.array([np.cos(a), np.sin(a)])
+    ref = _l1_to_octagon(p, np.cos(t) * np.tan(np.radians(PHI)))
+    assert share[m.body_names().index("block")] == pytest.approx(ref, abs=1e-14)
+
+
+def _side_by_side(kh: float) -> pf.Model:
+    """Two blocks side by side on a rock (4 m × 1 m, each 2 m × 1 m): 'A' on a joint of
+    φ = 45°, 'B' on one of φ = 10°, a frictionless joint between them, and a
+    pseudo-static coefficient k_h along x (towards 'B' when positive)."""
+    mesh = pf.rectangle(4.0, 2.0, 8, 4, cell="quad")
+    mesh.add_cell_group("rock", lambda x: x[:, 1] < 1)
+    mesh.add_cell_group("A", lambda x: (x[:, 1] > 1) & (x[:, 0] < 2))
+    mesh.add_cell_group("B", lambda x: (x[:, 1] > 1) & (x[:, 0] > 2))
+    on_base = lambda x: np.abs(x[:, 1] - 1) < 1e-9  # noqa: E731
+    mesh.add_facet_group("jA", lambda x: on_base(x) & (x[:, 0] < 2 - 1e-9), boundary_only=False)
+    mesh.add_facet_group("jB", lambda x: on_base(x) & (x[:, 0] > 2 + 1e-9), boundary_only=False)
+    mesh.add_facet_group("jAB", lambda x: (np.abs(x[:, 0] - 2) < 1e-9) & (x[:, 1] > 1 - 1e-9),
+                         boundary_only=False)  # fmt: skip
+    mat = pf.Elastic(30e9, 0.2, 2500)
+    m = pf.Model(mesh, [pf.Block(n, mat) for n in ("rock", "A", "B")],
+                 interfaces=[pf.Interface("jA", pf.Joint(phi=45)),
+                             pf.Interface("jB", pf.Joint(phi=10)),
+                             pf.Interface("jAB", pf.Joint(phi=0.0))])  # fmt: skip
+    m.fix("ymin")
+    m.add_gravity()
+    m.add_inertia([kh * 9.81, 0.0])
+    return m
+
+
+def test_the_failing_block_is_named_among_floating_blocks() -> None:
+    """Of two floating blocks, the one that slides is named: pushed towards 'B' (k_h =
+    0.3), 'B' pulls away from 'A' (the joint between them carries no tension) and needs
+    k_h ≤ tan 10° = 0.176 on its own: unbalanced by (k_h − tan 10°)/√(1 + k_h²) = 11.8 % of
+    its load, while 'A' (tan 45° = 1) holds. Pushed the other way, 'B' leans on 'A', and
+    both are held: the joint between them carries B's k_h W − μ_B W (limit equilibrium
+    of 'B' sliding on its joint; to 1e-6 of it, the interface solver's tolerance, measured
+    2e-15)."""
+    with pytest.raises(MechanismError) as info:
+        pf.solve_static(_side_by_side(0.3))
+    msg = str(info.value)
+    assert "('B' on 'jB', 'jAB': unbalanced by about 11.8 % of its load)" in msg
+    assert "'A' on" not in msg
+    m = _side_by_side(-0.3)
+    st = pf.solve_static(m)
+    assert st.pairs is not None
+    W = 2500 * 9.81 * 2.0  # B's weight per metre
+    push = st.pairs.X[m.pairs.of("jAB"), -1].sum()  # compression +
+    assert push == pytest.approx(W * (0.3 - np.tan(np.radians(10.0))), rel=1e-6)
+
+
+def test_the_message_when_rigid_blocks_could_be_held() -> None:
+    """Where the rigid-block check finds an equilibrium but the elastic problem found
+    none, the message says so, and says what that means."""
+    from pfeie.solvers._static import _floating
+
+    m = _tilted(2, 30.5)
+    share = np.full(m.n_bodies, np.nan)
+    share[m.body_names().index("block")] = 0.0
+    msg = _floating(m, found=False, share=share)
+    assert msg.startswith("No static equilibrium was found for the floating block(s) "
+                          "('block' on 'joint'), although rigid blocks with these joints' "
+                          "strengths can be balanced")  # fmt: skip
 
 
 def test_cohesion_of_a_joint_that_starts_broken_is_flagged(

@@ -19,6 +19,7 @@ cannot hold a body (it would slide or fall), :class:`~pfeie.errors.MechanismErro
 from __future__ import annotations
 
 import copy
+import logging
 
 import numpy as np
 import scipy.linalg as sla
@@ -32,19 +33,30 @@ from ..typing import FloatArray, IntArray
 from ._delassus import delassus
 from ._operators import PairOperator
 
+log = logging.getLogger(__name__)
+
 
 def floating_modes(model: Model, prescribed: IntArray) -> FloatArray:
     """The rigid modes (n_dof, k) of the bodies that the supports leave free."""
+    return _floating_modes(model, prescribed)[0]
+
+
+def _floating_modes(model: Model, prescribed: IntArray) -> tuple[FloatArray, IntArray]:
+    """The rigid modes (n_dof, k) of the bodies that the supports leave free, and the
+    body of each mode (k,)."""
     Phi = model.rigid_modes()
     r = 3 if model.dim == 2 else 6
     Pp = Phi[prescribed].toarray() if prescribed.size else np.zeros((0, Phi.shape[1]))
-    cols = []
+    cols, bodies = [], []
     for b in range(model.n_bodies):
         sl = slice(b * r, (b + 1) * r)
         N = null_space(Pp[:, sl], max(Pp.shape[0], r) * float(np.finfo(float).eps))
         if N.shape[1]:
             cols.append(Phi[:, sl] @ N)
-    return np.hstack(cols) if cols else np.zeros((model.n_dof, 0))
+            bodies += [b] * N.shape[1]
+    if not cols:
+        return np.zeros((model.n_dof, 0)), np.zeros(0, dtype=np.int64)
+    return np.hstack(cols), np.array(bodies, dtype=np.int64)
 
 
 def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
@@ -98,7 +110,8 @@ class StaticInterfaceProblem:
             raise MechanismError("the static interface problem needs interfaces")
         self.model, self.system = model, system
         free, pres = system.free, system.prescribed
-        self.Phi = floating_modes(model, pres)[free]
+        Phi, self.mode_body = _floating_modes(model, pres)
+        self.Phi = Phi[free]
         k = self.Phi.shape[1]
         self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
         on_pairs = np.asarray(abs(self.op.G).sum(axis=0)).ravel() > 0
@@ -144,6 +157,108 @@ class StaticInterfaceProblem:
         if Phi.shape[1]:
             u_free = u_free + Phi @ q
         return u_free, st
+
+    def rigid_check(self, f_free: FloatArray, damage: PairState | None = None) -> FloatArray:
+        """Limit equilibrium of the floating blocks as rigid bodies: per body (n_bodies,),
+        the least share of its load that no pair forces within the joints' strength can
+        balance (0: a rigid-block equilibrium exists; NaN for a body with a support).
+
+        The linear programme: find X and slacks s = s⁺ − s⁻ ≥ 0 with
+
+            Eᵀ X − s = e,    X_n ≥ −σ_t A,    n_k · X_t ≤ c A + μ X_n  (each pair),
+
+        minimising Σ_j |s_j| / S_j, where E = G Φ and e = −Φᵀ f are the border's
+        (the module docstring), n_k the outward normals of the Coulomb cone's section (two
+        in 2D; in 3D eight, a polygon circumscribed about the circle), and S_j the size of
+        mode j's load: the body's translational load ‖Σ f‖ times the mode's RMS
+        displacement over the body's nodes (1 for a translation; the radius of gyration
+        of the nodes for a rotation, m). A body's share is Σ_j |s_j| / S_j over its modes
+        (for a load beyond the cone along one axis, the unbalanced force over the load;
+        along no axis, a weighted L1 norm of it). The cone is the law's outer bound (no
+        cohesion ramp, no gap, every pair
+        that is not broken by ``damage`` or from the start taken intact), so a share above
+        zero proves that no static equilibrium exists, elastic or rigid; a share of zero
+        leaves open whether the elastic one does (the elastic problem may part a joint
+        that the rigid blocks keep closed).
+
+        >>> import numpy as np, pfeie as pf
+        >>> mesh = pf.rectangle(1.0, 2.0, 1, 2)
+        >>> _ = mesh.add_cell_group("base", lambda x: x[:, 1] < 1)
+        >>> _ = mesh.add_cell_group("top", lambda x: x[:, 1] > 1)
+        >>> _ = mesh.add_facet_group("j", lambda x: abs(x[:, 1] - 1.0) < 1e-9, False)
+        >>> mat = pf.Elastic(1e9, 0.2, 1000.0)
+        >>> model = pf.Model(mesh, [pf.Block("base", mat), pf.Block("top", mat)],
+        ...                  interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])
+        >>> model.fix("base"); model.add_gravity(); model.add_inertia([0.7 * 9.81, 0.0])
+        >>> problem = StaticInterfaceProblem(model, model.system())
+        >>> share = problem.rigid_check(model.system().load(0.0))
+        >>> round(float(share[1]), 6)    # (0.7 − tan 30°) W / ‖(0.7, −1) W‖
+        0.100479
+        """
+        from scipy.optimize import linprog
+
+        model, d = self.model, self.model.dim
+        share = np.full(model.n_bodies, np.nan)
+        k = self.Phi.shape[1]
+        if not k:
+            return share
+        E = np.asarray(self.op.G @ self.Phi)
+        e = -(self.Phi.T @ f_free)
+        # the load size of each mode: the translational load on its body times the mode's
+        # RMS displacement over the body's free DOFs
+        free = self.system.free
+        body = model.body_of_node[free // d]
+        comp = free % d
+        S = np.zeros(k)
+        for j in range(k):
+            b = self.mode_body[j]
+            on = body == b
+            force = np.bincount(comp[on], weights=f_free[on], minlength=d)
+            nodes = max(int(on.sum()) // d, 1)
+            S[j] = float(np.linalg.norm(force)) * float(
+                np.sqrt((self.Phi[on, j] ** 2).sum() / nodes))  # fmt: skip
+        S = np.where(S > 0, S, max(float(S.max(initial=0.0)), 1.0))
+        # the pairs that act on a floating body
+        rows = np.abs(E).reshape(-1, d, k).sum(axis=(1, 2)) > 0
+        idx = np.flatnonzero(rows)
+        laws = self.laws
+        broken = laws.initially_broken.copy()
+        path = np.zeros(laws.n)
+        if damage is not None:
+            broken |= damage.broken
+            path = damage.path
+        c, mu, t = laws.strength(broken, path)
+        c, mu, t = c[idx], mu[idx], t[idx]
+        n = idx.size
+        if d == 2:
+            normals = np.array([[1.0], [-1.0]])
+        else:
+            th = np.arange(8) * (np.pi / 4)
+            normals = np.column_stack([np.cos(th), np.sin(th)])
+        nk = normals.shape[0]
+        # n_k · X_t − μ X_n ≤ c A, pair by pair: rows (pair, k), columns (pair, component)
+        r_idx = np.repeat(np.arange(n * nk), d)
+        c_idx = (np.arange(n)[:, None, None] * d + np.arange(d)[None, None, :]
+                 + np.zeros((1, nk, 1), dtype=np.int64)).ravel()  # fmt: skip
+        vals = np.concatenate([normals[None, :, :].repeat(n, axis=0),
+                               -mu[:, None, None].repeat(nk, axis=1)], axis=2).ravel()  # fmt: skip
+        A_ub = sp.csr_matrix((vals, (r_idx, c_idx)), shape=(n * nk, n * d + 2 * k))
+        b_ub = np.repeat(c, nk)
+        cols = (idx[:, None] * d + np.arange(d)).ravel()
+        A_eq = sp.hstack([sp.csr_matrix(E[cols].T), -sp.eye(k), sp.eye(k)]).tocsr()
+        lo = np.full(n * d, -np.inf)
+        lo[d - 1 :: d] = -t
+        bounds = np.column_stack([np.r_[lo, np.zeros(2 * k)], np.full(n * d + 2 * k, np.inf)])
+        cost = np.r_[np.zeros(n * d), 1.0 / S, 1.0 / S]
+        res = linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=e, bounds=bounds,
+                      method="highs")  # fmt: skip
+        if res.status != 0:
+            log.debug("rigid-block check: linprog status %d: %s", res.status, res.message)
+            return share
+        s = np.abs(res.x[n * d : n * d + k] - res.x[n * d + k :]) / S
+        for b in np.unique(self.mode_body):
+            share[b] = float(s[self.mode_body == b].sum())
+        return share
 
     def with_laws(self, laws: PairLaws) -> StaticInterfaceProblem:
         """This problem (its factorisation, W_pin and border, built once) for other laws of

@@ -91,7 +91,7 @@ def solve_static(
 
 def solve_pairs(
     problem: StaticInterfaceProblem, f_free: FloatArray, f_all: FloatArray,
-    start: PairState | None = None, *, damage: PairState | None = None,
+    start: PairState | None = None, *, damage: PairState | None = None, explain: bool = True,
 ) -> StaticResult:  # fmt: skip
     """The static state of a model with interfaces under the free-DOF loads ``f_free``
     (those of :meth:`LinearSystem.load`, the prescribed displacements included) whose
@@ -100,7 +100,10 @@ def solve_pairs(
     uplifts the crack and its uplift settled together. ``start``: the pair state under
     nearby loads, the pair solver's first iterate (a load step; see
     :meth:`~pfeie.interface.InterfaceSolver.solve`); ``damage``: the pair state an
-    earthquake left (:func:`solve_static`)."""
+    earthquake left (:func:`solve_static`). Where no equilibrium holds floating blocks,
+    the error names the blocks that not even rigid blocks with the joints' strengths can
+    balance (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_check`; ``explain``
+    False leaves that check out, for the limit searches, which expect failures)."""
     model, system = problem.model, problem.system
     d = model.dim
     cracked = None
@@ -111,19 +114,29 @@ def solve_pairs(
                              f"{damage.broken.size} pairs; this model has {n}")  # fmt: skip
         cracked = damage.broken
 
+    def share(f: FloatArray) -> FloatArray | None:
+        """The rigid-block check of the loads ``f`` (None: not asked, or it failed)."""
+        if not explain:
+            return None
+        try:
+            return problem.rigid_check(f, damage)
+        except (ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
+            log.debug("static analysis: the rigid-block check failed: %s", exc)
+            return None
+
     def solve(f: FloatArray) -> tuple[FloatArray, PairState]:
         try:
             return problem.solve(f, start=start, damage=damage)
         except MechanismError as exc:
-            raise MechanismError(f"{exc}. {_floating(model, damaged=damage is not None)}"
-                                 ) from None  # fmt: skip
+            why = _floating(model, damaged=damage is not None, share=share(f))
+            raise MechanismError(f"{exc}. {why}") from None
         except InterfaceError as exc:
             if not model.floating_bodies().size:
                 raise
             # with floating blocks, a static problem without a solution ends here too (no
             # pattern balances them), as may one the solver fails on: say what to check,
-            # without a verdict
-            why = _floating(model, found=False, damaged=damage is not None)
+            # with the rigid-block check's verdict where it has one
+            why = _floating(model, found=False, damaged=damage is not None, share=share(f))
             raise InterfaceError(f"{exc} {why}") from None
 
     # the crack of an uplift: its pairs open from the heel (and, after an earthquake, the
@@ -219,21 +232,32 @@ def _lengths(cracks: Sequence[float]) -> str:
     return ", ".join(f"{c:.4g}" for c in cracks)
 
 
-def _floating(model: Model, found: bool = True, damaged: bool = False) -> str:
+#: the share of its load below which the rigid-block check counts a block as balanced
+#: (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_check`; its linear programme is
+#: solved to about 1e-9 of the loads)
+RIGID_SHARE_MIN = 1e-6
+
+
+def _floating(model: Model, found: bool = True, damaged: bool = False,
+              share: FloatArray | None = None) -> str:  # fmt: skip
     """What a static mechanism means for this model: the floating bodies (no support)
     and the joints that must hold them, with what to check; ``found`` False when the
     solver ended without an answer rather than on a singular pattern (then the loads are
     beyond the limit of equilibrium, or so near it that no answer was found);
-    ``damaged``: the post-earthquake state (the joints as a record left them)."""
+    ``damaged``: the post-earthquake state (the joints as a record left them);
+    ``share``: the rigid-block check per body
+    (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_check`), which names the blocks
+    that no equilibrium can hold, or says that rigid blocks could be held."""
     assert model.pairs is not None
     body = model.body_of_node
     names = model.body_names()
     P = model.pairs
-    parts = []
+    parts, on_joints = [], {}
     for b in model.floating_bodies():
         on = (body[P.node_a] == b) | (body[P.node_b] == b)
         joints = [n for n in P.names if on[P.of(n)].any()]
-        parts.append(f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}")
+        on_joints[b] = f"{names[b]!r} on {', '.join(repr(j) for j in joints) or 'no joint'}"
+        parts.append(on_joints[b])
     which = "; ".join(parts) if parts else "none found"
     unheld = model.unsupported_bodies()
     if unheld.size:
@@ -252,12 +276,30 @@ def _floating(model: Model, found: bool = True, damaged: bool = False) -> str:
             for group, modes in partly
         ) + (": no joint can hold it. Support the foundation in every component "
              "(components of [[supports]], or Model.fix), or on two faces")  # fmt: skip
-    head = ("No static equilibrium holds the floating block(s) (" + which + ") under the "
-            "static loads: their joints' strength is exceeded, so they would slide or "
-            "open." if found else
-            "No static equilibrium was found for the floating block(s) (" + which + "): "
-            "the static loads may exceed their joints' strength (they would slide or "
-            "open), or be at the limit of equilibrium.")  # fmt: skip
+    shares = {} if share is None else {b: float(share[b]) for b in on_joints}
+    unbalanced = [b for b, v in shares.items() if np.isfinite(v) and v > RIGID_SHARE_MIN]
+    if unbalanced:
+        head = (
+            "No static equilibrium holds the floating block(s) ("
+            + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % of "
+                        "its load" for b in unbalanced)
+            + "): not even as rigid blocks can pair forces within their joints' strength "
+            "balance the static loads, so they would slide or open."
+        )  # fmt: skip
+    elif any(np.isfinite(v) for v in shares.values()):
+        head = (
+            "No static equilibrium was found for the floating block(s) (" + which + "), "
+            "although rigid blocks with these joints' strengths can be balanced: the "
+            "loads are at the limit of equilibrium (the elastic blocks may open or slide a "
+            "joint that rigid ones keep closed), or the pair solver failed on them."
+        )  # fmt: skip
+    else:
+        head = ("No static equilibrium holds the floating block(s) (" + which + ") under "
+                "the static loads: their joints' strength is exceeded, so they would slide "
+                "or open." if found else
+                "No static equilibrium was found for the floating block(s) (" + which + "): "
+                "the static loads may exceed their joints' strength (they would slide or "
+                "open), or be at the limit of equilibrium.")  # fmt: skip
     if damaged:
         return (
             head + " This is the post-earthquake state: the pairs the record broke carry "
@@ -290,7 +332,7 @@ def held(
         count += 1
         log.debug("%s: static analysis", what)
         try:
-            return solve_pairs(problem, f_free, f_all, first), count
+            return solve_pairs(problem, f_free, f_all, first, explain=False), count
         except (MechanismError, InterfaceError, SolverError) as exc:
             log.debug("%s: no equilibrium found (%s): %s", what,
                       "warm" if first is not None else "cold", exc)  # fmt: skip
