@@ -236,6 +236,30 @@ def test_large_rotation_key_runs_the_body_frames(
     assert np.abs(runs[1] - runs[0]).max() < 2e-5 * scale
 
 
+def test_modal_needs_no_record_nor_duration(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A model file without a record and without analysis.duration: ``pfeie modal`` runs
+    (a modal analysis needs neither; its frequencies are those of the same model with
+    its record, to round-off), while ``pfeie check`` and ``pfeie run`` say what is
+    missing and how to ask for a static analysis alone (exit 2)."""
+    p = _write(tmp_path, SMALL)
+    assert main(["modal", str(p), "-n", "2", "--out", str(tmp_path / "a")]) == 0
+    ref = capsys.readouterr().out
+    bare = SMALL.replace('[[ground_motion]]\nfile = "pulse.csv"\nunits = "g"\n', "")
+    bare = bare.replace("duration = DURATION\n", "")
+    q = tmp_path / "bare.toml"
+    q.write_text(bare)
+    assert main(["modal", str(q), "-n", "2", "--out", str(tmp_path / "b")]) == 0
+    assert capsys.readouterr().out.replace(f"{tmp_path / 'b'}", "") == ref.replace(
+        f"{tmp_path / 'a'}", "")  # fmt: skip
+    for cmd in ("check", "run"):
+        assert main([cmd, str(q)]) == 2
+        err = capsys.readouterr().err
+        assert "analysis.duration: missing (required without ground_motion); for a static " \
+               "analysis alone, analysis.dynamic = false" in err
+
+
 def test_modal_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """``pfeie modal``: the table, modes.csv (the frequencies of :func:`pfeie.modal` on the
     same model to round-off, effective-mass shares in [0, 1] whose running sum stays below

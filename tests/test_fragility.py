@@ -382,3 +382,19 @@ def test_plots_have_the_expected_lines(tmp_path) -> None:  # type: ignore[no-unt
     for f, name in ((fig, "sub/ida.png"), (fig2, "fragility.png")):
         p = save_figure(f, tmp_path / name)
         assert p.stat().st_size > 5000
+
+
+def test_a_degenerate_dispersion_is_warned(caplog: pytest.LogCaptureFixture) -> None:
+    """Two records of one motion (a new user gave El Centro as an .AT2 file and as a
+    two-column file in m/s²): their capacities agree to round-off, so the moments' β is
+    9e-9 (ln of capacities 1e-8 apart, over √2); the fit stands, with a warning that β
+    lies below BETA_DEGENERATE and why. A real dispersion (0.22) gets none."""
+    with caplog.at_level("WARNING"):
+        f = fit_moments([0.0752, 0.0752 * (1 + 1.3e-8)])
+    assert f.beta == pytest.approx(1.3e-8 / np.sqrt(2), rel=1e-6)
+    assert "β = 9.2e-09, below 0.001: the records cross the limit state at one intensity" \
+        in caplog.text
+    caplog.clear()
+    with caplog.at_level("WARNING"):
+        fit_moments([0.4, 0.5, 0.625])
+    assert "below 0.001" not in caplog.text

@@ -278,7 +278,12 @@ def test_commas_between_columns_are_not_decimal_commas(tmp_path: Path, text: str
       "residual strength, residual_cohesion / tan(residual_friction_angle) = 119175 Pa "
       "(residual_cohesion = 100000 Pa, residual_friction_angle = 40°): a broken pair in "
       "tension beyond it has no shear capacity; expected residual_tensile_strength <= "
-      "119175 Pa (0 without residual_cohesion)")],
+      "119175 Pa (0 without residual_cohesion)"),
+     # a cohesion in MPa beside a tensile strength in Pa: the unit is said first
+     ('cohesion = 0.5\ntensile_strength = 0.3e6\ninitial = "intact"',
+      "interfaces.joint.tensile_strength: cohesion = 0.5 Pa is very low: given in MPa "
+      "(500000 Pa) or kPa (500 Pa)? pfeie takes SI units. 300000 Pa lies beyond the apex of "
+      "the intact strength, cohesion / tan(friction_angle) = 0.5 Pa")],
 )  # fmt: skip
 def test_a_tensile_strength_beyond_the_apex_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], joint: str, words: str

@@ -180,3 +180,31 @@ def test_a_run_reports_the_post_earthquake_state(tmp_path: Path) -> None:
     s = _run(calm, 1e-4)
     assert s["post_earthquake"]["joints"]["joint"]["broken_share"] == 0.0
     assert s["post_earthquake"]["joints"]["joint"] == s["static_joints"]["joint"]
+
+
+def test_no_post_earthquake_state_for_a_block_that_slid_far(tmp_path: Path) -> None:
+    """The block pushed at 1 g for 1 s: the bonded joint breaks through, the block slides
+    on its residual friction at (1 − tan 30°) g, about ½ × 0.42 g × (1 s)² = 2 m, far
+    beyond a tenth of its 2 m (POST_EQ_MOVE_MAX): the post-earthquake state of the
+    undeformed geometry would describe a block that is no longer there, so it is not
+    computed, and the summary and the report say why (a new user's column that toppled,
+    123° and 4.25 m, read FS ∞ on its joint)."""
+    from pfeie.plot import write_report
+
+    mesh = Path(__file__).parent / "data" / "two_blocks_v41.msh"
+    t = np.arange(0.0, 1.0 + 1e-9, 0.005)
+    (tmp_path / "rec.csv").write_text("".join(f"{a:.4f},1.0\n" for a in t))
+    (tmp_path / "model.toml").write_text(MODEL.format(mesh=mesh, scale=1.0))
+    assert main(["run", str(tmp_path / "model.toml"), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    moved = s["bodies"]["dam"]["residual_displacement_m"]
+    assert moved > 0.1 * 2.0  # the block's residual motion, far beyond a tenth of its size
+    why = s["post_earthquake"]["skipped"]
+    assert why.startswith("block 'dam' rotated ") and f"moved {moved:.3g} m (2 m across)" in why
+    assert "joints" not in s["post_earthquake"]
+    text = (tmp_path / "out" / "summary.txt").read_text()
+    assert "post-EQ      not computed: block 'dam'" in text
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        assert "post_earthquake" not in f
+    html = write_report(tmp_path / "out" / "results.h5", tmp_path / "report.html")
+    assert "not computed (large residual motion)" in Path(html).read_text()

@@ -473,3 +473,29 @@ def test_joint_plane_of_an_inclined_joint() -> None:
     d3 = np.linalg.norm(x[:, None] - x[None], axis=-1)
     d2 = np.linalg.norm(uv[:, None] - uv[None], axis=-1)
     assert np.abs(d2 - d3).max() < 1e-14  # reached: 1.8e-15
+
+
+def test_the_input_motion_is_the_motion_applied(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A run shorter than its record (0.1 s of a 0.4 s pulse 0.5 g sin(π t / 0.4)): the
+    run's record line says that the motion applied ends at the duration, and the report's
+    intensity measures are those of that part (PGA 0.5 sin(π/4) = 0.35355 g, to 1e-12:
+    the cut interpolates the record's samples at 0.1 s, where a sample lies), as
+    ``pfeie spectrum`` and a study measure them (a new user's report gave the whole
+    record's Arias 1.53 m/s beside the study's 0.898 for the run's 6 s)."""
+    from pfeie.model import intensity_measures
+    from pfeie.plot._report import record_rows
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "(the motion applied: up to 0.1 s, analysis.duration)" in err, err
+    with Results(tmp_path / "out" / "results.h5") as res:
+        rows = record_rows(res)
+    assert rows[0]["record"].endswith("(up to 0.1 s, the run's duration)")
+    assert rows[0]["PGA (g)"] == pytest.approx(0.5 * np.sin(np.pi / 4), rel=1e-12)
+    t = np.arange(0.0, 0.1 + 1e-9, 0.005)
+    ref = intensity_measures(t, 9.81 * 0.5 * np.sin(np.pi * t / 0.4))
+    assert rows[0]["Arias (m/s)"] == pytest.approx(ref["arias"], rel=1e-12)

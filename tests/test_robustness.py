@@ -847,6 +847,43 @@ def test_check_names_the_floating_and_the_unsupported_blocks(
             "[[supports]])") in out
 
 
+def test_analyses_that_the_model_cannot_make_are_refused_before_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Two blocks cut by the joint 'mid' without a support, run dynamically alone
+    (analysis.static = false): nothing holds them, and the run would let them fall freely
+    (a new user's block meshed apart from its base fell 1.23 m in 0.5 s, ½ g t², exit 0):
+    ``pfeie check`` and ``pfeie run`` refuse it, naming the blocks and what to add. A
+    strength reduction or a yield coefficient on a model without joints is refused by
+    ``pfeie check`` too (it was found by the run only), naming a block that nothing holds
+    where there is one. ``pfeie modal`` of the free blocks still runs (free-free modes)."""
+    names = {1: (2, "left"), 2: (2, "right"), 3: (1, "bottom"), 4: (1, "mid"), 5: (1, "top")}
+    elements = [(1, 1, 3, [1, 2]), (3, 1, 4, [2, 5]), (4, 1, 5, [4, 5]),
+                (10, 3, 1, [1, 2, 5, 4]), (11, 3, 2, [2, 3, 6, 5])]  # fmt: skip
+    text = (MODEL.replace('all = "rock"', 'left = "rock"\nright = "rock"')
+            .replace("[[supports]]", "[interfaces.mid]\nfriction_angle = 30.0\n[[supports]]")
+            .replace('[[supports]]\ngroup = "bottom"\n', "")
+            .replace("EXTRA", "static = false\nduration = 0.01\ndt = 0.001"))  # fmt: skip
+    p = model(tmp_path, text=text, elements=elements, names=names)
+    capsys.readouterr()
+    for cmd in ("check", "run"):
+        cli_fails(capsys, [cmd, str(p)], "analysis.static: false, and the block(s) 'left', "
+                  "'right' have no support and no joint to a supported block: the dynamic "
+                  "analysis would let them fall freely", "expected [[supports]]")  # fmt: skip
+    assert main(["modal", str(p), "-n", "2", "--out", str(tmp_path / "m")]) == 0
+    # no joint: the limit searches refused by check, the unheld block named
+    plain = model(tmp_path, text=MODEL.replace('[[supports]]\ngroup = "bottom"\n', ""),
+                  extra="dynamic = false\nstrength_reduction = true")  # fmt: skip
+    cli_fails(capsys, ["check", str(plain)], "analysis.strength_reduction: the model has no "
+              "interfaces (no joint to slide; the block(s) 'all' have no support and no joint "
+              "to a supported block); expected [interfaces], or analysis.strength_reduction = "
+              "false")  # fmt: skip
+    held = model(tmp_path, extra="dynamic = false\nyield_coefficient = true")
+    cli_fails(capsys, ["check", str(held)], "analysis.yield_coefficient: the model has no "
+              "interfaces (no joint to slide); expected [interfaces], or "
+              "analysis.yield_coefficient = false")  # fmt: skip
+
+
 def test_a_failed_run_leaves_no_former_summary(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

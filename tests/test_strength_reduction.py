@@ -174,3 +174,30 @@ def test_a_joint_without_shear_and_the_text_lines() -> None:
                             "safety_factors": {"joint": 1.0}, "open_joint": "joint",
                             "open_share": 0.44})  # fmt: skip
     assert line.endswith("'joint' is open over 44 % of its area there)"), line
+
+
+def test_cohesion_lost_on_open_pairs_is_reported() -> None:
+    """The 1 m × 1 m block on 35° with c_r = 20 kPa (2 × 2 cells): at the limit its heel
+    pair parts (by 0.4 µm), and its c A goes with it, so F falls below the rigid block's
+    2.306. The result reports the cohesive capacity lost on open pairs, and its share is
+    that of force equilibrium at the limit, F W sin β = c (A − A_open) + W cos β tan φ,
+    which puts A_open/A between its values at the bracket's two ends (0.249967 and
+    0.250033; the heel's quarter of the base, 0.25). A new user's wedge with cohesion on
+    one plane lost 4.9 % on pairs open by 1 µm and ended 1.06 % below Hoek and Bray's
+    factor: the summary's line now says why."""
+    from pfeie._job import _open_cohesion, _reduction_text
+
+    m = block_on_base(joint=pf.Joint(phi=30.0, c_r=2e4), incline_deg=35.0, width=1.0,
+                      height=1.0, n=2)  # fmt: skip
+    r = pf.strength_reduction(m)
+    assert r.limit == "sliding" and r.factor is not None and r.factor_fail is not None
+    lost = _open_cohesion(m, r.static)
+    W, b, mu = 2400.0 * 9.81, np.radians(35.0), np.tan(np.radians(30.0))
+    open_at = {F: 1.0 - (F * W * np.sin(b) - mu * W * np.cos(b)) / 2e4
+               for F in (r.factor, r.factor_fail)}  # fmt: skip
+    assert open_at[r.factor_fail] <= lost["joint"]["share"] <= open_at[r.factor]
+    assert 0.0 < lost["joint"]["max_opening_m"] < 1e-6
+    line = _reduction_text({"factor": r.factor, "limit": r.limit, "joint": "joint",
+                            "safety_factors": {"joint": 1.0}, "open_cohesion": lost})  # fmt: skip
+    assert line.endswith("; cohesion lost on open pairs: 'joint' 25 % of its c·A (openings up "
+                         "to 0.42 µm))"), line

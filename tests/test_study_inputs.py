@@ -139,6 +139,17 @@ def test_the_same_record_twice_is_refused(tmp_path: Path,
         Study(tmp_path / "model.toml", [tmp_path / "rec" / "r0.csv", again])
 
 
+def test_a_missing_model_names_the_study_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A study whose model file is missing: the error names the study file, the key and
+    the path it looked for (it named the path alone)."""
+    p = setup(tmp_path, STUDY.replace('model = "model.toml"', 'model = "nomodel.toml"'), n=2)
+    assert main(["study", str(p)]) == 2
+    err = _err(capsys)
+    assert f"{p}: model: {tmp_path / 'nomodel.toml'}: model file not found" in err, err
+
+
 def test_records_sharing_a_stem_get_stable_names(tmp_path: Path) -> None:
     """Two different files named r0.csv (in rec/ and other/): each is named by its path,
     in either order of the entries; both appear in the table, with their own demands."""

@@ -354,14 +354,33 @@ def test_round_off_energies_are_not_warned(
     # joint that opens
     ({"k_y": 0.6232, "k_fail": 0.6233, "limit": "no equilibrium found", "joint": "dam_rock",
       "safety_factor": 1.564, "k_affine": None, "open_joint": "lift", "open_share": 0.62},
-     "least FS 1.564 on 'dam_rock'; at k_y 'lift' is the most open, 62 % of its area)"),
+     "least FS 1.564 on 'dam_rock'; at k_y 'lift' is the most open, 62 % of its area: the "
+     "block on it rocks or overturns)"),
     # a block on an intact joint that breaks through at 0.2029 (the margins' 0.2115 lie
-    # 4 % above): not read as sliding
+    # 4 % above): at its capacity (FS within AT_CAPACITY_FS of 1), breaking
     ({"k_y": 0.2029, "k_fail": 0.2030, "limit": "no equilibrium found", "joint": "joint",
       "safety_factor": 1.018, "k_affine": 0.2115},
-     "k_y 0.2029 (no equilibrium found beyond it, not a sliding limit: a joint breaking "
-     "through, opening or rocking, or the pair solver failing short of the limit; least FS "
-     "1.018 on 'joint', the margins' affine estimate 0.2115)"),
+     "k_y 0.2029 (no equilibrium found beyond it; 'joint' is at its sliding capacity there, "
+     "FS 1.018: sliding as the joint opens or breaks further)"),
+    # a new user's cracked dam base with uplift: at 0.0487 the base is at FS 1.029 and
+    # 18 % open, and beyond it the crack grows under its uplift (their USACE cracked-base
+    # iteration: FS 1 at 0.0488): sliding as the crack grows, no longer "not a sliding
+    # limit"
+    ({"k_y": 0.04871, "k_fail": 0.04872, "limit": "no equilibrium found", "joint": "base",
+      "safety_factor": 1.029, "k_affine": 0.05897, "open_joint": "base", "open_share": 0.18},
+     "k_y 0.04871 (no equilibrium found beyond it; 'base' is at its sliding capacity there, "
+     "FS 1.029: sliding as the joint opens or breaks further; at k_y 'base' is the most "
+     "open, 18 % of its area)"),
+    # the same dam pushed upstream: its upper block overturns on the lift joint (0.474 by
+    # hand), the joint with the least FS itself: named as the one that opens
+    ({"k_y": 0.4744, "k_fail": 0.4745, "limit": "no equilibrium found", "joint": "lift",
+      "safety_factor": 1.65, "k_affine": None, "open_joint": "lift", "open_share": 0.93},
+     "least FS 1.65 on 'lift'; at k_y 'lift' is the most open, 93 % of its area: the block "
+     "on it rocks or overturns)"),
+    # below half of the joint open, no rocking is said (the monolith above: 62 %)
+    ({"k_y": 0.30, "k_fail": 0.3001, "limit": "no equilibrium found", "joint": "lift",
+      "safety_factor": 1.5, "k_affine": None, "open_joint": "lift", "open_share": 0.40},
+     "least FS 1.5 on 'lift'; at k_y 'lift' is the most open, 40 % of its area)"),
 ])  # fmt: skip
 def test_yield_line_reads_a_near_sliding_limit(y: dict[str, Any], text: str) -> None:
     """The summary's yield line when no equilibrium was found beyond k_y: a sliding limit

@@ -146,6 +146,12 @@ ENERGY_FLOOR = 1e-6
 #: faces its neighbour's partner more than its own
 LARGE_SLIP = 0.5
 
+#: the post-earthquake static state takes the undeformed geometry: it is not computed
+#: where a floating block's residual rotation exceeds this (degrees) or its residual
+#: displacement this share of its size (its largest extent), e.g. a column that toppled
+POST_EQ_ROTATION_MAX_DEG = 5.0
+POST_EQ_MOVE_MAX = 0.1
+
 #: a joint's minimum safety factor is dated at the first recorded time within this
 #: share of it: the values of a sliding joint are 1 to round-off (1 − 1e-15) at every
 #: step it slides; a minimum within it of 1 is given as 1 (the joint slid: a study's
@@ -279,12 +285,6 @@ def _run(
             f"{job.path}: analysis.yield_coefficient: {a.yield_coefficient} "
             "names y, the vertical axis of a 2D model; expected '+x' or '-x'"
         )
-    if a.strength_reduction and model.pairs is None:
-        raise InputError(f"{job.path}: analysis.strength_reduction: the model has no "
-                         "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
-    if a.yield_coefficient and model.pairs is None:
-        raise InputError(f"{job.path}: analysis.yield_coefficient: the model has no "
-                         "interfaces (no joint to slide); expected [interfaces]")  # fmt: skip
     if resume and dyn is None:
         raise InputError(f"{job.path}: analysis: --resume continues a dynamic run; this "
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
@@ -489,6 +489,9 @@ def _strength_reduction(
                            for n, f in r.safety_factors.items()},
         "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
     }  # fmt: skip
+    lost = _open_cohesion(job.model, r.static)
+    if lost:
+        out["open_cohesion"] = lost
     if stream is not None:
         f = (f"held up to F = {REDUCTION_F_MAX:g}" if r.factor is None
              else f"F {r.factor:.4g} ({r.limit})")  # fmt: skip
@@ -513,6 +516,47 @@ def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
     return {"open_joint": name, "open_share": shares[name]} if shares[name] > 0 else {}
 
 
+def _open_cohesion(model: Model, st: StaticResult | None) -> dict[str, dict[str, float]]:
+    """Per joint with cohesion, where pairs are open at the limit ``st`` (by any opening:
+    an open pair carries no force, so its c A is lost, however small the gap): the share
+    of the joint's cohesive capacity Σ c A that they hold (``share``) and their largest
+    opening (``max_opening_m``). Why an elastic strength reduction can fall below the
+    rigid-block factor with cohesion: a wedge whose corner pairs part by a micrometre."""
+    P = model.pairs
+    S = None if st is None else st.pairs
+    if P is None or S is None:
+        return {}
+    c = model.pair_laws.strength(S.broken, S.path)[0]  # c A (N)
+    is_open = S.state == OPEN
+    out = {}
+    for n in P.names:
+        idx = P.of(n)
+        total = float(c[idx].sum())
+        lost = is_open[idx] & (c[idx] > 0)
+        if total > 0 and lost.any():
+            out[n] = {"share": float(c[idx][lost].sum() / total),
+                      "max_opening_m": float(S.w[idx][lost, -1].max())}  # fmt: skip
+    return out
+
+
+#: the share of a joint's area open at a limit from which the summary says that the block
+#: on it rocks or overturns (most of its base lifted)
+ROCKING_OPEN_SHARE = 0.5
+
+
+def _open_text(y: dict[str, Any]) -> str:
+    """The most open joint at a yield coefficient, for the summary's yield line ("" when
+    no joint is open): its open share, and from :data:`ROCKING_OPEN_SHARE` on that the
+    block on it rocks or overturns (the open joint may be the one at its least FS)."""
+    joint, share = y.get("open_joint"), y.get("open_share")
+    if joint is None or share is None:
+        return ""
+    out = f"; at k_y {joint!r} is the most open, {100 * share:.0f} % of its area"
+    if share >= ROCKING_OPEN_SHARE:
+        out += ": the block on it rocks or overturns"
+    return out
+
+
 def _reduction_text(sr: dict[str, Any]) -> str:
     """The summary's line of the factor of safety by strength reduction."""
     if sr["factor"] is None:
@@ -522,13 +566,17 @@ def _reduction_text(sr: dict[str, Any]) -> str:
                 f"the joints' strengths divided by the largest factor tried{why})")  # fmt: skip
     fs = ", ".join(f"{n} {'∞' if f is None else f'{f:.3g}'}"
                    for n, f in sr["safety_factors"].items())  # fmt: skip
+    lost = "".join(
+        f"; cohesion lost on open pairs: {n!r} {100 * v['share']:.2g} % of its c·A (openings "
+        f"up to {_length_text(v['max_opening_m'])})" for n, v in sr.get("open_cohesion", {}).items()
+    )  # fmt: skip
     if sr["limit"] == "sliding":
         what = (f"FS {sr['factor']:.4g} by strength reduction (sliding on {sr['joint']!r}; "
                 f"joint FS with the strengths / {sr['factor']:.4g}: {fs}")  # fmt: skip
         if sr.get("open_joint"):  # a block that also lifts on its joint at the limit
             what += (f"; {sr['open_joint']!r} is open over {100 * sr['open_share']:.0f} % of "
                      "its area there")  # fmt: skip
-        return what + ")"
+        return what + lost + ")"
     what = (f"FS {sr['factor']:.4g} by strength reduction ({sr['limit']} beyond it, not a "
             "sliding limit: a joint breaking through, opening or rocking, or the pair solver "
             f"failing short of the limit; joint FS with the strengths / {sr['factor']:.4g}: "
@@ -536,7 +584,12 @@ def _reduction_text(sr: dict[str, Any]) -> str:
     if sr.get("open_joint"):
         what += (f"; {sr['open_joint']!r} is the most open, {100 * sr['open_share']:.0f} % "
                  "of its area")  # fmt: skip
-    return what + ")"
+    return what + lost + ")"
+
+
+def _length_text(w: float) -> str:
+    """A small length for a message: µm below a millimetre, else mm."""
+    return f"{w * 1e6:.2g} µm" if w < 1e-3 else f"{w * 1e3:.3g} mm"
 
 
 def energy_shares(s: dict[str, Any]) -> tuple[float, float, float]:
@@ -662,11 +715,24 @@ def _post_earthquake(
     resumed run's own last state), written to
     the results' ``post_earthquake`` group: per joint its sliding safety factor and forces
     (as the static state's), the broken share, and each uplift's crack; or, where no
-    static equilibrium holds the blocks after the record, ``error`` says why."""
+    static equilibrium holds the blocks after the record, ``error`` says why; or, where a
+    floating block ended far from where it started (beyond
+    :data:`POST_EQ_ROTATION_MAX_DEG` or :data:`POST_EQ_MOVE_MAX` of its size), ``skipped``
+    says why: the static state of the undeformed geometry would describe blocks that are
+    no longer there (a new user's column that toppled, 123° and 4.25 m, read FS ∞ on its
+    joint)."""
     model = job.model
     if (not job.analysis.post_earthquake or static is None or result is None
             or not result.completed or final is None or model.pairs is None):  # fmt: skip
         return {}
+    moved = _far_moved(job, result)
+    if moved:
+        why = (f"{'; '.join(moved)}: the post-earthquake static state takes the undeformed "
+               "geometry, which holds where the residual motions are small beside the "
+               f"blocks (a rotation up to {POST_EQ_ROTATION_MAX_DEG:g}°, a displacement up "
+               f"to {100 * POST_EQ_MOVE_MAX:g} % of the block's size)")  # fmt: skip
+        log.warning("post-earthquake static state not computed: %s", why)
+        return {"skipped": why}
     t0 = time.perf_counter()
     try:
         post = solve_static(model, settings=SolverSettings(tolerance=job.analysis.tolerance),
@@ -680,6 +746,29 @@ def _post_earthquake(
     if model.uplifts:
         out["cracks_m"] = {u.interface: float(c)
                            for u, c in zip(model.uplifts, post.cracks, strict=True)}  # fmt: skip
+    return out
+
+
+def _far_moved(job: Job, result: DynamicResult) -> list[str]:
+    """The floating blocks whose residual rigid motion passes
+    :data:`POST_EQ_ROTATION_MAX_DEG` or :data:`POST_EQ_MOVE_MAX` of their size, each as
+    "block 'name' rotated …° and moved … m (… m across)"."""
+    model = job.model
+    floating = model.floating_bodies()
+    if not floating.size:
+        return []
+    motions = _body_motions(job, result)
+    names = model.body_names()
+    body = model.body_of_node
+    out = []
+    for b in floating:
+        m = motions[names[b]]
+        pts = model.mesh.points[body == b]
+        size = float(np.ptp(pts, axis=0).max()) if pts.size else 0.0
+        rot, move = m["residual_rotation_deg"], m["residual_displacement_m"]
+        if rot > POST_EQ_ROTATION_MAX_DEG or move > POST_EQ_MOVE_MAX * size:
+            out.append(f"block {names[b]!r} rotated {rot:.3g}° and moved {move:.3g} m "
+                       f"({size:.3g} m across)")  # fmt: skip
     return out
 
 
@@ -990,6 +1079,14 @@ def format_summary(s: dict[str, Any]) -> str:
                     f"capacity at {y['k_affine']:.4g}, the margins' affine estimate (FS "
                     f"{fs:.4g} at k_y): probably a sliding limit there, short of which the "
                     "pair solver found no equilibrium)")  # fmt: skip
+        elif fs is not None and fs <= 1 + AT_CAPACITY_FS:
+            # at k_y a joint is at its sliding capacity, and beyond it the joint opens or
+            # breaks further (a crack that grows under its uplift lowers its normal force):
+            # a sliding limit with a growing opening (a new user's cracked dam base)
+            what = (f"k_y {k:.4g} ({y['limit']} beyond it; {y['joint']!r} is at its "
+                    f"sliding capacity there, FS {fs:.4g}: sliding as the joint opens or "
+                    "breaks further")  # fmt: skip
+            what += _open_text(y) + ")"
         else:
             what = (f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint "
                     f"breaking through, opening or rocking, or the pair solver failing short "
@@ -997,10 +1094,7 @@ def format_summary(s: dict[str, Any]) -> str:
                     f"{y['joint']!r}")  # fmt: skip
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
-            if y.get("open_joint") not in (None, y["joint"]):  # the joint it rocks on
-                what += (f"; at k_y {y['open_joint']!r} is the most open, "
-                         f"{100 * y['open_share']:.0f} % of its area")  # fmt: skip
-            what += ")"
+            what += _open_text(y) + ")"
         lines.append(f"  yield {label:<10} {what}")
     sr = s.get("strength_reduction")
     if sr:
@@ -1023,6 +1117,8 @@ def format_summary(s: dict[str, Any]) -> str:
     post = s.get("post_earthquake", {})
     if "error" in post:
         lines.append(f"  post-EQ      no static equilibrium after the record: {post['error']}")
+    if "skipped" in post:
+        lines.append(f"  post-EQ      not computed: {post['skipped']}")
     for name, j in post.get("joints", {}).items():
         fs = j["safety_factor"]
         crack = post.get("cracks_m", {}).get(name)

@@ -258,7 +258,7 @@ def _main(argv: Sequence[str] | None) -> int:
     from .io import load_job
 
     try:
-        job = load_job(args.model, _overrides(args))
+        job = load_job(args.model, _overrides(args), modal=args.command == "modal")
     except PfeieError as exc:
         return _input_failure(exc, args.model)
     if args.command == "modal":
@@ -270,8 +270,11 @@ def _main(argv: Sequence[str] | None) -> int:
         else:
             print(_format_check(s))
         return EXIT_OK
+    end = job.analysis.duration if job.analysis.dynamic else None
     for r in job.records:
-        print(f"record: {r.summary()}", file=sys.stderr)
+        cut = ("" if end is None or r.time[-1] <= end else
+               f" (the motion applied: up to {end:g} s, analysis.duration)")  # fmt: skip
+        print(f"record: {r.summary()}{cut}", file=sys.stderr)
     try:
         summary = run_job(job, progress=not args.quiet, resume=args.resume)
     except (InputError, MeshError, RecordError, ResultsError) as exc:

@@ -543,19 +543,21 @@ def _largest_cell(mesh: Any) -> float:
     return size
 
 
-def load_job(path: str | Path, overrides: Sequence[Override] = ()) -> Job:
+def load_job(path: str | Path, overrides: Sequence[Override] = (), *,
+             modal: bool = False) -> Job:  # fmt: skip
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
-    :class:`RecordError`, each naming the file (and the override, for a key it set)."""
+    :class:`RecordError`, each naming the file (and the override, for a key it set).
+    ``modal``: for a modal analysis, which needs no ground motion and no duration."""
     try:
-        return _load_job(Path(path), overrides)
+        return _load_job(Path(path), overrides, modal)
     except (InputError, MeshError, RecordError) as exc:
         if not overrides or type(exc) not in (InputError, MeshError, RecordError):
             raise  # nothing to blame, or a subclass (another signature): as it is
         raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
 
 
-def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
+def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False) -> Job:
     if not p.is_file():
         raise InputError(f"{p}: model file not found")
     raw = p.read_bytes()
@@ -853,17 +855,43 @@ def _load_job(p: Path, overrides: Sequence[Override]) -> Job:
                         ", ".join(users) or "(none)")  # fmt: skip
     if cfg.analysis.dynamic and model.pairs is not None and model.pairs.area.size:
         _scheme_with_interfaces(p, cfg.analysis, int(model.pairs.area.size), damping)
-    if cfg.analysis.dynamic and not records and cfg.analysis.duration is None:
-        raise InputError(f"{p}: analysis.duration: missing (required without ground_motion)")
-    if cfg.analysis.dynamic and cfg.analysis.duration is None:
+    if cfg.analysis.dynamic and not records and cfg.analysis.duration is None and not modal:
+        raise InputError(f"{p}: analysis.duration: missing (required without ground_motion); "
+                         "for a static analysis alone, analysis.dynamic = false")  # fmt: skip
+    if cfg.analysis.dynamic and cfg.analysis.duration is None and records:
         longest = float(max(g.time[-1] for g in records))
         try:
             cfg.analysis.steps(longest)
         except ValueError as exc:
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
+    if not modal:
+        _held_somehow(p, cfg.analysis, model)
     return Job(p, cfg.model_dump(), model, records, probes, digest,
                [i.group for i in interfaces], part_factors)  # fmt: skip
+
+
+def _held_somehow(p: Path, a: Analysis, model: Model) -> None:
+    """Analyses that a model cannot make, refused before any work: a dynamic run alone
+    with blocks that nothing holds (no support, and no joint to a supported block: they
+    would fall freely, as pfeie's blocks meet only across their joints; with the static
+    state the static analysis says so itself), and the limit searches without joints
+    (naming such blocks first: a joint meshed but not declared leaves both)."""
+    names = model.body_names()
+    unheld = [repr(names[b]) for b in model.unsupported_bodies()]
+    what = (f"the block(s) {', '.join(unheld)} have no support and no joint to a supported "
+            "block") if unheld else ""  # fmt: skip
+    if unheld and a.dynamic and not a.static:
+        raise InputError(f"{p}: analysis.static: false, and {what}: the dynamic analysis "
+                         "would let them fall freely (blocks meet only across their joints); "
+                         "expected "
+                         "[[supports]] on the foundation, or an [interfaces] table for the "
+                         "joint that holds them")  # fmt: skip
+    for key in ("strength_reduction", "yield_coefficient"):
+        if getattr(a, key) and model.pairs is None:
+            raise InputError(f"{p}: analysis.{key}: the model has no interfaces (no joint to "
+                             f"slide{'; ' + what if what else ''}); expected [interfaces], or "
+                             f"analysis.{key} = false")  # fmt: skip
 
 
 def _scheme_with_interfaces(p: Path, a: Analysis, n_pairs: int, damping: Any) -> None:

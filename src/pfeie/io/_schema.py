@@ -39,7 +39,7 @@ from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
 from pydantic_core import PydanticCustomError, core_schema
 
 from ..dynamics import DynamicSettings
-from ..model import DAMPING_RATIO_MAX
+from ..model import DAMPING_RATIO_MAX, STRENGTH_MIN
 from ..typing import Unit
 
 
@@ -262,10 +262,14 @@ class Joint(_Table):
             if t * mu > c * (1.0 + 1e-12):
                 apex = c / mu
                 state = "intact" if tkey == "tensile_strength" else "residual"
-                raise _check(tkey, f"{t:g} Pa lies beyond the apex of the {state} strength, "
-                             f"{ckey} / tan({pkey}) = {apex:g} Pa ({ckey} = {c:g} Pa, {pkey} "
-                             f"= {phi:g}°): {which} pair in tension beyond it has no shear "
-                             f"capacity; expected {tkey} <= {apex:g} Pa (0 without "
+                # a cohesion in MPa or kPa written without its factor: say so first
+                unit = (f"{ckey} = {c:g} Pa is very low: given in MPa ({c * 1e6:g} Pa) or "
+                        f"kPa ({c * 1e3:g} Pa)? pfeie takes SI units. "
+                        if 0.0 < c < STRENGTH_MIN <= t else "")  # fmt: skip
+                raise _check(tkey, f"{unit}{t:g} Pa lies beyond the apex of the {state} "
+                             f"strength, {ckey} / tan({pkey}) = {apex:g} Pa ({ckey} = {c:g} "
+                             f"Pa, {pkey} = {phi:g}°): {which} pair in tension beyond it has "
+                             f"no shear capacity; expected {tkey} <= {apex:g} Pa (0 without "
                              f"{ckey})")  # fmt: skip
         return self
 

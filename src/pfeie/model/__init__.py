@@ -7,6 +7,7 @@ from ._ground import G_UNITS, GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import DAMPING_RATIO_MAX, Block, Elastic, Interface, Load, Rayleigh, Support
 from ._plausible import (
+    STRENGTH_MIN,
     implausible_joints,
     implausible_materials,
     implausible_mesh,
@@ -24,7 +25,8 @@ from ._spectrum import (
 from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
-    "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "Block", "BodyFrames",
+    "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "STRENGTH_MIN", "Block",
+    "BodyFrames",
     "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
     "Reservoir", "ResponseSpectrum", "Support",
     "Uplift", "implausible_joints", "implausible_materials", "implausible_mesh",

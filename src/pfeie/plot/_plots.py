@@ -956,6 +956,10 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
             if seq is None:
                 pc = PolyCollection(list(squares), array=v, cmap=cmap, norm=norm, edgecolors="w",
                                     linewidths=0.3)  # fmt: skip
+                # a colour bar of the states too, so that the four panels of a joint are
+                # drawn at one scale (a panel without one was drawn larger)
+                bar = fig.colorbar(pc, ax=ax, shrink=0.8, ticks=[0, 1, 2, 3])
+                bar.ax.set_yticklabels(STATE_LABELS, fontsize=7)
             else:
                 pc = PolyCollection(list(squares), array=v, cmap=seq, edgecolors="0.6",
                                     linewidths=0.3)  # fmt: skip

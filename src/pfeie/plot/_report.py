@@ -20,7 +20,7 @@ import numpy as np
 from ..dynamics import envelope_extremes
 from ..errors import InputError, PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
-from ..io import Results, output_file
+from ..io import Results, applied_part, output_file
 from ._plots import (
     open_crack,
     plot_all,
@@ -105,6 +105,8 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
     for row in rows:
         if "error" in post:
             row["post-earthquake safety factor"] = "no static equilibrium"
+        elif "skipped" in post:  # a block that toppled or slid far
+            row["post-earthquake safety factor"] = "not computed (large residual motion)"
         elif row["joint"] in post.get("joints", {}):
             fs = post["joints"][row["joint"]]["safety_factor"]
             row["post-earthquake safety factor"] = "∞" if fs is None else f"{fs:.3g}"
@@ -262,17 +264,26 @@ def solver_line(sv: dict[str, Any]) -> str:
 
 
 def record_rows(res: Results) -> list[dict[str, Any]]:
-    """Intensity measures of the records of the run (as scaled)."""
+    """Intensity measures of the records of the run (as scaled), of the motion applied:
+    a record that goes on beyond the run's duration up to it
+    (:func:`~pfeie.io.applied_part`), as ``pfeie spectrum`` and a study measure them."""
     if "records" not in res.f:
         return []
-    from ..model import intensity_measures
+    from ..model import GroundMotion, intensity_measures
 
+    end = res.meta.get("analysis", {}).get("duration")
     rows = []
     for key in sorted(res.f["records"], key=int):
         g = res.f[f"records/{key}"]
-        im = intensity_measures(np.asarray(g["time"]), np.asarray(g["acceleration"]))
+        t, a = np.asarray(g["time"]), np.asarray(g["acceleration"])
+        name = str(g.attrs.get("name", key))
+        if end is not None and res.n_times and t[-1] > float(end) > t[0]:
+            part = applied_part(GroundMotion.from_samples(a, time=t), float(end))[0]
+            t, a = part.time, part.acceleration
+            name += f" (up to {float(end):g} s, the run's duration)"
+        im = intensity_measures(t, a)
         rows.append({
-            "record": str(g.attrs.get("name", key)), "PGA (g)": im["pga"] / 9.81,
+            "record": name, "PGA (g)": im["pga"] / 9.81,
             "PGV (m/s)": im["pgv"], "PGD (m)": im["pgd"], "Arias (m/s)": im["arias"],
             "CAV (m/s)": im["cav"], "D5-95 (s)": im["d5_95"],
         })  # fmt: skip

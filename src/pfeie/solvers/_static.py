@@ -192,7 +192,7 @@ def solve_pairs(
             if not_held:
                 raise MechanismError(_runs_on(model, max(not_held)))
             raise SolverError(
-                f"uplift: the crack from the heel alternates (at {_lengths(new)} m again) "
+                f"uplift: the crack from the heel alternates (at {_lengths(new, model)} m again) "
                 "between lengths that each hold under their full uplift: the joint is on "
                 "the verge of opening further"
             )
@@ -203,7 +203,7 @@ def solve_pairs(
         if model.uplifts:
             raise SolverError(
                 f"uplift: the crack from the heel did not settle in {_CRACK_ITERATIONS} "
-                f"static solves (crack lengths {_lengths(cracks)} m): "
+                f"static solves (crack lengths {_lengths(cracks, model)} m): "
                 "the joint may be on the verge of opening through"
             )
     G = relative_operator(model.pairs, model.n_dof)
@@ -224,11 +224,16 @@ _CRACK_ITERATIONS = 50
 def _runs_on(model: Model, cracks: Sequence[float]) -> str:
     """The message of a crack that runs on under its own uplift from ``cracks`` (m)."""
     return ("static analysis: the crack from the heel grows under its own uplift (full "
-            f"headwater in the open part) to {_lengths(cracks)} m, where no equilibrium "
+            f"headwater in the open part) to {_lengths(cracks, model)} m, where no equilibrium "
             f"holds. {_floating(model, found=False)}")  # fmt: skip
 
 
-def _lengths(cracks: Sequence[float]) -> str:
+def _lengths(cracks: Sequence[float], model: Model | None = None) -> str:
+    """Crack lengths for a message (m, the unit after them): each named by its uplift's
+    joint when ``model`` is given and has more than one uplift."""
+    if model is not None and len(model.uplifts) > 1:
+        return ", ".join(f"{u.interface!r} {c:.4g}"
+                         for u, c in zip(model.uplifts, cracks, strict=True))  # fmt: skip
     return ", ".join(f"{c:.4g}" for c in cracks)
 
 

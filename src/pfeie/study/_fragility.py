@@ -178,6 +178,13 @@ class Fragility:
         )
 
 
+#: a fitted dispersion β below this gets a warning: record-to-record dispersions of
+#: structures lie at 0.2 to 0.6 (FEMA P-58), and β → 0 means that every record crossed the
+#: limit state at the same intensity (a new user's study of one motion given twice, as an
+#: .AT2 file and as a two-column file: β = 9e-9)
+BETA_DEGENERATE = 1e-3
+
+
 def _make(
     mu: float,
     s: float,
@@ -198,6 +205,11 @@ def _make(
                     empirical=empirical)  # fmt: skip
     msg = "fragility %s (%s): θ = %.4g ± %.2g, β = %.3g ± %.2g, %d of %d exceeded"
     log.info(msg, name or "-", method, theta, fit.se_theta, beta, fit.se_beta, n_exc, n)
+    if beta < BETA_DEGENERATE:
+        log.warning("fragility %s (%s): β = %.2g, below %g: the records cross the limit "
+                    "state at one intensity (the same motion more than once?); a "
+                    "fragility's dispersion needs records of different motions",
+                    name or "-", method, beta, BETA_DEGENERATE)  # fmt: skip
     return fit
 
 

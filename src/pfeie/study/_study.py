@@ -689,6 +689,9 @@ class Study:
         names = record_names([r.path for r in records], base)
         records = [dataclasses.replace(r, name=n) for r, n in zip(records, names, strict=True)]
         it = cfg.intensity
+        if not (base / cfg.model).is_file():
+            raise InputError(f"{p}: model: {base / cfg.model}: model file not found; expected "
+                             "the path of a model file, relative to the study file")  # fmt: skip
         try:
             st = cls(base / cfg.model, records, it.measure, list(it.values), it.period,
                        it.damping, cfg.analysis.duration, list(cfg.analysis.set),
