@@ -866,12 +866,12 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False) -> Jo
             raise InputError(f"{p}: analysis.dt: {exc} (the duration is the longest record's; "
                              "expected fewer than 1e9 steps)") from None  # fmt: skip
     if not modal:
-        _held_somehow(p, cfg.analysis, model)
+        _refuse_impossible(p, cfg.analysis, model)
     return Job(p, cfg.model_dump(), model, records, probes, digest,
                [i.group for i in interfaces], part_factors)  # fmt: skip
 
 
-def _held_somehow(p: Path, a: Analysis, model: Model) -> None:
+def _refuse_impossible(p: Path, a: Analysis, model: Model) -> None:
     """Analyses that a model cannot make, refused before any work: a dynamic run alone
     with blocks that nothing holds (no support, and no joint to a supported block: they
     would fall freely, as pfeie's blocks meet only across their joints; with the static
@@ -884,9 +884,8 @@ def _held_somehow(p: Path, a: Analysis, model: Model) -> None:
     if unheld and a.dynamic and not a.static:
         raise InputError(f"{p}: analysis.static: false, and {what}: the dynamic analysis "
                          "would let them fall freely (blocks meet only across their joints); "
-                         "expected "
-                         "[[supports]] on the foundation, or an [interfaces] table for the "
-                         "joint that holds them")  # fmt: skip
+                         "expected [[supports]] on the foundation, or an [interfaces] table "
+                         "for the joint that holds them")  # fmt: skip
     for key in ("strength_reduction", "yield_coefficient"):
         if getattr(a, key) and model.pairs is None:
             raise InputError(f"{p}: analysis.{key}: the model has no interfaces (no joint to "
