@@ -99,7 +99,7 @@ def test_rigid_block_check(dim: int, theta: float) -> None:
     (measured 3e-16: the linear programme's answer is a vertex)."""
     m = _tilted(dim, theta)
     problem = pf.coupling.StaticInterfaceProblem(m, m.system())
-    share = problem.rigid_check(m.system().load(0.0))
+    share = problem.rigid_check(m.system().load(0.0)).share
     t = np.radians(theta)
     ref = max(0.0, np.sin(t) - np.cos(t) * np.tan(np.radians(PHI)))
     block = m.body_names().index("block")
@@ -134,7 +134,8 @@ def test_rigid_block_check_3d_between_the_octagons_sides() -> None:
     m = block_on_base_3d(joint=pf.Joint(phi=PHI), gravity=False, n=3)
     t, a = np.radians(35.0), np.pi / 8
     m.add_gravity(direction=[np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), -np.cos(t)])
-    share = pf.coupling.StaticInterfaceProblem(m, m.system()).rigid_check(m.system().load(0.0))
+    check = pf.coupling.StaticInterfaceProblem(m, m.system()).rigid_check(m.system().load(0.0))
+    share = check.share
     p = np.sin(t) * np.array([np.cos(a), np.sin(a)])
     ref = _l1_to_octagon(p, np.cos(t) * np.tan(np.radians(PHI)))
     assert share[m.body_names().index("block")] == pytest.approx(ref, abs=1e-14)
@@ -176,13 +177,51 @@ def test_the_failing_block_is_named_among_floating_blocks() -> None:
         pf.solve_static(_side_by_side(0.3))
     msg = str(info.value)
     assert "('B' on 'jB', 'jAB': unbalanced by about 11.8 % of its load)" in msg
-    assert "'A' on" not in msg
+    assert "'A' on" not in msg and "press on" not in msg  # A does not press on B: B pulls away
     m = _side_by_side(-0.3)
     st = pf.solve_static(m)
     assert st.pairs is not None
     W = 2500 * 9.81 * 2.0  # B's weight per metre
     push = st.pairs.X[m.pairs.of("jAB"), -1].sum()  # compression +
     assert push == pytest.approx(W * (0.3 - np.tan(np.radians(10.0))), rel=1e-6)
+
+
+def test_blocks_that_press_on_the_failing_one_are_named() -> None:
+    """The same blocks, 'B' on φ = 20°, pushed towards 'B' (k_h = 0.3): 'A' (tan 10° =
+    0.176) leans on 'B' (tan 20° = 0.364) through the frictionless joint between them, and
+    together they carry at most (0.176 + 0.364) W_each against the 0.6 W_each asked: no
+    rigid equilibrium, 0.06 W_each short, (0.6 − 0.540)/√(1 + 0.3²) = 5.75 % of one block's
+    load; the check puts it on one of them and the message says that the other presses
+    on it through 'jAB' (a new user's toe block was named alone, the upper block that
+    drove it left out). Pushed the other way, 'B' cannot help 'A' (the joint carries no
+    tension): each is named with its own shortfall, (0.3 − tan 10°)/√1.09 = 11.9 % for
+    'A', and 'B' holds."""
+    def pushed(kh: float) -> str:
+        m = _side_by_side(0.0)
+        laws = [pf.Interface("jA", pf.Joint(phi=10)), pf.Interface("jB", pf.Joint(phi=20)),
+                pf.Interface("jAB", pf.Joint(phi=0.0))]  # fmt: skip
+        model = pf.Model(m.input_mesh, m.blocks, interfaces=laws)
+        model.fix("ymin")
+        model.add_gravity()
+        model.add_inertia([kh * 9.81, 0.0])
+        with pytest.raises(MechanismError) as info:
+            pf.solve_static(model)
+        return str(info.value)
+
+    msg = pushed(0.3)
+    share = (0.6 - np.tan(np.radians(10.0)) - np.tan(np.radians(20.0))) / np.hypot(1.0, 0.3)
+    for failing, other in (("A", "B"), ("B", "A")):
+        said = (f"('{failing}' on 'j{failing}', 'jAB': unbalanced by about {100 * share:.3g} % "
+                f"of its load)")  # fmt: skip
+        if said in msg:
+            assert f"Floating blocks press on it ('{other}' on '{failing}' through 'jAB')" in msg
+            break
+    else:
+        raise AssertionError(msg)
+    msg = pushed(-0.3)
+    own = (0.3 - np.tan(np.radians(10.0))) / np.hypot(1.0, 0.3)
+    assert f"('A' on 'jA', 'jAB': unbalanced by about {100 * own:.3g} % of its load)" in msg
+    assert "'B' on 'jB'" not in msg and "press on" not in msg
 
 
 def test_the_message_when_rigid_blocks_could_be_held() -> None:
@@ -193,7 +232,7 @@ def test_the_message_when_rigid_blocks_could_be_held() -> None:
     m = _tilted(2, 30.5)
     share = np.full(m.n_bodies, np.nan)
     share[m.body_names().index("block")] = 0.0
-    msg = _floating(m, found=False, share=share)
+    msg = _floating(m, found=False, share=pf.coupling.RigidCheck(share, np.zeros(m.pairs.n)))
     assert msg.startswith("No static equilibrium was found for the floating block(s) "
                           "('block' on 'joint'), although rigid blocks with these joints' "
                           "strengths can be balanced")  # fmt: skip

@@ -639,6 +639,21 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
     "not converged" beyond :data:`CORRECTION_UNRESOLVED`). ``pfeie run``'s summary and a
     study's ``warnings`` column are both written from it."""
     out = []
+    for name, b in s.get("bodies", {}).items():
+        if b.get("airborne_rows"):
+            out.append(RunWarning(
+                "airborne",
+                f"block {name} lost contact with all its joints at {b['airborne_rows']} "
+                f"recorded time(s), first at {b['first_airborne_s']:.3f} s. A record seldom "
+                "throws a block (a vertical acceleration beyond g; on a plane dipping ψ, a "
+                "horizontal one beyond g cot ψ); an elastic block without "
+                "stiffness-proportional damping can be thrown by its own friction-excited "
+                "vibration, which grows as Δt falls (docs/results.md): add damping "
+                "([damping] beta) or take analysis.scheme = \"moreau-jean\", and compare "
+                "two Δt",
+                f"airborne: block {name} lost contact with all its joints (first at "
+                f"{b['first_airborne_s']:.3g} s): friction-excited vibration? add damping",
+            ))  # fmt: skip
     for name, j in s.get("joints", {}).items():
         ratio = j.get("peak_slip_to_spacing", 0.0)
         if ratio > LARGE_SLIP:
@@ -958,6 +973,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
     rot = np.degrees(np.linalg.norm(q[-1, :, d:], axis=-1))
     out = {}
     floating = set(model.floating_bodies().tolist())
+    flying = _airborne(model, res)
     for b, name in enumerate(model.body_names()):
         out[name] = {
             "floating": b in floating,
@@ -966,6 +982,26 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             "residual_displacement_xyz_m": (q[-1, b, :d].round(6) + 0.0).tolist(),  # no -0.0
             "residual_rotation_deg": float(rot[b]),
         }
+        if b in flying:  # rows at which every pair of the body was open, and the first
+            out[name]["airborne_rows"], out[name]["first_airborne_s"] = flying[b]
+    return out
+
+
+def _airborne(model: Model, res: DynamicResult) -> dict[int, tuple[int, float]]:
+    """The floating bodies that lost contact with every joint they touch at some recorded
+    row (every pair of theirs open): the number of such rows and the first one's time."""
+    P = model.pairs
+    if P is None or not res.state.size:
+        return {}
+    body = model.body_of_node
+    out = {}
+    for b in model.floating_bodies():
+        on = (body[P.node_a] == b) | (body[P.node_b] == b)
+        if not on.any():
+            continue
+        rows = np.flatnonzero((res.state[:, on] == OPEN).all(axis=1))
+        if rows.size:
+            out[int(b)] = (int(rows.size), float(res.t[rows[0]]))
     return out
 
 
@@ -1113,6 +1149,7 @@ def format_summary(s: dict[str, Any]) -> str:
                if "min_safety_factor" in j else "")
         )  # fmt: skip
     warnings = reliability(s)
+    lines += _warning_lines(warnings, "airborne")
     lines += _warning_lines(warnings, "large slip")
     post = s.get("post_earthquake", {})
     if "error" in post:

@@ -764,8 +764,10 @@ CASES: list[Case] = [
       files={"plate.msh": mesh_of(elements=elements_with(23, (23, 3, 2, [5, 6, 99, 8])))}),
     C("msh-non-finite-coordinate", "plate.msh", "non-finite",
       files={"plate.msh": mesh_of(nodes=[*NODES[:8], (2.0, 1e400, 0.0)])}),
-    C("msh-name-in-two-dimensions", M, "blocks.dam: no physical group 'dam'", "'physical_2'",
-      files={"plate.msh": mesh_of(names={**NAMES, 6: (1, "dam")})}),
+    # physical tags are numbered per dimension: the surface 'dam' and a curve 'dam' are
+    # two groups of one name (the surface was renamed 'physical_2' before)
+    C("msh-name-in-two-dimensions", "plate.msh", "names used for groups of two dimensions: "
+      "['dam']", files={"plate.msh": mesh_of(names={**NAMES, 6: (1, "dam")})}),
     C(
         "msh-cells-in-two-blocks",
         "plate.msh",

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import copy
 import logging
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
@@ -57,6 +58,13 @@ def _floating_modes(model: Model, prescribed: IntArray) -> tuple[FloatArray, Int
     if not cols:
         return np.zeros((model.n_dof, 0)), np.zeros(0, dtype=np.int64)
     return np.hstack(cols), np.array(bodies, dtype=np.int64)
+
+
+class RigidCheck(NamedTuple):
+    """The rigid-block check of :meth:`StaticInterfaceProblem.rigid_check`."""
+
+    share: FloatArray
+    normal: FloatArray
 
 
 def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
@@ -158,10 +166,12 @@ class StaticInterfaceProblem:
             u_free = u_free + Phi @ q
         return u_free, st
 
-    def rigid_check(self, f_free: FloatArray, damage: PairState | None = None) -> FloatArray:
+    def rigid_check(self, f_free: FloatArray, damage: PairState | None = None) -> RigidCheck:
         """Limit equilibrium of the floating blocks as rigid bodies: per body (n_bodies,),
         the least share of its load that no pair forces within the joints' strength can
-        balance (0: a rigid-block equilibrium exists; NaN for a body with a support).
+        balance (``share``; 0: a rigid-block equilibrium exists; NaN for a body with a
+        support), and the normal pair forces of the answer (``normal``, N, compression +;
+        zero on pairs that touch no floating body; all NaN where the check failed).
 
         The linear programme: find X and slacks s = s⁺ − s⁻ ≥ 0 with
 
@@ -191,7 +201,7 @@ class StaticInterfaceProblem:
         ...                  interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])
         >>> model.fix("base"); model.add_gravity(); model.add_inertia([0.7 * 9.81, 0.0])
         >>> problem = StaticInterfaceProblem(model, model.system())
-        >>> share = problem.rigid_check(model.system().load(0.0))
+        >>> share = problem.rigid_check(model.system().load(0.0)).share
         >>> round(float(share[1]), 6)    # (0.7 − tan 30°) W / ‖(0.7, −1) W‖
         0.100479
         """
@@ -199,9 +209,10 @@ class StaticInterfaceProblem:
 
         model, d = self.model, self.model.dim
         share = np.full(model.n_bodies, np.nan)
+        failed = RigidCheck(share, np.full(self.laws.n, np.nan))
         k = self.Phi.shape[1]
         if not k:
-            return share
+            return failed
         E = np.asarray(self.op.G @ self.Phi)
         e = -(self.Phi.T @ f_free)
         # the load size of each mode: the translational load on its body times the mode's
@@ -242,23 +253,33 @@ class StaticInterfaceProblem:
                  + np.zeros((1, nk, 1), dtype=np.int64)).ravel()  # fmt: skip
         vals = np.concatenate([normals[None, :, :].repeat(n, axis=0),
                                -mu[:, None, None].repeat(nk, axis=1)], axis=2).ravel()  # fmt: skip
+        # scaled to entries of order one: forces X = F x (F the largest mode load), the
+        # equilibrium rows and their slacks by S_j
+        F = max(float(np.abs(e).max(initial=0.0)), float(c.max(initial=0.0)), 1.0)
         A_ub = sp.csr_matrix((vals, (r_idx, c_idx)), shape=(n * nk, n * d + 2 * k))
-        b_ub = np.repeat(c, nk)
+        b_ub = np.repeat(c / F, nk)
         cols = (idx[:, None] * d + np.arange(d)).ravel()
-        A_eq = sp.hstack([sp.csr_matrix(E[cols].T), -sp.eye(k), sp.eye(k)]).tocsr()
+        rows = sp.diags(F / S) @ sp.csr_matrix(E[cols].T)
+        A_eq = sp.hstack([rows, -sp.eye(k), sp.eye(k)]).tocsr()
         lo = np.full(n * d, -np.inf)
-        lo[d - 1 :: d] = -t
+        lo[d - 1 :: d] = -t / F
         bounds = np.column_stack([np.r_[lo, np.zeros(2 * k)], np.full(n * d + 2 * k, np.inf)])
-        cost = np.r_[np.zeros(n * d), 1.0 / S, 1.0 / S]
-        res = linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=e, bounds=bounds,
-                      method="highs")  # fmt: skip
-        if res.status != 0:
+        cost = np.r_[np.zeros(n * d), np.ones(2 * k)]
+        for presolve in (True, False):  # HiGHS's presolve took a bounded problem for an
+            # unbounded one (a new user's two blocks on 40° and 10° planes): without it
+            res = linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=e / S, bounds=bounds,
+                          method="highs", options={"presolve": presolve})  # fmt: skip
+            if res.status == 0:
+                break
             log.debug("rigid-block check: linprog status %d: %s", res.status, res.message)
-            return share
-        s = np.abs(res.x[n * d : n * d + k] - res.x[n * d + k :]) / S
+        else:
+            return failed
+        s = np.abs(res.x[n * d : n * d + k] - res.x[n * d + k :])
         for b in np.unique(self.mode_body):
             share[b] = float(s[self.mode_body == b].sum())
-        return share
+        normal = np.zeros(self.laws.n)
+        normal[idx] = F * res.x[d - 1 : n * d : d]
+        return RigidCheck(share, normal)
 
     def with_laws(self, laws: PairLaws) -> StaticInterfaceProblem:
         """This problem (its factorisation, W_pin and border, built once) for other laws of
@@ -275,4 +296,4 @@ class StaticInterfaceProblem:
         return self.op.G
 
 
-__all__ = ["StaticInterfaceProblem", "floating_modes", "pins"]
+__all__ = ["RigidCheck", "StaticInterfaceProblem", "floating_modes", "pins"]

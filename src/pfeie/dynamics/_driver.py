@@ -108,7 +108,9 @@ class Dynamic:
     Parameters
     ----------
     model: the model (blocks, interfaces, supports, loads).
-    dt: time step (s); K̂ is factorised once for it.
+    dt: time step (s); K̂ is factorised once for it. None: that of ``settings``, or
+        :class:`DynamicSettings`' default (0.01 s) — choose it for the model and check it
+        by halving (docs/results.md).
     settings: a :class:`DynamicSettings`; or its fields as keywords (``scheme``,
         ``rho_inf``, ``theta``, ``beta``, ``gamma``, ``alpha``, ``large_rotation``, ``tolerance``,
         ``backend``): every option and its default is documented there.
@@ -146,8 +148,8 @@ class Dynamic:
         base = {} if settings is None else settings.model_dump()
         if settings is None or dt is not None or options:
             given = {**base, **options, **({} if dt is None else {"dt": dt})}
-            try:
-                settings = DynamicSettings.model_validate(given)
+            try:  # strict: a string for a number is refused, not converted
+                settings = DynamicSettings.model_validate(given, strict=True)
             except ValidationError as exc:
                 raise ModelError(f"Dynamic: {settings_message(exc)}") from None
         assert settings is not None
@@ -418,8 +420,12 @@ class Dynamic:
         n = self.system.n
         free = self.system.free
         laws = self.model.pair_laws if m else None
+        u0, v0 = self._nodal("u0", u0), self._nodal("v0", v0)
+        if static is not None and not hasattr(static, "u"):
+            raise ModelError(f"start: expected a static result (pfeie.solve_static), got "
+                             f"{type(static).__name__}")  # fmt: skip
         if static is not None:
-            u = np.asarray(static.u).ravel()[free]  # type: ignore[attr-defined]
+            u = np.asarray(static.u).ravel()[free]
         else:
             u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).ravel()[free]
         if self.corot is not None:
@@ -459,6 +465,32 @@ class Dynamic:
             a = self._step_nonsmooth_alpha(first, ex, self.ga, t0, ahead_next=False).kin.a
             return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
         return StepState(State(t0, u, v, a, f), ps, 0)
+
+    def _probes(self, probes: Sequence[int] | IntArray) -> IntArray:
+        """Probe node indices, checked: whole numbers in [0, n_points)."""
+        n = self.model.mesh.n_points
+        arr = np.asarray(probes)
+        if arr.size == 0:
+            return np.zeros(0, dtype=np.int64)
+        if arr.ndim != 1 or not np.issubdtype(arr.dtype, np.integer) or (
+                arr.min() < 0 or arr.max() >= n):  # fmt: skip
+            raise ModelError(f"probes: expected node indices in [0, {n}) (whole numbers, "
+                             f"one list), got {arr.tolist()}")  # fmt: skip
+        return arr.astype(np.int64)
+
+    def _nodal(self, key: str, value: FloatArray | None) -> FloatArray | None:
+        """A nodal field given to :meth:`initial`, checked: (n_points, d), finite."""
+        if value is None:
+            return None
+        shape = (self.model.mesh.n_points, self.d)
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"{key}: expected numbers of shape {shape}") from None
+        if arr.shape != shape or not np.isfinite(arr).all():
+            raise ModelError(f"{key}: expected finite values of shape {shape} (n_points, d), "
+                             f"got shape {arr.shape}")  # fmt: skip
+        return arr
 
     def _consistent_acceleration(
         self, ex: Excitation, t0: float, u: FloatArray, v: FloatArray, f_ext: FloatArray,
@@ -844,6 +876,10 @@ class Dynamic:
         """
         if (duration is None) == (n_steps is None):
             raise ModelError("give either duration or n_steps")
+        given: Any = n_steps  # the API takes what a caller gives: a float too
+        if given is not None and not (isinstance(given, (int, np.integer)) or (
+                isinstance(given, float) and given.is_integer())):  # fmt: skip
+            raise ModelError(f"n_steps: expected a whole number of steps, got {given!r}")
         try:
             n = int(n_steps) if n_steps is not None else self.settings.steps(float(duration or 0))
         except ValueError as exc:
@@ -867,7 +903,7 @@ class Dynamic:
             cur = start if isinstance(start, StepState) else self._initial(ex, start)
             row0 = 0
         m, d = self.m, self.d
-        probes = np.asarray(probes, dtype=np.int64)
+        probes = self._probes(probes)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop
         rec = Recorder(self, ex, probes, n // every + 3, on_record,
                        origin=None if resume is None else resume.origin, envelope=envelope,

@@ -302,6 +302,9 @@ class Newmark:
         With ``track_energy`` the kinetic and strain energies, the work of the loads
         (Σ Δu·f̄) and the damping dissipation (Σ Δu·C v̄) are recorded every step.
         """
+        if not (isinstance(n_steps, (int, np.integer)) and n_steps >= 0):
+            raise ModelError(f"n_steps: expected a whole number of steps >= 0, got "
+                             f"{n_steps!r}")  # fmt: skip
         st = self.initial_state() if state is None else state
         dofs = np.asarray([] if record is None else record, dtype=np.int64)
         k = dofs.size

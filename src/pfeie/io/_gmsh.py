@@ -234,7 +234,26 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
     """Build a :class:`Mesh` from a meshio mesh read from gmsh (physical groups by name),
     checked (:meth:`Mesh.check`); ``ids``: the gmsh element ids of each cell block."""
     phys = m.cell_data.get("gmsh:physical")
-    names = {int(v[0]): (str(k), int(v[1])) for k, v in (m.field_data or {}).items()}
+    # physical tags are numbered per dimension (a curve 1 and a surface 1 are two
+    # groups): names by (dimension, tag), from the file's own table where it can be read
+    # (meshio's field_data, keyed by name, keeps one of two groups of one name)
+    table = _physical_names(Path(path)) if str(path) != "<mesh>" else None
+    if table is not None:
+        seen: dict[tuple[int, str], int] = {}
+        for gdim, tag, gname in table:
+            other = seen.setdefault((gdim, gname), tag)
+            if other != tag:
+                raise MeshError(f"{path}: the physical name {gname!r} is given to two groups "
+                                f"of dimension {gdim} (tags {other} and {tag}); expected one "
+                                "name per group (give the second group its own name, or "
+                                "put both entities in one physical group)")  # fmt: skip
+        names = {(gdim, tag): gname for gdim, tag, gname in table}
+    else:
+        names = {(int(v[1]), int(v[0])): str(k) for k, v in (m.field_data or {}).items()}
+
+    def name_of(tag: Any, dim: int) -> str:
+        return names.get((dim, int(tag)), f"physical_{int(tag)}")
+
     if phys is None or not names:
         raise MeshError(
             f"{path}: the mesh has no named physical groups; name the blocks and "
@@ -249,7 +268,8 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         tagged = np.asarray(tags) != 0
         if dims[k] < 0 and tagged.any() and block.type not in ("vertex", "line", "line3"):
             first = f" (gmsh element {int(ids[k][np.argmax(tagged)])})" if ids is not None else ""
-            group = names.get(int(np.asarray(tags)[tagged][0]), ("?", 0))[0]
+            tag0 = int(np.asarray(tags)[tagged][0])
+            group = next((n for (_, t), n in names.items() if t == tag0), "?")
             known = ", ".join(t for t in SUPPORTED if cell_dimension(t) >= 2)
             raise MeshError(f"{path}: physical group {group!r}: {int(tagged.sum())} "
                             f"{block.type} cell(s){first}; pfeie has elements for {known} "
@@ -282,19 +302,19 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
             for tag in np.unique(tags):
                 if tag == 0:
                     continue
-                name = names.get(int(tag), (f"physical_{tag}", dim))[0]
+                name = name_of(tag, dim)
                 cgroups.setdefault(name, {}).setdefault(block.type, []).append(
                     off + np.flatnonzero(tags == tag))  # fmt: skip
         elif dim == top - 1:
             for tag in np.unique(tags):
                 if tag == 0:
                     continue
-                name = names.get(int(tag), (f"physical_{tag}", dim))[0]
+                name = name_of(tag, dim)
                 fgroups.setdefault(name, {}).setdefault(block.type, []).append(data[tags == tag])
         else:
             for tag in np.unique(tags):
                 if tag:
-                    ignored.add(names.get(int(tag), (f"physical_{tag}", dim))[0])
+                    ignored.add(name_of(tag, dim))
     _more_groups(m, dims, top, offsets, cgroups, fgroups)
     if ignored:
         log.info("%s: physical groups of lower dimension ignored: %s", path, sorted(ignored))
@@ -322,13 +342,34 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         {g: {t: np.unique(np.concatenate(v)) for t, v in d.items()} for g, d in cgroups.items()},
         {g: {t: rm(np.concatenate(v), g) for t, v in d.items()} for g, d in fgroups.items()},
         {t: np.concatenate(v) for t, v in cell_ids.items()} if ids is not None else {},
-        {g: d for g, d in names.values() if g not in cgroups and g not in fgroups},
+        {g: d for (d, _), g in names.items() if g not in cgroups and g not in fgroups},
     )
     flipped = mesh.orient()
     if flipped:
         log.info("%s: %d clockwise cell(s) reoriented", path, flipped)
     mesh.check(str(path))
     return mesh
+
+
+def _physical_names(path: Path) -> list[tuple[int, int, str]] | None:
+    """The ``$PhysicalNames`` table of a gmsh file, as (dimension, tag, name) rows (the
+    section is text in ASCII and binary files alike); None where the file or the section
+    cannot be read that way."""
+    try:
+        with path.open("rb") as fh:
+            for line in fh:
+                if line.strip() == b"$PhysicalNames":
+                    break
+            else:
+                return None
+            n = int(fh.readline().split()[0])
+            rows = []
+            for _ in range(n):
+                parts = fh.readline().decode("utf-8", "replace").split(maxsplit=2)
+                rows.append((int(parts[0]), int(parts[1]), parts[2].strip().strip('"')))
+            return rows
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def _more_groups(

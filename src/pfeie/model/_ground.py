@@ -65,6 +65,31 @@ class GroundMotion:
     #: how the record was processed, for the summary (e.g. "band-pass 0.1–25 Hz, ...")
     processing: str = ""
 
+    def __post_init__(self) -> None:
+        """The record's consistency, checked however it is built (the constructor took
+        times that went back and NaN accelerations, which surfaced steps later as a
+        diverged interface problem): at least two samples of finite, strictly increasing
+        times and finite accelerations, one per time, and a finite unit direction of 2 or
+        3 components."""
+        t, a = np.asarray(self.time), np.asarray(self.acceleration)
+        e = np.asarray(self.direction)
+        what = f"ground motion {self.name!r}"
+        if t.ndim != 1 or a.shape != t.shape or t.size < 2:
+            raise ModelError(f"{what}: expected time and acceleration as 1D arrays of one "
+                             f"length, at least 2 samples; got shapes {t.shape} and "
+                             f"{a.shape}")  # fmt: skip
+        if not (np.isfinite(t).all() and np.isfinite(a).all()):
+            raise ModelError(f"{what}: expected finite times and accelerations; the record "
+                             "holds NaN or infinite values")  # fmt: skip
+        if np.any(np.diff(t) <= 0):
+            k = int(np.flatnonzero(np.diff(t) <= 0)[0])
+            raise ModelError(f"{what}: times must increase strictly; sample {k + 1} is at "
+                             f"{t[k + 1]:g} s after {t[k]:g} s")  # fmt: skip
+        if e.shape not in ((2,), (3,)) or not np.isfinite(e).all() or not (
+                abs(float(np.linalg.norm(e)) - 1.0) <= 1e-9):  # fmt: skip
+            raise ModelError(f"{what}: expected a unit direction of 2 or 3 components, got "
+                             f"{e.tolist()} (GroundMotion.from_samples normalises it)")  # fmt: skip
+
     @classmethod
     def from_samples(
         cls,
@@ -78,7 +103,13 @@ class GroundMotion:
         name: str = "record",
     ) -> GroundMotion:
         """A record from samples with a step ``dt`` (s) or a ``time`` column (s)."""
-        acc = np.asarray(values, dtype=float).ravel()
+        raw = np.asarray(values, dtype=float)
+        if raw.ndim > 1 and sum(n > 1 for n in raw.shape) > 1:
+            raise ModelError(
+                f"ground motion {name!r}: values: expected a 1D array of accelerations, got "
+                f"shape {raw.shape}; for the columns of a file of times and accelerations, "
+                "give values=data[:, 1], time=data[:, 0] (or pfeie.io.read_record)")  # fmt: skip
+        acc = raw.ravel()
         if acc.size < 2:
             raise ModelError(f"ground motion {name!r}: needs at least 2 samples, got {acc.size}")
         if not np.all(np.isfinite(acc)):

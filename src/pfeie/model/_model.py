@@ -318,8 +318,15 @@ class Model:
         if mesh.dim == 3 and thickness != 1.0:
             raise ModelError(f"thickness = {thickness} m is a 2D setting, but the mesh is 3D; a "
                              "3D model takes no thickness")  # fmt: skip
+        if isinstance(blocks, Block) or not all(isinstance(b, Block) for b in blocks):
+            raise ModelError("blocks: expected a list of pfeie.Block (e.g. [pf.Block(...)]), "
+                             f"got {blocks!r}")  # fmt: skip
         if not blocks:
             raise ModelError("a model needs at least one block")
+        if (isinstance(interfaces, Interface) or not all(
+                isinstance(i, Interface) for i in interfaces)):  # fmt: skip
+            raise ModelError("interfaces: expected a list of pfeie.Interface, got "
+                             f"{interfaces!r}")  # fmt: skip
         if mesh.dim == 3 and plane == "stress":
             raise ModelError("plane = 'stress' is a 2D hypothesis, but the mesh is 3D; a 3D "
                              "model takes no plane hypothesis")  # fmt: skip
@@ -974,9 +981,18 @@ class Model:
         value: Sequence[float],
         amplitude: Amplitude | None = None,
     ) -> None:
-        """A force (N) applied at each of the given nodes."""
+        """A force (N) applied at each of the given nodes: a vector of ``dim`` finite
+        components."""
         idx, _ = self._nodes(nodes)
-        self.loads.append(Load("nodal", None, np.asarray(value, dtype=float), amplitude, idx))
+        try:
+            f = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"nodal force: expected {self.dim} numbers (N), got "
+                             f"{value!r}") from None  # fmt: skip
+        if f.shape != (self.dim,) or not np.isfinite(f).all():
+            raise ModelError(f"nodal force: expected a finite vector of {self.dim} components "
+                             f"(N), got {f.tolist()}")  # fmt: skip
+        self.loads.append(Load("nodal", None, f, amplitude, idx))
 
     # -- discrete operators ---------------------------------------------------------------
     def _values(self, cs: _CellSet, degree: int) -> asm.CellValues:

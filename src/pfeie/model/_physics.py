@@ -137,6 +137,13 @@ class Rayleigh:
     beta: float = 0.0
     deformation_only: bool = False
 
+    def __post_init__(self) -> None:
+        for key in ("alpha", "beta"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
+                raise ModelError(f"Rayleigh: {key} must be a finite number >= 0 (negative "
+                                 f"damping feeds energy in), got {v!r}")  # fmt: skip
+
     @classmethod
     def from_ratio(
         cls, zeta: float, f1: float, f2: float, deformation_only: bool = False

@@ -113,6 +113,8 @@ def modal(
     if not added_mass:  # the blocks' mass alone, on the same free DOFs
         M = model.mass(lumped=lumped_mass, added=False)[system.free][:, system.free].tocsr()
     M_split = M
+    if not (isinstance(n_modes, (int, np.integer)) and n_modes >= 1):
+        raise SolverError(f"n_modes: expected a whole number of modes >= 1, got {n_modes!r}")
     if interfaces not in ("bonded", "free"):
         raise SolverError(f"interfaces must be 'bonded' or 'free', got {interfaces!r}")
     P = None

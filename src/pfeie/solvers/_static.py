@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..coupling import StaticInterfaceProblem, relative_operator
+from ..coupling import RigidCheck, StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
@@ -114,7 +114,7 @@ def solve_pairs(
                              f"{damage.broken.size} pairs; this model has {n}")  # fmt: skip
         cracked = damage.broken
 
-    def share(f: FloatArray) -> FloatArray | None:
+    def share(f: FloatArray) -> RigidCheck | None:
         """The rigid-block check of the loads ``f`` (None: not asked, or it failed)."""
         if not explain:
             return None
@@ -244,7 +244,7 @@ RIGID_SHARE_MIN = 1e-6
 
 
 def _floating(model: Model, found: bool = True, damaged: bool = False,
-              share: FloatArray | None = None) -> str:  # fmt: skip
+              share: RigidCheck | None = None) -> str:  # fmt: skip
     """What a static mechanism means for this model: the floating bodies (no support)
     and the joints that must hold them, with what to check; ``found`` False when the
     solver ended without an answer rather than on a singular pattern (then the loads are
@@ -281,15 +281,33 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             for group, modes in partly
         ) + (": no joint can hold it. Support the foundation in every component "
              "(components of [[supports]], or Model.fix), or on two faces")  # fmt: skip
-    shares = {} if share is None else {b: float(share[b]) for b in on_joints}
+    shares = {} if share is None else {b: float(share.share[b]) for b in on_joints}
     unbalanced = [b for b, v in shares.items() if np.isfinite(v) and v > RIGID_SHARE_MIN]
     if unbalanced:
+        # the floating blocks that lean on a named one: their loads reach it through the
+        # joint between them (the unbalance lands where the check can put it)
+        leaning = []
+        for b in unbalanced:
+            for c in on_joints:
+                if c in unbalanced:
+                    continue
+                both = ((body[P.node_a] == b) & (body[P.node_b] == c)) | (
+                    (body[P.node_a] == c) & (body[P.node_b] == b))  # fmt: skip
+                # in compression in the check's answer: a joint that parts bears nothing
+                assert share is not None
+                pressed = both & (share.normal > RIGID_SHARE_MIN * np.abs(share.normal).max())
+                via = [n for n in P.names if pressed[P.of(n)].any()]
+                if via:
+                    leaning.append(f"{names[c]!r} on {names[b]!r} through "
+                                   f"{', '.join(repr(j) for j in via)}")  # fmt: skip
         head = (
             "No static equilibrium holds the floating block(s) ("
             + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % of "
                         "its load" for b in unbalanced)
             + "): not even as rigid blocks can pair forces within their joints' strength "
             "balance the static loads, so they would slide or open."
+            + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
+               "theirs together, placed where the check could put it." if leaning else "")
         )  # fmt: skip
     elif any(np.isfinite(v) for v in shares.values()):
         head = (
