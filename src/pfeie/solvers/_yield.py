@@ -71,6 +71,14 @@ AT_CAPACITY = 1e-9
 #: the static analyses a search may take (each a pair problem on the factorised blocks)
 YIELD_MAX_ANALYSES = 60
 
+#: once the limit is bracketed, coefficients this far beyond the first failure (relative)
+#: are tried: one that holds shows a failure of the pair solver short of the limit, and
+#: the search goes on from it (at most YIELD_REOPEN times). A new user's slope with a
+#: rock bridge read k_y 0.8902 "sliding" where 0.95 and 1.0 held; a wet plane failure
+#: 0.119 where their limit equilibrium gives 0.1243
+YIELD_BEYOND = (0.01, 0.05)
+YIELD_REOPEN = 2
+
 #: the largest coefficient tried (a fraction of g); a structure held at it is reported
 #: with k_y = None (no yield up to it)
 YIELD_K_MAX = 2.0
@@ -234,38 +242,61 @@ def yield_coefficient(
     prev: tuple[float, FloatArray] | None = None  # a held (k, margins) below lo
     widths: list[float] = []
     targets: list[float] = []  # the predicted roots aimed at (see _creep)
-    while hi is None or hi - lo > tol * max(hi, 1e-3):
-        if count >= max_analyses:
-            log.warning("yield coefficient: the limit bracketed to [%.6g, %s] only, in %d "
-                        "static analyses", lo, hi, count)  # fmt: skip
+    reopened = 0
+    while True:
+        while hi is None or hi - lo > tol * max(hi, 1e-3):
+            if count >= max_analyses:
+                log.warning("yield coefficient: the limit bracketed to [%.6g, %s] only, in %d "
+                            "static analyses", lo, hi, count)  # fmt: skip
+                break
+            target = _root(lo, m_lo, prev)[0]
+            if target is None or not target > lo or (hi is not None and not target < hi):
+                k_try = min(2 * max(lo, 0.025), k_max) if hi is None else 0.5 * (lo + hi)
+            else:  # aim just below the predicted root, then, once there, just beyond it
+                below = lo >= target * (1 - tol)
+                k_try = target * (1 + tol / 4) if below else target * (1 - tol / 2)
+                ahead = None if below else _creep(targets, target, tol)
+                if ahead is not None:
+                    k_try = ahead if hi is None or ahead < hi else 0.5 * (target + hi)
+                if hi is not None and len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
+                    k_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
+                k_try = min(k_try, k_max)
+                if hi is not None and not lo < k_try < hi:
+                    k_try = 0.5 * (lo + hi)
+            if hi is None and lo >= k_max:
+                log.info("yield coefficient along %s: held up to k = %g, %d static analyses "
+                         "in %.1f s", _direction(iota), k_max, count,
+                         time.perf_counter() - t0)  # fmt: skip
+                return _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
+            out = analyse(k_try, st_lo)
+            if out is None:  # no equilibrium: beyond the limit
+                hi = k_try
+            else:
+                prev = (lo, m_lo)
+                lo, (st_lo, m_lo, fs_lo) = k_try, out
+            if hi is not None:
+                widths.append(hi - lo)
+        # the bracket's failure may be the pair solver's: try a little beyond it
+        if hi is None or reopened >= YIELD_REOPEN or count >= max_analyses:
             break
-        target = _root(lo, m_lo, prev)[0]
-        if target is None or not target > lo or (hi is not None and not target < hi):
-            k_try = min(2 * max(lo, 0.025), k_max) if hi is None else 0.5 * (lo + hi)
-        else:  # aim just below the predicted root, then, once there, just beyond it
-            below = lo >= target * (1 - tol)
-            k_try = target * (1 + tol / 4) if below else target * (1 - tol / 2)
-            ahead = None if below else _creep(targets, target, tol)
-            if ahead is not None:
-                k_try = ahead if hi is None or ahead < hi else 0.5 * (target + hi)
-            if hi is not None and len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
-                k_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
-            k_try = min(k_try, k_max)
-            if hi is not None and not lo < k_try < hi:
-                k_try = 0.5 * (lo + hi)
-        if hi is None and lo >= k_max:
-            log.info("yield coefficient along %s: held up to k = %g, %d static analyses "
-                     "in %.1f s", _direction(iota), k_max, count,
-                     time.perf_counter() - t0)  # fmt: skip
-            return _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
-        out = analyse(k_try, st_lo)
-        if out is None:  # no equilibrium: beyond the limit
-            hi = k_try
-        else:
-            prev = (lo, m_lo)
-            lo, (st_lo, m_lo, fs_lo) = k_try, out
-        if hi is not None:
-            widths.append(hi - lo)
+        beyond = None
+        for rel in YIELD_BEYOND:
+            k_b = min(hi * (1 + rel), k_max)
+            if not k_b > hi:
+                break
+            out = analyse(k_b, st_lo)
+            if out is not None:
+                beyond = (k_b, out)
+                break
+        if beyond is None:
+            break
+        log.warning("yield coefficient along %s: no equilibrium found at k = %.6g, but one "
+                    "at %.6g: the pair solver failed short of the limit there; the search "
+                    "goes on from %.6g", _direction(iota), hi, beyond[0], beyond[0])  # fmt: skip
+        reopened += 1
+        prev = (lo, m_lo)
+        lo, (st_lo, m_lo, fs_lo) = beyond
+        hi, widths, targets = None, [], []
     estimate, joint = _root(lo, m_lo, prev)
     if hi is None:
         limit = "not bracketed"
