@@ -989,7 +989,8 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
 
 def _airborne(model: Model, res: DynamicResult) -> dict[int, tuple[int, float]]:
     """The floating bodies that lost contact with every joint they touch at some recorded
-    row (every pair of theirs open): the number of such rows and the first one's time."""
+    row (every pair of theirs open) after touching one: the number of such rows and the
+    first one's time (a block that starts apart, across a gap, flies until it lands)."""
     P = model.pairs
     if P is None or not res.state.size:
         return {}
@@ -999,7 +1000,10 @@ def _airborne(model: Model, res: DynamicResult) -> dict[int, tuple[int, float]]:
         on = (body[P.node_a] == b) | (body[P.node_b] == b)
         if not on.any():
             continue
-        rows = np.flatnonzero((res.state[:, on] == OPEN).all(axis=1))
+        apart = (res.state[:, on] == OPEN).all(axis=1)
+        touched = np.flatnonzero(~apart)
+        rows = np.flatnonzero(apart)
+        rows = rows[rows > touched[0]] if touched.size else rows[:0]
         if rows.size:
             out[int(b)] = (int(rows.size), float(res.t[rows[0]]))
     return out
