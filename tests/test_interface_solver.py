@@ -129,8 +129,9 @@ def test_a_crawling_newton_stops(monkeypatch: pytest.MonkeyPatch) -> None:
     """The yield search of a block on a 30° joint with uplift (10 m × 2 m, φ = 35°,
     c_r = 20 kPa, headwater 1 m above the heel): beyond the limit the semismooth Newtons
     crawl (line-search steps below 2⁻¹⁰) and stop after LINE_SEARCH_CRAWL such
-    iterations: measured at most 27 iterations a Newton, 90 in all, against 100 and 269
-    without the criterion; k_y the same to the bit."""
+    iterations: measured at most 27 iterations a Newton, 156 in all with the search's try
+    1 % beyond the failure (YIELD_BEYOND; 90 before it), against 100 and 269 without the
+    criterion; k_y the same to the bit."""
     import pfeie as pf
     from pfeie.interface import _solver
     from pfeie.verification._models import block_on_base
@@ -146,5 +147,5 @@ def test_a_crawling_newton_stops(monkeypatch: pytest.MonkeyPatch) -> None:
         y = pf.yield_coefficient(m)
         assert y.limit == "sliding"
         k_y.append(y.k_y)
-    assert max(counts) <= 40 and sum(counts) <= 120, counts  # measured 27 and 90
+    assert max(counts) <= 40 and sum(counts) <= 200, counts  # measured 27 and 156
     assert k_y[0] == k_y[1]
