@@ -391,7 +391,9 @@ def test_a_degenerate_dispersion_is_warned(caplog: pytest.LogCaptureFixture) -> 
     lies below BETA_DEGENERATE and why. A real dispersion (0.22) gets none."""
     with caplog.at_level("WARNING"):
         f = fit_moments([0.0752, 0.0752 * (1 + 1.3e-8)])
-    assert f.beta == pytest.approx(1.3e-8 / np.sqrt(2), rel=1e-6)
+    # 2e-7: the capacities carry round-off of 1e-16 in a difference of 1.3e-8 (measured
+    # 2.0e-8 relative)
+    assert f.beta == pytest.approx(1.3e-8 / np.sqrt(2), rel=2e-7)
     assert "β = 9.2e-09, below 0.001: the records cross the limit state at one intensity" \
         in caplog.text
     caplog.clear()

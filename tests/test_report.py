@@ -480,8 +480,9 @@ def test_the_input_motion_is_the_motion_applied(
 ) -> None:
     """A run shorter than its record (0.1 s of a 0.4 s pulse 0.5 g sin(π t / 0.4)): the
     run's record line says that the motion applied ends at the duration, and the report's
-    intensity measures are those of that part (PGA 0.5 sin(π/4) = 0.35355 g, to 1e-12:
-    the cut interpolates the record's samples at 0.1 s, where a sample lies), as
+    intensity measures are those of that part (PGA 0.5 sin(π/4) = 0.35355 g and Arias,
+    to 1e-14, measured exact: the cut interpolates the record's samples at 0.1 s, where a
+    sample lies), as
     ``pfeie spectrum`` and a study measure them (a new user's report gave the whole
     record's Arias 1.53 m/s beside the study's 0.898 for the run's 6 s)."""
     from pfeie.model import intensity_measures
@@ -495,7 +496,7 @@ def test_the_input_motion_is_the_motion_applied(
     with Results(tmp_path / "out" / "results.h5") as res:
         rows = record_rows(res)
     assert rows[0]["record"].endswith("(up to 0.1 s, the run's duration)")
-    assert rows[0]["PGA (g)"] == pytest.approx(0.5 * np.sin(np.pi / 4), rel=1e-12)
+    assert rows[0]["PGA (g)"] == pytest.approx(0.5 * np.sin(np.pi / 4), rel=1e-14)
     t = np.arange(0.0, 0.1 + 1e-9, 0.005)
     ref = intensity_measures(t, 9.81 * 0.5 * np.sin(np.pi * t / 0.4))
-    assert rows[0]["Arias (m/s)"] == pytest.approx(ref["arias"], rel=1e-12)
+    assert rows[0]["Arias (m/s)"] == pytest.approx(ref["arias"], rel=1e-14)
