@@ -199,5 +199,7 @@ def test_cohesion_lost_on_open_pairs_is_reported() -> None:
     assert 0.0 < lost["joint"]["max_opening_m"] < 1e-6
     line = _reduction_text({"factor": r.factor, "limit": r.limit, "joint": "joint",
                             "safety_factors": {"joint": 1.0}, "open_cohesion": lost})  # fmt: skip
-    assert line.endswith("; cohesion lost on open pairs: 'joint' 25 % of its c·A (openings up "
-                         "to 0.42 µm))"), line
+    # the line gives the share and the opening of the state at the limit
+    said = (f"; cohesion lost on open pairs: 'joint' {100 * lost['joint']['share']:.2g} % of its "
+            f"c·A (openings up to {1e6 * lost['joint']['max_opening_m']:.2g} µm))")
+    assert line.endswith(said), line

@@ -375,8 +375,8 @@ def _run(
         final = result.final
         if ck is not None:  # the summary of the whole run, not of its resumed part
             result = history(writer, result.completed, result.stop_reason)
-    post = _post_earthquake(job, static, result, final, writer)
     summary = summarize(job, static, result)
+    post = _post_earthquake(job, static, result, final, writer, summary.get("bodies", {}))
     if post:
         summary["post_earthquake"] = post
     if yields:
@@ -723,7 +723,7 @@ def _warning_lines(warnings: list[RunWarning], label: str) -> list[str]:
 
 def _post_earthquake(
     job: Job, static: StaticResult | None, result: DynamicResult | None,
-    final: StepState | None, writer: ResultsWriter,
+    final: StepState | None, writer: ResultsWriter, bodies: dict[str, dict[str, Any]],
 ) -> dict[str, Any]:  # fmt: skip
     """The post-earthquake static state of a completed run with joints
     (:func:`~pfeie.solve_static` with the last pair state ``final`` as its ``damage``; a
@@ -735,12 +735,12 @@ def _post_earthquake(
     :data:`POST_EQ_ROTATION_MAX_DEG` or :data:`POST_EQ_MOVE_MAX` of its size), ``skipped``
     says why: the static state of the undeformed geometry would describe blocks that are
     no longer there (a new user's column that toppled, 123° and 4.25 m, read FS ∞ on its
-    joint)."""
+    joint). ``bodies``: the summary's body motions (:func:`_body_motions`)."""
     model = job.model
     if (not job.analysis.post_earthquake or static is None or result is None
             or not result.completed or final is None or model.pairs is None):  # fmt: skip
         return {}
-    moved = _far_moved(job, result)
+    moved = _far_moved(model, bodies)
     if moved:
         why = (f"{'; '.join(moved)}: the post-earthquake static state takes the undeformed "
                "geometry, which holds where the residual motions are small beside the "
@@ -764,15 +764,14 @@ def _post_earthquake(
     return out
 
 
-def _far_moved(job: Job, result: DynamicResult) -> list[str]:
-    """The floating blocks whose residual rigid motion passes
-    :data:`POST_EQ_ROTATION_MAX_DEG` or :data:`POST_EQ_MOVE_MAX` of their size, each as
-    "block 'name' rotated …° and moved … m (… m across)"."""
-    model = job.model
+def _far_moved(model: Model, motions: dict[str, dict[str, Any]]) -> list[str]:
+    """The floating blocks whose residual rigid motion (``motions``: the summary's, of
+    :func:`_body_motions`) passes :data:`POST_EQ_ROTATION_MAX_DEG` or
+    :data:`POST_EQ_MOVE_MAX` of their size, each as "block 'name' rotated …° and moved …
+    m (… m across)"."""
     floating = model.floating_bodies()
-    if not floating.size:
+    if not floating.size or not motions:
         return []
-    motions = _body_motions(job, result)
     names = model.body_names()
     body = model.body_of_node
     out = []

@@ -191,18 +191,13 @@ class StaticInterfaceProblem:
         leaves open whether the elastic one does (the elastic problem may part a joint
         that the rigid blocks keep closed).
 
-        >>> import numpy as np, pfeie as pf
-        >>> mesh = pf.rectangle(1.0, 2.0, 1, 2)
-        >>> _ = mesh.add_cell_group("base", lambda x: x[:, 1] < 1)
-        >>> _ = mesh.add_cell_group("top", lambda x: x[:, 1] > 1)
-        >>> _ = mesh.add_facet_group("j", lambda x: abs(x[:, 1] - 1.0) < 1e-9, False)
-        >>> mat = pf.Elastic(1e9, 0.2, 1000.0)
-        >>> model = pf.Model(mesh, [pf.Block("base", mat), pf.Block("top", mat)],
-        ...                  interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])
-        >>> model.fix("base"); model.add_gravity(); model.add_inertia([0.7 * 9.81, 0.0])
+        >>> import pfeie as pf
+        >>> from pfeie.verification._models import block_on_base
+        >>> model = block_on_base(joint=pf.Joint(phi=30.0))   # a block on a level joint
+        >>> model.add_inertia([0.7 * 9.81, 0.0])                # pushed sideways by 0.7 g
         >>> problem = StaticInterfaceProblem(model, model.system())
         >>> share = problem.rigid_check(model.system().load(0.0)).share
-        >>> round(float(share[1]), 6)    # (0.7 − tan 30°) W / ‖(0.7, −1) W‖
+        >>> round(float(share[model.body_names().index("block")]), 6)  # (0.7 − tan 30°)/√1.49
         0.100479
         """
         from scipy.optimize import linprog
