@@ -49,6 +49,7 @@ def test_every_quantity_round_trips(small_run) -> None:  # type: ignore[no-untyp
             np.testing.assert_array_equal(pr[key], getattr(res, key))
         np.testing.assert_array_equal(pr["normal_stress"], res.normal_stress)
         np.testing.assert_array_equal(pr["slip"], res.slip)
+        np.testing.assert_array_equal(r.joint_safety_factor("joint"), res.safety_factor[:, 0])
         for key, arr in res.energy.items():
             np.testing.assert_allclose(r.energy()[key], arr, rtol=1e-12, atol=1e-9)
         tf, fields = r.fields()

@@ -247,6 +247,32 @@ def test_sa_measure_and_bad_arguments() -> None:
         gm.spectrum([-1.0])
 
 
+
+def test_extreme_periods() -> None:
+    """Periods at the ends of the float range neither hang nor warn: a period below
+    RIGID_PERIOD × the record's step (0.02 ms here) is a rigid oscillator, PSa = Sa_abs
+    = PGA exactly (the T = 0 value); a period down to 20 h / MAX_SUBSTEPS (6.25 ms) and
+    below is looked for at 64 points a step, within 1e-3 of PGA at T = 1 ms and 0.1 ms
+    (the T → 0 limit; measured: 1.1e-4 below, the damped oscillator's absolute
+    acceleration at 64 points against 5.9e-4 more at 1,024); a period beyond PERIOD_MAX
+    is a ModelError (ω² would underflow)."""
+    import warnings
+
+    from pfeie.model._spectrum import MAX_SUBSTEPS, PERIOD_MAX
+
+    t, ag = _elcentro()
+    a = ag * G
+    pga = float(np.abs(a).max())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = response_spectrum(t, a, [5e-324, 1e-300, 1e-6, 1e-4, 1e-3, 0.0], 0.05)
+    assert s.psa[:3].tolist() == [pga] * 3 and s.sa_abs[:3].tolist() == [pga] * 3
+    assert s.psv[:3].tolist() == [0.0] * 3
+    assert s.substeps.tolist() == [1, 1, 1] + [MAX_SUBSTEPS] * 2 + [1]
+    assert np.abs(s.psa[3:5] / pga - 1).max() < 1e-3
+    with pytest.raises(ModelError, match="at most 10000 s"):
+        response_spectrum(t, a, [1.0, 2 * PERIOD_MAX])
+
 # -- scaling in the model file and the command ---------------------------------------------
 def _model(tmp: Path, extra: str) -> Path:
     """The static plate model of test_robustness with the El Centro record (in g) and

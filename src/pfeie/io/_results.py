@@ -668,6 +668,14 @@ class Results:
         g = self.f["history/joints"]
         return {key: np.asarray(g[key][:, k]) for key in ("cracked", "open")}
 
+    def joint_safety_factor(self, interface: str) -> FloatArray | None:
+        """The sliding safety factor FS(t) of a joint (n_t; ``inf`` while it carries no
+        shear; docs/results.md), or None in a results file without it."""
+        if "joints/safety_factor" not in self.f["history"]:
+            return None
+        k = self.interface_names.index(interface)
+        return np.asarray(self.f["history/joints/safety_factor"][:, k])
+
     @property
     def has_envelope(self) -> bool:
         return "envelope" in self.f

@@ -11,7 +11,8 @@
   below :data:`OPENING_FLOOR_M` drawn as 0) histories of each interface, with the broken
   share, and its cracked length (2D; area in 3D: the broken pairs), the broken pairs in
   the open state and the open crack (those open by more than the summary's threshold,
-  :data:`OPEN_CRACK_MIN_M`) over time;
+  :data:`OPEN_CRACK_MIN_M`) over time, and the sliding safety factor FS(t) (drawn up to
+  :data:`FS_SHOWN_MAX`);
 - ``states_<name>.png``: a space-time map of the pair states along each interface
   (position along the joint × time; intact, stick, slide, open);
 - ``joint_map.png``: in 2D, along each interface, the largest opening and slip of the
@@ -60,6 +61,9 @@ from ..model import ResponseSpectrum
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
 STATE_LABELS = ["intact", "stick", "slide", "open"]
 AXES = "xyz"
+#: the largest sliding safety factor a joint's plot draws (a joint nearly without shear
+#: has a large one, which would flatten the range near 1 that matters)
+FS_SHOWN_MAX = 5.0
 
 
 def _below_title(fig: Any, text: str) -> float:
@@ -224,7 +228,9 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     A = pr["area"]
     slip = np.linalg.norm(pr["slip"], axis=-1)
     cracks = "joints/cracked" in res.f["history"]
-    fig, ax = plt.subplots(4 if cracks else 3, 1, figsize=(8, 9 if cracks else 7), sharex=True)
+    fs = res.joint_safety_factor(name)
+    n = 3 + int(cracks) + int(fs is not None)
+    fig, ax = plt.subplots(n, 1, figsize=(8, 1.75 * n + 1.75), sharex=True)
     ax[0].plot(t, 1e3 * slip.max(axis=1), lw=1.0, label="largest")
     ax[0].plot(t, 1e3 * (slip * A).sum(axis=1) / A.sum(), lw=1.0, label="area mean")
     ax[0].set_ylabel("slip (mm)")
@@ -247,6 +253,13 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
         ax[3].plot(t, wide, lw=1.0, color=STATE_COLOURS[3],
                    label=f"open crack (open > {1e3 * OPEN_CRACK_MIN_M:g} mm)")  # fmt: skip
         ax[3].set_ylabel("crack length (m)" if two_d else "crack area (m²)")
+    if fs is not None:  # FS(t), drawn up to FS_SHOWN_MAX (inf while no shear: a gap)
+        shown = np.where(np.isfinite(fs), np.minimum(fs, FS_SHOWN_MAX), np.nan)
+        ax[-1].plot(t, shown, lw=1.0, color="C0", label="FS = Σ(cA + μN) / |ΣT|")
+        ax[-1].axhline(1.0, color="C3", lw=0.8, ls="--", label="FS = 1")
+        top = float(np.nanmax(shown)) if np.any(np.isfinite(shown)) else 2.0
+        ax[-1].set_ylim(0.0, max(1.2, 1.05 * top))
+        ax[-1].set_ylabel(f"sliding safety factor\n(shown up to {FS_SHOWN_MAX:g})")
     return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
 
 
