@@ -90,3 +90,50 @@ def test_model_loads_damping_and_settings() -> None:
     _raises(lambda: pf.modal(m, 0), SolverError, "n_modes: expected a whole number of modes")
     nm = pf.Newmark(MatrixSystem(M=sp.csr_matrix([[1.0]]), K=sp.csr_matrix([[1.0]])), 0.1)
     _raises(lambda: nm.run(-3), ModelError, "n_steps: expected a whole number of steps >= 0")
+
+
+def test_joints_groups_loads_and_starts() -> None:
+    """A researcher's mistakes that raised bare TypeError, ValueError, AttributeError or
+    IndexError, or went through silently (a 3D rock engineer's session, 2026-11-27):
+    ``Joint(phi='30')`` (TypeError from a comparison), ``pairs.of('nope')``
+    (``tuple.index``), ``Model(damping=0.05)`` (AttributeError at ``Dynamic``),
+    ``run(every=2.5)`` (TypeError deep in NumPy), ``run(start=)`` another model's static
+    state (IndexError); ``add_cell_group('g', lambda x: True)`` (the first cell alone),
+    ``add_body_force(blocks=['nope'])`` (no load), ``Elastic(rho=inf)`` and a NaN node (NaN
+    displacements), ``fix(value=nan)`` (a misleading mechanism)."""
+    from pfeie.errors import InterfaceError, MeshError
+
+    _raises(lambda: pf.Joint(phi="30"), ModelError, "Joint: phi: expected a finite number "
+            "(degrees), got str '30'")  # fmt: skip
+    _raises(lambda: pf.Joint(phi=None), ModelError, "Joint: phi", "got NoneType None")
+    _raises(lambda: pf.Joint(c="1e5"), ModelError, "Joint: c: expected a finite number (Pa)")
+    _raises(lambda: pf.Joint(kn=np.inf), ModelError, "Joint: kn", "or None, got float inf")
+    assert pf.Joint(phi=np.float64(30.0), phi_r=None).phi == 30.0
+    m = _block()
+    _raises(lambda: m.pairs.of("nope"), InterfaceError, "no interface 'nope'",
+            "the model's interfaces are 'joint'")
+    mesh = pf.rectangle(1.0, 1.0, 2, 2)
+    _raises(lambda: pf.Model(mesh, [pf.Block("b", pf.Elastic(1e9, 0.2, 2000.0),
+                                             group=None)], damping=0.05),  # type: ignore[arg-type]
+            ModelError, "damping: expected pfeie.Rayleigh", "got float 0.05")  # fmt: skip
+    st = pf.solve_static(m)
+    an = pf.Dynamic(m, 0.005)
+    _raises(lambda: an.run(0.02, start=st, every=2.5), ModelError,  # type: ignore[arg-type]
+            "every: expected a whole number of steps >= 1, got 2.5")  # fmt: skip
+    other = pf.Model(pf.rectangle(1.0, 1.0, 2, 2), [pf.Block("all", pf.Elastic(1e9, 0.2, 2e3))])
+    other.fix("ymin")
+    _raises(lambda: an.run(0.02, start=pf.solve_static(other)), ModelError,
+            "start: the static result is of another model (9 nodes and 0 pairs")
+    _raises(lambda: pf.rectangle(1.0, 1.0, 2, 2).add_cell_group("g", lambda x: True), MeshError,
+            "cell group 'g': where(x) must return one boolean per centroid, shape (4,)")
+    _raises(lambda: pf.rectangle(1.0, 1.0, 2, 2).add_facet_group("f", lambda x: x[:2, 0] > 0),
+            MeshError, "facet group 'f': where(x) must return one boolean per centroid")
+    _raises(lambda: m.add_body_force([0.0, -1.0], blocks=["nope"]), ModelError,
+            "add_body_force: blocks: no block 'nope'")  # fmt: skip
+    _raises(lambda: pf.Elastic(1e9, 0.2, np.inf), ModelError, "rho must be a finite number")
+    bad = pf.rectangle(1.0, 1.0, 2, 2)
+    bad.points[4, 0] = np.nan
+    _raises(lambda: pf.Model(bad, [pf.Block("all", pf.Elastic(1e9, 0.2, 2e3))]), MeshError,
+            "1 node(s) with a coordinate that is not a finite number, the first node 4")
+    _raises(lambda: other.fix("ymin", value=np.nan), ModelError,
+            "fix ymin: value: expected a finite displacement (m), got nan")

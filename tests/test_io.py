@@ -116,6 +116,26 @@ def test_one_column_needs_dt(tmp_path: Path) -> None:
     assert gm.time[-1] == pytest.approx(0.02) and gm.pga == pytest.approx(0.981)
 
 
+def test_a_blank_separated_table_is_not_one_column(tmp_path: Path) -> None:
+    """Time, acceleration and velocity separated by blanks (a new user's pulse): with or
+    without dt it is refused as a table (given dt it was read as one interleaved series,
+    PGA 5 m/s² at 15 s of a 5 s record); accelerations wrapped five a line (as AT2 data)
+    stay one column."""
+    t = np.arange(0.0, 1.0, 0.01)
+    p = tmp_path / "r.txt"
+    p.write_text("".join(f"{x:.6f} {np.sin(x):.6f} {np.cos(x):.6f}\n" for x in t))
+    for dt in (None, 0.01):
+        with pytest.raises(RecordError, match=r"line 1: 3 numbers a line .* step on like "
+                           r"times \(0, 0\.01, 0\.02, \.\.\.\): a table of time and 2 column\(s\)"):
+            read_record(p, units="m/s2", dt=dt)
+    a = np.sin(7.0 * t)
+    q = tmp_path / "w.txt"
+    q.write_text("".join(" ".join(f"{x:.6f}" for x in a[i : i + 5]) + "\n"
+                         for i in range(0, a.size, 5)))  # fmt: skip
+    gm = read_record(q, units="m/s2", dt=0.01)
+    np.testing.assert_allclose(gm.acceleration, np.round(a, 6))
+
+
 @pytest.mark.parametrize(
     ("text", "kw", "match"),
     [

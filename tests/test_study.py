@@ -315,6 +315,21 @@ threshold = 0.002
     assert 0.2 < fit.theta < 0.65 and row["n_records"] == 3
     page = (tmp_path / "study" / "report.html").read_text()
     assert page.count("data:image/png;base64,") == 2 and "slides 2 mm" in page
+    # what was run and scaled (a new user's report gave the records' names only): the
+    # step, the duration, each record's units, its applied PGA before scaling (the
+    # table's PGA over its factor) and its factors; the limit state's demand, threshold
+    assert "<th>time step Δt</th><td>0.01 s</td>" in page
+    assert "<th>duration of each run</th><td>each record&#x27;s own length</td>" in page
+    r0 = sorted((r for r in table.rows if r["record"] == "r0"), key=lambda r: r["level"])
+    pga = r0[0]["im.pga_g"] / r0[0]["scale_factor"]
+    factors = ", ".join(f"{r['scale_factor']:.4g}" for r in r0)
+    assert f"<td>g</td><td>{pga:.4g}</td><td>{factors}</td>" in page
+    assert "<td>joint.joint.residual_slip_max_m</td><td>&gt;= 0.002</td>" in page
+    # an earlier study's figures in the folder go when this one does not write them
+    stale = tmp_path / "study" / "ida_joint_other.png"
+    stale.write_bytes(b"")
+    st.run()  # the rows are kept: only the outputs are written again
+    assert not stale.exists()
     p.write_text(text.replace('demand = "joint.joint.residual_slip_max_m"',
                               'demand = "joint.neck.slip"'))  # fmt: skip
     with pytest.raises(InputError, match=r"joint\.neck\.slip"):

@@ -225,7 +225,8 @@ def test_the_terminal_names_the_runs_with_warnings(
     slides it about 1.5 m (by hand, the block on a frictional plane: (0.8 − tan 20°) g
     for 0.6 s, then tan 20° g braking: 0.77 + 0.74 = 1.51 m; measured 1.494, 1.0 % below,
     the bond breaking first; tolerance 2 %), 1.5 × the 1 m spacing of the pairs, beyond
-    0.5: its row's warnings hold "large slip". Without r1 the line is not printed."""
+    0.5: its row's warnings hold "large slip", and "large motion" (1.5 m, beyond half of
+    the block's 2 m: it left its joint). Without r1 the line is not printed."""
     study = _one_second(STUDY.replace('measure = "pga"\nvalues = [0.2, 0.5]',
                                       'measure = "scale"\nvalues = [1.0]'))  # fmt: skip
     p = setup(tmp_path, study, n=1)
@@ -236,11 +237,13 @@ def test_the_terminal_names_the_runs_with_warnings(
     assert main(["study", str(p), "--quiet"]) == 0
     out = capsys.readouterr().out
     csv = tmp_path / "study" / "table.csv"
-    assert (f"1 of 2 runs finished with warnings (large slip 1): r1@1; see the warnings column "
-            f"of {csv}") in out  # fmt: skip
+    assert (f"1 of 2 runs finished with warnings (large motion 1, large slip 1): r1@1; see "
+            f"the warnings column of {csv}") in out  # fmt: skip
     row = {r["record"]: r for r in StudyTable.read(csv).rows}["r1"]
     assert row["joint.joint.peak_slip_to_spacing"] == pytest.approx(1.51, rel=0.02)
-    assert row["warnings"].startswith("large slip: joint joint's slip reaches 1.5 ×")
+    motion, slip = row["warnings"].split("; ")
+    assert motion.startswith("large motion: block block turned by up to ")
+    assert slip.startswith("large slip: joint joint's slip reaches 1.5 ×")
 
 
 # -- 6. a demand-capacity limit state needs tensile strengths --------------------------------

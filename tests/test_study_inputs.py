@@ -319,3 +319,26 @@ def test_a_record_warning_is_given_once(tmp_path: Path, caplog: pytest.LogCaptur
         Study.from_file(p).run()
     said = [r for r in caplog.records if "names the units m/s2" in r.getMessage()]
     assert len(said) == 1, [r.getMessage() for r in said]
+
+
+def test_the_model_files_own_records_are_not_read(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A study brings its records: the model file's ``[[ground_motion]]`` is not read (a
+    new user's model named a record file that no longer existed, and the study stopped on
+    it), and the study's record sampled finer than the step gets the model file's
+    warning, naming the study file and the record (it named the model's unused record)."""
+    import logging
+
+    p = setup(tmp_path, _one_second(STUDY), n=1)
+    model = tmp_path / "model.toml"
+    model.write_text(MODEL + '[[ground_motion]]\nfile = "gone.csv"\nunits = "g"\n')
+    t = np.arange(0.0, 2.0, 0.005)
+    np.savetxt(tmp_path / "rec" / "r0.csv", np.c_[t, 0.3 * np.sin(9.0 * t)], delimiter=",")
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        runs = Study.from_file(p).runs()
+    assert len(runs) == 2
+    said = [r.getMessage() for r in caplog.records if "coarser" in r.getMessage()]
+    assert said == [f"{p}: records[0]: r0: analysis.dt = 0.01 s is coarser than the "
+                    "record's sampling (0.005 s): the record is read at the steps, and its "
+                    "content above 50 Hz is not applied"]  # fmt: skip

@@ -192,3 +192,30 @@ def test_system_built_at_most_once_per_worker(tmp_path: Path) -> None:
         counts = client.run(study_mod.builds)
     assert len(counts) == 2 and all(c <= 1 for c in counts.values()), counts
     assert sum(counts.values()) >= 1, counts
+
+
+def test_ctrl_c_on_a_local_cluster_prints_no_traceback(tmp_path: Path) -> None:
+    """Ctrl-C in a terminal (SIGINT to the whole process group) while a study runs on two
+    local Dask workers: exit 130 with the one message and the rows kept, and no traceback
+    from the workers (a new user saw three or four: each worker took the SIGINT mid-run;
+    they now start with it ignored, and the study's process stops them)."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    pytest.importorskip("distributed")
+    p = setup(tmp_path, STUDY.replace("workers = 0", "workers = 2"), n=3, seconds=6.0)
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "study", str(p), "--quiet"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)  # fmt: skip
+    rows = tmp_path / "study" / "rows"
+    t0 = time.monotonic()
+    while not (rows.is_dir() and any(rows.glob("*.json"))):
+        assert proc.poll() is None and time.monotonic() - t0 < 120
+        time.sleep(0.01)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "pfeie: interrupted (SIGINT); the runs finished so far are kept" in err
+    assert "Traceback" not in err and "Exception ignored" not in err, err

@@ -256,7 +256,8 @@ def test_directions_listed_in_a_model_file(
 ) -> None:
     """``analysis.yield_coefficient = ["-x"]`` searches that direction only (k_y = μ = 0.5
     on the level joint); a 2D model asked for '+y' (its vertical axis) is refused, naming
-    the key; a repeated direction too."""
+    the key, by ``pfeie check`` as by ``pfeie run`` (check passed it once); a repeated
+    direction too; a value of neither type in one line that says what is expected."""
     text = SMALL.replace("[analysis]", '[analysis]\nyield_coefficient = ["-x"]\ndynamic = false')
     text = text.replace("[[ground_motion]]\nfile = \"pulse.csv\"\nunits = \"g\"\n", "")
     p = _write(tmp_path, text)
@@ -265,13 +266,19 @@ def test_directions_listed_in_a_model_file(
     assert list(s["yield_coefficient"]) == ["-x"]
     mu = np.tan(np.radians(26.565))
     assert mu * (1 - TOL) <= s["yield_coefficient"]["-x"]["k_y"] <= mu
+    either = "expected true, false or an array of '+x', '-x' (in 3D also '+y', '-y'), found"
     for bad, words in (('["+y"]', "names y, the vertical axis of a 2D model"),
-                       ('["-x", "-x"]', "distinct directions")):  # fmt: skip
+                       ('["-x", "-x"]', "distinct directions"),
+                       ('"x"', f"{either} a string 'x'"),
+                       ('["+z"]', f"{either} an array ['+z']")):  # fmt: skip
         q = _write(tmp_path, text.replace('["-x"]', bad))
-        capsys.readouterr()
-        assert main(["run", str(q), "--quiet"]) == 2
-        err = capsys.readouterr().err
-        assert "analysis.yield_coefficient" in err and words in err, err
+        for command in ("check", "run"):
+            capsys.readouterr()
+            quiet = ["--quiet"] if command == "run" else []
+            assert main([command, str(q), *quiet]) == 2
+            err = capsys.readouterr().err
+            assert "analysis.yield_coefficient" in err and words in err, err
+            assert err.count("pfeie: error") == 1, err
 
 
 def test_horizontal_axis_y_in_3d() -> None:

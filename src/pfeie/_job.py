@@ -152,6 +152,14 @@ LARGE_SLIP = 0.5
 POST_EQ_ROTATION_MAX_DEG = 5.0
 POST_EQ_MOVE_MAX = 0.1
 
+#: a floating block whose rigid rotation passes this (degrees) at some recorded time, or
+#: whose displacement passes LARGE_MOVE × its size, gets a line in the summary: the joints
+#: pair the faces' nodes as they were meshed (small sliding, no contact search), so a
+#: block that topples or leaves its joint is not followed (it passes through the blocks
+#: it meets); a rocking block that stays up turns by a few degrees
+LARGE_TURN_DEG = 30.0
+LARGE_MOVE = 0.5
+
 #: a joint's minimum safety factor is dated at the first recorded time within this
 #: share of it: the values of a sliding joint are 1 to round-off (1 − 1e-15) at every
 #: step it slides; a minimum within it of 1 is given as 1 (the joint slid: a study's
@@ -279,12 +287,6 @@ def _run(
     t0 = time.perf_counter()
     # the dynamic analysis first: a setting it refuses is an input error, found before work
     dyn = dynamic_analysis(job) if a.dynamic else None
-    if isinstance(a.yield_coefficient, list) and model.dim == 2 and any(
-            d[1] == "y" for d in a.yield_coefficient):  # fmt: skip
-        raise InputError(
-            f"{job.path}: analysis.yield_coefficient: {a.yield_coefficient} "
-            "names y, the vertical axis of a 2D model; expected '+x' or '-x'"
-        )
     if resume and dyn is None:
         raise InputError(f"{job.path}: analysis: --resume continues a dynamic run; this "
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
@@ -639,21 +641,46 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
     "not converged" beyond :data:`CORRECTION_UNRESOLVED`). ``pfeie run``'s summary and a
     study's ``warnings`` column are both written from it."""
     out = []
+    # a summary written before the key (before version 0.3.12) is read as undamped
+    beta = float((s.get("damping") or {}).get("beta_s", 0.0))
     for name, b in s.get("bodies", {}).items():
-        if b.get("airborne_rows"):
-            out.append(RunWarning(
-                "airborne",
-                f"block {name} lost contact with all its joints at {b['airborne_rows']} "
+        if not b.get("airborne_rows"):
+            continue
+        head = (f"block {name} lost contact with all its joints at {b['airborne_rows']} "
                 f"recorded time(s), first at {b['first_airborne_s']:.3f} s. A record seldom "
                 "throws a block (a vertical acceleration beyond g; on a plane dipping ψ, a "
-                "horizontal one beyond g cot ψ); an elastic block without "
-                "stiffness-proportional damping can be thrown by its own friction-excited "
-                "vibration, which grows as Δt falls (docs/results.md): add damping "
-                "([damping] beta) or take analysis.scheme = \"moreau-jean\", and compare "
-                "two Δt",
-                f"airborne: block {name} lost contact with all its joints (first at "
-                f"{b['first_airborne_s']:.3g} s): friction-excited vibration? add damping",
-            ))  # fmt: skip
+                "horizontal one beyond g cot ψ); ")  # fmt: skip
+        short = (f"airborne: block {name} lost contact with all its joints (first at "
+                 f"{b['first_airborne_s']:.3g} s)")  # fmt: skip
+        if beta > 0:  # damped: rocking and impacts of the model, or a coarse step
+            out.append(RunWarning(
+                "airborne", head + "here the blocks' modes are damped (β = "
+                f"{beta:.3g} s): a block that rocks or bounces off its joints (impacts), "
+                "or a step too coarse for the impacts; compare two Δt (docs/results.md)",
+                short + ": rocking or impacts? compare two Δt"))  # fmt: skip
+        else:
+            out.append(RunWarning(
+                "airborne", head + "an elastic block without stiffness-proportional damping "
+                "can be thrown by its own friction-excited vibration, which grows as Δt "
+                "falls (docs/results.md): add damping ([damping] beta) or take "
+                "analysis.scheme = \"moreau-jean\", and compare two Δt",
+                short + ": friction-excited vibration? add damping"))  # fmt: skip
+    for name, b in s.get("bodies", {}).items():
+        if "beyond_pairs_s" not in b:
+            continue
+        what = (
+            f"block {name} turned by up to {b['peak_rotation_deg']:.3g}° and moved up to "
+            f"{b['peak_displacement_m']:.3g} m ({b['size_m']:.3g} m across), past "
+            f"{LARGE_TURN_DEG:g}° or half its size first at {b['beyond_pairs_s']:.3f} s"
+        )
+        out.append(RunWarning(
+            "large motion",
+            f"{what}: it toppled or left its joints? The joints pair the faces' nodes as "
+            "meshed (small sliding, no contact search), so a block that topples or leaves "
+            "its joint passes through the blocks it meets: the results from that time on "
+            "are not reliable (docs/results.md)",
+            f"large motion: {what}: toppled or left its joints, not followed by the "
+            "node-to-node pairs"))  # fmt: skip
     for name, j in s.get("joints", {}).items():
         ratio = j.get("peak_slip_to_spacing", 0.0)
         if ratio > LARGE_SLIP:
@@ -870,6 +897,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         }
     s["probes"] = probes
     s["bodies"] = _body_motions(job, res)
+    rd = model.damping
+    s["damping"] = {"alpha_per_s": rd.alpha if rd else 0.0, "beta_s": rd.beta if rd else 0.0,
+                    "deformation_only": bool(rd and rd.deformation_only)}  # fmt: skip
     joints: dict[str, dict[str, float | None]] = {}
     if model.pairs is not None and res.X.shape[1]:
         at_start = model.pair_laws.initially_broken
@@ -969,20 +999,28 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
         base = _ground_displacement(job, res.t)
         q[..., :d] -= (base - base[:1])[:, None, :]
     u = np.linalg.norm(q[..., :d], axis=-1)  # (n_t, bodies)
-    rot = np.degrees(np.linalg.norm(q[-1, :, d:], axis=-1))
+    turn = np.degrees(np.linalg.norm(q[..., d:], axis=-1))  # (n_t, bodies)
     out = {}
     floating = set(model.floating_bodies().tolist())
     flying = _airborne(model, res)
+    body = model.body_of_node
     for b, name in enumerate(model.body_names()):
         out[name] = {
             "floating": b in floating,
             "peak_displacement_m": float(u[:, b].max()),
             "residual_displacement_m": float(u[-1, b]),
             "residual_displacement_xyz_m": (q[-1, b, :d].round(6) + 0.0).tolist(),  # no -0.0
-            "residual_rotation_deg": float(rot[b]),
+            "residual_rotation_deg": float(turn[-1, b]),
+            "peak_rotation_deg": float(turn[:, b].max()),
         }
         if b in flying:  # rows at which every pair of the body was open, and the first
             out[name]["airborne_rows"], out[name]["first_airborne_s"] = flying[b]
+        pts = model.mesh.points[body == b]
+        size = float(np.ptp(pts, axis=0).max()) if pts.size else 0.0
+        far = (turn[:, b] > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
+        if b in floating and far.any():  # beyond what node-to-node pairs can follow
+            out[name]["size_m"] = size
+            out[name]["beyond_pairs_s"] = float(res.t[int(np.argmax(far))])
     return out
 
 
@@ -1153,6 +1191,7 @@ def format_summary(s: dict[str, Any]) -> str:
         )  # fmt: skip
     warnings = reliability(s)
     lines += _warning_lines(warnings, "airborne")
+    lines += _warning_lines(warnings, "large motion")
     lines += _warning_lines(warnings, "large slip")
     post = s.get("post_earthquake", {})
     if "error" in post:

@@ -575,7 +575,9 @@ CASES: list[Case] = [
       edit=into("[[ground_motion]]", 'format = "peer"')),
     C("record-dt-two-column", M, "ground_motion[0]", "rec.csv", "do not give dt",
       edit=into("[[ground_motion]]", "dt = 0.01")),
-    C("record-one-column-no-dt", M, "ground_motion[0]", "rec.csv", "needs its time step dt",
+    # a two-column file forced to one column: the table is named (before the missing dt)
+    C("record-one-column-no-dt", M, "ground_motion[0]", "rec.csv",
+      "a table of time and 1 column(s), not one column of accelerations",
       edit=into("[[ground_motion]]", 'format = "one-column"')),
     C("record-as-a-table", M, "ground_motion: expected an array of tables",
       edit=sub("[[ground_motion]]", "[ground_motion]")),

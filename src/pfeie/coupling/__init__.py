@@ -24,13 +24,13 @@ from ._delassus import (
     delassus,
 )  # fmt: skip
 from ._operators import PairOperator, relative_operator
-from ._static import RigidCheck, StaticInterfaceProblem, floating_modes, pins
+from ._static import RigidCheck, StaticInterfaceProblem, pins
 from ._step import SUBSOLVER_BYTES, SUBSOLVERS, InterfaceStep, SolveStats, StepSolution
 
 __all__ = [
     "SUBSOLVERS", "SUBSOLVER_BYTES", "BlockDelassus", "Delassus", "DenseDelassus",
     "GatheredDelassus", "InterfaceStep",
     "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "RigidCheck", "SolveStats",
-    "StaticInterfaceProblem", "StepSolution", "delassus", "floating_modes", "pins",
+    "StaticInterfaceProblem", "StepSolution", "delassus", "pins",
     "relative_operator",
 ]  # fmt: skip

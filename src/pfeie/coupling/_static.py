@@ -28,36 +28,13 @@ import scipy.sparse as sp
 
 from ..errors import MechanismError
 from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
-from ..linalg import factorize, null_space
+from ..linalg import factorize
 from ..model import LinearSystem, Model
 from ..typing import FloatArray, IntArray
 from ._delassus import delassus
 from ._operators import PairOperator
 
 log = logging.getLogger(__name__)
-
-
-def floating_modes(model: Model, prescribed: IntArray) -> FloatArray:
-    """The rigid modes (n_dof, k) of the bodies that the supports leave free."""
-    return _floating_modes(model, prescribed)[0]
-
-
-def _floating_modes(model: Model, prescribed: IntArray) -> tuple[FloatArray, IntArray]:
-    """The rigid modes (n_dof, k) of the bodies that the supports leave free, and the
-    body of each mode (k,)."""
-    Phi = model.rigid_modes()
-    r = 3 if model.dim == 2 else 6
-    Pp = Phi[prescribed].toarray() if prescribed.size else np.zeros((0, Phi.shape[1]))
-    cols, bodies = [], []
-    for b in range(model.n_bodies):
-        sl = slice(b * r, (b + 1) * r)
-        N = null_space(Pp[:, sl], max(Pp.shape[0], r) * float(np.finfo(float).eps))
-        if N.shape[1]:
-            cols.append(Phi[:, sl] @ N)
-            bodies += [b] * N.shape[1]
-    if not cols:
-        return np.zeros((model.n_dof, 0)), np.zeros(0, dtype=np.int64)
-    return np.hstack(cols), np.array(bodies, dtype=np.int64)
 
 
 class RigidCheck(NamedTuple):
@@ -118,8 +95,9 @@ class StaticInterfaceProblem:
             raise MechanismError("the static interface problem needs interfaces")
         self.model, self.system = model, system
         free, pres = system.free, system.prescribed
-        Phi, self.mode_body = _floating_modes(model, pres)
-        self.Phi = Phi[free]
+        Phi = model.free_rigid_modes()  # the rigid motions the supports (pres) leave free
+        self.mode_body = model.free_rigid_mode_bodies()
+        self.Phi = np.ascontiguousarray(Phi[free].toarray())  # C order: the same round-off
         k = self.Phi.shape[1]
         self.op = PairOperator.build(model.pairs, model.n_dof, free, pres)
         on_pairs = np.asarray(abs(self.op.G).sum(axis=0)).ravel() > 0
@@ -291,4 +269,4 @@ class StaticInterfaceProblem:
         return self.op.G
 
 
-__all__ = ["RigidCheck", "StaticInterfaceProblem", "floating_modes", "pins"]
+__all__ = ["RigidCheck", "StaticInterfaceProblem", "pins"]

@@ -425,6 +425,13 @@ class Dynamic:
             raise ModelError(f"start: expected a static result (pfeie.solve_static), got "
                              f"{type(static).__name__}")  # fmt: skip
         if static is not None:
+            shape = np.shape(static.u)
+            npairs = getattr(getattr(static, "pairs", None), "X", np.zeros((0, d))).shape[0]
+            if shape != (self.model.mesh.n_points, d) or npairs != m:
+                raise ModelError(f"start: the static result is of another model ({shape[0]} "
+                                 f"nodes and {npairs} pairs; this model has "
+                                 f"{self.model.mesh.n_points} nodes and {m} pairs): expected "
+                                 "pfeie.solve_static(model) of this model")  # fmt: skip
             u = np.asarray(static.u).ravel()[free]
         else:
             u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).ravel()[free]
@@ -886,8 +893,8 @@ class Dynamic:
             raise ModelError(str(exc)) from None
         if n < 0:
             raise ModelError(f"n_steps must be >= 0, got {n}")
-        if not every >= 1:
-            raise ModelError(f"every must be >= 1, got {every}")
+        if isinstance(every, bool) or not isinstance(every, int | np.integer) or every < 1:
+            raise ModelError(f"every: expected a whole number of steps >= 1, got {every!r}")
         ex = self.excitation(ground, form, None if isinstance(start, StepState) else start)
         for g in ex.ground:
             why = shorter_than_a_step(g, self.dt)

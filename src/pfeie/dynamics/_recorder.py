@@ -368,7 +368,7 @@ class EnergyAccount:
         du = nxt.kin.u - cur.kin.u
         acc["external_work"] += 0.5 * float(du @ (cur.kin.f + nxt.kin.f))
         if an.system.C is not None:
-            acc["damping"] += 0.5 * float(du @ an.damping_force(cur.kin.v + nxt.kin.v, cur.kin.u))
+            acc["damping"] += _damping_work(an, du, cur.kin, nxt.kin)
 
     def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
@@ -388,7 +388,7 @@ class EnergyAccount:
         ext = 0.5 * float(du @ (k0.f + k1.f))
         damp = 0.0
         if an.system.C is not None:
-            damp = 0.5 * float(du @ an.damping_force(k0.v + k1.v, k0.u))
+            damp = _damping_work(an, du, k0, k1)
         pair = nxt.dissipation  # the rigid pairs: −P·U⁺
         if an.m:
             m, d = an.m, an.d
@@ -443,6 +443,18 @@ class EnergyAccount:
                 U_th = U_th + wp
             acc["interface"] -= float(np.sum(P * U_th))
         acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
+
+
+def _damping_work(an: Dynamic, du: FloatArray, k0: Any, k1: Any) -> float:
+    """The damping's work over a step by the trapezoidal rule, ½ Δu·(C v_n + C v_{n+1}) (J).
+    With large rotations each force is taken in the frames of its own configuration,
+    Q C₀ Qᵀ v: a block spinning rigidly has C₀ Qᵀ v = 0 at either end, where the frames
+    of u_n for both ends put the turn of a step, (ωh) × a dilatation, into C₀ Qᵀ v_{n+1}
+    (a new user's free block at 2 rad/s with β = 4.6e-4 s "dissipated" 9,041 J of its
+    31,200 J at Δt = 4 ms, balanced by an algorithmic −9,039 J)."""
+    if an.corot is None:  # C is constant: one product
+        return 0.5 * float(du @ an.damping_force(k0.v + k1.v, k0.u))
+    return 0.5 * float(du @ (an.damping_force(k0.v, k0.u) + an.damping_force(k1.v, k1.u)))
 
 
 class Recorder:

@@ -268,6 +268,20 @@ class MohrCoulomb:
         return super().__new__(cls)
 
     def __post_init__(self) -> None:
+        name = "Joint" if type(self) is MohrCoulomb else type(self).__name__
+        for key, unit, none in (("c", "Pa", False), ("phi", "degrees", False),
+                                ("tensile", "Pa", False), ("c_r", "Pa", False),
+                                ("phi_r", "degrees", True), ("tensile_r", "Pa", False),
+                                ("kn", "Pa/m", True), ("ks", "Pa/m", True),
+                                ("gap", "m", False)):  # fmt: skip
+            v = getattr(self, key)
+            if v is None and none:
+                continue
+            if not (isinstance(v, int | float | np.integer | np.floating)
+                    and not isinstance(v, bool) and np.isfinite(v)):  # fmt: skip
+                raise ModelError(f"{name}: {key}: expected a finite number ({unit})"
+                                 f"{' or None' if none else ''}, got {type(v).__name__} "
+                                 f"{v!r}")  # fmt: skip
         for key in ("c", "tensile", "c_r", "tensile_r"):
             if not getattr(self, key) >= 0:
                 raise ModelError(f"joint {key} must be >= 0 Pa, got {getattr(self, key)}")

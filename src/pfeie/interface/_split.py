@@ -42,7 +42,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..assembly import facet_values, lump_hrz
 from ..element import reference
-from ..errors import MeshError
+from ..errors import InterfaceError, MeshError
 from ..mesh import Mesh, facet_keys, match_rows
 from ..typing import FloatArray, IntArray
 
@@ -81,6 +81,9 @@ class PairGeometry:
 
     def of(self, name: str) -> IntArray:
         """Indices of the pairs of one interface."""
+        if name not in self.names:
+            raise InterfaceError(f"no interface {name!r}; the model's interfaces are "
+                                 f"{', '.join(repr(n) for n in self.names) or 'none'}")  # fmt: skip
         return np.flatnonzero(self.interface == self.names.index(name))
 
     @property

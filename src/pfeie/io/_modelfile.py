@@ -52,7 +52,7 @@ from ..model import (
 )
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import abrupt_end, applied_part, implausible_pga, read_record
+from ._records import abrupt_end, applied_part, coarse_step, implausible_pga, read_record
 from ._schema import (
     Analysis,
     ModelFile,
@@ -544,20 +544,23 @@ def _largest_cell(mesh: Any) -> float:
 
 
 def load_job(path: str | Path, overrides: Sequence[Override] = (), *,
-             modal: bool = False) -> Job:  # fmt: skip
+             modal: bool = False, records: bool = True) -> Job:  # fmt: skip
     """Read, validate and build a model file, with optional command-line overrides.
     Errors are :class:`InputError` (model file), :class:`MeshError` or
     :class:`RecordError`, each naming the file (and the override, for a key it set).
-    ``modal``: for a modal analysis, which needs no ground motion and no duration."""
+    ``modal``: for a modal analysis, which needs no ground motion and no duration;
+    ``records = False``: the file's ``[[ground_motion]]`` tables are left unread (a study
+    brings its own records), the job has none."""
     try:
-        return _load_job(Path(path), overrides, modal)
+        return _load_job(Path(path), overrides, modal, records)
     except (InputError, MeshError, RecordError) as exc:
         if not overrides or type(exc) not in (InputError, MeshError, RecordError):
             raise  # nothing to blame, or a subclass (another signature): as it is
         raise type(exc)(_blame(str(exc), Path(path), overrides)) from None
 
 
-def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False) -> Job:
+def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
+              read_records: bool = True) -> Job:  # fmt: skip
     if not p.is_file():
         raise InputError(f"{p}: model file not found")
     raw = p.read_bytes()
@@ -765,7 +768,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False) -> Jo
     # a run ends at analysis.duration: pga and target_sa scale the part of a record up to it
     end = cfg.analysis.duration if cfg.analysis.dynamic else None
     part_factors: dict[int, float] = {}
-    for i, gm in enumerate(cfg.ground_motion):
+    for i, gm in enumerate(cfg.ground_motion if read_records else []):
         if gm.direction is not None:
             direction = list(gm.direction)
             if len(direction) != mesh.dim:
@@ -888,6 +891,10 @@ def _refuse_impossible(p: Path, a: Analysis, model: Model) -> None:
                          "would let them fall freely (blocks meet only across their joints); "
                          "expected [[supports]] on the foundation, or an [interfaces] table "
                          "for the joint that holds them")  # fmt: skip
+    yc = a.yield_coefficient
+    if isinstance(yc, list) and model.dim == 2 and any(d[1] == "y" for d in yc):
+        raise InputError(f"{p}: analysis.yield_coefficient: {yc} names y, the vertical axis "
+                         "of a 2D model; expected '+x' or '-x'")  # fmt: skip
     for key in ("strength_reduction", "yield_coefficient"):
         if getattr(a, key) and model.pairs is None:
             raise InputError(f"{p}: analysis.{key}: the model has no interfaces (no joint to "
@@ -984,10 +991,8 @@ def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
                          "and an earthquake's lies at about 0.5 to 20 Hz; expected "
                          f"analysis.dt ≤ {0.5 / MIN_APPLIED_HZ:g} s, typically the record's "
                          f"sampling ({step:g} s) or finer")  # fmt: skip
-    if dt > step * (1 + 1e-9):
-        log.warning("%s: ground_motion[%d]: analysis.dt = %g s is coarser than the record's "
-                    "sampling (%g s): the record is read at the steps, and its content "
-                    "above %.4g Hz is not applied", p, i, dt, step, 0.5 / dt)  # fmt: skip
+    if (coarse := coarse_step(rec, dt)) is not None:
+        log.warning("%s: ground_motion[%d]: %s", p, i, coarse)
 
 
 def _filtered(p: Path, i: int, rec: GroundMotion, spec: Any) -> GroundMotion:

@@ -109,6 +109,25 @@ def abrupt_end(rec: GroundMotion, end: float) -> str | None:
             f"{last / g:.3g} g (a record cut short?)")  # fmt: skip
 
 
+def coarse_step(rec: GroundMotion, dt: float) -> str | None:
+    """A note when the time step ``dt`` (s) is coarser than the record's sampling (its
+    median step): the load is the record interpolated at the steps, so its content above
+    1/(2Δt) is not applied; ``None`` otherwise.
+
+    >>> gm = GroundMotion.from_samples([0.0, 0.1, -0.1, 0.0], dt=0.005, units="g")
+    >>> coarse_step(gm, 0.01)
+    "analysis.dt = 0.01 s is coarser than the record's sampling (0.005 s): the record is read at the steps, and its content above 50 Hz is not applied"
+    >>> coarse_step(gm, 0.005) is None
+    True
+    """  # noqa: E501
+    step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
+    if dt <= step * (1 + 1e-9):
+        return None
+    return (f"analysis.dt = {dt:g} s is coarser than the record's sampling ({step:g} s): the "
+            f"record is read at the steps, and its content above {0.5 / dt:.4g} Hz is not "
+            "applied")  # fmt: skip
+
+
 #: a two-column record whose time step jumps beyond this multiple of its median step is
 #: warned (samples missing, or two records joined): across the gap the acceleration is
 #: interpolated linearly
@@ -270,9 +289,22 @@ def _header_units(path: Path, header: tuple[int, str], units: str, level: int) -
 
 def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]]) -> None:
     """Refuse a table read as one column: several numbers per line are a wrapped sequence
-    only when blanks separate them; commas, semicolons or tabs make a table (time and
-    acceleration, several channels, or decimal commas), whose values would be
-    interleaved."""
+    only when blanks separate them and the first numbers of the lines do not march on
+    like times (a table of time and several channels separated by blanks); commas,
+    semicolons or tabs make a table (time and acceleration, several channels, or decimal
+    commas), whose values would be interleaved."""
+    k = len(rows[0][1])
+    if k > 1 and len(rows) >= 3 and all(len(r) == k for _, r in rows[:-1]):
+        first = np.array([r[0] for _, r in rows[:-1]] if len(rows[-1][1]) != k
+                         else [r[0] for _, r in rows])  # fmt: skip
+        step = np.diff(first)
+        if step.min() > 0 and step.min() > 0.5 * step.max():
+            i, line = rows[0][0], lines[rows[0][0] - 1].strip()
+            raise RecordError(f"{path}: line {i}: {k} numbers a line ({line[:40]!r}) whose "
+                              f"first ones step on like times ({first[0]:g}, {first[1]:g}, "
+                              f"{first[2]:g}, ...): a table of time and {k - 1} column(s), not "
+                              "one column of accelerations; expected two columns, time and "
+                              "acceleration (or one acceleration a line, with dt)")  # fmt: skip
     for i, r in rows:
         if len(r) > 1 and re.search(r"[,;\t]", lines[i - 1].strip()):
             line = lines[i - 1].strip()
@@ -398,9 +430,9 @@ def read_record(
                         TIME_GAP, gaps[0][2], n, where)  # fmt: skip
             gm = _make(p, acc, None, t, units, scale, direction, label)
         else:
+            _one_column(p, lines, rows)
             if dt is None:
                 raise RecordError(f"{p}: a one-column record needs its time step dt")
-            _one_column(p, lines, rows)
             acc = np.array([x for _, r in rows for x in r])
             gm = _make(p, acc, dt, None, units, scale, direction, label)
     if highpass is not None or lowpass is not None:

@@ -569,8 +569,8 @@ class RecordReading(_Table):
         Field(description="'auto', 'at2', 'two-column' or 'one-column'"),
     ] = "auto"
     units: Annotated[
-        Literal["g", "m/s2", "cm/s2"] | None,
-        Field(description="units of the record: 'g', 'm/s2' or 'cm/s2' (AT2: g)"),
+        Literal["g", "m/s2", "cm/s2", "gal"] | None,
+        Field(description="units of the record: 'g', 'm/s2', 'cm/s2' or 'gal' (= cm/s2; AT2: g)"),
     ] = None
     dt: Annotated[Positive | None, Field(description="time step of a one-column record (s)")] = None
     component: Annotated[
@@ -630,7 +630,9 @@ class Analysis(DynamicSettings):
         True
     )
     dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
-    yield_coefficient: Annotated[bool | list[Literal["+x", "-x", "+y", "-y"]], Field(
+    yield_coefficient: Annotated[
+        bool | list[Literal["+x", "-x", "+y", "-y"]],
+        Expect("true, false or an array of '+x', '-x' (in 3D also '+y', '-y')"), Field(
         description="after the static state, find the yield coefficient k_y along +x and "
         "−x (true), or along the directions listed (in 3D also '+y', '-y'), each made "
         "horizontal: the pseudo-static acceleration, a fraction of g, at which a joint "
@@ -997,6 +999,11 @@ def problems(exc: ValidationError, data: Any, root: type[BaseModel] | None = Non
             text = str(err["msg"]).removeprefix("Value error, ").removeprefix("Assertion failed, ")
         elif node is None:
             text = str(err["msg"])
+        elif typing.get_origin(node.tp) in (Union, types.UnionType):
+            # a value of none of the union's types: pydantic reports each member; once here
+            if any(p.loc == loc for p in out):
+                continue
+            text = f"expected {expected(node)}, found {_found(found)}"
         elif typ in _BOUNDS and n < len(err["loc"]):  # in an array of numbers
             text = f"expected {expected(node)}, each {_item_range(err)}, found {found!r}"
         elif typ in _BOUNDS:  # the whole range and the unit, not only the bound crossed

@@ -20,8 +20,22 @@ import numpy as np
 
 from ..element import reference
 from ..errors import MeshError
-from ..typing import FloatArray, IntArray
+from ..typing import BoolArray, FloatArray, IntArray
 from ._quality import check_cells
+
+
+def _mask(where: Callable[[FloatArray], Any], x: FloatArray, what: str) -> BoolArray:
+    """``where(x)`` as a boolean mask of one entry per row of ``x`` (centroids (n, dim)):
+    a scalar (``lambda x: True``, which would select the first cell alone) or a mask of
+    another length is a :class:`MeshError` naming the group."""
+    mask = np.asarray(where(x), dtype=bool)
+    if mask.shape != (x.shape[0],):
+        raise MeshError(
+            f"{what}: where(x) must return one boolean per centroid, shape "
+            f"({x.shape[0]},) for x of shape {x.shape}; got shape {mask.shape} "
+            "(select every cell with where=None, or e.g. lambda x: x[:, 1] > 0)"
+        )
+    return mask
 
 
 @dataclass
@@ -206,7 +220,7 @@ class Mesh:
             if where is None:
                 grp[ctype] = np.arange(conn.shape[0])
                 continue
-            mask = np.asarray(where(self.points[conn].mean(axis=1)), dtype=bool)
+            mask = _mask(where, self.points[conn].mean(axis=1), f"cell group {name!r}")
             grp[ctype] = np.flatnonzero(mask)
         self.cell_groups[name] = grp
         return grp
@@ -217,7 +231,7 @@ class Mesh:
         """Add a facet group of the (boundary) facets whose centroid satisfies ``where(x)``."""
         grp: dict[str, IntArray] = {}
         for ftype, conn in self.facets(boundary_only=boundary_only).items():
-            mask = np.asarray(where(self.points[conn].mean(axis=1)), dtype=bool)
+            mask = _mask(where, self.points[conn].mean(axis=1), f"facet group {name!r}")
             if mask.any():
                 grp[ftype] = conn[mask]
         self.facet_groups[name] = grp

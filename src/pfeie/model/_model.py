@@ -323,6 +323,15 @@ class Model:
                              f"got {blocks!r}")  # fmt: skip
         if not blocks:
             raise ModelError("a model needs at least one block")
+        bad = np.flatnonzero(~np.isfinite(mesh.points).all(axis=1))
+        if bad.size:
+            raise MeshError(f"the mesh has {bad.size} node(s) with a coordinate that is not a "
+                            f"finite number, the first node {int(bad[0])} at "
+                            f"{mesh.points[bad[0]].tolist()}")  # fmt: skip
+        if damping is not None and not isinstance(damping, Rayleigh):
+            raise ModelError(f"damping: expected pfeie.Rayleigh(alpha, beta) (or "
+                             f"Rayleigh.from_ratio(zeta, f1, f2)) or None, got "
+                             f"{type(damping).__name__} {damping!r}")  # fmt: skip
         if (isinstance(interfaces, Interface) or not all(
                 isinstance(i, Interface) for i in interfaces)):  # fmt: skip
             raise ModelError("interfaces: expected a list of pfeie.Interface, got "
@@ -478,8 +487,13 @@ class Model:
             shown = [c.item() if isinstance(c, np.generic) else c for c in comps]  # not np.int64(2)
             raise ModelError(f"fix {label}: components: expected integers in 0..{self.dim - 1} "
                              f"(0 = x), got {shown!r}")  # fmt: skip
+        number = isinstance(value, int | float | np.integer | np.floating)
+        if isinstance(value, bool) or not number or not np.isfinite(value):
+            raise ModelError(f"fix {label}: value: expected a finite displacement (m), got "
+                             f"{value!r}")  # fmt: skip
         self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
         self.__dict__.pop("_dofmap", None)
+        self.__dict__.pop("_free_rigid", None)
 
     def add_gravity(
         self,
@@ -531,7 +545,16 @@ class Model:
         amplitude: Amplitude | None = None,
         blocks: Sequence[str] | None = None,
     ) -> None:
-        """A body force density (N/m³): a vector, or a function of points (..., d)."""
+        """A body force density (N/m³): a vector, or a function of points (..., d); on the
+        blocks named in ``blocks`` only (default: all)."""
+        if blocks is not None:
+            if isinstance(blocks, str):
+                blocks = [blocks]
+            known = [b.name for b in self.blocks]
+            unknown = [b for b in blocks if b not in known]
+            if unknown:
+                raise ModelError(f"add_body_force: blocks: no block {unknown[0]!r}; the "
+                                 f"model's blocks are {', '.join(map(repr, known))}")  # fmt: skip
         self.loads.append(Load("body", None, value, amplitude,
                                blocks=None if blocks is None else tuple(blocks)))  # fmt: skip
 
@@ -1200,23 +1223,34 @@ class Model:
         of its prescribed DOFs (the null space of the modes on those DOFs: a block on a
         roller keeps the motions along it, a block pinned at a node in 2D its rotation
         about the node); none for a body its supports hold."""
+        return self._free_rigid[0]
+
+    def free_rigid_mode_bodies(self) -> IntArray:
+        """The body of each column of :meth:`free_rigid_modes` (r,)."""
+        return self._free_rigid[1]
+
+    @cached_property
+    def _free_rigid(self) -> tuple[sp.csc_matrix, IntArray]:
         k = 3 if self.dim == 2 else 6
         Phi = self.rigid_modes().tocsc()
         _, pres, _ = self._dofmap
         held = np.zeros(self.n_dof, dtype=bool)
         held[pres] = True
         on = Phi[held]  # the modes on the prescribed DOFs
-        cols = []
+        cols, bodies = [], []
         for b in range(self.n_bodies):  # once per model, over the bodies
             Rb = Phi[:, b * k : (b + 1) * k]
             C = on[:, b * k : (b + 1) * k].toarray()
             if not C.any():
                 cols.append(Rb)
+                bodies += [b] * k
                 continue
             N = null_space(C, 1e-10)
             if N.shape[1]:
                 cols.append(sp.csc_matrix(Rb @ N))
-        return sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n_dof, 0))
+                bodies += [b] * N.shape[1]
+        R = sp.hstack(cols, format="csc") if cols else sp.csc_matrix((self.n_dof, 0))
+        return R, np.array(bodies, dtype=np.int64)
 
     def rigid_motion_projector(self, M: sp.spmatrix, free: IntArray) -> LowRankTerm | None:
         """M R (Rᵀ M R)⁻¹ Rᵀ M over the rigid motions R that the supports leave free

@@ -47,12 +47,12 @@ class Elastic:
                 continue
             raise ModelError(f"Elastic: {key}: expected a number{f' ({unit})' if unit else ''}, "
                              f"got {type(v).__name__} {v!r}")  # fmt: skip
-        if not self.E > 0:
-            raise ModelError(f"Young's modulus E must be > 0 Pa, got {self.E}")
+        if not (np.isfinite(self.E) and self.E > 0):
+            raise ModelError(f"Young's modulus E must be a finite number > 0 Pa, got {self.E}")
         if not -1.0 < self.nu < 0.5:
             raise ModelError(f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
-        if not self.rho >= 0:
-            raise ModelError(f"density rho must be >= 0 kg/m³, got {self.rho}")
+        if not (np.isfinite(self.rho) and self.rho >= 0):
+            raise ModelError(f"density rho must be a finite number >= 0 kg/m³, got {self.rho}")
         ft = self.tensile_strength
         if ft is not None and not (np.isfinite(ft) and ft > 0):
             raise ModelError(f"tensile strength must be a finite number > 0 Pa, got {ft}")

@@ -305,7 +305,7 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % of "
                         "its load" for b in unbalanced)
             + "): not even as rigid blocks can pair forces within their joints' strength "
-            "balance the static loads, so they would slide or open."
+            "balance the static loads, so they would slide, open or overturn."
             + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
                "theirs together, placed where the check could put it." if leaning else "")
         )  # fmt: skip
@@ -318,11 +318,11 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
         )  # fmt: skip
     else:
         head = ("No static equilibrium holds the floating block(s) (" + which + ") under "
-                "the static loads: their joints' strength is exceeded, so they would slide "
-                "or open." if found else
+                "the static loads: their joints' strength is exceeded, so they would slide, "
+                "open or overturn." if found else
                 "No static equilibrium was found for the floating block(s) (" + which + "): "
-                "the static loads may exceed their joints' strength (they would slide or "
-                "open), or be at the limit of equilibrium.")  # fmt: skip
+                "the static loads may exceed their joints' strength (they would slide, open "
+                "or overturn), or be at the limit of equilibrium.")  # fmt: skip
     if damaged:
         return (
             head + " This is the post-earthquake state: the pairs the record broke carry "
@@ -335,7 +335,8 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
     return (
         head + " Check the friction angles and cohesions (a joint that starts broken, "
         'initial = "broken", the default, has only its residual strength: '
-        'initial = "intact" for a bonded joint) and the loads'
+        'initial = "intact" for a bonded joint), the loads, and the blocks\' shape (a '
+        "block whose weight falls outside its base overturns whatever the friction)"
     )
 
 

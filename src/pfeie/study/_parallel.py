@@ -27,11 +27,14 @@ installed.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import multiprocessing
 import os
-from collections.abc import Callable, Sequence
+import signal
+import threading
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from ..errors import InputError, PfeieError
@@ -122,6 +125,24 @@ def batches(specs: Sequence[RunSpec], batch: int, workers: int) -> list[list[Run
     return out
 
 
+@contextlib.contextmanager
+def _interrupts_ignored() -> Iterator[None]:
+    """SIGINT ignored while the local cluster starts its processes, which inherit that
+    (Python keeps an ignored SIGINT ignored; a blocked one is not enough, as the workers
+    are started from the cluster's own thread): Ctrl-C in a terminal reaches the whole
+    process group, and the workers, interrupted mid-run, printed their tracebacks; the
+    study's own process takes it and stops them. A Ctrl-C during the start (a second or
+    two) is lost. Nothing changes off the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
 def run_parallel(
     ctx: Context,
     specs: Sequence[RunSpec],
@@ -153,7 +174,7 @@ def run_parallel(
 
         env = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
         try:
-            with dask.config.set(WORKER_CONFIG):
+            with dask.config.set(WORKER_CONFIG), _interrupts_ignored():
                 cluster = LocalCluster(n_workers=max(int(workers), 1), threads_per_worker=1,
                                        processes=True, dashboard_address=":0",
                                        scheduler_kwargs={"dashboard": False},

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import ModelError
 from ..typing import FloatArray
@@ -96,6 +97,12 @@ def write_study_outputs(study: Study, table: StudyTable, folder: Path) -> list[P
     out += [p for _, p in figures]
     out.append(_write_html(folder / "report.html", study, table, imcol, imlabel, fits,
                            failed, figures))  # fmt: skip
+    # the outputs of an earlier study in this folder that this one did not write again
+    # (other limit states, none fitted): left, they would read as this study's
+    for old in [*folder.glob("ida_*.png"), folder / "fragility.png", folder / "fragility.csv"]:
+        if old.is_file() and old not in out:
+            old.unlink()
+            log.info("removed %s, an output of an earlier study in %s", old.name, folder)
     return out
 
 
@@ -180,15 +187,22 @@ def warning_line(table: StudyTable, where: Path) -> str | None:
     warned = [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
     if not warned:
         return None
-    kinds: dict[str, int] = {}
-    for r in warned:
-        for kind in dict.fromkeys(n.partition(":")[0] for n in r["warnings"].split("; ")):
-            kinds[kind] = kinds.get(kind, 0) + 1
+    kinds = _warning_kinds(warned)
     names = ", ".join(run_label(r) for r in warned[:WARNED_NAMED])
     more = f" and {len(warned) - WARNED_NAMED} more" if len(warned) > WARNED_NAMED else ""
     return (f"{len(warned)} of {len(table)} runs finished with warnings "
             f"({', '.join(f'{k} {n}' for k, n in kinds.items())}): {names}{more}; see the "
             f"warnings column of {where}")  # fmt: skip
+
+
+def _warning_kinds(warned: list[dict[str, Any]]) -> dict[str, int]:
+    """How many of the runs ``warned`` have each kind of warning (its label: "large
+    slip", "scheme", ...)."""
+    kinds: dict[str, int] = {}
+    for r in warned:
+        for kind in dict.fromkeys(n.partition(":")[0] for n in r["warnings"].split("; ")):
+            kinds[kind] = kinds.get(kind, 0) + 1
+    return kinds
 
 
 def _demand_columns(table: StudyTable) -> list[str]:
@@ -197,17 +211,69 @@ def _demand_columns(table: StudyTable) -> list[str]:
     return [c for c in table.columns if c.endswith(keep)]
 
 
+def _record_cells(table: StudyTable, name: str) -> str:
+    """A record's cells of the report's records table: the PGA of its applied motion
+    before scaling (its runs' ``im.pga_g`` over their scale factors) and the factors by
+    level; empty where the table has no run of it."""
+    rows = sorted((r for r in table.rows if r.get("record") == name),
+                  key=lambda r: int(r["level"]))  # fmt: skip
+    rows = [r for r in rows if np.isfinite(r.get("scale_factor", np.nan)) and r["scale_factor"]]
+    if not rows:
+        return "<td></td><td></td>"
+    pga = abs(float(rows[0]["im.pga_g"]) / float(rows[0]["scale_factor"]))
+    return (
+        f"<td>{pga:.4g}</td><td>"
+        + ", ".join(f"{float(r['scale_factor']):.4g}" for r in rows)
+        + "</td>"
+    )
+
+
+def _warned(table: StudyTable) -> npt.NDArray[np.bool_]:
+    """The runs with a reliability warning (a ``warnings`` cell not empty)."""
+    return np.array([isinstance(r.get("warnings"), str) and bool(r["warnings"])
+                     for r in table.rows], dtype=bool)  # fmt: skip
+
+
+def _warning_section(table: StudyTable) -> list[str]:
+    """The report's reliability section: the runs that finished with warnings, by kind,
+    each run's warnings (as the table's ``warnings`` column); none when no run has any."""
+    warned = [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
+    if not warned:
+        return []
+    esc = html.escape
+    kinds = _warning_kinds(warned)
+    out = [f"<h2>Reliability</h2><p>{len(warned)} of {len(table)} runs finished with "
+           "warnings (" + ", ".join(f"{esc(k)} {n}" for k, n in kinds.items())
+           + "; the summary lines of <code>pfeie run</code>, docs/results.md): read their "
+           "demands with care, and run the record again with Δt halved where the warning "
+           "says so.</p><table><tr><th>run</th><th>warnings</th></tr>"]  # fmt: skip
+    out += [
+        f"<tr><td>{esc(run_label(r))}</td><td style='text-align:left'>"
+        f"{esc(r['warnings'])}</td></tr>"
+        for r in warned
+    ]
+    out.append("</table>")
+    return out
+
+
 def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel: str,
                 fits: dict[str, Fragility], failed: dict[str, str],
                 figures: list[tuple[str, Path]]) -> Path:  # fmt: skip
     esc = html.escape
     title = study.title or f"Study of {study.model.name}"
     completed = table.column("completed")
+    ctx = study.context()
+    job = study._job  # set by context()
+    duration = (f"{ctx.duration:g} s" if ctx.duration is not None
+                else "each record's own length")  # fmt: skip
     rows = [("model file", str(study.model)), ("records", str(len(study.records))),
             ("intensity measure", study.measure), ("intensities", ", ".join(
                 f"{v:g}" for v in study.values)), ("runs", f"{len(table)} "
             f"({int(np.sum(completed))} completed)"),
-            ("T1 of Sa", f"{study.period:.4g} s" if study.period else "")]  # fmt: skip
+            ("T1 of Sa", f"{study.period:.4g} s" if study.period else ""),
+            ("duration of each run", duration),
+            ("time step Δt", f"{job.analysis.dt:g} s" if job is not None else ""),
+            ("keys set (analysis.set)", "; ".join(study.overrides) or "none")]  # fmt: skip
     parts = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'>", f"<title>{esc(title)}</title>",
         "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
@@ -215,37 +281,63 @@ def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel
         "#ccc;padding:3px 6px;text-align:right}th{background:#f3f3f3}img{max-width:100%}"
         "</style></head><body>", f"<h1>{esc(title)}</h1>", "<h2>Study</h2><table>",
         *[f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in rows], "</table>",
-        "<h2>Records</h2><table><tr><th>record</th><th>file</th></tr>",
-        *[f"<tr><td>{esc(r.name)}</td><td>{esc(str(r.path))}</td></tr>"
-          for r in study.records],
+        "<h2>Records</h2><p>Each record as read (its units), the PGA of the motion a run "
+        "applies before scaling (the record up to the run's duration), and the factor that "
+        "scales it to each intensity of the ladder.</p><table><tr><th>record</th>"
+        "<th>file</th><th>units</th><th>PGA applied, unscaled (g)</th>"
+        "<th>scale factors</th></tr>",
+        *[f"<tr><td>{esc(r.name)}</td><td>{esc(str(r.path))}</td><td>{esc(r.units or 'g')}"
+          f"</td>{_record_cells(table, r.name)}</tr>" for r in study.records],
         "</table>",
     ]  # fmt: skip
+    parts += _warning_section(table)
     demands = _demand_columns(table)
     if demands:
+        same_im = imcol == "intensity"  # the ladder's value, the same for every record
+        what = (f"the intensity, {esc(imlabel)}" if same_im else
+                f"the scale factor, and the median {esc(imlabel)} over the records")  # fmt: skip
         parts.append(f"<h2>Demands per intensity</h2><p>Median [16 %, 84 %] over the records "
-                     f"at each intensity ({esc(imlabel)} of the first record shown).</p>"
-                     "<table><tr><th>level</th><th>IM</th>"
+                     f"at each level of the ladder ({what}).</p><table><tr><th>level</th>"
+                     + ("<th>IM</th>" if same_im else "<th>scale</th><th>IM median</th>")
                      + "".join(f"<th>{esc(c)}</th>" for c in demands) + "</tr>")  # fmt: skip
         im = table.column(imcol)
         levels = table.column("level")
-        for lv, _, stats in per_intensity(table, demands, (16.0, 50.0, 84.0)):
+        for lv, value, stats in per_intensity(table, demands, (16.0, 50.0, 84.0)):
             cells = "".join(f"<td>{p[1]:.4g} [{p[0]:.3g}, {p[2]:.3g}]</td>" if p is not None
                             else "<td></td>" for p in stats)  # fmt: skip
-            parts.append(f"<tr><td>{lv}</td><td>{im[levels == lv][0]:.4g}</td>{cells}</tr>")
+            head = (
+                f"<td>{value:.4g}</td>"
+                if same_im
+                else f"<td>{value:.4g}</td><td>{float(np.median(im[levels == lv])):.4g}</td>"
+            )
+            parts.append(f"<tr><td>{lv}</td>{head}{cells}</tr>")
         parts.append("</table>")
     if fits or failed:
-        parts.append("<h2>Fragility</h2><table><tr><th>limit state</th><th>θ (g)</th>"
+        warned = _warned(table)
+        if warned.any():
+            parts.append(
+                f"<p>{int(warned.sum())} of the {len(table)} runs carry reliability "
+                "warnings (above); the fits take their demands as they are.</p>"
+            )
+        parts.append("<h2>Fragility</h2><table><tr><th>limit state</th><th>demand</th>"
+                     "<th>threshold</th><th>θ (g)</th>"
                      "<th>β</th><th>θ 95 %</th><th>β 95 %</th><th>records</th>"
                      "<th>exceeded</th><th>censored</th><th>method</th></tr>")  # fmt: skip
+        states = {ls.name: ls for ls in limit_states(study)}
         for name, f in fits.items():
             (tl, th), (bl, bh) = f.interval(0.95)
-            parts.append(f"<tr><td>{esc(name)}</td><td>{f.theta:.4g}</td><td>{f.beta:.3g}"
+            ls = states[name]
+            parts.append(f"<tr><td>{esc(name)}</td><td>{esc(ls.column)}</td><td>"
+                         f"{esc(ls.direction)} {ls.threshold:g}</td><td>{f.theta:.4g}</td>"
+                         f"<td>{f.beta:.3g}"
                          f"</td><td>[{tl:.3g}, {th:.3g}]</td><td>[{bl:.3g}, {bh:.3g}]</td>"
                          f"<td>{f.n_records}</td><td>{f.n_exceeded}</td><td>{f.n_censored}"
                          f"</td><td>{esc(f.method)}</td></tr>")  # fmt: skip
         for name, why in failed.items():
-            parts.append(f"<tr><td>{esc(name)}</td><td colspan='8'>not fitted: {esc(why)}"
-                         "</td></tr>")  # fmt: skip
+            ls = states[name]
+            parts.append(f"<tr><td>{esc(name)}</td><td>{esc(ls.column)}</td><td>"
+                         f"{esc(ls.direction)} {ls.threshold:g}</td><td colspan='8'>not "
+                         f"fitted: {esc(why)}</td></tr>")  # fmt: skip
         parts.append("</table>")
     for caption, p in figures:
         data = base64.b64encode(p.read_bytes()).decode()

@@ -282,7 +282,7 @@ def system(ctx: Context) -> _System:
         from ..solvers import solve_static
 
         t0 = time.perf_counter()
-        job = load_job(ctx.model, [Override(*o) for o in ctx.overrides])
+        job = load_job(ctx.model, [Override(*o) for o in ctx.overrides], records=False)
         static = solve_static(job.model, settings=_solver_settings(job)) \
             if job.analysis.static else None  # fmt: skip
         hit = _System(job, dynamic_analysis(job), static)
@@ -721,7 +721,7 @@ class Study:
             elif not any(o.key == "analysis.duration" for o in ovs):
                 longest = max(self._record(r).duration for r in self.records)
                 ovs.append(Override("analysis.duration", longest, "the longest record"))
-            job = load_job(self.model, ovs)
+            job = load_job(self.model, ovs, records=False)
             if not job.analysis.dynamic:
                 raise InputError(f"{self.model}: analysis.dynamic = false; a study runs "
                                  "the dynamic analysis")  # fmt: skip
@@ -835,14 +835,17 @@ class Study:
         :data:`~pfeie.io.MAX_PGA_G` (a record in cm/s² read as g is 981 times
         too strong) and plausible (:func:`~pfeie.io.implausible_pga`, a WARNING); the PGA
         of every scaled run (``pga``, m/s², of the part applied, times each factor) at most
-        that bound; a record the steps can see (at least one step long)."""
+        that bound; a record the steps can see (at least one step long), and a WARNING
+        where the step is coarser than its sampling (:func:`~pfeie.io.coarse_step`)."""
         from ..dynamics import shorter_than_a_step
-        from ..io import MAX_PGA_G, implausible_pga
+        from ..io import MAX_PGA_G, coarse_step, implausible_pga
 
         where, units = self._entry(r), r.units or "g"
         why = shorter_than_a_step(rec, self._job.analysis.dt)
         if why is not None:
             raise InputError(f"{where}: {r.path}: {why}")
+        if (coarse := coarse_step(rec, self._job.analysis.dt)) is not None:
+            log.warning("%s: %s: %s", where, r.name, coarse)
         if rec.pga > MAX_PGA_G * G:
             raise InputError(f"{where}: {r.path}: the record's peak ground acceleration is "
                              f"{rec.pga / G:.4g} g as read (units = {units!r}); expected at "
