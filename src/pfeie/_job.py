@@ -1015,10 +1015,12 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
         }
         if b in flying:  # rows at which every pair of the body was open, and the first
             out[name]["airborne_rows"], out[name]["first_airborne_s"] = flying[b]
+        if b not in floating:
+            continue
         pts = model.mesh.points[body == b]
         size = float(np.ptp(pts, axis=0).max()) if pts.size else 0.0
         far = (turn[:, b] > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
-        if b in floating and far.any():  # beyond what node-to-node pairs can follow
+        if far.any():  # beyond what node-to-node pairs can follow
             out[name]["size_m"] = size
             out[name]["beyond_pairs_s"] = float(res.t[int(np.argmax(far))])
     return out

@@ -298,7 +298,7 @@ def _one_column(path: Path, lines: list[str], rows: list[tuple[int, list[float]]
         first = np.array([r[0] for _, r in rows[:-1]] if len(rows[-1][1]) != k
                          else [r[0] for _, r in rows])  # fmt: skip
         step = np.diff(first)
-        if step.min() > 0 and step.min() > 0.5 * step.max():
+        if first.size >= 3 and step.min() > 0 and step.min() > 0.5 * step.max():
             i, line = rows[0][0], lines[rows[0][0] - 1].strip()
             raise RecordError(f"{path}: line {i}: {k} numbers a line ({line[:40]!r}) whose "
                               f"first ones step on like times ({first[0]:g}, {first[1]:g}, "

@@ -217,7 +217,8 @@ def _record_cells(table: StudyTable, name: str) -> str:
     level; empty where the table has no run of it."""
     rows = sorted((r for r in table.rows if r.get("record") == name),
                   key=lambda r: int(r["level"]))  # fmt: skip
-    rows = [r for r in rows if np.isfinite(r.get("scale_factor", np.nan)) and r["scale_factor"]]
+    rows = [r for r in rows if isinstance(r.get("scale_factor"), int | float)
+            and np.isfinite(r["scale_factor"]) and r["scale_factor"]]  # fmt: skip
     if not rows:
         return "<td></td><td></td>"
     pga = abs(float(rows[0]["im.pga_g"]) / float(rows[0]["scale_factor"]))
