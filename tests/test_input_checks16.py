@@ -604,3 +604,14 @@ def test_a_header_line_of_another_format_is_quoted_whole(tmp_path: Path) -> None
                        r"the data: "
                        r"'SAMPLING_INTERVAL_S: 0.01'; expected numbers \(pfeie reads PEER"):
         read_record(tmp_path / "r.asc", units="g")
+
+
+def test_a_zero_gravity_direction_without_gravity_is_read_quietly(tmp_path: Path) -> None:
+    """``loads.gravity = 0`` with ``gravity_direction = [0, 0]`` (the slow fuzz's input):
+    the model file is read without a NumPy RuntimeWarning (the record's check against a
+    tilted gravity divided by the direction's zero length)."""
+    p = _model(tmp_path, text=MODEL + "[loads]\ngravity = 0.0\ngravity_direction = [0.0, 0.0]\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        job = load_job(p)
+    assert job.records

@@ -58,6 +58,9 @@ def test_slip_weakening_friction_and_strength() -> None:
         pf.SlipWeakening(phi=40.0, phi_r=30.0, dc=0.0)
     with pytest.raises(pf.ModelError, match="residual friction angle"):
         pf.SlipWeakening(phi=40.0, dc=0.01)
+    # a residual angle above the peak hardens with slip (a new user's law took it)
+    with pytest.raises(pf.ModelError, match="phi_r = 45° exceeds phi = 40°"):
+        pf.SlipWeakening(phi=40.0, phi_r=45.0, dc=0.01)
 
 
 def test_slip_weakening_block_against_the_closed_form() -> None:

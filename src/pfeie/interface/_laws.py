@@ -429,6 +429,10 @@ class SlipWeakening(MohrCoulomb):
             raise ModelError(f"slip-weakening distance dc must be > 0 m, got {self.dc}")
         if self.phi_r is None:
             raise ModelError("slip weakening needs a residual friction angle phi_r")
+        if self.phi_r > self.phi:
+            raise ModelError(f"slip weakening: phi_r = {self.phi_r:g}° exceeds phi = "
+                             f"{self.phi:g}°: the friction would harden with slip; expected "
+                             "phi_r <= phi (the residual angle is the weakened one)")  # fmt: skip
 
     def _check_residual_apex(self) -> None:
         if self.phi_r is not None:  # (else refused above)

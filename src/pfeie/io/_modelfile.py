@@ -962,7 +962,10 @@ def _along_gravity(p: Path, i: int, component: str, direction: list[float],
     if gravity is None:
         return
     g = np.asarray(gravity, dtype=float)
-    g = g / np.linalg.norm(g)
+    norm = float(np.linalg.norm(g))
+    if not (np.isfinite(norm) and norm > 0):  # no direction (gravity 0): nothing to warn
+        return
+    g = g / norm
     e = np.asarray(direction, dtype=float)
     along = float(e @ g)
     if abs(along) <= ALONG_GRAVITY:
