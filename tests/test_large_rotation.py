@@ -332,3 +332,79 @@ def test_rocking_refines_on_the_last_factorisation(monkeypatch: pytest.MonkeyPat
     assert len(worst) > 400 and max(worst) < 5e-14
     assert n_new <= 20 and 40 * n_new < n_old
     assert np.abs(new.X - old.X).max() < 9e-10 * np.abs(old.X).max()
+
+
+def _rocking_model() -> tuple[pf.Model, np.ndarray]:
+    """A 1 m × 2 m block (E = 30 GPa, β = 1.3e-4 s) on a plane dipping 20°, φ = 45° (it
+    cannot slide unless it flies), on a fixed base; the mesh turned by the dip."""
+    psi = np.radians(20.0)
+    R = np.array([[np.cos(psi), np.sin(psi)], [-np.sin(psi), np.cos(psi)]])
+    mesh = pf.rectangle(nx=np.linspace(-1.5, 1.5, 13), ny=np.r_[-1.0, -0.5, np.linspace(0, 2, 9)])
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
+    mesh.add_cell_group("block", lambda x: (x[:, 1] > 0) & (np.abs(x[:, 0]) < 0.5))
+    mesh = mesh.restrict(["base", "block"])
+    mesh.add_facet_group("joint", lambda x: (np.abs(x[:, 1]) < 1e-9) & (np.abs(x[:, 0]) < 0.5),
+                         boundary_only=False)  # fmt: skip
+    mesh.points[:] = mesh.points @ R.T
+    mat = pf.Elastic(30e9, 0.25, 2600.0)
+    model = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+                     interfaces=[pf.Interface("joint", pf.Joint(phi=45.0))],
+                     damping=pf.Rayleigh(beta=1.3e-4))  # fmt: skip
+    model.fix("base")
+    model.add_gravity()
+    return model, R
+
+
+def _rigid_rocking_peak(R: np.ndarray, pulse_g: float, duration: float) -> float:
+    """The rigid block's peak rotation (rad) about its downhill corner, I_O θ̈ = τ(θ, t),
+    under gravity and the pulse's inertial force m a along +x, to its landing
+    (scipy's solve_ivp; independent of pfeie)."""
+    from scipy.integrate import solve_ivp
+
+    g = 9.81
+    corner = R @ np.array([0.5, 0.0])
+    c0 = R @ np.array([0.0, 1.0]) - corner
+    inertia = (1.0 + 4.0) / 12 + float(c0 @ c0)  # per unit mass, b = 1, h = 2
+
+    def rhs(t: float, y: np.ndarray) -> list[float]:
+        c, s = np.cos(y[0]), np.sin(y[0])
+        r = np.array([c * c0[0] - s * c0[1], s * c0[0] + c * c0[1]])
+        f = (pulse_g * g if t < duration else 0.0, -g)
+        return [y[1], float(r[0] * f[1] - r[1] * f[0]) / inertia]
+
+    def land(t: float, y: np.ndarray) -> float:
+        return float(y[0]) if t > 0.01 else 1.0
+
+    land.terminal, land.direction = True, 1  # type: ignore[attr-defined]
+    sol = solve_ivp(rhs, (0.0, 3.0), [0.0, 0.0], events=land, max_step=1e-3, rtol=1e-10,
+                    atol=1e-12)  # fmt: skip
+    return float(np.abs(sol.y[0]).max())
+
+
+def test_moreau_jean_with_large_rotations_rocks_a_block() -> None:
+    """The block rocked by a 0.2 g pulse of 0.3 s along x lands at 1.30 s (the rigid
+    block) and must not slide. Moreau–Jean (θ = 1) with large rotations: the peak
+    rotation equals the rigid block's, 0.06295 rad, within 1.5 % (measured −0.55 % at
+    Δt = 4 ms, +0.08 % at 2 ms; without large rotations 0.0441, 30 % low), the slip at
+    3 s, rest after landing, stays below 0.5 mm (0.19 and 0.02 mm; the default scheme's position
+    corrections threw it 3 to 18 mm, a new user's case), and the energy balance closes
+    to 5e-14 of the input (the algorithmic term is the balance's rest; measured
+    9e-16 to 3e-15)."""
+    A = 0.2
+    pulse = pf.GroundMotion.from_samples([-A, -A, 0.0, 0.0], time=[0.0, 0.3, 0.3 + 1e-9, 3.0],
+                                         units="g", direction=(1.0, 0.0))  # fmt: skip
+    peak_rigid = None
+    for dt in (4e-3, 2e-3):
+        model, R = _rocking_model()
+        if peak_rigid is None:
+            peak_rigid = _rigid_rocking_peak(R, A, 0.3)
+            assert peak_rigid == pytest.approx(0.06295, abs=1e-5)
+        b = model.body_index("block")
+        res = pf.Dynamic(model, dt, large_rotation=True, scheme="moreau-jean").run(
+            3.0, ground=[pulse], start=pf.solve_static(model))  # fmt: skip
+        turn = np.abs(res.rigid[:, b, 2] - res.rigid[0, b, 2]).max()
+        slip = float((res.rigid[-1, b, :2] - res.rigid[0, b, :2]) @ R[0])
+        assert turn == pytest.approx(peak_rigid, rel=0.015), (dt, turn)
+        assert abs(slip) < 5e-4, (dt, slip)
+        e = res.energy
+        assert abs(e["balance"][-1]) < 5e-14 * e["external_work"][-1]

@@ -135,8 +135,8 @@ def test_analysis_defaults_are_dynamic_settings() -> None:
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nalpha = -0.5"),
          r"analysis\.alpha: expected a number in \[-1/3, 0\], found -0\.5"),
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nalpha = -0.1\nlarge_rotation = true"),
-         r"analysis: large_rotation runs on the nonsmooth-alpha scheme or on the Newmark "
-         r"rule \(alpha = 0, no rho_inf\)"),
+         r"analysis: large_rotation runs on the nonsmooth-alpha or Moreau-Jean scheme or on "
+         r"the Newmark rule \(alpha = 0, no rho_inf\)"),
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nform = \"moving\""),
          r"analysis\.form: expected one of 'relative', 'absolute', found 'moving'"),
         (lambda s: s.replace("dt = 0.005", "dt = 0.005\nstatic = 1"),

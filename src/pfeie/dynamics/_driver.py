@@ -230,8 +230,9 @@ class Dynamic:
                     f"{self.mj.theta}: theta = 1/2 does not dissipate impacts and lets blocks hop"
                 )
             laws = impulse_laws(model.pair_laws, model.pairs.interface, self.dt, self.d)
-            self.istep = InterfaceStep(self.op, delassus(self.mj.factor, self.op.G), laws, 1.0,
-                                       settings=settings.solver(),
+            W = (self.corot.reference_delassus() if self.corot is not None
+                 else delassus(self.mj.factor, self.op.G))  # fmt: skip
+            self.istep = InterfaceStep(self.op, W, laws, 1.0, settings=settings.solver(),
                                        regularize=model.pairs.regularization)  # fmt: skip
         self.setup_time = _time.perf_counter() - t0
 
@@ -621,7 +622,21 @@ class Dynamic:
         kin, h, th = cur.kin, self.dt, mj.theta
         t1 = origin + (cur.step + 1) * h
         f1 = ex.load(t1)
-        v_free = mj.free_velocity(kin, (1 - th) * kin.f + th * f1)
+        f_theta = (1 - th) * kin.f + th * f1
+        if self.corot is None:
+            v_free = mj.free_velocity(kin, f_theta)
+        else:
+            # in the frames R of the configuration predicted for t_{n+θ}, u_n + θh v_n, the
+            # elastic force at u_θ = û + θ²h² v_{n+1} (û = u_n + θ(1 − θ)h v_n) is linear,
+            # F(û) + Q K₀ Qᵀ θ²h² v_{n+1}, and Ŵ = Q Ŵ₀ Qᵀ (M lumped by node):
+            # v_free = Q Ŵ₀⁻¹ Qᵀ (M v_n − h F(û) − (1 − θ)h C v_n + h f_θ); the damping
+            # acts on v_θ in the frames R (the energy account takes its work there)
+            R = self._corotate(kin.u + th * h * kin.v)
+            u_hat = kin.u + th * (1 - th) * h * kin.v
+            r = self.system.M @ kin.v + h * (f_theta - self.elastic_force(u_hat, R))
+            if self.system.C is not None:
+                r = r - (1 - th) * h * self.damping_force(kin.v, kin.u, R)
+            v_free = self.corot.rotated_solve(r, R)
         m, d = self.m, self.d
         if not m:
             return StepState(mj.advance(kin, v_free, f1), cur.pairs, cur.step + 1)

@@ -428,9 +428,16 @@ class EnergyAccount:
         th = an.mj.theta
         du = nxt.kin.u - cur.kin.u
         v_th = (1 - th) * cur.kin.v + th * nxt.kin.v
-        acc["external_work"] += float(du @ ((1 - th) * cur.kin.f + th * nxt.kin.f))
+        ext = float(du @ ((1 - th) * cur.kin.f + th * nxt.kin.f))
+        acc["external_work"] += ext
+        damp = pair = 0.0
         if an.system.C is not None:
-            acc["damping"] += float(du @ an.damping_force(v_th, cur.kin.u))
+            if an.corot is None:
+                damp = float(du @ an.damping_force(v_th, cur.kin.u))
+            else:  # C v_θ in the frames of u_n + θh v_n, as the step applies it
+                frames_at = cur.kin.u + th * an.dt * cur.kin.v
+                damp = float(du @ an.damping_force(v_th, frames_at))
+            acc["damping"] += damp
         if an.m:
             P = nxt.pairs.X * an.dt
             U_th = an.op.relative(v_th)
@@ -440,9 +447,16 @@ class EnergyAccount:
                     nxt.kin.t)[1]  # fmt: skip
                 wp = (an.op.Gp @ vp).reshape(U_th.shape)
                 acc["external_work"] -= float(np.sum(P * wp))
+                ext -= float(np.sum(P * wp))
                 U_th = U_th + wp
-            acc["interface"] -= float(np.sum(P * U_th))
-        acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
+            pair = -float(np.sum(P * U_th))
+            acc["interface"] += pair
+        if an.corot is None:  # (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu), exact
+            acc["algorithmic"] += an.mj.dissipation(cur.kin, nxt.kin)
+        else:  # the rest of the balance: the strain energy is the body frames' ½ũᵀK₀ũ
+            dT = 0.5 * (an.mass_product(nxt.kin.v) - an.mass_product(cur.kin.v))
+            dU = an.strain_energy(nxt.kin.u) - an.strain_energy(cur.kin.u)
+            acc["algorithmic"] += ext - dT - dU - damp - pair
 
 
 def _damping_work(an: Dynamic, du: FloatArray, k0: Any, k1: Any) -> float:

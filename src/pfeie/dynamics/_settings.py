@@ -72,7 +72,8 @@ class DynamicSettings(BaseModel):
     )] = None  # fmt: skip
     large_rotation: Annotated[bool, Field(
         description="carry finite rotations of the floating blocks in body frames "
-        "(rocking, toppling; see docs/theory.md)",
+        "(rocking, toppling: with scheme = 'moreau-jean' for their impacts; see "
+        "docs/theory.md)",
     )] = False  # fmt: skip
     tolerance: Annotated[float, Field(
         gt=0.0, le=1e-2, allow_inf_nan=False,
@@ -109,21 +110,17 @@ class DynamicSettings(BaseModel):
         if self.alpha != 0.0 and self.rho_inf is not None:
             raise ValueError("give either alpha (HHT-α) or rho_inf (generalised-α), not both")
         if self.large_rotation and (
-            self.scheme == "moreau-jean"
-            or (self.scheme == "newmark" and (self.alpha != 0.0 or self.rho_inf is not None))
+            self.scheme == "newmark" and (self.alpha != 0.0 or self.rho_inf is not None)
         ):  # fmt: skip
-            raise ValueError("large_rotation runs on the nonsmooth-alpha scheme or on the "
-                             "Newmark rule (alpha = 0, no rho_inf)")  # fmt: skip
+            raise ValueError("large_rotation runs on the nonsmooth-alpha or Moreau-Jean "
+                             "scheme or on the Newmark rule (alpha = 0, no rho_inf)")  # fmt: skip
         if self.scheme == "nonsmooth-alpha" and (
             self.alpha != 0.0 or self.beta is not None or self.gamma is not None
         ):
             raise ValueError("the nonsmooth-alpha scheme takes rho_inf, not alpha, beta or "
                              "gamma (those select scheme = 'newmark')")  # fmt: skip
-        if self.scheme == "moreau-jean" and (
-            self.alpha != 0.0 or self.rho_inf is not None or self.large_rotation
-        ):
-            raise ValueError("the Moreau-Jean scheme takes theta, not alpha, rho_inf or "
-                             "large_rotation")  # fmt: skip
+        if self.scheme == "moreau-jean" and (self.alpha != 0.0 or self.rho_inf is not None):
+            raise ValueError("the Moreau-Jean scheme takes theta, not alpha or rho_inf")
         return self
 
     def newmark(self) -> tuple[float, float, float]:
