@@ -656,7 +656,9 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
             out.append(RunWarning(
                 "airborne", head + "here the blocks' modes are damped (β = "
                 f"{beta:.3g} s): a block that rocks or bounces off its joints (impacts), "
-                "or a step too coarse for the impacts; compare two Δt (docs/results.md)",
+                "or a step too coarse for the impacts; compare two Δt, and for a block "
+                "that rocks take analysis.scheme = \"moreau-jean\" with large_rotation = "
+                "true (docs/theory.md)",
                 short + ": rocking or impacts? compare two Δt"))  # fmt: skip
         else:
             out.append(RunWarning(
