@@ -22,7 +22,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import numpy.typing as npt
 
 from ..errors import ModelError
 from ..typing import FloatArray
@@ -184,7 +183,7 @@ def warning_line(table: StudyTable, where: Path) -> str | None:
     >>> warning_line(t, Path("study/table.csv"))
     '1 of 2 runs finished with warnings (large slip 1): r1@0.5; see the warnings column of study/table.csv'
     """  # noqa: E501
-    warned = [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
+    warned = _warned(table)
     if not warned:
         return None
     kinds = _warning_kinds(warned)
@@ -229,16 +228,15 @@ def _record_cells(table: StudyTable, name: str) -> str:
     )
 
 
-def _warned(table: StudyTable) -> npt.NDArray[np.bool_]:
-    """The runs with a reliability warning (a ``warnings`` cell not empty)."""
-    return np.array([isinstance(r.get("warnings"), str) and bool(r["warnings"])
-                     for r in table.rows], dtype=bool)  # fmt: skip
+def _warned(table: StudyTable) -> list[dict[str, Any]]:
+    """The rows of the runs with a reliability warning (a ``warnings`` cell not empty)."""
+    return [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
 
 
 def _warning_section(table: StudyTable) -> list[str]:
     """The report's reliability section: the runs that finished with warnings, by kind,
     each run's warnings (as the table's ``warnings`` column); none when no run has any."""
-    warned = [r for r in table.rows if isinstance(r.get("warnings"), str) and r["warnings"]]
+    warned = _warned(table)
     if not warned:
         return []
     esc = html.escape
@@ -315,9 +313,9 @@ def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel
         parts.append("</table>")
     if fits or failed:
         warned = _warned(table)
-        if warned.any():
+        if warned:
             parts.append(
-                f"<p>{int(warned.sum())} of the {len(table)} runs carry reliability "
+                f"<p>{len(warned)} of the {len(table)} runs carry reliability "
                 "warnings (above); the fits take their demands as they are.</p>"
             )
         parts.append("<h2>Fragility</h2><table><tr><th>limit state</th><th>demand</th>"
