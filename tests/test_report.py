@@ -376,6 +376,8 @@ def test_report_of_a_3d_model(run3d: tuple[Path, str]) -> None:
         assert images(s[name]) == figs, name
     assert {"probe_crest", "joint_joint", "rigid_motion", "energy"} == set(images(s["Histories"]))
     assert "3D" in s["Geometry and mesh"] and "seen from upstream" in s["Geometry and mesh"]
+    # the extent along each of the three axes
+    assert all(f"{a} from" in s["Geometry and mesh"] for a in "xyz")
     data = {name: base64.b64decode(b64) for name, b64 in re.findall(
         r"<img alt='([^']+)' src='data:image/png;base64,([^']+)'", page)}  # fmt: skip
     assert len(data) == page.count("<img ") == 12

@@ -116,6 +116,13 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
     for i, axis in enumerate(("t1", "n")):
         last = [r for r in rows if r["quantity"] == f"w_{axis}_mean"][-1]
         assert float(last["value"]) == pytest.approx(ref[i], rel=1e-8, abs=1e-15)
+    # the open share: the pairs open by more than OPEN_CRACK_MIN_M (the summary's rule),
+    # by area, at every row
+    from pfeie.interface import OPEN_CRACK_MIN_M
+
+    opened = (pr["state"] == 3) & (pr["opening"] > OPEN_CRACK_MIN_M)
+    share = [float(r["value"]) for r in rows if r["quantity"] == "open_share"]
+    np.testing.assert_allclose(share, (opened * A).sum(axis=1) / A.sum(), rtol=1e-8, atol=0)
     final = list(csv.DictReader((tmp_path / "csv" / "pairs_final.csv").open()))
     assert float(final[0]["final_w_n_m"]) == pytest.approx(pr["w"][-1, 0, -1], rel=1e-8,
                                                             abs=1e-15)  # fmt: skip

@@ -87,6 +87,14 @@ def test_static_only_run_plots_reports_and_exports(
     assert main(["export", str(res), "--csv", str(tmp_path / "csv")]) == 0
     rows = (tmp_path / "csv" / "pairs_static.csv").read_text().splitlines()
     assert rows[0].startswith("joint,pair") and len(rows) == 1 + 2  # two pairs on "mid"
+    # the shear stress signed, along t: the results file's X_t / A to the CSV's 9 digits
+    import csv
+
+    table = list(csv.DictReader((tmp_path / "csv" / "pairs_static.csv").open()))
+    with Results(res) as r:
+        tau = r.static_pairs("mid")["shear_stress"][:, 0]
+    np.testing.assert_allclose([float(t["shear_stress_Pa"]) for t in table], tau, rtol=1e-8,
+                               atol=1e-12)  # fmt: skip
     assert (tmp_path / "csv" / "nodes_static.csv").is_file()
 
 
@@ -477,7 +485,7 @@ def test_last_paraview_frame_is_the_final_time(tmp_path: Path) -> None:
 
 
 def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The results file says its format (1.7); a file of another major version is refused
+    """The results file says its format (1.9); a file of another major version is refused
     with a message naming both versions (exit 2 from ``pfeie report``)."""
     import h5py
 
@@ -485,7 +493,7 @@ def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert main(["run", str(p), "--quiet"]) == 0
     path = tmp_path / "out" / "results.h5"
     with Results(path) as res:
-        assert res.f.attrs["format_version"] == "1.8"
+        assert res.f.attrs["format_version"] == "1.9"
     with h5py.File(path, "r+") as f:
         f.attrs["format_version"] = "2.0"
     with pytest.raises(ResultsError, match=r"format 2.0, but this pfeie .* reads format 1.x"):

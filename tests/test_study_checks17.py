@@ -188,8 +188,10 @@ def test_rows_carry_the_run_reliability_and_an_empty_stop_reason(
         j["peak_slip_to_spacing"], rel=1e-12)  # fmt: skip
     assert row["joint.joint.peak_slip_to_spacing"] == pytest.approx(
         row["joint.joint.peak_slip_max_m"], rel=1e-12)  # fmt: skip
+    # a share at round-off here (measured 0.9e-14 and 1.3e-14 in the two runs: a
+    # round-off term, compared to round-off)
     assert row["energy.correction_share"] == pytest.approx(
-        e["correction"] / abs(e["external_work"]), rel=1e-12, abs=1e-15)  # fmt: skip
+        e["correction"] / abs(e["external_work"]), rel=1e-12, abs=1e-13)  # fmt: skip
     assert row.get("warnings", "") == ""
 
 

@@ -838,7 +838,9 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
             "normal_force_N": float(X[:, -1].sum()),
             "shear_force_N": shear,
             "mean_normal_stress_Pa": float(X[:, -1].sum() / A.sum()),
-            "max_opening_m": float(np.maximum(st.w[idx, -1], 0.0).max(initial=0.0)),
+            # s_n, the gap (w_n with the initial gap and the springs' compliance), as the
+            # results file's openings (pfeie.io.Results.static_pairs)
+            "max_opening_m": float(np.maximum(st.s[idx, -1], 0.0).max(initial=0.0)),
             "sliding_share": float(A[st.state[idx] == SLIDE].sum() / A.sum()),
             # open by more than the crack threshold: a quadratic facet's corner pairs, which
             # carry little of a uniform pressure, part by microns (1e-6 m) under
@@ -984,6 +986,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         }
         if "newton" in res.solver:  # (results files of format 1.5 and older lack it)
             s["solver"]["newton_steps"] = int(res.solver["newton"].sum())
+        sub = res.solver.get("substeps")
+        if sub is not None and sub.any():  # (1.8 and older lack it; none without events)
+            s["solver"]["event_steps"] = int(sub.sum()) // job.analysis.event_substeps
     return s
 
 
@@ -1227,7 +1232,7 @@ def format_summary(s: dict[str, Any]) -> str:
         if "demand_capacity" in st:
             dc = st["demand_capacity"]
             lines.append(
-                f"  DCR          max {dc['max_dcr']:.2f} (σ1/f_t) at "
+                f"  DCR          max {dc['max_dcr']:.3g} (σ1/f_t) at "
                 f"({', '.join(f'{x:g}' for x in dc['max_dcr_at_m'])}) m, "
                 f"t = {dc['max_dcr_time_s']:.2f} s; max CID {dc['max_cid_s']:.3f} s; "
                 f"overstressed {100 * dc['overstressed_share']:.1f} %: {dc['verdict']} "

@@ -112,8 +112,9 @@ class Dynamic:
         :class:`DynamicSettings`' default (0.01 s) — choose it for the model and check it
         by halving (docs/results.md).
     settings: a :class:`DynamicSettings`; or its fields as keywords (``scheme``,
-        ``rho_inf``, ``theta``, ``beta``, ``gamma``, ``alpha``, ``large_rotation``, ``tolerance``,
-        ``backend``): every option and its default is documented there.
+        ``rho_inf``, ``theta``, ``beta``, ``gamma``, ``alpha``, ``large_rotation``,
+        ``event_substeps``, ``tolerance``, ``backend``): every option and its default is
+        documented there.
 
     Example
     -------
@@ -208,6 +209,10 @@ class Dynamic:
         self.istep: InterfaceStep | None = None
         self.vstep: InterfaceStep | None = None  # the velocity correction (nonsmooth-α)
         self.velocity_corrections = 0  # steps whose velocity correction was solved
+        # event sub-steps: the analysis at dt/k that takes a step again in which a pair
+        # changes state (built on first need), and the number of such steps so far
+        self._fine: Dynamic | None = None
+        self.event_steps = 0
         self._last_strain: list[tuple[FloatArray, float]] = []
         self._last_vmv: list[tuple[FloatArray, float]] = []
         # the next step's free acceleration, computed ahead (nonsmooth-α): (state, excitation,
@@ -277,6 +282,9 @@ class Dynamic:
         if self.corot is not None:
             raise ModelError("twin: not with large_rotation (its operators change a step)")
         memo: dict[int, Any] = {id(self.model): self.model, id(self.system): self.system}
+        if self.settings.event_substeps > 1 and self.m:
+            fine = self.fine()  # built once, its factor shared by the twins
+            memo[id(fine.system)] = fine.system
         return copy.deepcopy(self, memo)
 
     @property
@@ -847,6 +855,78 @@ class Dynamic:
                     return False
         return True
 
+    # -- event sub-steps -----------------------------------------------------------------------
+    def _is_event(self, cur: StepState, nxt: StepState) -> bool:
+        """Whether the step cur → nxt is an event to be taken again in sub-steps: a pair
+        changes state (breaks, opens, closes, starts or stops sliding)."""
+        if self.settings.event_substeps == 1 or not self.m:
+            return False
+        a, b = cur.pairs, nxt.pairs
+        return bool((a.state != b.state).any() or (a.broken != b.broken).any())
+
+    def fine(self) -> Dynamic:
+        """The analysis of the same model at dt/k (k = ``event_substeps``) that takes an
+        event's sub-steps: its step matrix factorised once, on first need."""
+        if self._fine is None:
+            k = self.settings.event_substeps
+            t0 = _time.perf_counter()
+            settings = self.settings.model_copy(update={"dt": self.dt / k, "event_substeps": 1})
+            self._fine = Dynamic(self.model, settings=settings)
+            self.setup_time += _time.perf_counter() - t0
+            log.info("event sub-steps: the step matrix factorised for dt/%d = %.4g s", k,
+                     self.dt / k)  # fmt: skip
+        return self._fine
+
+    def substeps(
+        self, cur: StepState, ex: Excitation, on_substep: Callable[[StepState, StepState], None]
+    ) -> StepState:  # fmt: skip
+        """The step after ``cur`` taken as k sub-steps of dt/k by :meth:`fine`: the
+        state at the end of the step, on the grid of dt. ``on_substep(a, b)`` is called
+        after each sub-step a → b (the energy account, the uplift of the pairs that
+        open). The sub-steps start from the step's own state: the nonsmooth generalised-α
+        carries its auxiliary acceleration, a weighted acceleration that does not depend
+        on h, from one step size to the other."""
+        fine = self.fine()
+        k = self.settings.event_substeps
+        sub = StepState(cur.kin, cur.pairs, 0, lam=cur.lam, origin=cur.kin.t)
+        for _ in range(k):
+            nxt = fine.step(sub, ex)
+            on_substep(sub, nxt)
+            sub = nxt
+        origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
+        sub.kin.t = origin + (cur.step + 1) * self.dt  # the grid of dt, not a sum of dt/k
+        self.event_steps += 1
+        return StepState(sub.kin, sub.pairs, cur.step + 1, lam=sub.lam, impact=sub.impact,
+                         dissipation=sub.dissipation, correction=sub.correction,
+                         shift=sub.shift, origin=origin)  # fmt: skip
+
+    def _event_step(
+        self, cur: StepState, ex: Excitation, rec: Recorder
+    ) -> tuple[StepState, tuple[int, int, float, int]]:  # fmt: skip
+        """An event step of a run taken in sub-steps (:meth:`substeps`), each added to
+        the run's energy account by the sub-steps' analysis and followed by the uplift of
+        the pairs it opens; with the sub-steps' solver counters (iterations, steps with
+        a fallback, the worst residual, solves the semismooth Newton finished)."""
+        fine = self.fine()
+        fstats = fine.istep.stats if fine.istep is not None else None
+        counts = [0, 0, 0.0, 0]
+        if fstats is not None:
+            fstats.reset()
+
+        def on_substep(a: StepState, b: StepState) -> None:
+            rec.account.add_step(a, b, fine)
+            if ex.follows_pairs:
+                ex.follow(b.pairs.state == OPEN)
+            if fstats is not None:
+                counts[0] += fstats.iterations
+                counts[1] += fstats.fallbacks > 0
+                counts[2] = max(counts[2], fstats.residual)
+                counts[3] += fstats.newton
+                fstats.reset()
+
+        nxt = self.substeps(cur, ex, on_substep)
+        return nxt, (int(counts[0]), int(counts[1]), float(counts[2]), int(counts[3]))
+
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
         """Right-hand side of the corotational step (see :mod:`._corotation`)."""
         _, _, a2, a3, a4, a5 = self.nm.c
@@ -939,6 +1019,7 @@ class Dynamic:
         falls = np.zeros(n + 1, dtype=np.int32)
         resid = np.zeros(n + 1)
         newton = np.zeros(n + 1, dtype=np.int32)
+        substeps = np.zeros(n + 1, dtype=np.int32)  # sub-steps of an event step (0: none)
         stats = self.istep.stats if m and self.istep is not None else None
         first = 1  # the first step of the row being gathered
 
@@ -946,7 +1027,8 @@ class Dynamic:
             """The solver's counters of steps ``first`` to i, for their recorded row."""
             rows = slice(first, i + 1)
             return [int(iters[rows].sum()), int(falls[rows].sum()),
-                    float(resid[rows].max(initial=0.0)), int(newton[rows].sum())]  # fmt: skip
+                    float(resid[rows].max(initial=0.0)), int(newton[rows].sum()),
+                    int(substeps[rows].sum())]  # fmt: skip
 
         if m and start is not None and not isinstance(start, StepState) and resume is None:
             cur.pairs.w = (self.op.G @ cur.kin.u + self.w_pres(cur.kin.t, ex)).reshape(m, d)
@@ -963,8 +1045,14 @@ class Dynamic:
         for i in range(1, n + 1):
             if stats is not None:
                 stats.reset()
+            event = False
             try:
                 nxt = self.step(cur, ex)
+                if self._is_event(cur, nxt):
+                    # taken again in sub-steps; the solver's counters hold the work of both
+                    event = True
+                    work = (stats.iterations, stats.newton) if stats is not None else (0, 0)
+                    nxt, sub_counts = self._event_step(cur, ex, rec)
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
@@ -973,12 +1061,18 @@ class Dynamic:
                     rec.record(j, cur)
                     checkpoint()
                 break
-            rec.account.add_step(cur, nxt)
-            if m and ex.follows_pairs:
-                ex.follow(nxt.pairs.state == OPEN)
-            if stats is not None:
-                iters[i], resid[i] = stats.iterations, stats.residual
-                falls[i], newton[i] = stats.fallbacks > 0, stats.newton > 0
+            if event:
+                substeps[i] = self.settings.event_substeps
+                iters[i] = work[0] + sub_counts[0]
+                falls[i], resid[i] = sub_counts[1] > 0, sub_counts[2]
+                newton[i] = work[1] + sub_counts[3] > 0
+            else:
+                rec.account.add_step(cur, nxt)
+                if m and ex.follows_pairs:
+                    ex.follow(nxt.pairs.state == OPEN)
+                if stats is not None:
+                    iters[i], resid[i] = stats.iterations, stats.residual
+                    falls[i], newton[i] = stats.fallbacks > 0, stats.newton > 0
             cur = nxt
             on_grid = cur.step % every == 0
             if on_grid:
@@ -1004,7 +1098,8 @@ class Dynamic:
                 checkpoint()
         wall = _time.perf_counter() - t_wall
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
-                                         "residual": resid, "newton": newton}  # fmt: skip
+                                         "residual": resid, "newton": newton,
+                                         "substeps": substeps}  # fmt: skip
         return rec.result(j + 1, cur, iters, wall, completed, reason, solver)
 
 

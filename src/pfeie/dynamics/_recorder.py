@@ -344,24 +344,31 @@ class EnergyAccount:
         self.acc = dict.fromkeys(ENERGY_TERMS[2:], 0.0)
         self._phi: tuple[State, float] | None = None  # the last state's Φ (by identity)
 
-    def modified(self, state: State) -> float:
-        """Φ of a state of the nonsmooth generalised-α (J), the last one kept: a step
-        asks for its start, which the previous step asked for as its end."""
+    def modified(self, state: State, an: Dynamic | None = None) -> float:
+        """Φ of a state of the nonsmooth generalised-α (J) in the scheme of ``an``
+        (default the run's), the last one kept: a step asks for its start, which the
+        previous step asked for as its end."""
         if self._phi is not None and self._phi[0] is state:
             return self._phi[1]
-        assert self.an.ga is not None
-        value = self.an.ga.modified_energy(state)
+        an = self.an if an is None else an
+        assert an.ga is not None
+        value = an.ga.modified_energy(state)
         self._phi = (state, value)
         return value
 
-    def add_step(self, cur: StepState, nxt: StepState) -> None:
-        """Add the work of the step cur → nxt."""
-        an, acc = self.an, self.acc
+    def add_step(self, cur: StepState, nxt: StepState, an: Dynamic | None = None) -> None:
+        """Add the work of the step cur → nxt, taken by the analysis ``an`` (default the
+        run's; an event's sub-steps are taken by its analysis at dt/k, whose Φ, for the
+        nonsmooth generalised-α, is that of its own step: the change of Φ from one step
+        size to the other at an event's ends goes to ``modified``, and the balance stays
+        closed)."""
+        an = self.an if an is None else an
+        acc = self.acc
         if an.mj is not None:
-            self._add_moreau_jean(cur, nxt)
+            self._add_moreau_jean(an, cur, nxt)
             return
         if an.ga is not None:
-            self._add_nonsmooth_alpha(cur, nxt)
+            self._add_nonsmooth_alpha(an, cur, nxt)
             return
         # the Newmark family (no interfaces): the trapezoidal rule, exact for β = 1/4,
         # γ = 1/2
@@ -370,7 +377,7 @@ class EnergyAccount:
         if an.system.C is not None:
             acc["damping"] += _damping_work(an, du, cur.kin, nxt.kin)
 
-    def _add_nonsmooth_alpha(self, cur: StepState, nxt: StepState) -> None:
+    def _add_nonsmooth_alpha(self, an: Dynamic, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
         ``interface`` the rigid pairs' dissipation by the velocity-level law, −P·U⁺ with
         P = hX the step impulse and U⁺ the relative velocity at t_{n+1} (≥ 0: friction
@@ -382,7 +389,7 @@ class EnergyAccount:
         ``algorithmic`` what closes the balance with it: D ≥ 0 on a smooth step, plus
         what the corrections leave (docs/theory.md, "Energy identity of the smooth
         step")."""
-        an, acc = self.an, self.acc
+        acc = self.acc
         k0, k1 = cur.kin, nxt.kin
         du = k1.u - k0.u
         ext = 0.5 * float(du @ (k0.f + k1.f))
@@ -416,14 +423,14 @@ class EnergyAccount:
         acc["interface"] += pair
         acc["impact"] += nxt.impact
         acc["correction"] += nxt.correction
-        phi0 = self.modified(k0)
-        dphi = self.modified(k1) - phi0
+        phi0 = self.modified(k0, an)
+        dphi = self.modified(k1, an) - phi0
         acc["modified"] += dphi
         acc["algorithmic"] += ext + nxt.correction - dT - dU - damp - pair - nxt.impact - dphi
 
-    def _add_moreau_jean(self, cur: StepState, nxt: StepState) -> None:
+    def _add_moreau_jean(self, an: Dynamic, cur: StepState, nxt: StepState) -> None:
         """The terms of the θ-method's exact balance (see :mod:`._moreau`)."""
-        an, acc = self.an, self.acc
+        acc = self.acc
         assert an.mj is not None
         th = an.mj.theta
         du = nxt.kin.u - cur.kin.u
@@ -508,8 +515,8 @@ class Recorder:
                solver: list[Any] | None = None) -> None:  # fmt: skip
         """Row i of the histories from the state ``st``; ``emit`` False keeps it from
         ``on_record`` (the row a resumed run starts from is already on disk); ``solver``
-        the pair problems' iterations, fallbacks, worst residual and solves finished by
-        the semismooth Newton since the last row."""
+        the pair problems' iterations, fallbacks, worst residual, solves finished by
+        the semismooth Newton and event sub-steps since the last row."""
         an, ex, probes, d, m = self.an, self.ex, self.probes, self.an.d, self.an.m
         system = an.system
         k = st.kin
@@ -566,7 +573,7 @@ class Recorder:
                 "w": st.pairs.w, "s": st.pairs.s, "state": st.pairs.state,
                 "broken": st.pairs.broken, "energy": e_row, "u": U, "v": full_v.reshape(-1, d),
                 "a": full_a.reshape(-1, d),
-                "solver": [0, 0, 0.0, 0] if solver is None else list(solver),
+                "solver": [0, 0, 0.0, 0, 0] if solver is None else list(solver),
                 "safety_factor": self.fs[i].copy(), "joint_force": self.jf[i].copy(),
                 "joint_moment": self.jm[i].copy(), "joint_cracked": self.jc[i].copy(),
                 "joint_open": self.jo[i].copy(),

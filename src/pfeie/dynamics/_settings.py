@@ -75,6 +75,14 @@ class DynamicSettings(BaseModel):
         "(rocking, toppling: with scheme = 'moreau-jean' for their impacts; see "
         "docs/theory.md)",
     )] = False  # fmt: skip
+    event_substeps: Annotated[int, Field(
+        ge=1, le=16,
+        description="a step in which a pair changes state (breaks, opens, closes, starts or "
+        "stops sliding) is taken again as this many sub-steps of dt/event_substeps, with "
+        "the step matrix factorised once more for them; the recorded rows stay on the "
+        "grid of dt; 1: off. It resolves crack growth and slip onsets at a coarse dt "
+        "(docs/theory.md, 'Event sub-steps'); not with large_rotation",
+    )] = 1  # fmt: skip
     tolerance: Annotated[float, Field(
         gt=0.0, le=1e-2, allow_inf_nan=False,
         description=SolverSettings.model_fields["tolerance"].description,
@@ -114,6 +122,11 @@ class DynamicSettings(BaseModel):
         ):  # fmt: skip
             raise ValueError("large_rotation runs on the nonsmooth-alpha or Moreau-Jean "
                              "scheme or on the Newmark rule (alpha = 0, no rho_inf)")  # fmt: skip
+        if self.large_rotation and self.event_substeps > 1:
+            raise ValueError(
+                "event_substeps > 1 does not run with large_rotation (the "
+                "sub-steps' body frames are not carried); use event_substeps = 1"
+            )
         if self.scheme == "nonsmooth-alpha" and (
             self.alpha != 0.0 or self.beta is not None or self.gamma is not None
         ):

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ResultsError
+from ..interface import OPEN_CRACK_MIN_M
 from ._files import output_folder
 from ._results import Results
 
@@ -81,13 +82,17 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                     pr = res.pairs(name)
                     A = pr["area"]
                     slip = np.linalg.norm(pr["slip"], axis=-1)
+                    opened = (pr["state"] == 3) & (pr["opening"] > OPEN_CRACK_MIN_M)
                     series = {
                         ("slip_max", "m"): slip.max(axis=1),
                         ("slip_mean", "m"): (slip * A).sum(axis=1) / A.sum(),
                         ("opening_max", "m"): pr["opening"].max(axis=1),
                         ("broken_share", "-"): (pr["broken"] * A).sum(axis=1) / A.sum(),
                         ("sliding_share", "-"): ((pr["state"] == 2) * A).sum(axis=1) / A.sum(),
-                        ("open_share", "-"): ((pr["state"] == 3) * A).sum(axis=1) / A.sum(),
+                        # open by more than OPEN_CRACK_MIN_M, as the summary and the
+                        # report count them (a corner pair of a quadratic facet parts by
+                        # microns under compression)
+                        ("open_share", "-"): (opened * A).sum(axis=1) / A.sum(),
                     }
                     # the relative displacement of the joint's faces (side b minus side a,
                     # local axes t…, n; n + opening), area mean, since the start of the run
@@ -152,16 +157,19 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
         names = ["intact", "stick", "slide", "open"]
         with path.open("w", newline="") as fh:
             w = csv.writer(fh)
+            # the shear stress in the pair's axes, signed: along t (2D), t1 and t2 (3D)
+            tangents = ["shear_stress_Pa"] if d == 2 else ["shear_stress_t1_Pa",
+                                                          "shear_stress_t2_Pa"]  # fmt: skip
             w.writerow(["joint", "pair", *(f"{a}_m" for a in AXES[:d]), "area_m2",
-                        "normal_stress_Pa", "shear_stress_Pa", "opening_m", "state",
+                        "normal_stress_Pa", *tangents, "opening_m", "state",
                         "broken"])  # fmt: skip
             for name in res.interface_names:
                 pr = res.static_pairs(name)
-                shear = np.linalg.norm(pr["shear_stress"], axis=-1)
                 for k in range(pr["area"].size):
                     w.writerow([name, k, *(f"{c:.6g}" for c in pr["x"][k]),
                                 f"{pr['area'][k]:.6g}", f"{pr['normal_stress'][k]:.9g}",
-                                f"{shear[k]:.9g}", f"{pr['opening'][k]:.9g}",
+                                *(f"{c:.9g}" for c in pr["shear_stress"][k]),
+                                f"{pr['opening'][k]:.9g}",
                                 names[int(pr["state"][k])], int(pr["broken"][k])])  # fmt: skip
         files.append(path)
     return files

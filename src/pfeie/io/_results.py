@@ -17,9 +17,10 @@ Layout (every dataset carries a ``units`` attribute; arrays have time first):
   ``names`` and ``nodes``, ``rigid`` (n_t, n_bodies, 3 or 6), ``pairs/{X,w,s}``
   (n_t, m, d), ``pairs/state`` (n_t, m; 0 intact, 1 stick, 2 slide, 3 open),
   ``pairs/broken``, ``energy/<term>`` (n_t),
-  ``solver/{iterations,fallbacks,residual,newton}`` (n_t: since the previous row, the pair
-  problems' iterations, the steps that needed a fallback, the worst final residual, and
-  the steps with a solve that the semismooth Newton finished after the state iteration),
+  ``solver/{iterations,fallbacks,residual,newton,substeps}`` (n_t: since the previous row,
+  the pair problems' iterations, the steps that needed a fallback, the worst final
+  residual, the steps with a solve that the semismooth Newton finished after the state
+  iteration, and the sub-steps of the steps taken again as events),
   ``joints/{safety_factor,force,moment}`` (n_t, n_joints[, d or 1 or 3]: the sliding
   safety factor, the resultant force on side b in global axes and its moment about the
   joint's centroid), ``joints/{cracked,open}``
@@ -75,8 +76,8 @@ UNITS = {
 #: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
 #: counts steps, no longer solves, and not those the semismooth Newton finished; 1.7: the
 #: group post_earthquake; 1.8: the attribute part_factors and the checkpoint's kin/shift;
-#: files without the attribute are 1.0)
-FORMAT_VERSION = "1.8"
+#: 1.9: history/solver/substeps; files without the attribute are 1.0)
+FORMAT_VERSION = "1.9"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
@@ -280,6 +281,7 @@ class ResultsWriter:
         self._grow(hs, "fallbacks", (), "count", np.int64)
         self._grow(hs, "residual", (), "1")
         self._grow(hs, "newton", (), "count", np.int64)
+        self._grow(hs, "substeps", (), "count", np.int64)
         he = h.create_group("energy")
         for key in ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                     "impact", "algorithmic", "correction", "balance"):  # fmt: skip
@@ -399,9 +401,11 @@ class ResultsWriter:
                     self._extend(f["history/joints/open"], [r["joint_open"] for r in buf])
             if "solver" in f["history"]:
                 hs = f["history/solver"]
-                for k, key in enumerate(("iterations", "fallbacks", "residual", "newton")):
-                    if key in hs:  # (files of format 1.5 and older lack `newton`)
-                        self._extend(hs[key], [r.get("solver", [0, 0, 0.0, 0])[k]
+                keys = ("iterations", "fallbacks", "residual", "newton", "substeps")
+                for k, key in enumerate(keys):
+                    if key in hs:  # (files of format 1.5 and older lack `newton`, 1.8 and
+                        # older `substeps`)
+                        self._extend(hs[key], [r.get("solver", [0, 0, 0.0, 0, 0])[k]
                                                for r in buf])  # fmt: skip
             for key in buf[0]["energy"]:
                 if key in f["history/energy"]:  # (older files lack `modified`)

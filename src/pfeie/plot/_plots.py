@@ -216,7 +216,7 @@ def plot_probe(res: Results, name: str, path: Path, title: str = "") -> Path:
     for i in range(u.shape[1]):
         ax[0].plot(t, 1e3 * u[:, i], lw=0.9, label=f"u_{AXES[i]}")
         ax[1].plot(t, p["a_abs"][:, i] / 9.81, lw=0.7, label=f"a_{AXES[i]}")
-    ax[0].set_ylabel("displacement (mm)\n(relative to the ground)")
+    ax[0].set_ylabel("displacement (mm)\n(relative to the ground,\nsince the start of the run)")
     ax[1].set_ylabel("absolute acceleration (g)")
     return _style(fig, ax, f"{title}\nprobe {name}", path, "upper right")
 
@@ -390,7 +390,10 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
     plt = _plt()
     pr = res.static_pairs(name)
     order, s = _arc(pr["x"])
-    shear = np.linalg.norm(pr["shear_stress"], axis=-1)[order]
+    # 2D: the signed shear stress along the pair's tangent t; 3D: its magnitude
+    tau = pr["shear_stress"]
+    plane = tau.shape[-1] == 1
+    shear = (tau[:, 0] if plane else np.linalg.norm(tau, axis=-1))[order]
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     ax[0].plot(s, 1e-6 * pr["normal_stress"][order], lw=1.0, marker=".",
                label="normal (compression +)")  # fmt: skip
@@ -402,7 +405,7 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
         if hit.any():
             ax[1].scatter(s[hit], 1e-6 * shear[hit], s=18, color=STATE_COLOURS[k], label=lab,
                           zorder=3)  # fmt: skip
-    ax[1].set_ylabel("shear stress (MPa)")
+    ax[1].set_ylabel("shear stress along t (MPa)" if plane else "|shear stress| (MPa)")
     ax[1].set_xlabel(_arc_label(pr["x"], order))
     for a in ax:
         a.grid(alpha=0.3)

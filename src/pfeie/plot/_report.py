@@ -154,7 +154,8 @@ def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
         ("largest demand-capacity ratio σ1/f_t",
          f"{dc['max_dcr']:.3g} at {at('max_dcr_at_m')}, t = {dc['max_dcr_time_s']:.3f} s"),
         ("largest cumulative inelastic duration",
-         f"{dc['max_cid_s']:.3g} s at {at('max_cid_at_m')}"),
+         f"{dc['max_cid_s']:.3g} s at {at('max_cid_at_m')}" if dc["max_cid_s"] > 0
+         else "0 s (no cell beyond its tensile strength)"),
         ("overstressed share (DCR > 1)",
          f"{100 * dc['overstressed_share']:.3g} % of the cells with a tensile strength"),
         ("EM 1110-2-6053", words.get(dc["verdict"], dc["verdict"])),
@@ -186,7 +187,9 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         rows.append({
             "joint": name, "pairs": int(A.size),
             "static normal stress, mean (MPa)": 1e-6 * float((pr["X"][:, -1]).sum() / A.sum()),
-            "largest opening (mm)": 1e3 * float(pr["opening"].max()),
+            # to 0.01 mm (OPEN_CRACK_MIN_M), as the summary prints it: a closed pair's
+            # opening is round-off
+            "largest opening (mm)": round(1e3 * float(pr["opening"].max()), 2),
             "sliding (%)": 100 * float(((pr["state"] == 2) * A).sum() / A.sum()),
             # as the summary: open by more than OPEN_CRACK_MIN_M (the corner pairs of
             # quadratic facets part by microns under compression)
@@ -258,6 +261,8 @@ def solver_line(sv: dict[str, Any]) -> str:
     newton = ""
     if "newton_steps" in sv:
         newton = f"the semismooth Newton finished {sv['newton_steps']} step(s); "
+    if sv.get("event_steps"):
+        newton += f"{sv['event_steps']} event step(s) taken again in sub-steps; "
     return (f"{sv['iterations_mean']:.1f} iterations a step; {newton}"
             f"{sv['fallback_steps']} step(s) needed a fallback; worst residual "
             f"{sv['worst_residual']:.1e}")  # fmt: skip
@@ -392,8 +397,9 @@ def model_rows(res: Results, job: Job | None) -> list[tuple[str, str]]:
     rows = [
         ("model file", str(meta["model_file"])), ("SHA-256", str(meta["model_sha256"])),
         ("pfeie", str(meta["pfeie_version"])), ("dimension", f"{summ['dimension']}D"),
-        ("extent", f"{extent} m (x from {lo[0]:.4g} to {hi[0]:.4g} m, "
-                   f"{'yz'[len(lo) - 2]} from {lo[-1]:.4g} to {hi[-1]:.4g} m)"),
+        ("extent", f"{extent} m ("
+                   + ", ".join(f"{a} from {lo[i]:.4g} to {hi[i]:.4g} m"
+                               for i, a in enumerate("xyz"[: len(lo)])) + ")"),
         ("blocks", ", ".join(summ["blocks"])), ("bodies", str(summ["bodies"])),
         ("cells", ", ".join(f"{v} {k}" for k, v in summ["cells"].items())),
         ("nodes", str(summ.get("nodes", x.shape[0]))),
