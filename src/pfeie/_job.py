@@ -274,7 +274,12 @@ class FolderLock:
         raise InputError(f"{self.path}: cannot take the output folder's lock")
 
     def __exit__(self, *exc: object) -> None:
-        self.path.unlink(missing_ok=True)
+        try:
+            self.path.unlink(missing_ok=True)
+        except OSError as err:  # a folder made read-only during the run: the run's own
+            # error (or its results) matter, not the lock file left behind
+            log.warning("could not remove the lock file %s (%s); the next run into this "
+                        "folder takes it over", self.path, err.strerror or err)  # fmt: skip
 
 
 def _run(

@@ -146,6 +146,10 @@ class Dynamic:
         settings: DynamicSettings | None = None,
         **options: Any,
     ) -> None:
+        if not isinstance(model, Model):
+            raise ModelError(f"Dynamic: expected a pfeie.Model (that of a model file is "
+                             f"pfeie.io.load_job(path).model), got {type(model).__name__} "
+                             f"{model!r}")  # fmt: skip
         base = {} if settings is None else settings.model_dump()
         if settings is None or dt is not None or options:
             given = {**base, **options, **({} if dt is None else {"dt": dt})}
@@ -982,6 +986,9 @@ class Dynamic:
         if given is not None and not (isinstance(given, (int, np.integer)) or (
                 isinstance(given, float) and given.is_integer())):  # fmt: skip
             raise ModelError(f"n_steps: expected a whole number of steps, got {given!r}")
+        if duration is not None and (isinstance(duration, bool) or not isinstance(
+                duration, int | float | np.integer | np.floating)):  # fmt: skip
+            raise ModelError(f"duration: expected a number of seconds, got {duration!r}")
         try:
             n = int(n_steps) if n_steps is not None else self.settings.steps(float(duration or 0))
         except ValueError as exc:
@@ -1095,6 +1102,13 @@ class Dynamic:
                 checkpoint()
                 break
             if on_grid:
+                checkpoint()
+        else:
+            if cur.step % every and j < rec.t.size - 1 and n:
+                # the last step off the grid of `every`: recorded, so that the run's end
+                # (and what the summary reads from it) is never a step that was dropped
+                j += 1
+                rec.record(j, cur, solver=since(n))
                 checkpoint()
         wall = _time.perf_counter() - t_wall
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,

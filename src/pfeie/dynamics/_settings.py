@@ -158,6 +158,11 @@ class DynamicSettings(BaseModel):
         n = duration / self.dt
         if n > 1e9:
             raise ValueError(f"duration {duration} s is {n:.3g} steps of {self.dt} s: too many")
+        if duration > 0 and round(n) == 0:
+            raise ValueError(
+                f"duration {duration} s is less than half a time step (dt = "
+                f"{self.dt} s): no step to take; expected at least one step"
+            )
         return round(n)
 
 

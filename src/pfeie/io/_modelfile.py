@@ -40,12 +40,14 @@ from ..interface import (
 )
 from ..mesh import Mesh, shape_quality
 from ..model import (
+    RECORD_DT_COARSE,
     Block,
     Elastic,
     GroundMotion,
     Interface,
     Model,
     Rayleigh,
+    implausible_gravity,
     implausible_joints,
     implausible_materials,
     implausible_mesh,
@@ -663,6 +665,9 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             model.add_gravity(loads.gravity, direction=direction)
         except ModelError as exc:
             raise InputError(f"{p}: loads.gravity_direction: {exc}") from None
+        odd = implausible_gravity(loads.gravity)
+        if odd is not None:
+            log.warning("%s: loads.gravity: %s", p, odd)
     ps = loads.pseudo_static
     if ps is not None:
         if not loads.gravity:
@@ -825,6 +830,11 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
             if odd is not None:
                 log.warning("%s: ground_motion[%d]: %s", p, i, odd)
+        step = float(np.median(np.diff(rec.time)))
+        if step > RECORD_DT_COARSE:
+            log.warning("%s: ground_motion[%d]: %s is sampled every %g s (strong-motion "
+                        "records: 0.005 to 0.05 s): its times or dt in ms?", p, i, gm.file,
+                        step)  # fmt: skip
         elif gm.pga is not None and gm.pga > PGA_KEY_HIGH_G:
             log.warning("%s: ground_motion[%d].pga = %g g lies above %g g (strong records: "
                         "0.1 to 1.5 g); pga is in g: for %g m/s² give pga = %.3g", p, i,

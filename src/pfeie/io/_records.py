@@ -37,11 +37,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError, RecordError
-from ..model import G_UNITS, GroundMotion
+from ..model import G_UNITS, RECORD_DT_MAX, GroundMotion
 from ..typing import FloatArray
 
 log = logging.getLogger(__name__)
-MAX_DT = 10.0  # s: the largest sampling step of a record (as for the analysis' Δt)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
 _SEP = re.compile(r"[,;\s]+")
 _ALLOWED = re.compile(r"^[\s0-9eEdD.+\-,;]*$")
@@ -241,8 +240,9 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
     elif word not in ("SEC", "SECS", "S"):
         raise RecordError(f"{path}: line 4: DT: the unit {word!r} after its value "
                           "is not a time unit pfeie reads; expected SEC (or MSEC)")  # fmt: skip
-    if not (math.isfinite(dt) and 0 < dt <= MAX_DT):
-        raise RecordError(f"{path}: line 4: DT: expected a number in (0, {MAX_DT:g}] s, found "
+    if not (math.isfinite(dt) and 0 < dt <= RECORD_DT_MAX):
+        raise RecordError(f"{path}: line 4: DT: expected a number in (0, "
+                          f"{RECORD_DT_MAX:g}] s, found "
                           f"{m.group(2)!r}")  # fmt: skip
     values: list[float] = []
     for i, line in enumerate(lines[4:], start=5):
@@ -399,6 +399,11 @@ def read_record(
     label = name or p.stem
     if kind == "at2":
         acc, step, title = _read_at2(p, lines, units)
+        if dt is not None and dt != step:
+            raise RecordError(
+                f"{p}: a PEER .AT2 record states its own time step (DT = "
+                f"{step:g} s in its header); do not give dt (given {dt:g})"
+            )
         gm = _make(p, acc, step, None, "g", scale, direction, name or title)
     else:
         if units is None:

@@ -190,6 +190,17 @@ def _h5py() -> Any:
     return h5py
 
 
+def _run_attrs(job: Any) -> dict[str, str]:
+    """The attributes of the run's settings: ``analysis`` (as run: β, γ resolved from α,
+    HHT-α, when not given), ``model_summary`` and ``model_spec`` (JSON)."""
+    an = job.analysis
+    settings = an.model_dump()
+    settings["beta"], settings["gamma"], settings["alpha"] = an.newmark()
+    return {"analysis": json.dumps(settings),
+            "model_summary": json.dumps(job.summary(), default=str),
+            "model_spec": json.dumps(job.spec, default=str)}  # fmt: skip
+
+
 class ResultsWriter:
     """Streams a run into an HDF5 results file (see the module doc)."""
 
@@ -217,17 +228,12 @@ class ResultsWriter:
         model = job.model
         d = model.dim
         f = self.f
-        an = job.analysis  # the settings as run: β, γ resolved from α (HHT-α) when not given
-        settings = an.model_dump()
-        settings["beta"], settings["gamma"], settings["alpha"] = an.newmark()
         f.attrs.update(
             pfeie_version=__version__, format_version=FORMAT_VERSION,
             model_file=str(job.path), model_sha256=job.digest,
-            form=an.form, completed=False, stop_reason="",
-            model_summary=json.dumps(job.summary(), default=str),
-            model_spec=json.dumps(job.spec, default=str),
-            model_path=str(Path(job.path).resolve()),
-            analysis=json.dumps(settings), units=json.dumps(UNITS), **self.storage.attrs,
+            form=job.analysis.form, completed=False, stop_reason="",
+            model_path=str(Path(job.path).resolve()), **_run_attrs(job),
+            units=json.dumps(UNITS), **self.storage.attrs,
         )  # fmt: skip
         g = f.create_group("mesh")
         self._ds(g, "points", model.mesh.points, "m")
@@ -303,6 +309,9 @@ class ResultsWriter:
         # the file's own storage (a file of format 1.2 or older: the job's, for its new
         # datasets: the checkpoint, the envelope)
         self.storage = Storage.of_file(f) if "compression" in f.attrs else Storage.of(job.output)
+        # the run as it goes on: its inputs are the file's (the run key), but a resume may
+        # extend it (--duration): the settings, the summary and the spec of this job
+        f.attrs.update(**_run_attrs(job))
         self.field_every, self.flush_s = max(int(job.output.field_every), 1), flush_s
         self.rows = int(rows)
         self._buf = []
@@ -506,8 +515,14 @@ class Results:
         try:
             self.f = h5py.File(self.path, "r")
         except OSError as exc:
-            if "lock" in str(exc).lower():
+            text = str(exc).lower()
+            if "unable to lock file" in text:  # (not "sblock", in a truncated file's error)
                 raise ResultsError(_locked(self.path)) from None
+            if "truncated" in text or "eof" in text:
+                raise ResultsError(f"{self.path}: a truncated or damaged HDF5 file ({what}; a "
+                                   f"run killed while the file was written keeps it readable "
+                                   f"up to its last flush unless the disk lost data: {exc})"
+                                   ) from None  # fmt: skip
             raise ResultsError(f"{self.path}: not an HDF5 file ({what}; {exc})") from None
         lacks = [f"/{k}" for k in REQUIRED if k not in self.f]
         if "pfeie_version" not in self.f.attrs:

@@ -87,6 +87,8 @@ Strength = Annotated[float, Field(ge=0.0, le=1e10), Unit("Pa")]
 PositiveStrength = Annotated[float, Field(gt=0.0, le=1e10), Unit("Pa")]
 JointStiffness = Annotated[float, Field(gt=0.0, le=1e20), Unit("Pa/m")]
 UnitWeight = Annotated[float, Field(gt=0.0, le=1e6), Unit("N/m³")]
+#: N/m³, the least submerged unit weight of a silt (a value in kN/m³ falls below)
+SILT_UNIT_WEIGHT_MIN = 1000.0
 
 
 def _path_text(v: str) -> str:
@@ -338,6 +340,11 @@ class Silt(_Table):
                          "K0 = 1 − sin φ)")  # fmt: skip
         if self.k is not None and self.friction_angle is not None:
             raise _check("", "give either k or friction_angle, not both")
+        if self.submerged_unit_weight < SILT_UNIT_WEIGHT_MIN:
+            w = self.submerged_unit_weight
+            raise _check("submerged_unit_weight", f"{w:g} N/m³ is below "
+                         f"{SILT_UNIT_WEIGHT_MIN:g} N/m³ (silts: about 4000 to 12000 N/m³); "
+                         f"pfeie takes N/m³: did you mean {1e3 * w:g} (kN/m³)?")  # fmt: skip
         return self
 
 

@@ -12,6 +12,7 @@ is needed (pressure), it is oriented away from the adjacent cell.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -23,18 +24,27 @@ from ..errors import MeshError
 from ..typing import BoolArray, FloatArray, IntArray
 from ._quality import check_cells
 
+log = logging.getLogger(__name__)
+
 
 def _mask(where: Callable[[FloatArray], Any], x: FloatArray, what: str) -> BoolArray:
     """``where(x)`` as a boolean mask of one entry per row of ``x`` (centroids (n, dim)):
     a scalar (``lambda x: True``, which would select the first cell alone) or a mask of
     another length is a :class:`MeshError` naming the group."""
-    mask = np.asarray(where(x), dtype=bool)
-    if mask.shape != (x.shape[0],):
+    raw = np.asarray(where(x))
+    if raw.shape != (x.shape[0],):
         raise MeshError(
             f"{what}: where(x) must return one boolean per centroid, shape "
-            f"({x.shape[0]},) for x of shape {x.shape}; got shape {mask.shape} "
+            f"({x.shape[0]},) for x of shape {x.shape}; got shape {raw.shape} "
             "(select every cell with where=None, or e.g. lambda x: x[:, 1] > 0)"
         )
+    if raw.dtype != bool and raw.size:
+        raise MeshError(
+            f"{what}: where(x) must return booleans, one per centroid; got values of type "
+            f"{raw.dtype} (e.g. lambda x: x[:, 1] > 0 selects the cells above y = 0, where "
+            "lambda x: x[:, 1] would select every cell off y = 0)"
+        )
+    mask: BoolArray = raw.astype(bool)
     return mask
 
 
@@ -222,6 +232,8 @@ class Mesh:
                 continue
             mask = _mask(where, self.points[conn].mean(axis=1), f"cell group {name!r}")
             grp[ctype] = np.flatnonzero(mask)
+        if not any(g.size for g in grp.values()):
+            log.warning("cell group %r: where(x) selected no cell", name)
         self.cell_groups[name] = grp
         return grp
 
@@ -234,6 +246,9 @@ class Mesh:
             mask = _mask(where, self.points[conn].mean(axis=1), f"facet group {name!r}")
             if mask.any():
                 grp[ftype] = conn[mask]
+        if not grp:
+            log.warning("facet group %r: where(x) selected no %sfacet", name,
+                        "boundary " if boundary_only else "")  # fmt: skip
         self.facet_groups[name] = grp
         return grp
 

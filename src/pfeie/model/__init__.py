@@ -3,11 +3,12 @@ the model with its checks of values in a probable wrong unit, and the response s
 and intensity measures of records."""
 
 from ._frames import BodyFrames
-from ._ground import G_UNITS, GroundMotion
+from ._ground import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion
 from ._model import LinearSystem, Model
 from ._physics import DAMPING_RATIO_MAX, Block, Elastic, Interface, Load, Rayleigh, Support
 from ._plausible import (
     STRENGTH_MIN,
+    implausible_gravity,
     implausible_joints,
     implausible_materials,
     implausible_mesh,
@@ -25,11 +26,13 @@ from ._spectrum import (
 from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
-    "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "SHAKING", "STRENGTH_MIN", "Block",
+    "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "RECORD_DT_COARSE", "RECORD_DT_MAX",
+    "SHAKING", "STRENGTH_MIN", "Block",
     "BodyFrames",
     "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
     "Reservoir", "ResponseSpectrum", "Support",
-    "Uplift", "implausible_joints", "implausible_materials", "implausible_mesh",
+    "Uplift", "implausible_gravity", "implausible_joints", "implausible_materials",
+    "implausible_mesh",
     "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
     "uplift_force", "warn_implausible",
 ]  # fmt: skip

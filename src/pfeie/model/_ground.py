@@ -48,6 +48,14 @@ G_UNITS = {"g": 9.81, "m/s2": 1.0, "m/s^2": 1.0, "cm/s2": 0.01, "gal": 0.01}
 HIGHPASS_MIN_CYCLES = 0.01
 
 
+#: s, the largest sampling interval of a record (as a PEER .AT2 header's DT is checked):
+#: a larger one is a record with its times or dt in ms
+RECORD_DT_MAX = 10.0
+#: s, a sampling interval above which a record gets a warning (strong-motion records are
+#: sampled every 0.005 to 0.05 s)
+RECORD_DT_COARSE = 0.1
+
+
 @dataclass(frozen=True)
 class GroundMotion:
     """An acceleration record: times (s), accelerations (m/s²), a unit direction.
@@ -121,8 +129,10 @@ class GroundMotion:
             raise ModelError(f"ground motion {name!r}: give either dt or a time column")
         if time is None:
             assert dt is not None
-            if not dt > 0:
-                raise ModelError(f"ground motion {name!r}: dt must be > 0 s, got {dt}")
+            if not 0 < dt <= RECORD_DT_MAX:
+                raise ModelError(f"ground motion {name!r}: dt must lie in (0, "
+                                 f"{RECORD_DT_MAX:g}] s (a sampling interval; dt in ms?), "
+                                 f"got {dt}")  # fmt: skip
             t = np.arange(acc.size) * float(dt)
         else:
             t = np.asarray(time, dtype=float).ravel()
@@ -130,6 +140,17 @@ class GroundMotion:
                 raise ModelError(f"ground motion {name!r}: {t.size} times for {acc.size} values")
             if np.any(np.diff(t) <= 0):
                 raise ModelError(f"ground motion {name!r}: times must increase strictly")
+            if t[0] < 0:
+                raise ModelError(
+                    f"ground motion {name!r}: the times start at {t[0]:g} s; a record is "
+                    "applied from t = 0, so its part before 0 would be dropped (and a pga "
+                    "measured on it): shift the times to start at 0 (or cut the record)"
+                )
+            step = float(np.median(np.diff(t)))
+            if step > RECORD_DT_MAX:
+                raise ModelError(f"ground motion {name!r}: the times step by {step:g} s "
+                                 f"(median); expected a sampling interval in (0, "
+                                 f"{RECORD_DT_MAX:g}] s: times in ms?")  # fmt: skip
         if not np.all(np.isfinite(t)):
             raise ModelError(f"ground motion {name!r}: times beyond the range of a double "
                              f"(last {t[-1]} s); expected finite times")  # fmt: skip

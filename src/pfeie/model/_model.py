@@ -30,7 +30,7 @@ from ..linalg import LowRankTerm, null_space
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
-from ._plausible import warn_implausible
+from ._plausible import implausible_gravity, warn_implausible
 from ._reservoir import Reservoir
 from ._uplift import MODEL_FILE_KEYS as UPLIFT_FILE_KEYS
 from ._uplift import Uplift, uplift_force
@@ -311,6 +311,10 @@ class Model:
         interfaces: Sequence[Interface] = (),
         check_units: bool = True,
     ) -> None:
+        if not isinstance(mesh, Mesh):
+            raise ModelError(f"mesh: expected a pfeie mesh (pfeie.read_mesh('file.msh'), "
+                             f"pfeie.rectangle, pfeie.box), got {type(mesh).__name__} "
+                             f"{mesh!r}")  # fmt: skip
         if plane not in ("strain", "stress"):
             raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
         if not thickness > 0:
@@ -342,9 +346,17 @@ class Model:
         names = [b.name for b in blocks]
         if len(set(names)) != len(names):
             raise ModelError(f"block names must be unique, got {names}")
-        _disjoint_blocks(mesh, blocks)
+        owner = _disjoint_blocks(mesh, blocks)
         if check_units:  # before the split: its errors may follow from these
             warn_implausible(mesh, blocks, interfaces)
+            left = sum(int((own < 0).sum()) for own in owner.values()) + sum(
+                conn.shape[0] for ctype, conn in mesh.cells.items() if ctype not in owner
+            )
+            if left:  # (a model file says so itself, naming the mesh's groups)
+                log.warning("%d cell(s) of the mesh are in no block's group and are left "
+                            "out of the model (give them a pfeie.Block to include them)",
+                            left)  # fmt: skip
+        self._check_units = check_units
         self.input_mesh = mesh
         self.interfaces = list(interfaces)
         for itf in self.interfaces:
@@ -502,6 +514,9 @@ class Model:
         amplitude: Amplitude | None = None,
     ) -> None:
         """Self-weight ρ g along ``direction`` (default −y in 2D, −z in 3D)."""
+        if isinstance(g, bool) or not isinstance(g, int | float | np.integer | np.floating):
+            raise ModelError(f"gravity: expected an acceleration in m/s² (a number, e.g. "
+                             f"9.81), got {g!r}")  # fmt: skip
         e = np.zeros(self.dim)
         e[-1] = -1.0
         if direction is not None:
@@ -514,6 +529,8 @@ class Model:
             e = e / np.linalg.norm(e)
         if not (np.isfinite(g) and g >= 0):
             raise ModelError(f"gravity: expected a finite acceleration >= 0 m/s², got {g}")
+        if self._check_units and implausible_gravity(g) is not None:
+            log.warning("gravity %s", implausible_gravity(g))
         self.loads.append(Load("gravity", None, g * e, amplitude))
 
     def add_inertia(
@@ -1718,8 +1735,9 @@ def _warn_unused_strength(itf: Interface) -> None:
                     law.tensile_r, law.phi if law.phi_r is None else law.phi_r)  # fmt: skip
 
 
-def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> None:
-    """Refuse cells in two blocks' groups, naming the cells (gmsh element ids)."""
+def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> dict[str, IntArray]:
+    """Refuse cells in two blocks' groups, naming the cells (gmsh element ids); the
+    block of each cell by type (−1: none; a type of no block's group absent)."""
     owner: dict[str, IntArray] = {}
     for ib, blk in enumerate(blocks):
         for ctype, idx in mesh.cell_groups.get(blk.cell_group, {}).items():
@@ -1736,6 +1754,7 @@ def _disjoint_blocks(mesh: Mesh, blocks: Sequence[Block]) -> None:
                     "expected each cell in one block group"
                 )
             own[idx] = ib
+    return owner
 
 
 def _field(value: VectorField | float, x: FloatArray, what: str = "load") -> FloatArray:

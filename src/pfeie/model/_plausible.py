@@ -55,6 +55,10 @@ RADIANS_DECIMALS = 3
 #: kPa, concrete's tensile strength 1 to 5 MPa (a strength in MPa or kPa written without
 #: its factor falls below)
 STRENGTH_MIN = 100.0
+#: joint spring stiffnesses (k_n, k_s) above 0 and below this (Pa/m) get a warning: rock
+#: and concrete joints have 1e9 to 1e12 Pa/m (1 to 1000 GPa/m), soft filled ones some
+#: 1e8; a stiffness in MPa/m or GPa/m written without its factor falls below
+STIFFNESS_MIN = 1e7
 #: a mesh wider than this (m) gets a warning (a mesh in millimetres is 1000× too large)
 EXTENT_MAX = 1e4
 #: a mesh taller than this (m, along gravity) gets a warning: the highest dams stand about
@@ -71,6 +75,8 @@ JOINT_KEYS = {
     "tensile": "tensile",
     "c_r": "c_r",
     "tensile_r": "tensile_r",
+    "kn": "kn",
+    "ks": "ks",
 }
 
 
@@ -166,6 +172,14 @@ def implausible_joints(joints: Mapping[str, JointLaw], prefix: Callable[[str], s
                 out.append(f"{prefix(name)}{keys[key]} = {value:g} Pa is very low (joints in "
                            "concrete and rock: 1e5 to 3e6 Pa); pfeie takes SI units: did you "
                            f"mean {mpa:g} Pa (MPa) or {kpa:g} Pa (kPa)?")  # fmt: skip
+        for key in ("kn", "ks"):
+            value = getattr(law, key, None)
+            if value is not None and 0.0 < float(value) < STIFFNESS_MIN:
+                value = float(value)
+                out.append(f"{prefix(name)}{keys[key]} = {value:g} Pa/m is very low (rock and "
+                           "concrete joints: 1e9 to 1e12 Pa/m); pfeie takes SI units: did "
+                           f"you mean {value * 1e6:g} Pa/m (MPa/m) or {value * 1e9:g} Pa/m "
+                           "(GPa/m)?")  # fmt: skip
         phi, phi_r = getattr(law, "phi", None), getattr(law, "phi_r", None)
         if phi is None:
             continue
@@ -186,6 +200,21 @@ def implausible_joints(joints: Mapping[str, JointLaw], prefix: Callable[[str], s
                        f"{keys['phi']} = {float(phi):g}°: the residual friction is usually at "
                        "most the peak (the angles swapped?)")  # fmt: skip
     return out
+
+
+def implausible_gravity(g: float) -> str | None:
+    """A warning on a gravity acceleration g (m/s²) far from the Earth's (below 9 or above
+    11 m/s², not 0): given in g or in cm/s²?
+
+    >>> implausible_gravity(981.0)
+    "g = 981 m/s² is not the Earth's 9.81 m/s²: pfeie takes m/s² (1 g is 9.81 m/s², 981 cm/s² is 9.81 m/s²)"
+    """  # noqa: E501
+    if 0 < g < 9 or g > 11:
+        return (
+            f"g = {g:g} m/s² is not the Earth's 9.81 m/s²: pfeie takes m/s² (1 g is 9.81 "
+            "m/s², 981 cm/s² is 9.81 m/s²)"
+        )
+    return None
 
 
 def implausible_mesh(mesh: Mesh, prefix: str = "") -> list[str]:

@@ -1,0 +1,190 @@
+"""Wrong inputs and lost results of a new user's test (round 23), each refused or warned
+with a message that names the file (key, group, line) and what was expected, or kept:
+the last step off the recording grid, a duration shorter than a step, records that start
+before t = 0 or are sampled in ms, a PEER record given a contradicting dt, a resumed run
+extended to a longer duration, a truncated results file, a lock file that cannot be
+removed, units slipped in gravity, joint stiffness and silt, and the Python API's type
+errors."""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import pfeie as pf
+from conftest import cli_fails
+from pfeie.cli import main
+from pfeie.errors import MeshError, ModelError, RecordError, ResultsError
+from pfeie.io import Results, read_record, write_at2
+from pfeie.verification._models import block_on_base
+from test_cli import SMALL, _write
+
+
+@pytest.fixture(scope="module")
+def block() -> tuple[pf.Model, pf.StaticResult, pf.GroundMotion]:
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    gm = pf.GroundMotion.from_function(lambda t: 3.0 * np.sin(10.0 * t), 1.0, 1e-3)
+    return model, pf.solve_static(model), gm
+
+
+# -- the run's end is never dropped ---------------------------------------------------------
+def test_the_last_step_off_the_grid_is_recorded(
+    block: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
+) -> None:
+    """Recording every 4th of 10 steps keeps steps 0, 4, 8 and the last, 10, whose state
+    is the run's (the same bits as recording every step); `every` beyond the run records
+    its start and end."""
+    model, static, gm = block
+    kw = {"ground": [gm], "start": static}
+    sparse = pf.Dynamic(model, 0.01).run(n_steps=10, every=4, **kw)
+    dense = pf.Dynamic(model, 0.01).run(n_steps=10, every=1, **kw)
+    np.testing.assert_allclose(sparse.t, [0.0, 0.04, 0.08, 0.1], rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(sparse.rigid[-1], dense.rigid[-1])
+    np.testing.assert_array_equal(sparse.X[-1], dense.X[-1])
+    assert pf.Dynamic(model, 0.01).run(n_steps=3, every=400, **kw).t.size == 2
+
+
+def test_every_beyond_the_run_keeps_its_end(tmp_path: Path) -> None:
+    """`output.every` above the number of steps: the summary is the run's end, not its
+    start (before: "completed at t = 0.000 s, 0 steps", a crest of 0 mm)."""
+    p = _write(tmp_path, SMALL.replace('folder = "out"', 'folder = "out"\nevery = 400'), 0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["time_reached_s"] == pytest.approx(0.1) and s["steps"] == 20
+    assert s["probes"]["top"]["peak_abs_acceleration_g"] > 0.1  # (0 at the start alone)
+
+
+def test_a_duration_shorter_than_a_step(
+    block: tuple[pf.Model, pf.StaticResult, pf.GroundMotion], tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:  # fmt: skip
+    model, _, _ = block
+    with pytest.raises(ModelError, match=r"duration 0.001 s is less than half a time step"):
+        pf.Dynamic(model, 0.01).run(0.001)
+    with pytest.raises(ModelError, match=r"duration: expected a number of seconds, got '1'"):
+        pf.Dynamic(model, 0.01).run("1")  # type: ignore[arg-type]
+    p = _write(tmp_path, SMALL, 0.001)
+    cli_fails(capsys, ["check", str(p)], "analysis.duration", "less than half a time step")
+
+
+# -- records --------------------------------------------------------------------------------
+def test_records_before_zero_or_in_ms(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                                      capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """A record whose times start before 0 (its part before 0 would be dropped, and a pga
+    measured on it), a dt or a time column in ms: refused; a sampling of 0.2 s: a
+    warning."""
+    t = np.arange(0.0, 2.0, 0.01)
+    a = np.sin(5 * t)
+    with pytest.raises(ModelError, match=r"the times start at -5 s; a record is applied "
+                       r"from t = 0"):  # fmt: skip
+        pf.GroundMotion.from_samples(a, time=t - 5.0)
+    with pytest.raises(ModelError, match=r"dt must lie in \(0, 10\] s .*dt in ms"):
+        pf.GroundMotion.from_samples(a, dt=20.0)
+    with pytest.raises(ModelError, match=r"the times step by 20 s .*times in ms"):
+        pf.GroundMotion.from_samples(a, time=2000 * t)
+    np.savetxt(tmp_path / "coarse.csv", np.c_[np.arange(20) * 0.2, np.sin(np.arange(20))],
+               delimiter=",")  # fmt: skip
+    p = _write(tmp_path, SMALL.replace('file = "pulse.csv"', 'file = "coarse.csv"'))
+    with caplog.at_level(logging.WARNING):
+        assert main(["check", str(p)]) == 0
+    capsys.readouterr()
+    assert "coarse.csv is sampled every 0.2 s" in caplog.text and "in ms?" in caplog.text
+
+
+def test_a_peer_record_refuses_another_dt(tmp_path: Path) -> None:
+    p = tmp_path / "r.AT2"
+    write_at2(p, 0.1 * np.sin(np.arange(100) * 0.1), 0.02)
+    assert read_record(p, dt=0.02).time[1] == pytest.approx(0.02)  # the same: accepted
+    with pytest.raises(RecordError, match=r"states its own time step \(DT = 0.02 s in its "
+                       r"header\); do not give dt \(given 0.005\)"):  # fmt: skip
+        read_record(p, dt=0.005)
+
+
+# -- results files ----------------------------------------------------------------------------
+def test_a_resumed_run_extended_says_its_duration(tmp_path: Path) -> None:
+    """`--resume --duration` extends a run: the file's settings, summary and spec give the
+    new duration (the report's record line reads it)."""
+    p = _write(tmp_path, SMALL, 0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.2"]) == 0
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        assert json.loads(f.attrs["analysis"])["duration"] == 0.2
+        assert json.loads(f.attrs["model_spec"])["analysis"]["duration"] == 0.2
+        assert f["history/time"][-1] == pytest.approx(0.2)
+
+
+def test_a_truncated_results_file_is_not_called_locked(tmp_path: Path) -> None:
+    p = _write(tmp_path, SMALL, 0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    path = tmp_path / "out" / "results.h5"
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.raises(ResultsError, match="a truncated or damaged HDF5 file") as exc:
+        Results(path)
+    assert "pfeie run" in str(exc.value) and "lock" not in str(exc.value).split("(")[0]
+
+
+def test_a_lock_file_that_cannot_go(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                    caplog: pytest.LogCaptureFixture) -> None:  # fmt: skip
+    """A folder made read-only during a run: the lock file stays (a warning); the run's
+    own outcome is what the user sees (before: a PermissionError traceback over it)."""
+    from pfeie._job import FolderLock
+
+    def refuse(self: Path, missing_ok: bool = False) -> None:
+        raise PermissionError(13, "Permission denied")
+
+    with caplog.at_level(logging.WARNING), FolderLock(tmp_path, tmp_path / "m.toml"):
+        monkeypatch.setattr(Path, "unlink", refuse)
+    assert "could not remove the lock file" in caplog.text
+    assert "takes it over" in caplog.text
+
+
+# -- units ------------------------------------------------------------------------------------
+def test_units_slipped(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                       capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """Gravity in g or cm/s², a joint stiffness in MPa/m: warnings naming the key; a silt's
+    unit weight in kN/m³: refused."""
+    text = SMALL.replace("friction_angle = 26.565", "friction_angle = 26.565\n"
+                         "normal_stiffness = 1e5\nshear_stiffness = 4e4")  # fmt: skip
+    text = text.replace("[analysis]", "[loads]\ngravity = 981.0\n[analysis]")
+    p = _write(tmp_path, text)
+    with caplog.at_level(logging.WARNING):
+        assert main(["check", str(p)]) == 0
+    capsys.readouterr()
+    assert "loads.gravity: g = 981 m/s² is not the Earth's 9.81 m/s²" in caplog.text
+    assert "interfaces.joint.normal_stiffness = 100000 Pa/m is very low" in caplog.text
+    assert "interfaces.joint.shear_stiffness = 40000 Pa/m is very low" in caplog.text
+    silt = SMALL.replace("[analysis]", '[[loads.silt]]\ngroups = ["bottom"]\nlevel = 0.5\n'
+                         "submerged_unit_weight = 9.0\nk = 0.5\n[analysis]")  # fmt: skip
+    cli_fails(capsys, ["check", str(_write(tmp_path, silt))],
+              "loads.silt[0].submerged_unit_weight: 9 N/m³ is below 1000 N/m³",
+              "did you mean 9000 (kN/m³)?")  # fmt: skip
+
+
+# -- the Python API -------------------------------------------------------------------------
+def test_api_types(block: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
+                   caplog: pytest.LogCaptureFixture) -> None:  # fmt: skip
+    model, _, _ = block
+    mesh = pf.rectangle(1.0, 1.5, 2, 3)
+    with pytest.raises(ModelError, match=r"mesh: expected a pfeie mesh .*got str 'a.msh'"):
+        pf.Model("a.msh", [pf.Block("all", pf.Elastic(30e9, 0.2, 2400))])  # type: ignore[arg-type]
+    with pytest.raises(ModelError, match=r"Dynamic: expected a pfeie.Model .*got str"):
+        pf.Dynamic("model.toml", 0.01)  # type: ignore[arg-type]
+    with pytest.raises(ModelError, match=r"gravity: expected an acceleration in m/s² .*'down'"):
+        model.add_gravity("down")  # type: ignore[arg-type]
+    with pytest.raises(MeshError, match=r"cell group 'x': where\(x\) must return booleans"):
+        mesh.add_cell_group("x", lambda x: x[:, 1])
+    with caplog.at_level(logging.WARNING):
+        assert mesh.add_facet_group("none", lambda x: x[:, 1] > 9.0) == {}
+        assert mesh.add_cell_group("top", lambda x: x[:, 1] > 1.0)
+        pf.Model(mesh, [pf.Block("top", pf.Elastic(30e9, 0.2, 2400))])
+        pf.Model(pf.rectangle(1.0, 1.0, 1, 1), [pf.Block("all", pf.Elastic(30e9, 0.2, 2400))]
+                 ).add_gravity(1.0)  # fmt: skip
+    assert "facet group 'none': where(x) selected no boundary facet" in caplog.text
+    assert "4 cell(s) of the mesh are in no block's group" in caplog.text
+    assert "g = 1 m/s² is not the Earth's 9.81 m/s²" in caplog.text
