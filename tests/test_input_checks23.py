@@ -106,16 +106,31 @@ def test_a_peer_record_refuses_another_dt(tmp_path: Path) -> None:
 
 
 # -- results files ----------------------------------------------------------------------------
-def test_a_resumed_run_extended_says_its_duration(tmp_path: Path) -> None:
+def test_a_resumed_run_extended_says_its_duration(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
     """`--resume --duration` extends a run: the file's settings, summary and spec give the
-    new duration (the report's record line reads it)."""
+    new duration (the report's record line reads it); a shorter duration than the run
+    reached is said to leave nothing to continue."""
     p = _write(tmp_path, SMALL, 0.1)
     assert main(["run", str(p), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    with h5py.File(tmp_path / "out" / "results.h5") as f:  # (from the run's own histories)
+        assert s["energy_J"]["balance"] == f["history/energy/balance"][-1]
     assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.2"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
     with h5py.File(tmp_path / "out" / "results.h5") as f:
         assert json.loads(f.attrs["analysis"])["duration"] == 0.2
         assert json.loads(f.attrs["model_spec"])["analysis"]["duration"] == 0.2
         assert f["history/time"][-1] == pytest.approx(0.2)
+        # the summary's balance is the file's, to the bit (one order of summation; before,
+        # a run's own histories summed it in another order)
+        assert s["energy_J"]["balance"] == f["history/energy/balance"][-1]
+    with caplog.at_level(logging.WARNING):
+        assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.05"]) == 0
+    assert "the run reached t = 0.2 s (step 40), beyond the duration 0.05 s" in caplog.text
+    with h5py.File(tmp_path / "out" / "results.h5") as f:  # the file's own, still
+        assert json.loads(f.attrs["analysis"])["duration"] == 0.2
 
 
 def test_a_truncated_results_file_is_not_called_locked(tmp_path: Path) -> None:
@@ -188,3 +203,19 @@ def test_api_types(block: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
     assert "facet group 'none': where(x) selected no boundary facet" in caplog.text
     assert "4 cell(s) of the mesh are in no block's group" in caplog.text
     assert "g = 1 m/s² is not the Earth's 9.81 m/s²" in caplog.text
+
+
+def test_empty_paths_and_a_folder_for_a_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An empty output folder or CSV folder (before: the model's or the current folder
+    taken); a folder given as the model file (before: "model file not found")."""
+    p = _write(tmp_path, SMALL, 0.05)
+    cli_fails(capsys, ["check", str(p), "--set", 'output.folder=""'], "output.folder",
+              "expected a folder path, found an empty string")  # fmt: skip
+    cli_fails(capsys, ["check", str(tmp_path)], "is a folder; expected a model file (.toml)",
+              "model.toml here")  # fmt: skip
+    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    cli_fails(capsys, ["export", str(tmp_path / "out" / "results.h5"), "--csv", ""],
+              "--csv: expected an output folder, got an empty path")  # fmt: skip

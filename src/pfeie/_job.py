@@ -349,6 +349,13 @@ def _run(
         if ck is not None:
             log.info("resuming at step %d (t = %.6g s) of %d", ck.state.step, ck.state.kin.t, n)
             first = ck.state.step
+            if n < first:
+                log.warning("%s: the run reached t = %.6g s (step %d), beyond the duration "
+                            "%.6g s asked: nothing to continue; its results to t = %.6g s "
+                            "are kept", out / "results.h5", ck.state.kin.t, first,
+                            n * a.dt, ck.state.kin.t)  # fmt: skip
+            else:  # the run goes on, to this job's duration
+                writer.set_run(job)
             n = max(n - first, 0)
         flag: dict[str, str] = {}
 

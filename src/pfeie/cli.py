@@ -368,6 +368,8 @@ def _post(args: argparse.Namespace) -> int:
         elif args.command == "export":
             from .io import export_csv
 
+            if not str(args.csv).strip():
+                raise InputError("--csv: expected an output folder, got an empty path")
             files = export_csv(args.results, args.csv)
         else:
             from .plot import write_report

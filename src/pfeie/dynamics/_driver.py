@@ -960,7 +960,8 @@ class Dynamic:
     ) -> DynamicResult:
         """Integrate over ``duration`` (s) or ``n_steps`` steps under the records
         ``ground`` (relative or absolute ``form``), recording the steps whose number is a
-        multiple of ``every``. ``start`` is a :class:`StepState`, a static result or None.
+        multiple of ``every``, and the last step. ``start`` is a :class:`StepState`, a
+        static result or None.
         ``on_record`` receives every recorded row (probe, rigid, pair and energy values,
         and the full nodal u, v, a), e.g. to stream them to a results file.
 
@@ -1106,10 +1107,11 @@ class Dynamic:
         else:
             if cur.step % every and j < rec.t.size - 1 and n:
                 # the last step off the grid of `every`: recorded, so that the run's end
-                # (and what the summary reads from it) is never a step that was dropped
+                # (and what the summary reads from it) is never a step that was dropped;
+                # not a checkpoint: a run extended from this one continues from the last
+                # row on the grid, and its rows are those of a run that never stopped
                 j += 1
                 rec.record(j, cur, solver=since(n))
-                checkpoint()
         wall = _time.perf_counter() - t_wall
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
                                          "residual": resid, "newton": newton,

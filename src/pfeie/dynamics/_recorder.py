@@ -40,7 +40,7 @@ Energy (J), accumulated over the run (method.md §8):
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -58,6 +58,14 @@ if TYPE_CHECKING:
 ENERGY_TERMS = ("kinetic", "strain", "modified", "external_work", "damping", "interface",
                 "impact", "algorithmic", "correction")  # fmt: skip
 _INPUTS = ("external_work", "correction")  # the right-hand side of the balance
+
+
+def _balance(E: Mapping[str, Any], origin: tuple[float, float]) -> Any:
+    """The balance of the energy terms ``E`` (numbers, or arrays over rows): the terms
+    less the start's kinetic and strain energy less the inputs, summed in one order, so
+    that a row streamed to a file and the run's histories hold the same bits."""
+    held = sum(E[key] for key in ENERGY_TERMS if key not in _INPUTS)
+    return held - sum(origin) - sum(E[key] for key in _INPUTS)
 
 
 @dataclass
@@ -562,11 +570,7 @@ class Recorder:
             E[key][i] = self.account.acc[key]
         if self.on_record is not None and emit:
             e_row = {key: float(E[key][i]) for key in ENERGY_TERMS}
-            e_row["balance"] = (
-                sum(e_row[key] for key in ENERGY_TERMS if key not in _INPUTS)
-                - sum(self.origin)
-                - sum(e_row[key] for key in _INPUTS)
-            )
+            e_row["balance"] = float(_balance(e_row, self.origin))
             self.on_record({
                 "t": k.t, "probe_u": self.pu[i], "probe_v": self.pv[i], "probe_a": self.pa[i],
                 "probe_a_abs": self.paa[i], "rigid": self.rigid[i], "X": st.pairs.X,
@@ -637,10 +641,8 @@ class Recorder:
         """The histories of the first ``rows`` rows."""
         keep = slice(0, rows)
         E = self.E
-        tot = (E["kinetic"] + E["strain"] + E["modified"] + E["damping"] + E["interface"]
-               + E["impact"] + E["algorithmic"])  # fmt: skip
         assert self.origin is not None
-        E["balance"] = tot - sum(self.origin) - E["external_work"] - E["correction"]
+        E["balance"] = _balance(E, self.origin)
         P = self.an.model.pairs
         return DynamicResult(
             self.t[keep], self.probes, self.pu[keep], self.pv[keep], self.pa[keep],

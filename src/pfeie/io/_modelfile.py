@@ -510,8 +510,17 @@ def read_model_file(path: str | Path, overrides: Sequence[Override] = ()) -> Mod
     what was found."""
     p = Path(path)
     if not p.is_file():
-        raise InputError(f"{p}: model file not found")
+        raise InputError(_not_found(p))
     return _validate(p, p.read_bytes(), overrides)
+
+
+def _not_found(p: Path) -> str:
+    """The message of a model file that is not a file."""
+    if p.is_dir():
+        found = sorted(x.name for x in p.glob("*.toml"))[:5]
+        return (f"{p}: is a folder; expected a model file (.toml)"
+                + (f": {', '.join(found)} here" if found else ""))  # fmt: skip
+    return f"{p}: model file not found"
 
 
 def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
@@ -564,7 +573,7 @@ def load_job(path: str | Path, overrides: Sequence[Override] = (), *,
 def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
               read_records: bool = True) -> Job:  # fmt: skip
     if not p.is_file():
-        raise InputError(f"{p}: model file not found")
+        raise InputError(_not_found(p))
     raw = p.read_bytes()
     cfg = _validate(p, raw, overrides)
     digest = hashlib.sha256(raw).hexdigest()

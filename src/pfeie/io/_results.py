@@ -309,15 +309,17 @@ class ResultsWriter:
         # the file's own storage (a file of format 1.2 or older: the job's, for its new
         # datasets: the checkpoint, the envelope)
         self.storage = Storage.of_file(f) if "compression" in f.attrs else Storage.of(job.output)
-        # the run as it goes on: its inputs are the file's (the run key), but a resume may
-        # extend it (--duration): the settings, the summary and the spec of this job
-        f.attrs.update(**_run_attrs(job))
         self.field_every, self.flush_s = max(int(job.output.field_every), 1), flush_s
         self.rows = int(rows)
         self._buf = []
         self._last = None
         self._last_flush = time.perf_counter()
         return self
+
+    def set_run(self, job: Any) -> None:
+        """The settings, summary and spec of ``job`` for the run the file holds: a resumed
+        run's inputs are the file's (the run key), but ``--duration`` may extend it."""
+        self.f.attrs.update(**_run_attrs(job))
 
     def _ds(self, g: Any, name: str, data: Any, units: str) -> None:
         self.storage.create(g, name, data, units)

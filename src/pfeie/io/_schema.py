@@ -101,6 +101,15 @@ def _path_text(v: str) -> str:
 PathText = Annotated[str, AfterValidator(_path_text)]
 
 
+def _folder_text(v: str) -> str:
+    if not v.strip():
+        raise ValueError(
+            "expected a folder path, found an empty string (the default: "
+            '"results" beside the model file)'
+        )
+    return v
+
+
 def _check(key: str, text: str) -> PydanticCustomError:
     """A cross-key error of a table, reported at ``<table>.<key>``."""
     return PydanticCustomError("pfeie_check", "{key}: {text}", {"key": key, "text": text})
@@ -726,8 +735,17 @@ _PROBE_JSON: dict[str, Any] = {"anyOf": [
 class Output(_Table):
     """``[output]``: where and what to write."""
 
-    folder: Annotated[PathText, Field(description="output folder")] = "results"
-    every: Annotated[int, Field(gt=0, description="record the histories every n-th step")] = 1
+    folder: Annotated[
+        PathText, AfterValidator(_folder_text), Field(description="output folder")
+    ] = "results"
+    every: Annotated[
+        int,
+        Field(
+            gt=0,
+            description="record the histories every n-th step "
+            "(and the run's last step, off that grid or not)",
+        ),
+    ] = 1
     field_every: Annotated[
         int, Field(gt=0, description="store the nodal fields (u, v, a) every n-th recorded step")
     ] = 10
