@@ -19,6 +19,7 @@ before was removed; its figures stay in docs/benchmarks.md.
     python benchmarks/interfaces.py --scheme moreau-jean
     python benchmarks/interfaces.py --repeat 5          # medians of 5 runs (a shared machine)
     python benchmarks/interfaces.py --no-envelope       # without the stress envelope's sweeps
+    python benchmarks/interfaces.py --event-substeps 4  # events taken in four sub-steps
 
 With ``--repeat N`` each case runs N times and the table gives the medians of the step
 time, of the back-substitution time and of their ratio (each run's ratio uses its own
@@ -124,7 +125,8 @@ def measure(model: pf.Model, an: pf.Dynamic, steps: int, t_static: float, t_setu
 
 
 def case(nx: int, steps: int, large_rotation: bool = False,
-         scheme: str = "nonsmooth-alpha", envelope: bool = True) -> dict[str, float]:  # fmt: skip
+         scheme: str = "nonsmooth-alpha", envelope: bool = True,
+         event_substeps: int = 1) -> dict[str, float]:  # fmt: skip
     model = build(nx)
     t0 = CLOCK()
     static = pf.solve_static(model)
@@ -132,10 +134,15 @@ def case(nx: int, steps: int, large_rotation: bool = False,
     data = np.loadtxt(RECORD, delimiter=",", skiprows=1)
     gm = pf.GroundMotion.from_samples(2.0 * data[:, 1], time=data[:, 0], units="g")
     t0 = CLOCK()
-    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation, scheme=scheme)
+    an = pf.Dynamic(model, 0.01, large_rotation=large_rotation, scheme=scheme,
+                    event_substeps=event_substeps)  # fmt: skip
+    if event_substeps > 1:
+        an.fine()  # the sub-steps' factorisation and W: set-up, not steps
     t_setup = CLOCK() - t0
-    return measure(model, an, steps, t_static, t_setup, ground=[gm], start=static,
-                   envelope=envelope)  # fmt: skip
+    out = measure(model, an, steps, t_static, t_setup, ground=[gm], start=static,
+                  envelope=envelope)  # fmt: skip
+    out["events"] = an.event_steps / steps  # the share of steps taken in sub-steps
+    return out
 
 
 def main() -> None:
@@ -154,6 +161,9 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=1, help="runs per case (medians)")
     ap.add_argument("--no-envelope", action="store_true",
                     help="without the stress envelope (a sweep of the stress operators a step)")
+    ap.add_argument("--event-substeps", type=int, default=1,
+                    help="event sub-steps (analysis.event_substeps; their factorisation "
+                    "counts in the set-up)")  # fmt: skip
     args = ap.parse_args()
     if args.cpu:
         CLOCK = time.process_time
@@ -169,7 +179,8 @@ def main() -> None:
         runs: dict[bool, list[dict[str, float]]] = {k: [] for k in kinds}
         for _ in range(max(args.repeat, 1)):  # alternating: the same load on both
             for large in kinds:
-                runs[large].append(case(nx, args.steps, large, scheme, not args.no_envelope))
+                runs[large].append(case(nx, args.steps, large, scheme, not args.no_envelope,
+                                        args.event_substeps))  # fmt: skip
         step = {}
         for large, rs in runs.items():
             r = {k: float(np.median([x[k] for x in rs])) for k in rs[0]}
@@ -179,8 +190,9 @@ def main() -> None:
             print(f"{scheme:>16} {'large' if large else 'small':>5} {int(r['dof']):>7} "
                   f"{int(r['pairs']):>6} {r['t_static']:>9.2f} "
                   f"{r['t_setup']:>8.2f} {1e3 * r['t_solve']:>9.1f} {1e3 * r['t_step']:>8.1f} "
-                  f"{r['ratio']:>10.2f} {100 * r['iface']:>8.0f} {r['fact']:>8.1f}  {end}",
-                  flush=True)  # fmt: skip
+                  f"{r['ratio']:>10.2f} {100 * r['iface']:>8.0f} {r['fact']:>8.1f}  {end}"
+                  + (f"; event steps {100 * r['events']:.1f} %" if args.event_substeps > 1
+                     else ""), flush=True)  # fmt: skip
         if len(kinds) == 2:
             each = [lg["t_step"] / sm["t_step"] for sm, lg in zip(runs[False], runs[True],
                                                                    strict=True)]  # fmt: skip
