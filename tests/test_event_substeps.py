@@ -105,6 +105,58 @@ def test_resume_across_an_event(
     assert an.twin().fine().factor is an.fine().factor
 
 
+def test_resume_next_to_an_event(
+    v8c: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
+) -> None:
+    """Resumed at the row before the event step, at the event step's row and after it:
+    the energy terms too are those of the run that never stopped (Φ is taken in each
+    step's own step size, at both of its ends, not from a cache of the other size)."""
+    model, static, gm = v8c
+    cks: list[pf.dynamics.Checkpoint] = []
+    full = pf.Dynamic(model, 0.01, event_substeps=4).run(1.0, start=static, ground=[gm],
+                                                         on_checkpoint=cks.append)  # fmt: skip
+    (event,) = np.flatnonzero(full.solver["substeps"])  # the break, step 77
+    for row in (event - 1, event, event + 5):
+        rest = pf.Dynamic(model, 0.01, event_substeps=4).run(
+            n_steps=100 - row, resume=cks[row - 1], ground=[gm])  # fmt: skip
+        np.testing.assert_array_equal(rest.rigid, full.rigid[row:], err_msg=str(row))
+        for key, values in full.energy.items():
+            np.testing.assert_array_equal(rest.energy[key], values[row:], err_msg=key)
+
+
+def test_a_failed_sub_step_keeps_the_step(
+    v8c: tuple[pf.Model, pf.StaticResult, pf.GroundMotion], monkeypatch: pytest.MonkeyPatch,
+    caplog: pytest.LogCaptureFixture,
+) -> None:  # fmt: skip
+    """A pair problem that fails in an event's sub-steps: the sub-steps are undone (their
+    energy terms with them) and the step of Δt, which converged, is kept: the run goes on,
+    its balance closed, and says so."""
+    import logging
+
+    from pfeie.coupling import InterfaceStep
+
+    model, static, gm = v8c
+    an = pf.Dynamic(model, 0.01, event_substeps=4)
+    fine = an.fine()
+    assert fine.istep is not None
+    calls = {"n": 0}
+    solve = InterfaceStep.solve
+
+    def failing(self: InterfaceStep, *args: object, **kw: object) -> object:
+        if self is fine.istep:
+            calls["n"] += 1
+            if calls["n"] == 3:  # the third smooth problem of the sub-steps
+                raise pf.InterfaceError("forced")
+        return solve(self, *args, **kw)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(InterfaceStep, "solve", failing)
+    with caplog.at_level(logging.WARNING):
+        res = an.run(1.2, start=static, ground=[gm])
+    assert res.completed and an.event_steps == 0 and calls["n"] == 3
+    assert "the event's sub-steps failed (forced); the step of dt is kept" in caplog.text
+    assert abs(res.energy["balance"][-1]) < 3e-15 * res.energy["external_work"][-1]
+
+
 def test_moreau_jean_sub_steps(
     v8c: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
 ) -> None:

@@ -278,8 +278,10 @@ folder = "out"
     p.write_text(text.replace("INTERFACE", "base").replace("drains = 0.5", "drains = 3.0"))
     assert main(["check", str(p)]) == 2
     err = capsys.readouterr().err
-    assert ("loads.uplift[0]: uplift in 'base': the drains at 3 m from the heel lie beyond "
-            "the joint, whose pairs reach 2 m from the heel along the flow (-x upstream)") in err
+    assert (
+        "loads.uplift[0]: uplift in 'base': the drains at 3 m from the heel lie beyond "
+        "the joint, whose pairs reach 2 m from the heel along the flow (-x upstream)"
+    ) in err
     # drains at the heel, drains without their efficiency, an efficiency without drains:
     # each changed nothing, silently
     for old, new, words in (
@@ -310,6 +312,20 @@ def test_resume_with_uplift_that_follows() -> None:
     assert int((full.state == OPEN).sum(axis=1).max()) > int((st.pairs.state == OPEN).sum())
     np.testing.assert_array_equal(rest.rigid[-1], full.rigid[-1])
     np.testing.assert_array_equal(rest.X[-1], full.X[-1])
+    # resumed from the rows where pairs open beyond the static crack (the uplift changes
+    # with them): the next step's load is that of the pairs open at its start (before, the
+    # load computed ahead of the uplift's change was kept, one step late, and a resumed
+    # run differed by 0.64 mm)
+    cks = []
+    full = pf.Dynamic(model, 0.005).run(0.6, ground=[gm], start=st, on_checkpoint=cks.append)
+    new = (full.state == OPEN) & (st.pairs.state != OPEN)[None, :]
+    changes = np.flatnonzero(np.any(np.diff(new, axis=0), axis=1)) + 1
+    assert changes.size >= 3
+    for row in changes[:3]:
+        rest = pf.Dynamic(model, 0.005).run(n_steps=full.t.size - 1 - row, ground=[gm],
+                                            start=st, resume=cks[row - 1])  # fmt: skip
+        np.testing.assert_array_equal(rest.rigid, full.rigid[row:], err_msg=str(row))
+        np.testing.assert_array_equal(rest.X, full.X[row:], err_msg=str(row))
 
 
 def test_a_crack_that_runs_through_under_its_own_uplift() -> None:
@@ -437,7 +453,8 @@ def test_a_signal_during_the_yield_search_ends_the_run_cleanly(
     SIGINT printed a traceback and SIGTERM killed the run silently."""
     mesh = Path(__file__).parent / "data" / "dam_lift_joint.msh"
     text = DAM_TOML.format(mesh=mesh).replace(
-        "[analysis]\ndynamic = false", "[analysis]\ndynamic = false\nyield_coefficient = true")
+        "[analysis]\ndynamic = false", "[analysis]\ndynamic = false\nyield_coefficient = true"
+    )
     text += '[output]\nfolder = "out"\n'
     (tmp_path / "dam.toml").write_text(text)
     env = dict(os.environ, PYTHONUNBUFFERED="1")

@@ -808,7 +808,9 @@ class Dynamic:
             # over Δq, as the external work counts it)
             correction = self._strain_added(u1, dq) - 0.5 * float(dq @ (kin.f + f1))
         new = State(t1, u1, v1, acc, f1, smooth.aux)
-        if ahead_next and self.corot is None:
+        if ahead_next and self.corot is None and not ex.follows_pairs:
+            # (not where an uplift follows the pairs: the load of t_{n+2} is that of the
+            # pairs open at t_{n+1}, set after this step)
             # the next step's free acceleration (it depends on this step's state and the
             # load at t_{n+2} only) now, while the factor is in the processor's cache from
             # the block solve above: after the recorder's sweeps it would be read from
@@ -916,6 +918,8 @@ class Dynamic:
         counts = [0, 0, 0.0, 0]
         if fstats is not None:
             fstats.reset()
+        account = dict(rec.account.acc)
+        corrections = fine.velocity_corrections
 
         def on_substep(a: StepState, b: StepState) -> None:
             rec.account.add_step(a, b, fine)
@@ -928,7 +932,18 @@ class Dynamic:
                 counts[3] += fstats.newton
                 fstats.reset()
 
-        nxt = self.substeps(cur, ex, on_substep)
+        try:
+            nxt = self.substeps(cur, ex, on_substep)
+        except InterfaceError:
+            # a sub-step's pair problem failed: the sub-steps are undone (the energy
+            # account, the uplift of the pairs they opened) and the caller keeps the step
+            # of dt it took first
+            rec.account.acc.update(account)
+            if ex.follows_pairs:
+                ex.follow(cur.pairs.state == OPEN)
+            raise
+        finally:
+            self.velocity_corrections += fine.velocity_corrections - corrections
         return nxt, (int(counts[0]), int(counts[1]), float(counts[2]), int(counts[3]))
 
     def _increment_load(self, kin: State, f_ext: FloatArray, R: FloatArray) -> FloatArray:
@@ -1058,9 +1073,15 @@ class Dynamic:
                 nxt = self.step(cur, ex)
                 if self._is_event(cur, nxt):
                     # taken again in sub-steps; the solver's counters hold the work of both
-                    event = True
-                    work = (stats.iterations, stats.newton) if stats is not None else (0, 0)
-                    nxt, sub_counts = self._event_step(cur, ex, rec)
+                    work = ((stats.iterations, stats.fallbacks, stats.newton)
+                            if stats is not None else (0, 0, 0))  # fmt: skip
+                    try:
+                        nxt, sub_counts = self._event_step(cur, ex, rec)
+                        event = True
+                    except InterfaceError as exc:
+                        log.warning("step %d (t = %.6g s): the event's sub-steps failed (%s); "
+                                    "the step of dt is kept", cur.step + 1,
+                                    cur.kin.t + self.dt, exc)  # fmt: skip
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
@@ -1072,8 +1093,8 @@ class Dynamic:
             if event:
                 substeps[i] = self.settings.event_substeps
                 iters[i] = work[0] + sub_counts[0]
-                falls[i], resid[i] = sub_counts[1] > 0, sub_counts[2]
-                newton[i] = work[1] + sub_counts[3] > 0
+                falls[i], resid[i] = work[1] + sub_counts[1] > 0, sub_counts[2]
+                newton[i] = work[2] + sub_counts[3] > 0
             else:
                 rec.account.add_step(cur, nxt)
                 if m and ex.follows_pairs:

@@ -350,26 +350,29 @@ class EnergyAccount:
     def __init__(self, an: Dynamic, excitation: Excitation) -> None:
         self.an, self.ex = an, excitation
         self.acc = dict.fromkeys(ENERGY_TERMS[2:], 0.0)
-        self._phi: tuple[State, float] | None = None  # the last state's Φ (by identity)
+        # the last state's Φ, by the identity of the state and of the analysis whose step
+        # size it is taken in
+        self._phi: tuple[State, Dynamic, float] | None = None
 
     def modified(self, state: State, an: Dynamic | None = None) -> float:
         """Φ of a state of the nonsmooth generalised-α (J) in the scheme of ``an``
-        (default the run's), the last one kept: a step asks for its start, which the
-        previous step asked for as its end."""
-        if self._phi is not None and self._phi[0] is state:
-            return self._phi[1]
+        (default the run's; Φ depends on the step size), the last one kept: a step asks
+        for its start, which the previous step of the same size asked for as its end."""
         an = self.an if an is None else an
+        if self._phi is not None and self._phi[0] is state and self._phi[1] is an:
+            return self._phi[2]
         assert an.ga is not None
         value = an.ga.modified_energy(state)
-        self._phi = (state, value)
+        self._phi = (state, an, value)
         return value
 
     def add_step(self, cur: StepState, nxt: StepState, an: Dynamic | None = None) -> None:
         """Add the work of the step cur → nxt, taken by the analysis ``an`` (default the
-        run's; an event's sub-steps are taken by its analysis at dt/k, whose Φ, for the
-        nonsmooth generalised-α, is that of its own step: the change of Φ from one step
-        size to the other at an event's ends goes to ``modified``, and the balance stays
-        closed)."""
+        run's; an event's sub-steps are taken by its analysis at dt/k). For the nonsmooth
+        generalised-α, the step's change of Φ is taken in its own step size at both ends
+        (``modified`` sums these changes; the difference of Φ between the two step sizes at
+        an event's ends is no step's, so ``algorithmic`` stays D plus the corrections'
+        terms; the balance closes either way)."""
         an = self.an if an is None else an
         acc = self.acc
         if an.mj is not None:
