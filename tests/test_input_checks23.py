@@ -219,3 +219,28 @@ def test_empty_paths_and_a_folder_for_a_file(
     capsys.readouterr()
     cli_fails(capsys, ["export", str(tmp_path / "out" / "results.h5"), "--csv", ""],
               "--csv: expected an output folder, got an empty path")  # fmt: skip
+
+
+def test_interrupted_after_the_stepping(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                        capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """Ctrl-C while the ParaView files are written, after the time stepping: exit 130, the
+    message says the results file holds the run and how to get the rest; `--resume`
+    writes the summary and the series."""
+    import pfeie._job as job_module
+
+    p = _write(tmp_path, SMALL, 0.05)
+    write = job_module.write_paraview
+
+    def interrupted(*args: object, **kw: object) -> None:
+        raise KeyboardInterrupt("SIGINT")
+
+    monkeypatch.setattr(job_module, "write_paraview", interrupted)
+    assert main(["run", str(p), "--quiet"]) == 130
+    err = capsys.readouterr().err
+    assert "the time stepping had finished and results.h5 holds the run" in err, err
+    assert not (tmp_path / "out" / "summary.json").exists()
+    monkeypatch.setattr(job_module, "write_paraview", write)
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    capsys.readouterr()
+    assert (tmp_path / "out" / "summary.json").is_file()
+    assert (tmp_path / "out" / "blocks.xdmf").is_file()

@@ -389,23 +389,32 @@ def _run(
         final = result.final
         if ck is not None:  # the summary of the whole run, not of its resumed part
             result = history(writer, result.completed, result.stop_reason)
-    summary = summarize(job, static, result)
-    post = _post_earthquake(job, static, result, final, writer, summary.get("bodies", {}))
-    if post:
-        summary["post_earthquake"] = post
-    if yields:
-        summary["yield_coefficient"] = yields
-    if reduction:
-        summary["strength_reduction"] = reduction
-    summary["stopped"] = stopped
-    summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    writer.close(stopped is None, stopped, summary)
-    if job.output.paraview and result is not None:
-        write_paraview(out / "results.h5", model, out)
-    (out / "summary.json").write_text(
-        json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
-    )  # strict JSON
-    (out / "summary.txt").write_text(format_summary(summary) + "\n")
+    try:
+        summary = summarize(job, static, result)
+        post = _post_earthquake(job, static, result, final, writer, summary.get("bodies", {}))
+        if post:
+            summary["post_earthquake"] = post
+        if yields:
+            summary["yield_coefficient"] = yields
+        if reduction:
+            summary["strength_reduction"] = reduction
+        summary["stopped"] = stopped
+        summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+        writer.close(stopped is None, stopped, summary)
+        if job.output.paraview and result is not None:
+            write_paraview(out / "results.h5", model, out)
+        (out / "summary.json").write_text(
+            json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
+        )  # strict JSON
+        (out / "summary.txt").write_text(format_summary(summary) + "\n")
+    except KeyboardInterrupt as exc:  # after the time stepping: results.h5 holds the run
+        why = str(exc) or "SIGINT"
+        if writer.f.id.valid:  # (not closed yet)
+            writer.close(False, f"interrupted ({why}) after the time stepping")
+        raise KeyboardInterrupt(
+            f"{why}; the time stepping had finished and results.h5 holds the run; "
+            "`pfeie run --resume` writes the summary and the ParaView files"
+        ) from None
     return summary
 
 
