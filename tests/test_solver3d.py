@@ -703,6 +703,29 @@ def test_a_load_that_stalled_the_newton_at_the_ramps_corner(
     assert force <= 5e-15 and moment <= 5e-15
 
 
+def test_the_load_continuation(static: StaticInterfaceProblem) -> None:
+    """The load continuation (the last stage of a static problem with floating blocks)
+    on the column under (k_x, k_y, a) = (0.4, 0.2, 1.5), from rest, whose Newtons failed
+    with numpy 2.4.6 and scipy 1.17.1 (residual 8.8e-4): called directly, so that it is
+    tested whatever the Newtons do on an installation: each fraction solved from the
+    last (measured 46 iterations in all, asserted ≤ 100), the answer within the
+    tolerance, 52 pairs open, and each floating block in balance to 3e-15 of its forces
+    (measured 3.0e-16, 1.1e-16 for the moment)."""
+    problem = static
+    laws = problem.model.pair_laws
+    f = _eccentric_load(problem, 0.4, 0.2, 1.5)
+    w_free, e = _static_inputs(problem, f)
+    solver = copy.deepcopy(problem.solver)
+    out = solver._continuation(w_free, laws.initial_state(3), e, "", 0, None, True, None)
+    assert out is not None
+    st, _ = out
+    assert solver.last.method == "semismooth Newton (load continuation)"
+    assert solver.last.residual <= 1e-8 and solver.last.iterations <= 100
+    force, moment = _block_balance(problem, f, st.X)
+    assert force <= 3e-15 and moment <= 3e-15
+    assert (st.state == OPEN).sum() >= 40
+
+
 @pytest.mark.slow
 def test_eccentric_loads_on_the_cohesive_column(static: StaticInterfaceProblem) -> None:
     """72 static problems of the column (:func:`_eccentric_load`, k_x 0.1 to 0.4, k_y 0 to
@@ -710,8 +733,13 @@ def test_eccentric_loads_on_the_cohesive_column(static: StaticInterfaceProblem) 
     ramp, 5 ended in ``InterfaceError`` and 9 took 210 to 310 Newton iterations (18 to
     40 s, their first Newtons running to the limit of 100 iterations). With the ramp's C¹
     end and the Newtons that hand over when they stall (``NEWTON_STALL``): all solved, the
-    most iterations 142 (a cold start after two stalled ones), asserted < 200; each
-    floating block in balance to 5e-15."""
+    most iterations 142 (a cold start after two stalled ones). With numpy 2.4.6 and
+    scipy 1.17.1 the Newtons' paths moved with the round-off, and 5 of the 72 ended in
+    ``InterfaceError`` again (residuals 4e-4 to 1.5e-3; the same with the code of before);
+    the load continuation (``CONTINUATION``: the problem at 0.5, 0.75, 0.9 and 1 of its
+    loads, each answer the start of the next) solves them: all 72 solved, the most
+    iterations 376 (a continuation after the Newtons, the work of both counted), asserted
+    < 500; each floating block in balance to 5e-15."""
     problem = static
     laws = problem.model.pair_laws
     w1, e1 = _static_inputs(problem, _eccentric_load(problem, 0.2, 0.0, 1.5))
@@ -729,4 +757,4 @@ def test_eccentric_loads_on_the_cohesive_column(static: StaticInterfaceProblem) 
                     most = max(most, solver.last.iterations)
                     force, moment = _block_balance(problem, f, st.X)
                     assert force <= 5e-15 and moment <= 5e-15
-    assert most < 200
+    assert most < 500

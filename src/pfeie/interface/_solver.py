@@ -120,6 +120,9 @@ SPARSE_MIN = 1000
 """Smallest W (rows) kept sparse when it is sparse enough (:data:`SPARSE_FILL`)."""
 SPARSE_FILL = 0.05
 """Largest fraction of nonzeros of a W kept sparse."""
+#: the load fractions of the continuation that a static problem with floating blocks
+#: takes where its Newtons fail on the whole load (:meth:`InterfaceSolver._continuation`)
+CONTINUATION = (0.5, 0.75, 0.9, 1.0)
 #: the method of a solve that the proximal Newton finished as the second stage of a 3D
 #: problem (:data:`PROXIMAL_FIRST_3D`), after the state iteration: not a fallback
 SECOND_STAGE_PROXIMAL = "proximal Newton (second stage)"
@@ -388,6 +391,7 @@ class InterfaceSolver:
         self._fixed = np.zeros(self.m, dtype=bool)
         self._inactive = np.zeros(self.m, dtype=bool)
         self._breaking = True
+        self._continuing = False  # within a load continuation (see _continuation)
         self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
         self._all_broken: np.ndarray | None = None
         self._wref: FloatArray | None = None
@@ -1183,7 +1187,43 @@ class InterfaceSolver:
             raise singular
         if res4 < res:
             st2, q2, res = st4, q4, res4
+        if not self._continuing and e is not None:
+            # statics with floating blocks: a continuation in the load, the answer at
+            # each fraction the start of the next (the problem's data, w_free and e, are
+            # linear in the loads)
+            out = self._continuation(w_free, prev, e, label, it + n_it + n4, fixed,
+                                     breaking, inactive)  # fmt: skip
+            if out is not None:
+                return out
         raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
+
+    def _continuation(
+        self, w_free: FloatArray, prev: PairState, e: FloatArray, label: str, work: int,
+        fixed: np.ndarray | None, breaking: bool, inactive: np.ndarray | None,
+    ) -> tuple[PairState, FloatArray] | None:  # fmt: skip
+        """The static problem with floating blocks solved along its load, at the
+        fractions :data:`CONTINUATION` of it, each answer the first iterate of the next:
+        where the Newtons stall on the whole load from rest (measured: 5 of 72 eccentric
+        loads of a 3D column, tests/test_solver3d.py, all solved this way). None if a
+        fraction fails."""
+        self._continuing = True
+        start: PairState | None = None
+        total = work
+        try:
+            for frac in CONTINUATION:
+                try:
+                    st, q = self._solve(frac * w_free, prev, frac * e, label,
+                                        fixed=fixed, breaking=breaking, inactive=inactive,
+                                        start=start)  # fmt: skip
+                except InterfaceError:
+                    return None
+                total += self.last.iterations
+                start = st
+        finally:
+            self._continuing = False
+        self.last = SolveInfo(total, self.last.residual, "semismooth Newton (load continuation)")
+        log.debug("%s: solved by a continuation in the load", label)
+        return st, q
 
     def _bending(
         self, st: PairState, prev: PairState, xn_used: FloatArray, fscale: float
