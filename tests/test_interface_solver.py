@@ -132,7 +132,8 @@ def test_a_crawling_newton_stops(monkeypatch: pytest.MonkeyPatch) -> None:
     iterations: measured at most 27 iterations a Newton, 156 in all with the search's try
     1 % beyond the failure (YIELD_BEYOND; 90 before it), against 100 and 269 without the
     criterion; k_y the same to the bit. How far a Newton crawls moves with the round-off
-    of the LAPACK underneath: with numpy 2.4.6 and scipy 1.17.1 at most 32 iterations a
+    of the BLAS underneath: on a machine with an AMD EPYC (AVX-512; the same wheels as
+    before) at most 32 iterations a
     Newton, 232 in all (244 without the criterion)."""
     import pfeie as pf
     from pfeie.interface import _solver

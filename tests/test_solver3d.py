@@ -706,7 +706,7 @@ def test_a_load_that_stalled_the_newton_at_the_ramps_corner(
 def test_the_load_continuation(static: StaticInterfaceProblem) -> None:
     """The load continuation (the last stage of a static problem with floating blocks)
     on the column under (k_x, k_y, a) = (0.4, 0.2, 1.5), from rest, whose Newtons failed
-    with numpy 2.4.6 and scipy 1.17.1 (residual 8.8e-4): called directly, so that it is
+    on a machine with an AMD EPYC (residual 8.8e-4): called directly, so that it is
     tested whatever the Newtons do on an installation: each fraction solved from the
     last (measured 46 iterations in all, asserted ≤ 100), the answer within the
     tolerance, 52 pairs open, and each floating block in balance to 3e-15 of its forces
@@ -733,8 +733,9 @@ def test_eccentric_loads_on_the_cohesive_column(static: StaticInterfaceProblem) 
     ramp, 5 ended in ``InterfaceError`` and 9 took 210 to 310 Newton iterations (18 to
     40 s, their first Newtons running to the limit of 100 iterations). With the ramp's C¹
     end and the Newtons that hand over when they stall (``NEWTON_STALL``): all solved, the
-    most iterations 142 (a cold start after two stalled ones). With numpy 2.4.6 and
-    scipy 1.17.1 the Newtons' paths moved with the round-off, and 5 of the 72 ended in
+    most iterations 142 (a cold start after two stalled ones). On a machine with an AMD EPYC
+    (AVX-512; the same wheels as before) the Newtons' paths moved with the round-off,
+    and 5 of the 72 ended in
     ``InterfaceError`` again (residuals 4e-4 to 1.5e-3; the same with the code of before);
     the load continuation (``CONTINUATION``: the problem at 0.5, 0.75, 0.9 and 1 of its
     loads, each answer the start of the next) solves them: all 72 solved, the most
