@@ -244,3 +244,25 @@ def test_interrupted_after_the_stepping(tmp_path: Path, monkeypatch: pytest.Monk
     capsys.readouterr()
     assert (tmp_path / "out" / "summary.json").is_file()
     assert (tmp_path / "out" / "blocks.xdmf").is_file()
+
+
+def test_water_below_its_faces_and_a_long_free_tail(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A water level at or below the faces it loads (no water on them), and a duration
+    more than twice the longest record and 20 s beyond it: warnings naming the key."""
+    water = SMALL.replace("[analysis]", '[[loads.hydrostatic]]\ngroups = ["bottom"]\n'
+                          "water_level = -1.0\n[analysis]")  # fmt: skip
+    p = _write(tmp_path, water, 30.0)  # the pulse lasts 0.4 s
+    with caplog.at_level(logging.WARNING):
+        assert main(["check", str(p)]) == 0
+    capsys.readouterr()
+    assert ("loads.hydrostatic[0].water_level = -1 m lies at or below the lowest point of "
+            "its faces ['bottom'] (0 m): no water on them") in caplog.text  # fmt: skip
+    assert ("analysis.duration = 30 s is 75 times the longest record (0.4 s): the run goes "
+            "on for 29.6 s of free vibration") in caplog.text  # fmt: skip
+    caplog.clear()
+    with caplog.at_level(logging.WARNING):
+        assert main(["check", str(_write(tmp_path, SMALL, 10.0))]) == 0  # 9.6 s: no warning
+    capsys.readouterr()
+    assert "free vibration" not in caplog.text

@@ -365,8 +365,23 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
                             "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
+            nodes = [conn.ravel() for g in item.groups
+                     for conn in mesh.facet_groups.get(g, {}).values()]  # fmt: skip
+            if nodes:
+                low = float(mesh.points[np.concatenate(nodes), mesh.dim - 1].min())
+                if item.water_level <= low:
+                    log.warning("%s: loads.%s[%d].water_level = %g m lies at or below the "
+                                "lowest point of its faces %s (%g m): no water on them; "
+                                "intended?", p, key, i, item.water_level,
+                                list(item.groups), low)  # fmt: skip
     _water_levels(p, cfg, mesh)
 
+
+#: a duration above this many times the longest record, and more than FREE_TAIL_MIN_S
+#: beyond it, gets a warning (a free-vibration tail longer than the shaking: a duration
+#: in ms, or a typo?)
+FREE_TAIL_FACTOR = 2.0
+FREE_TAIL_MIN_S = 20.0
 
 #: two water levels that differ by more than this (m) are two levels
 _LEVEL_TOL = 1e-6
@@ -852,6 +867,13 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)
         records.append(rec)
+    end = cfg.analysis.duration
+    if records and end is not None and cfg.analysis.dynamic:
+        longest = max(float(r.time[-1]) for r in records)
+        if end > FREE_TAIL_FACTOR * longest and end - longest > FREE_TAIL_MIN_S:
+            log.warning("%s: analysis.duration = %g s is %.3g times the longest record (%g s):"
+                        " the run goes on for %g s of free vibration after the shaking; "
+                        "intended?", p, end, end / longest, longest, end - longest)  # fmt: skip
     probes = {}
     reach = _largest_cell(model.mesh)
     for name, spec in cfg.output.probes.items():
