@@ -266,3 +266,13 @@ def test_water_below_its_faces_and_a_long_free_tail(
         assert main(["check", str(_write(tmp_path, SMALL, 10.0))]) == 0  # 9.6 s: no warning
     capsys.readouterr()
     assert "free vibration" not in caplog.text
+
+
+def test_an_unknown_option_gets_its_commands_usage(capsys: pytest.CaptureFixture[str]) -> None:
+    """An option a command does not have: that command's usage line, not the top level's
+    (before: `usage: pfeie [-h] [--version] [-v] COMMAND ...`)."""
+    assert main(["run", "m.toml", "--bogus"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: pfeie run ") and "unrecognized arguments: --bogus" in err
+    assert main(["--bogus"]) == 2
+    assert capsys.readouterr().err.startswith("usage: pfeie [-h]")

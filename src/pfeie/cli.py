@@ -235,7 +235,12 @@ def _interrupt(signum: int, _frame: object) -> None:
 def _main(argv: Sequence[str] | None) -> int:
     ap = _parser()
     try:
-        args = ap.parse_args(argv)
+        args, extra = ap.parse_known_args(argv)
+        if extra:  # with the usage of the command they follow, not the top level's
+            sub = next((a for a in ap._actions if isinstance(a, argparse._SubParsersAction)),
+                       None)  # fmt: skip
+            own = sub.choices.get(args.command) if sub is not None and args.command else None
+            (own or ap).error(f"unrecognized arguments: {' '.join(extra)}")
     except SystemExit as exc:  # argparse: --help, --version (0) or usage errors (2)
         return int(exc.code or 0)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
