@@ -276,3 +276,16 @@ def test_an_unknown_option_gets_its_commands_usage(capsys: pytest.CaptureFixture
     assert err.startswith("usage: pfeie run ") and "unrecognized arguments: --bogus" in err
     assert main(["--bogus"]) == 2
     assert capsys.readouterr().err.startswith("usage: pfeie [-h]")
+
+
+def test_a_refused_resume_names_what_differs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--resume` with another Δt: the message names the key and both values (before:
+    "the model file, its --set overrides, the mesh or a record differ")."""
+    p = _write(tmp_path, SMALL, 0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    capsys.readouterr()
+    cli_fails(capsys, ["run", str(p), "--quiet", "--resume", "--dt", "0.0025"],
+              "cannot resume: the inputs differ from those of the run: analysis.dt: 0.005 "
+              "for the run in the file, 0.0025 for this one")  # fmt: skip

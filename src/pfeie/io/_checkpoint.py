@@ -59,17 +59,7 @@ def run_key(job: Any) -> str:
     duration (a ``pga`` or ``target_sa`` met by the part of a record up to
     ``analysis.duration``, :attr:`Job.part_factors`) are in it: a run extended to another
     duration with another factor is not continued."""
-    spec = json.loads(json.dumps(job.spec, default=str))
-    spec.get("analysis", {}).pop("duration", None)
-    out = spec.get("output", {})
-    for key in ("compression", "compression_level"):
-        out.pop(key, None)
-    if out.get("field_precision") == "float64":
-        out.pop("field_precision")
-    out.pop("checkpoint_steps", None)  # when to checkpoint changes no value
-    damping = spec.get("damping", {})
-    if damping.get("deformation_only") is False:  # the default: keys as before the option
-        damping.pop("deformation_only")
+    spec = _keyed(job.spec)
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     part = getattr(job, "part_factors", None)
     if part:  # none: the key as before these factors existed
@@ -80,6 +70,37 @@ def run_key(job: Any) -> str:
     for p in files:
         h.update(p.read_bytes() if p.is_file() else str(p).encode())
     return h.hexdigest()
+
+
+def _keyed(spec: Any) -> dict[str, Any]:
+    """The model spec as the run key takes it (see :func:`run_key`)."""
+    spec = json.loads(json.dumps(spec, default=str))
+    spec.get("analysis", {}).pop("duration", None)
+    out = spec.get("output", {})
+    for key in ("compression", "compression_level"):
+        out.pop(key, None)
+    if out.get("field_precision") == "float64":
+        out.pop("field_precision")
+    out.pop("checkpoint_steps", None)  # when to checkpoint changes no value
+    damping = spec.get("damping", {})
+    if damping.get("deformation_only") is False:  # the default: keys as before the option
+        damping.pop("deformation_only")
+    return dict(spec)
+
+
+def _flat(value: Any, key: str = "") -> dict[str, Any]:
+    """A nested table as its key paths (``analysis.dt``, ``ground_motion[0].scale``)."""
+    if isinstance(value, dict):
+        out: dict[str, Any] = {}
+        for k, v in value.items():
+            out.update(_flat(v, f"{key}.{k}" if key else str(k)))
+        return out
+    if isinstance(value, list) and any(isinstance(v, dict) for v in value):
+        out = {}
+        for i, v in enumerate(value):
+            out.update(_flat(v, f"{key}[{i}]"))
+        return out
+    return {key: value}
 
 
 def _differs(f: Any, job: Any) -> str:
@@ -98,6 +119,21 @@ def _differs(f: Any, job: Any) -> str:
             f"analysis.duration, so its scale factor depends on the duration: {old} for "
             f"the run in the file, {new} for this one (another motion from the start)"
         )
+    if "model_spec" in f.attrs:  # the keys that differ (the file's spec as run)
+        was_spec = _flat(_keyed(json.loads(f.attrs["model_spec"])))
+        now_spec = _flat(_keyed(job.spec))
+        keys = [k for k in sorted(set(was_spec) | set(now_spec))
+                if was_spec.get(k) != now_spec.get(k)]  # fmt: skip
+        if keys:
+            shown = "; ".join(
+                f"{k}: {was_spec.get(k, '(none)')!r} for the run in the file, "
+                f"{now_spec.get(k, '(none)')!r} for this one"
+                for k in keys[:4]
+            )
+            more = f" (and {len(keys) - 4} more)" if len(keys) > 4 else ""
+            return f"the inputs differ from those of the run: {shown}{more}"
+        return (f"the model file's keys are those of the run, but the contents of the mesh "
+                f"or of a record file differ ({job.path})")  # fmt: skip
     return (
         f"the model file, its --set overrides, the mesh or a record differ from those "
         f"of the run ({job.path})"
