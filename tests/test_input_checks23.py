@@ -289,3 +289,18 @@ def test_a_refused_resume_names_what_differs(
     cli_fails(capsys, ["run", str(p), "--quiet", "--resume", "--dt", "0.0025"],
               "cannot resume: the inputs differ from those of the run: analysis.dt: 0.005 "
               "for the run in the file, 0.0025 for this one")  # fmt: skip
+
+
+def test_two_names_on_one_physical_group(tmp_path: Path) -> None:
+    """Two names of one (dimension, tag) in $PhysicalNames: refused, naming both (before:
+    one of them taken silently)."""
+    from test_input_checks16 import DATA
+
+    text = (DATA / "two_blocks_v22.msh").read_text()
+    text = text.replace('$PhysicalNames\n4\n1 3 "joint"\n',
+                        '$PhysicalNames\n5\n1 3 "joint"\n1 3 "crack"\n')  # fmt: skip
+    p = tmp_path / "m.msh"
+    p.write_text(text)
+    with pytest.raises(MeshError, match=r"the physical group of dimension 1 and tag 3 has two "
+                       r"names, 'joint' and 'crack'"):  # fmt: skip
+        pf.io.read_mesh(p)

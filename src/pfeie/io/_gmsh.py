@@ -240,7 +240,14 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
     table = _physical_names(Path(path)) if str(path) != "<mesh>" else None
     if table is not None:
         seen: dict[tuple[int, str], int] = {}
+        named: dict[tuple[int, int], str] = {}
         for gdim, tag, gname in table:
+            first = named.setdefault((gdim, tag), gname)
+            if first != gname:
+                raise MeshError(f"{path}: the physical group of dimension {gdim} and tag "
+                                f"{tag} has two names, {first!r} and {gname!r}; expected one "
+                                "name per group (the elements belong to one group: give the "
+                                "second name its own group)")  # fmt: skip
             other = seen.setdefault((gdim, gname), tag)
             if other != tag:
                 raise MeshError(f"{path}: the physical name {gname!r} is given to two groups "
