@@ -304,3 +304,16 @@ def test_two_names_on_one_physical_group(tmp_path: Path) -> None:
     with pytest.raises(MeshError, match=r"the physical group of dimension 1 and tag 3 has two "
                        r"names, 'joint' and 'crack'"):  # fmt: skip
         pf.io.read_mesh(p)
+
+
+def test_a_utf16_record_is_read(tmp_path: Path) -> None:
+    """A record saved as UTF-16 (with its byte-order mark, as some Windows editors write
+    it) reads as its UTF-8 twin (before: "not a text file (it holds NUL bytes)")."""
+    t = np.arange(0.0, 1.0, 0.01)
+    text = "\n".join(f"{a:.4f} {b:.6f}" for a, b in zip(t, np.sin(t), strict=True))
+    (tmp_path / "u16.csv").write_text(text, encoding="utf-16")
+    (tmp_path / "u8.csv").write_text(text, encoding="utf-8")
+    a = read_record(tmp_path / "u16.csv", units="g")
+    b = read_record(tmp_path / "u8.csv", units="g")
+    np.testing.assert_array_equal(a.time, b.time)
+    np.testing.assert_array_equal(a.acceleration, b.acceleration)
