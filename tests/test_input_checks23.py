@@ -317,3 +317,13 @@ def test_a_utf16_record_is_read(tmp_path: Path) -> None:
     b = read_record(tmp_path / "u8.csv", units="g")
     np.testing.assert_array_equal(a.time, b.time)
     np.testing.assert_array_equal(a.acceleration, b.acceleration)
+
+
+def test_a_binary_file_for_the_model_file(tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """A binary file named .csv given as the model file: "a binary file" (before: "this
+    looks like a ground-motion record")."""
+    p = tmp_path / "data.csv"
+    p.write_bytes(bytes(range(256)) * 4)
+    cli_fails(capsys, ["check", str(p)], "expected a model file (.toml); this looks like a "
+              "binary file")  # fmt: skip

@@ -58,6 +58,8 @@ def foreign_file(path: Path, raw: bytes) -> str | None:
         return "a gmsh mesh"
     if raw.startswith(b"\x89HDF\r\n\x1a\n") or suffix in (".h5", ".hdf5"):
         return "an HDF5 file (a results file?)"
+    if b"\0" in head and not head.startswith((b"\xff\xfe", b"\xfe\xff")):
+        return "a binary file"
     if suffix in (".at2", ".csv") or head.startswith(b"PEER"):
         return "a ground-motion record"
     return None
