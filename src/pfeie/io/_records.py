@@ -381,11 +381,15 @@ def read_record(
         try:
             raw = raw.decode("utf-16").encode("utf-8")
         except UnicodeDecodeError:
-            raise RecordError(f"{p}: a UTF-16 text file that does not decode; expected "
-                              "a text file (save it as UTF-8)") from None
+            raise RecordError(
+                f"{p}: a UTF-16 text file that does not decode; expected "
+                "a text file (save it as UTF-8)"
+            ) from None
     if b"\0" in raw:
-        raise RecordError(f"{p}: not a text file (it holds NUL bytes); expected a text "
-                          "record (PEER .AT2, or columns of numbers)")
+        raise RecordError(
+            f"{p}: not a text file (it holds NUL bytes); expected a text "
+            "record (PEER .AT2, or columns of numbers)"
+        )
     try:  # UTF-8, a byte-order mark dropped; else Latin-1 (titles such as 'DÜZCE')
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
