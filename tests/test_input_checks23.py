@@ -89,11 +89,13 @@ def test_records_before_zero_or_in_ms(tmp_path: Path, caplog: pytest.LogCaptureF
         pf.GroundMotion.from_samples(a, time=2000 * t)
     np.savetxt(tmp_path / "coarse.csv", np.c_[np.arange(20) * 0.2, np.sin(np.arange(20))],
                delimiter=",")  # fmt: skip
-    p = _write(tmp_path, SMALL.replace('file = "pulse.csv"', 'file = "coarse.csv"'))
+    # (with a pga key in m/s² beside it: both warnings, neither hiding the other)
+    p = _write(tmp_path, SMALL.replace('file = "pulse.csv"', 'file = "coarse.csv"\npga = 5.0'))
     with caplog.at_level(logging.WARNING):
         assert main(["check", str(p)]) == 0
     capsys.readouterr()
     assert "coarse.csv is sampled every 0.2 s" in caplog.text and "in ms?" in caplog.text
+    assert "ground_motion[0].pga = 5 g lies above" in caplog.text
 
 
 def test_a_peer_record_refuses_another_dt(tmp_path: Path) -> None:

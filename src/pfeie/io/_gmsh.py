@@ -240,9 +240,9 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
     table = _physical_names(Path(path)) if str(path) != "<mesh>" else None
     if table is not None:
         seen: dict[tuple[int, str], int] = {}
-        named: dict[tuple[int, int], str] = {}
+        names: dict[tuple[int, int], str] = {}
         for gdim, tag, gname in table:
-            first = named.setdefault((gdim, tag), gname)
+            first = names.setdefault((gdim, tag), gname)
             if first != gname:
                 raise MeshError(f"{path}: the physical group of dimension {gdim} and tag "
                                 f"{tag} has two names, {first!r} and {gname!r}; expected one "
@@ -254,7 +254,6 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
                                 f"of dimension {gdim} (tags {other} and {tag}); expected one "
                                 "name per group (give the second group its own name, or "
                                 "put both entities in one physical group)")  # fmt: skip
-        names = {(gdim, tag): gname for gdim, tag, gname in table}
     else:
         names = {(int(v[1]), int(v[0])): str(k) for k, v in (m.field_data or {}).items()}
 

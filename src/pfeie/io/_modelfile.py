@@ -854,15 +854,14 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
             if odd is not None:
                 log.warning("%s: ground_motion[%d]: %s", p, i, odd)
-        step = float(np.median(np.diff(rec.time)))
-        if step > RECORD_DT_COARSE:
-            log.warning("%s: ground_motion[%d]: %s is sampled every %g s (strong-motion "
-                        "records: 0.005 to 0.05 s): its times or dt in ms?", p, i, gm.file,
-                        step)  # fmt: skip
         elif gm.pga is not None and gm.pga > PGA_KEY_HIGH_G:
             log.warning("%s: ground_motion[%d].pga = %g g lies above %g g (strong records: "
                         "0.1 to 1.5 g); pga is in g: for %g m/s² give pga = %.3g", p, i,
                         gm.pga, PGA_KEY_HIGH_G, gm.pga, gm.pga / 9.81)  # fmt: skip
+        if rec.sampling > RECORD_DT_COARSE:
+            log.warning("%s: ground_motion[%d]: %s is sampled every %g s (strong-motion "
+                        "records: 0.005 to 0.05 s): its times or dt in ms?", p, i, gm.file,
+                        rec.sampling)  # fmt: skip
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)
@@ -1028,13 +1027,12 @@ def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:
     why = shorter_than_a_step(rec, dt)
     if why is not None:
         raise InputError(f"{p}: ground_motion[{i}]: {why}")
-    step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
     if 0.5 / dt < MIN_APPLIED_HZ:
         raise InputError(f"{p}: analysis.dt: steps of {dt:g} s apply only the "
                          f"content of ground_motion[{i}] below {0.5 / dt:.3g} Hz (1/(2Δt)), "
                          "and an earthquake's lies at about 0.5 to 20 Hz; expected "
                          f"analysis.dt ≤ {0.5 / MIN_APPLIED_HZ:g} s, typically the record's "
-                         f"sampling ({step:g} s) or finer")  # fmt: skip
+                         f"sampling ({rec.sampling:g} s) or finer")  # fmt: skip
     if (coarse := coarse_step(rec, dt)) is not None:
         log.warning("%s: ground_motion[%d]: %s", p, i, coarse)
 

@@ -119,7 +119,7 @@ def coarse_step(rec: GroundMotion, dt: float) -> str | None:
     >>> coarse_step(gm, 0.005) is None
     True
     """  # noqa: E501
-    step = float(np.median(np.diff(rec.time))) if rec.time.size > 1 else dt
+    step = rec.sampling
     if dt <= step * (1 + 1e-9):
         return None
     return (f"analysis.dt = {dt:g} s is coarser than the record's sampling ({step:g} s): the "

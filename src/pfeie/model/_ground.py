@@ -56,6 +56,11 @@ RECORD_DT_MAX = 10.0
 RECORD_DT_COARSE = 0.1
 
 
+def _median_step(t: npt.ArrayLike) -> float:
+    """The median of the steps of the times ``t`` (s), a record's sampling interval."""
+    return float(np.median(np.diff(t)))
+
+
 @dataclass(frozen=True)
 class GroundMotion:
     """An acceleration record: times (s), accelerations (m/s²), a unit direction.
@@ -146,7 +151,7 @@ class GroundMotion:
                     "applied from t = 0, so its part before 0 would be dropped (and a pga "
                     "measured on it): shift the times to start at 0 (or cut the record)"
                 )
-            step = float(np.median(np.diff(t)))
+            step = _median_step(t)
             if step > RECORD_DT_MAX:
                 raise ModelError(f"ground motion {name!r}: the times step by {step:g} s "
                                  f"(median); expected a sampling interval in (0, "
@@ -355,6 +360,11 @@ class GroundMotion:
     @property
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
+
+    @property
+    def sampling(self) -> float:
+        """The record's sampling interval (s): the median of its time steps."""
+        return _median_step(self.time)
 
     def summary(self) -> str:
         """One line: name, PGA and its time, duration, Δt."""
