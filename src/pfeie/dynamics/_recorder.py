@@ -197,8 +197,13 @@ class StressEnvelope:
         self._cell_idx: np.ndarray | slice = (
             slice(None) if np.array_equal(self._cells, np.arange(n_cells)) else self._cells
         )
-        # plane states: the yz and xz components vanish (σ₁, σ₃ in closed form)
+        # plane states: the yz and xz components vanish (σ₁, σ₃ in closed form, from the
+        # centre, half-difference and shear of Mohr's circle and σ_zz at each point)
         self._plane = self.op.plane
+        if self._plane:
+            op = self.op
+            self._centre = op.lam + op.mu  # c = (λ + μ) tr ε
+            self._mohr = np.empty((4 if op.plane_strain else 3, op.n_q))
         ft = np.asarray(model.cell_tensile_strength)
         self._ft = ft[self._cells] if np.isfinite(ft).any() else None
         self.tensile = ft
@@ -221,30 +226,56 @@ class StressEnvelope:
 
     def _extremes(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """σ₁ and σ₃ of the component-major Voigt rows ``s`` (6, N)
-        (:func:`principal_extremes`; in plane states its closed form, to the bit)."""
-        if not self._plane:
-            return principal_extremes(s.T)
-        xx, yy, zz, xy = s[0], s[1], s[2], s[5]
-        c = xx + yy
-        c *= 0.5
-        R = xx - yy
-        R *= 0.5
-        R *= R  # Mohr's radius as pfeie.assembly's, to the bit
-        R += xy * xy
+        (:func:`principal_extremes`)."""
+        return principal_extremes(s.T)
+
+    @staticmethod
+    def _plane_extremes(m: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """σ₁ and σ₃ of plane states from the rows ``m`` (3 or 4, N) of Mohr's circle in
+        the plane, its centre c = (σ_xx + σ_yy)/2, half-difference a = (σ_xx − σ_yy)/2 and
+        shear b = σ_xy, and σ_zz (a fourth row; zero without it, plane stress):
+        σ₁ = max(c + R, σ_zz), σ₃ = min(c − R, σ_zz), R = √(a² + b²)."""
+        c, a, b = m[0], m[1], m[2]
+        R = a * a
+        R += b * b
         np.sqrt(R, out=R)
-        hi = np.add(c, R)
-        np.subtract(c, R, out=c)
-        return np.maximum(hi, zz, out=hi), np.minimum(c, zz, out=c)
+        hi, lo = c + R, c - R
+        zz = m[3] if m.shape[0] == 4 else 0.0
+        return np.maximum(hi, zz, out=hi), np.minimum(lo, zz, out=lo)
+
+    def _point_and_node_extremes(self, u: FloatArray) -> tuple[FloatArray, ...]:
+        """σ₁ and σ₃ at the points and at the (active) nodes of the full displacement
+        vector ``u``. In plane states from the strains ε = B u: Mohr's circle at each point
+        is c = (λ + μ) tr ε, a = μ (ε_xx − ε_yy), b = μ γ_xy, with σ_zz = λ tr ε in plane
+        strain; these rows are linear in σ, so the nodes take the same extrapolation of
+        them (:meth:`~pfeie.model.StressOperators.nodal_values`) as of the stress."""
+        op = self.op
+        if self._plane:
+            n = op.n_q
+            e = op.strain @ u
+            m = self._mohr
+            c = m[0]
+            np.add(e[:n], e[n : 2 * n], out=c)  # tr ε
+            if m.shape[0] == 4:
+                np.multiply(op.lam, c, out=m[3])  # σ_zz, plane strain
+            c *= self._centre
+            np.subtract(e[:n], e[n : 2 * n], out=m[1])
+            m[1] *= op.mu
+            np.multiply(op.mu, e[2 * n :], out=m[2])
+            mn = op.nodal_values(m)
+            if not isinstance(self._node_idx, slice):
+                mn = mn[:, self._nodes]
+            return (*self._plane_extremes(m), *self._plane_extremes(mn))
+        sq = op.components(u)
+        sn = op.nodal_components(sq)
+        if not isinstance(self._node_idx, slice):
+            sn = sn[:, self._nodes]
+        return (*self._extremes(sq), *self._extremes(sn))
 
     def update(self, t: float, u: FloatArray) -> None:
         """Fold in the stress of the full displacement vector ``u`` at time ``t``."""
         v = self.values
-        sq = self.op.components(u)
-        sn = self.op.nodal_components(sq)
-        if not isinstance(self._node_idx, slice):
-            sn = sn[:, self._nodes]
-        hi_n, lo_n = self._extremes(sn)
-        hi_q, lo_q = self._extremes(sq)
+        hi_q, lo_q, hi_n, lo_n = self._point_and_node_extremes(u)
         if self._nq:  # point by point, in the order of reduceat (the same bits)
             hi_c, lo_c = hi_q[:: self._nq].copy(), lo_q[:: self._nq].copy()
             for j in range(1, self._nq):

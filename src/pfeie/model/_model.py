@@ -136,15 +136,25 @@ class StressOperators:
         """The nodal stress, component-major (6, n_points), Pa, of the point values
         (6, n_q) of :meth:`components`; zero at nodes of no block cell."""
         out = np.zeros((6, self.gather.shape[0]))
-        corner = np.empty(self.gather.shape[1])
-        for k in (0, 1, 2, 5) if self.plane else range(6):
-            r0 = 0
-            for q0, c, F in self.fits:
-                nq, nen = F.shape
-                vals = components[k, q0 : q0 + c * nq].reshape(c, nq) @ F
-                corner[r0 : r0 + c * nen] = vals.ravel()
-                r0 += c * nen
-            out[k] = self.gather @ corner
+        rows = [0, 1, 2, 5] if self.plane else list(range(6))
+        out[rows] = self.nodal_values(components[rows])
+        return out
+
+    def nodal_values(self, values: FloatArray) -> FloatArray:
+        """The nodal values (k, n_points) of k fields given at the points (k, n_q), by
+        the corner fit and the average of :attr:`gather` (the same linear map for every
+        field: per cell type one batched dense product with its fit F, then a sparse
+        product per field over contiguous rows); zero at nodes of no block cell."""
+        k = values.shape[0]
+        parts = []
+        for q0, c, F in self.fits:
+            nq, nen = F.shape
+            block = values[:, q0 : q0 + c * nq].reshape(k * c, nq) @ F  # (k c, nen)
+            parts.append(block.reshape(k, c * nen))
+        corner = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
+        out = np.empty((k, self.gather.shape[0]))
+        for j in range(k):
+            out[j] = self.gather @ corner[j]
         return out
 
     def at_nodes(self, point_values: FloatArray) -> FloatArray:
