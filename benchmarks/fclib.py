@@ -1,6 +1,7 @@
 """pfeie's interface solver on the FCLIB frictional-contact problems of Siconos.
 
-The 22 problems in ``../shared/data/fclib/`` (Siconos test data, Apache-2.0: stacked
+The 22 FCLIB problems (``--data DIR``, by default a ``shared/data/fclib`` beside the
+repository; Siconos test data, Apache-2.0: stacked
 boxes, capsules, spheres, granular flow, a rover wheel; 2D and 3D, 1 to 2,020 contacts;
 see its README) are posed to :class:`pfeie.interface.InterfaceSolver` through its public
 API, exactly as a time step poses its pair problem: u = W r + q, pairs closed and broken

@@ -1,4 +1,4 @@
-"""The verification cases (pfeie.verification, V1-V10 of ../shared/verification-cases.md)
+"""The verification cases (pfeie.verification, V1-V11, each with its closed form and source)
 are defined once, in ``pfeie.verification._cases``: the tests run those functions, and the
 manual (``pfeie verify --manual``) prints the same checks.
 
@@ -138,8 +138,8 @@ def test_manual_is_written_from_the_cases(tmp_path: Path) -> None:
     assert f"{len(NAMES)} of {len(NAMES)} cases pass" in index
     assert "| [V4](V4.md) | extreme slip |" in index
     assert "| [V7b](V7b.md) | quarter period |" in index and "Not run" not in index
-    # every case of verification-cases.md (V1-V10) is run, some in parts (V7a, V7b)
-    for k in range(1, 11):
+    # every case V1-V11 is run, some in parts (V7a, V7b; V11a, V11b)
+    for k in range(1, 12):
         assert any(n == f"V{k}" or (n[:-1] == f"V{k}" and n[-1].isalpha()) for n in CASES)
     assert (tmp_path / "V6.png").stat().st_size > 10_000
 

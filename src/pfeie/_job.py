@@ -222,6 +222,10 @@ def run_job(
     duration). One run at a time writes to an output folder (a lock file with its process
     id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
+    if (out / "study.json").exists():  # a run's summaries would replace the study's report
+        raise InputError(f"{job.path}: output.folder: {out} holds the outputs of a `pfeie "
+                         "study` (study.json); a run writes its own results, summary and "
+                         "report: choose another output.folder")  # fmt: skip
     with FolderLock(out, job.path):
         try:
             return _run(job, out, progress, duration, stream, resume, checkpoint_s)
@@ -243,43 +247,94 @@ def run_job(
 
 
 class FolderLock:
-    """One run at a time per output folder: a lock file with the process id, created
-    exclusively; a lock whose process is gone is taken over."""
+    """One run at a time per output folder: a lock file holding the process id and the
+    model, locked by the operating system (``flock``; released when the process ends, so a
+    killed run's lock is taken over). The file is written only while locked, and a lock
+    taken on a file that another run has just removed (and maybe created again) is tried
+    again: two runs started at the same moment cannot both take it."""
 
     def __init__(self, folder: Path, model: Path) -> None:
         self.path, self.model = folder / ".pfeie-run.lock", model
+        self._fd: int | None = None
 
     def __enter__(self) -> FolderLock:
+        import fcntl
         import os
 
-        for _ in range(2):
+        for _ in range(20):
+            fd = os.open(self.path, os.O_CREAT | os.O_RDWR, 0o644)
             try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-            except FileExistsError:
-                text = self.path.read_text(errors="replace").split("\n")
-                try:
-                    pid = int(text[0])
-                    os.kill(pid, 0)
-                except (ValueError, ProcessLookupError, PermissionError):
-                    self.path.unlink(missing_ok=True)  # stale: its run is gone
-                    continue
-                raise InputError(
-                    f"{self.path.parent}: another pfeie run (pid {pid}, model "
-                    f"{text[1] if len(text) > 1 else '?'}) writes to this output folder; wait "
-                    "for it to end, or choose another output.folder"
-                ) from None
-            with os.fdopen(fd, "w") as fh:
-                fh.write(f"{os.getpid()}\n{self.model}\n")
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                self._refuse()
+                time.sleep(0.05)  # its holder is writing it, or has just ended: again
+                continue
+            try:
+                same = os.fstat(fd).st_ino == os.stat(self.path).st_ino
+            except FileNotFoundError:
+                same = False
+            if not same:  # removed by the run that held it: lock the new file
+                os.close(fd)
+                continue
+            held = os.read(fd, 4096).decode(errors="replace")
+            if _alive(held.split("\n")[0].strip()):  # a run that does not lock (an earlier
+                # pfeie) or a process that holds the file some other way
+                os.close(fd)
+                self._refuse(held)
+            os.lseek(fd, 0, os.SEEK_SET)
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()}\n{self.model}\n".encode())
+            self._fd = fd
             return self
         raise InputError(f"{self.path}: cannot take the output folder's lock")
 
+    def _refuse(self, text: str | None = None) -> None:
+        """Raise the error that names the run holding the lock (its process id and model
+        file, as it wrote them, or ``text``); return if that process is gone."""
+        if text is None:
+            try:
+                text = self.path.read_text(errors="replace")
+            except FileNotFoundError:
+                return
+        lines = text.split("\n")
+        pid = lines[0].strip() or "?"
+        if pid != "?" and not _alive(pid):
+            return
+        raise InputError(
+            f"{self.path.parent}: another pfeie run (pid {pid}, model "
+            f"{lines[1] if len(lines) > 1 and lines[1] else '?'}) writes to this output "
+            "folder; wait for it to end, or choose another output.folder"
+        ) from None
+
     def __exit__(self, *exc: object) -> None:
+        import os
+
         try:
             self.path.unlink(missing_ok=True)
         except OSError as err:  # a folder made read-only during the run: the run's own
             # error (or its results) matter, not the lock file left behind
             log.warning("could not remove the lock file %s (%s); the next run into this "
                         "folder takes it over", self.path, err.strerror or err)  # fmt: skip
+        finally:
+            if self._fd is not None:
+                os.close(self._fd)  # releases the lock
+                self._fd = None
+
+
+def _alive(pid: str) -> bool:
+    """Whether the process of the decimal id ``pid`` runs (False for no number)."""
+    import os
+
+    if not pid.isdigit():
+        return False
+    try:
+        os.kill(int(pid), 0)
+    except (ProcessLookupError, OverflowError):
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
 
 
 def _run(

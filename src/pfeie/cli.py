@@ -626,6 +626,9 @@ def _study(args: argparse.Namespace) -> int:
     from .study import median_lines, run_label, warning_line
 
     stopped = [run_label(r) for r in table.rows if not r["completed"]]
+    if st.kept and not args.quiet:
+        print(f"study: {st.kept} of {len({s.key for s in specs})} runs kept from before "
+              f"({st.folder / 'rows'}); --restart runs them again", file=sys.stderr)  # fmt: skip
     for line in median_lines(table, extra=[str(ls["demand"]) for ls in st.limit_states]):
         print(line)
     print(f"{len(table)} runs in {st.folder / 'table.csv'}")

@@ -133,7 +133,13 @@ class DynamicSettings(BaseModel):
             raise ValueError("the nonsmooth-alpha scheme takes rho_inf, not alpha, beta or "
                              "gamma (those select scheme = 'newmark')")  # fmt: skip
         if self.scheme == "moreau-jean" and (self.alpha != 0.0 or self.rho_inf is not None):
-            raise ValueError("the Moreau-Jean scheme takes theta, not alpha or rho_inf")
+            name, value = ("rho_inf", self.rho_inf) if self.rho_inf is not None else (
+                "alpha", self.alpha)  # fmt: skip
+            raise ValueError(
+                f"the Moreau-Jean scheme takes theta, not alpha or rho_inf (found {name} = "
+                f"{value:g}): delete {name} (from the command line, --set 'analysis = "
+                '{scheme = "moreau-jean", dt = ...}\' gives the whole [analysis] table)'
+            )
         return self
 
     def newmark(self) -> tuple[float, float, float]:

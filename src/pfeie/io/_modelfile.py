@@ -40,7 +40,6 @@ from ..interface import (
 )
 from ..mesh import Mesh, shape_quality
 from ..model import (
-    RECORD_DT_COARSE,
     Block,
     Elastic,
     GroundMotion,
@@ -54,7 +53,14 @@ from ..model import (
 )
 from ._files import foreign_file
 from ._gmsh import read_mesh
-from ._records import abrupt_end, applied_part, coarse_step, implausible_pga, read_record
+from ._records import (
+    abrupt_end,
+    applied_part,
+    coarse_sampling,
+    coarse_step,
+    implausible_pga,
+    read_record,
+)
 from ._schema import (
     Analysis,
     ModelFile,
@@ -858,10 +864,8 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             log.warning("%s: ground_motion[%d].pga = %g g lies above %g g (strong records: "
                         "0.1 to 1.5 g); pga is in g: for %g m/s² give pga = %.3g", p, i,
                         gm.pga, PGA_KEY_HIGH_G, gm.pga, gm.pga / 9.81)  # fmt: skip
-        if rec.sampling > RECORD_DT_COARSE:
-            log.warning("%s: ground_motion[%d]: %s is sampled every %g s (strong-motion "
-                        "records: 0.005 to 0.05 s): its times or dt in ms?", p, i, gm.file,
-                        rec.sampling)  # fmt: skip
+        if (sparse := coarse_sampling(gm.file, rec)) is not None:
+            log.warning("%s: ground_motion[%d]: %s", p, i, sparse)
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError, RecordError
-from ..model import G_UNITS, RECORD_DT_MAX, GroundMotion
+from ..model import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion
 from ..typing import FloatArray
 
 log = logging.getLogger(__name__)
@@ -127,6 +127,21 @@ def coarse_step(rec: GroundMotion, dt: float) -> str | None:
             "applied")  # fmt: skip
 
 
+def coarse_sampling(path: object, rec: GroundMotion) -> str | None:
+    """A note when the record ``rec`` (read from ``path``) is sampled more coarsely than
+    :data:`~pfeie.model.RECORD_DT_COARSE` (strong-motion records: 0.005 to 0.05 s; a
+    coarser one is usually times or a dt in ms read as s); ``None`` otherwise.
+
+    >>> gm = GroundMotion.from_samples([0.0, 0.1, -0.1, 0.0], dt=0.2, units="g")
+    >>> coarse_sampling("r.csv", gm)
+    'r.csv is sampled every 0.2 s (strong-motion records: 0.005 to 0.05 s): its times or dt in ms?'
+    """
+    if rec.sampling <= RECORD_DT_COARSE:
+        return None
+    return (f"{path} is sampled every {rec.sampling:g} s (strong-motion records: 0.005 to "
+            "0.05 s): its times or dt in ms?")  # fmt: skip
+
+
 #: a two-column record whose time step jumps beyond this multiple of its median step is
 #: warned (samples missing, or two records joined): across the gap the acceleration is
 #: interpolated linearly
@@ -148,6 +163,12 @@ def time_gaps(t: FloatArray) -> list[tuple[int, float, float]]:
     med = float(np.median(steps))
     big = np.flatnonzero(steps > TIME_GAP * med)
     return [(int(i), float(steps[i]), med) for i in big]
+
+
+#: a record cut at the end of a run whose applied part peaks at this share of its PGA or
+#: more is said to keep its peak (a peak just beyond the end, which the interpolation at
+#: the end nearly reaches, is no news to the user)
+PEAK_KEPT = 0.99
 
 
 def applied_part(rec: GroundMotion, end: float) -> tuple[GroundMotion, str | None]:
@@ -179,7 +200,7 @@ def applied_part(rec: GroundMotion, end: float) -> tuple[GroundMotion, str | Non
                           "starts before analysis.duration")  # fmt: skip
     part = dataclasses.replace(rec, time=np.append(t[keep], end),
                                acceleration=np.append(a[keep], np.interp(end, t, a)))  # fmt: skip
-    if not part.pga < rec.pga:
+    if not part.pga < PEAK_KEPT * rec.pga:  # the peak, or all but round-off of it, applied
         return part, None
     k = int(np.argmax(np.abs(a)))
     g = G_UNITS["g"]

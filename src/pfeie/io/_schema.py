@@ -370,7 +370,8 @@ class Westergaard(_Table):
         Field(description="'westergaard': the closed form 7/8 ρ_w √(H (level − z)) along the "
               "faces' normal, lumped; 'fe': an incompressible finite-element reservoir on a "
               "mesh of the water drawn from the wet face (2D only), its full added-mass "
-              "matrix in the modal analysis and its row sums in the time stepping"),
+              "matrix in the modal analysis and in the time stepping (only the position "
+              "correction's metric takes its row sums)"),
     ] = "westergaard"  # fmt: skip
     bottom: Annotated[
         Elevation | None,

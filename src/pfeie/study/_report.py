@@ -153,10 +153,13 @@ def median_lines(table: StudyTable, columns: int = 4, extra: Sequence[str] = ())
     demands += [c for c in dict.fromkeys(extra) if c in table.columns and c not in demands]
     if not demands or not len(table):
         return []
-    head = f"{'level':>5} {'intensity':>10} " + " ".join(f"{c[-34:]:>34}" for c in demands)
+    widths = [max(len(c), 11) for c in demands]  # the columns' names in full
+    head = f"{'level':>5} {'intensity':>10} " + " ".join(
+        f"{c:>{w}}" for c, w in zip(demands, widths, strict=True))  # fmt: skip
     out = ["median over the records:", head]
     for lv, im, stats in per_intensity(table, demands, (50.0,)):
-        cells = [f"{p[0]:>34.4g}" if p is not None else f"{'':>34}" for p in stats]
+        cells = [f"{p[0]:>{w}.4g}" if p is not None else " " * w
+                 for p, w in zip(stats, widths, strict=True)]  # fmt: skip
         out.append(f"{lv:>5} {im:>10.4g} " + " ".join(cells))
     return out
 

@@ -219,10 +219,30 @@ class RunSpec:
     factor: float  # the scale factor applied to the record's accelerations
     ims: dict[str, float]  # the intensity measures of the scaled record (SI)
     key: str  # SHA-256 of the run's inputs
+    folder: str = ""  # the history's folder under runs/ (:func:`run_folders`)
 
     @property
     def name(self) -> str:
         return f"{self.record.name}@{self.level:03d}"
+
+
+def run_folders(runs: list[tuple[str, float]]) -> list[str]:
+    """The folders of the runs' histories under ``runs/``, one per (record name,
+    intensity value): ``<record>@<value>`` with characters other than letters, digits,
+    ``.`` and ``-`` as ``_`` (:func:`_slug`); where two runs would share a folder (records
+    ``a b`` and ``a_b``), each of them gets the first 8 hex digits of the SHA-256 of its
+    record name and value appended, so that a folder never holds another run's history.
+
+    >>> run_folders([("a b", 0.5), ("a_b", 0.5), ("c", 0.5)])
+    ['a_b_0.5-8631bc54', 'a_b_0.5-9edcd68d', 'c_0.5']
+    """
+    plain = [_slug(f"{name}@{value:.6g}") for name, value in runs]
+    out = []
+    for (name, value), f in zip(runs, plain, strict=True):
+        if plain.count(f) > 1:
+            f += "-" + hashlib.sha256(f"{name}@{value!r}".encode()).hexdigest()[:8]
+        out.append(f)
+    return out
 
 
 @dataclass(frozen=True)
@@ -300,6 +320,17 @@ def _solver_settings(job: Job) -> Any:
     return SolverSettings(tolerance=job.analysis.tolerance)
 
 
+def kept_row(ctx: Context, spec: RunSpec) -> dict[str, Any] | None:
+    """The row of ``spec`` written before (``rows/<key>.json``, :func:`read_row`), None
+    if there is none, or if histories are kept and the run's history is not there (a
+    study run before without them): then it is run again."""
+    row = read_row(ctx.folder, spec.key)
+    if row is not None and ctx.histories and spec.folder and not (
+            ctx.folder / "runs" / spec.folder / "results.h5").exists():  # fmt: skip
+        return None
+    return row
+
+
 def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | PfeieError]:
     """Run ``specs`` on the process's system, stepping together where the system gains
     from it (:meth:`_System.lockstep`: their block solves made in one call per step,
@@ -309,7 +340,7 @@ def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | P
     is not run again (unless the study restarts, ``ctx.resume`` false): a batch the
     scheduler gives anew (a worker lost after some of its runs ended, whose batch Dask
     recomputes) runs only what is left."""
-    done = {s.key: read_row(ctx.folder, s.key) if ctx.resume else None for s in specs}
+    done = {s.key: kept_row(ctx, s) if ctx.resume else None for s in specs}
     todo = [s for s in specs if done[s.key] is None]
     if len(todo) < len(specs):
         log.info("pid %d: %d of the batch's %d runs have their rows already", os.getpid(),
@@ -352,9 +383,8 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
     rec = spec.record.read(job.model.dim, quiet=True)  # (the plan warned about it)
     duration = ctx.duration if ctx.duration is not None else rec.duration
     how = f"scaled ×{spec.factor:.6g}"
-    k = int(np.argmax(np.abs(rec.acceleration)))
-    if rec.time[k] > duration:  # the record line gives the whole record's PGA: say so
-        part = applied_part(rec, duration)[0]
+    part, cut = applied_part(rec, duration)
+    if cut is not None:  # the record line gives the whole record's PGA: say so
         how += (f" (the PGA above lies beyond the end of the run, {duration:g} s: the "
                 f"motion applied peaks at {spec.factor * part.pga / 9.81:.4g} g)")  # fmt: skip
     rec = dataclasses.replace(rec, acceleration=rec.acceleration * spec.factor, scaling=how)
@@ -367,10 +397,16 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
         # named by the record and the intensity's value, not the level's index: a value
         # added to the ladder renumbers the levels, and a kept history would then sit
         # under another level's name (or be overwritten by another run)
-        folder = ctx.folder / "runs" / _slug(f"{spec.record.name}@{spec.value:.6g}")
+        folder = (
+            ctx.folder / "runs" / (spec.folder or run_folders([(spec.record.name, spec.value)])[0])
+        )
         folder.mkdir(parents=True, exist_ok=True)
         writer = ResultsWriter(folder / "results.h5", run_job,
                                field_every=job.output.field_every)  # fmt: skip
+        # the history traced to its row (rows/<key>.json) and its record
+        writer.f.attrs.update({"study_key": spec.key, "study_record": spec.record.name,
+                               "study_intensity": spec.value,
+                               "study_record_sha256": spec.record.fingerprint()})  # fmt: skip
         if sysm.static is not None:
             writer.write_static(sysm.static)
     res = dyn.run(duration, ground=[rec], form=job.analysis.form, start=sysm.static,
@@ -588,6 +624,7 @@ class Study:
         self._context: Context | None = None
         self._specs: list[RunSpec] | None = None
         self._read: dict[RecordSource, GroundMotion] = {}
+        self.kept = 0  # the runs of the last :meth:`run` whose rows were kept from before
         self._entries: list[str] | None = None  # the [[records]] key of each record
 
     def _entry(self, r: RecordSource) -> str:
@@ -782,6 +819,7 @@ class Study:
         t1 = self.t1()
         dim = self._job.model.dim
         specs = []
+        seen: dict[str, RecordSource] = {}
         for r in self.records:
             try:
                 r.direction_in(dim)
@@ -799,6 +837,13 @@ class Study:
             factors = [v / ref for v in self.values]
             self._check_record(r, rec, ims["pga"], factors)
             fp = r.fingerprint()
+            if (twin := seen.setdefault(fp, r)) is not r:
+                raise RecordError(
+                    f"{self._entry(r)}: {r.path}: the same record as {twin.path} (record "
+                    f"{twin.name!r}: the same bytes and reading options); expected each "
+                    "ground motion once (a copy would count twice in the medians and the "
+                    "fragility fits)"
+                )  # fmt: skip
             for level, (v, factor) in enumerate(zip(self.values, factors, strict=True)):
                 scaled = {k: x * (factor * factor if k == "arias" else
                                   (abs(factor) if k in ("pga", "pgv", "pgd", "cav", "sa")
@@ -807,6 +852,8 @@ class Study:
                     [ctx.model_key, fp, repr(factor), repr(ctx.duration)]).encode()
                 ).hexdigest()  # fmt: skip
                 specs.append(RunSpec(r, level, float(v), float(factor), scaled, key))
+        folders = run_folders([(s.record.name, s.value) for s in specs])
+        specs = [dataclasses.replace(s, folder=f) for s, f in zip(specs, folders, strict=True)]
         self._specs = specs
         return specs
 
@@ -838,7 +885,7 @@ class Study:
         that bound; a record the steps can see (at least one step long), and a WARNING
         where the step is coarser than its sampling (:func:`~pfeie.io.coarse_step`)."""
         from ..dynamics import shorter_than_a_step
-        from ..io import MAX_PGA_G, coarse_step, implausible_pga
+        from ..io import MAX_PGA_G, coarse_sampling, coarse_step, implausible_pga
 
         where, units = self._entry(r), r.units or "g"
         why = shorter_than_a_step(rec, self._job.analysis.dt)
@@ -846,6 +893,8 @@ class Study:
             raise InputError(f"{where}: {r.path}: {why}")
         if (coarse := coarse_step(rec, self._job.analysis.dt)) is not None:
             log.warning("%s: %s: %s", where, r.name, coarse)
+        if (sparse := coarse_sampling(r.path, rec)) is not None:
+            log.warning("%s: %s", where, sparse)
         if rec.pga > MAX_PGA_G * G:
             raise InputError(f"{where}: {r.path}: the record's peak ground acceleration is "
                              f"{rec.pga / G:.4g} g as read (units = {units!r}); expected at "
@@ -952,9 +1001,33 @@ class Study:
         except InputError as exc:
             raise InputError(f"{self._where('output.folder')}: {exc}") from None
         try:
+            self._check_folder(folder)
             return self._run(specs, folder, workers, scheduler, resume, progress)
         finally:
             lock.__exit__()
+
+    def _check_folder(self, folder: Path) -> None:
+        """The output folder holds no single run's results (``results.h5`` of ``pfeie
+        run``: an :class:`InputError`, the two would mix their summaries and reports); a
+        folder of a study of another model (``study.json`` with another model key) gets a
+        WARNING: its histories under ``runs/`` that this study does not write again stay
+        beside this study's outputs."""
+        where = self._where("output.folder")
+        if (folder / "results.h5").exists():
+            raise InputError(f"{where}: {folder} holds the results of a `pfeie run` "
+                             "(results.h5); a study writes its own table, report and "
+                             "histories: choose another output.folder")  # fmt: skip
+        try:
+            old = json.loads((folder / "study.json").read_text())
+        except (OSError, ValueError):
+            return
+        key = old.get("model_key") if isinstance(old, dict) else None
+        if key is not None and key != self.context().model_key:
+            log.warning("%s: %s holds the outputs of a study of another model or other "
+                        "settings (study.json: %r); its rows are not reused, and its "
+                        "histories under runs/ that this study does not write again stay "
+                        "there: choose another output.folder to keep the two apart", where,
+                        folder, old.get("title") or old.get("model"))  # fmt: skip
 
     def _run(
         self,
@@ -972,15 +1045,23 @@ class Study:
         workers = self.workers if workers is None else check_workers(workers)
         scheduler = self.scheduler if scheduler is None else scheduler
         done: dict[str, dict[str, Any]] = {}
+        missing = 0  # kept rows whose history is wanted and not there: run again
         if resume:
             for s in specs:
-                row = read_row(ctx.folder, s.key)
+                row = kept_row(ctx, s)
                 if row is not None:
                     done[s.key] = row
+                elif ctx.histories and read_row(ctx.folder, s.key) is not None:
+                    missing += 1
+        if missing:
+            log.warning("%s: %d run(s) done before have no history under runs/ "
+                        "(output.histories was off): run again to write it", ctx.folder,
+                        missing)  # fmt: skip
         # one run per key: two records with the same bytes and options share their runs
         todo = list({s.key: s for s in specs if s.key not in done}.values())
         total = len({s.key for s in specs})
         log.info("study: %d runs, %d done before, %d to run", total, len(done), len(todo))
+        self.kept = len({s.key for s in specs if s.key in done})
         n_done = len(done)
 
         def finished(row: dict[str, Any]) -> None:

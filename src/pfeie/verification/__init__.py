@@ -4,7 +4,7 @@
 each with its checks (quantity, reference, pfeie, error, tolerance, pass) and the series
 of its figure. ``pfeie verify`` prints the table; ``pfeie verify --manual DIR`` (``make
 verify``) regenerates the verification manual (one page per case, figures, the summary
-table). The cases follow ``../shared/verification-cases.md`` (V1–V10); their builders
+table). The cases are V1–V11 (:mod:`._cases`: closed forms and sources); their builders
 and the exact rigid-block integrator live here so that the tests, the command and the
 manual run the same code.
 """

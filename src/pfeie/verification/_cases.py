@@ -1,4 +1,4 @@
-"""The verification cases (``../shared/verification-cases.md``), each a function of
+"""The verification cases (V1–V11, with their closed forms and sources), each a function of
 ``fast`` returning a :class:`CaseResult`. References are derived here from the closed
 forms or from the exact rigid-block integrator (:mod:`._rigid`), never pasted."""
 

@@ -1,0 +1,186 @@
+"""The findings of a new user who ran many records into study folders (nu24) and of a
+reader of the docs: the folder lock under a simultaneous start, history folders that two
+record names would share, a record copied under two names, study and run folders kept
+apart, histories switched on later, the coarse-sampling warning in a study, the median
+table's column names in full, and the cut record's note only where the peak is lost.
+"""
+
+from __future__ import annotations
+
+import logging
+import shutil
+import threading
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import cli_fails
+from pfeie.cli import main
+from pfeie.io import applied_part
+from pfeie.model import GroundMotion
+from test_study import MODEL, STUDY, setup
+
+
+def _one_second(text: str) -> str:
+    return text + "[analysis]\nduration = 0.3\n"
+
+
+def test_two_runs_started_together_cannot_both_take_the_folder(tmp_path: Path) -> None:
+    """Two runs that start at the same moment (a job array) race for the output folder's
+    lock: at most one takes it, in each of 200 trials with two threads released together
+    (a tester's finding: the lock file was created, then its process id written, and a
+    second run that read it empty in between removed it as stale and took it: both took
+    the lock in 83 of 200 such trials; 56 and 87 of 200 in two runs of this test before
+    the change)."""
+    from pfeie._job import FolderLock
+    from pfeie.errors import InputError
+
+    both = 0
+    for trial in range(200):
+        folder = tmp_path / str(trial)
+        folder.mkdir()
+        gate, done = threading.Barrier(2), threading.Barrier(2)
+        taken: list[bool] = []
+
+        def take(folder: Path = folder, gate: threading.Barrier = gate,
+                 done: threading.Barrier = done, taken: list[bool] = taken) -> None:  # fmt: skip
+            gate.wait()
+            lock = FolderLock(folder, folder / "m.toml")
+            try:
+                lock.__enter__()
+            except InputError:
+                taken.append(False)
+                done.wait()
+                return
+            taken.append(True)
+            done.wait()  # hold it until both have tried
+            lock.__exit__(None, None, None)
+
+        threads = [threading.Thread(target=take) for _ in range(2)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert any(taken), trial
+        both += all(taken)
+        assert not (folder / ".pfeie-run.lock").exists()
+    assert both == 0
+
+
+def test_two_record_names_one_folder_name(tmp_path: Path) -> None:
+    """Records `a b.csv` and `a_b.csv` with histories on: before, both runs of an
+    intensity wrote `runs/a_b_0.2` (the second run's file in the first's folder, the
+    first's history lost); now each has its own folder with a hash of its name and
+    value, and the file's attributes name its row, record and intensity."""
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=2)
+    rec = tmp_path / "rec"
+    (rec / "r0.csv").rename(rec / "a b.csv")
+    (rec / "r1.csv").rename(rec / "a_b.csv")
+    p.write_text(p.read_text().replace('folder = "study"', 'folder = "study"\nhistories = true'))
+    assert main(["study", str(p), "--quiet"]) == 0
+    runs = sorted((tmp_path / "study" / "runs").iterdir())
+    assert len(runs) == 2 and all(r.name.startswith("a_b_0.2-") for r in runs)
+    rows = {r.stem for r in (tmp_path / "study" / "rows").glob("*.json")}
+    seen = set()
+    for r in runs:
+        with h5py.File(r / "results.h5", "r") as f:
+            assert f.attrs["study_key"] in rows and f.attrs["study_intensity"] == 0.2
+            seen.add(str(f.attrs["study_record"]))
+            assert len(str(f.attrs["study_record_sha256"])) == 64
+    assert seen == {"a b", "a_b"}
+
+
+def test_a_record_copied_under_two_names(tmp_path: Path,
+                                         capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """Two files with the same bytes (and reading options): before, one run counted as two
+    rows of the medians; now refused before any run, naming both files."""
+    p = setup(tmp_path, _one_second(STUDY), n=2)
+    shutil.copy(tmp_path / "rec" / "r0.csv", tmp_path / "rec" / "r0_copy.csv")
+    cli_fails(capsys, ["study", str(p)], "r0_copy.csv: the same record as", "r0.csv",
+              "expected each ground motion once")  # fmt: skip
+    assert not (tmp_path / "study" / "rows").is_dir() or not any(
+        (tmp_path / "study" / "rows").iterdir())  # fmt: skip
+
+
+def test_study_and_run_folders_kept_apart(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                                          capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """A study into a folder holding a run's results.h5 is refused, and a run into a
+    study's folder (it removed the study's report.html); a study into the folder of a
+    study of other settings warns that its histories stay."""
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=1)
+    model = tmp_path / "model.toml"
+    model.write_text(MODEL.replace("friction_angle = 20.0", "friction_angle = 25.0"))
+    assert main(["study", str(p), "--quiet"]) == 0
+    model.write_text(MODEL.replace('folder = "out"', 'folder = "study"')
+                     .replace("[analysis]", "[[ground_motion]]\nfile = \"rec/r0.csv\"\n"
+                              "units = \"g\"\n[analysis]\nduration = 0.1"))  # fmt: skip
+    cli_fails(capsys, ["run", str(model), "--quiet"], "output.folder",
+              "holds the outputs of a `pfeie study` (study.json)")  # fmt: skip
+    assert (tmp_path / "study" / "report.html").exists()
+    model.write_text(model.read_text().replace('folder = "study"', 'folder = "one"'))
+    assert main(["run", str(model), "--quiet"]) == 0
+    other = tmp_path / "other.toml"
+    other.write_text(p.read_text().replace('folder = "study"', 'folder = "one"'))
+    cli_fails(capsys, ["study", str(other)], "output.folder",
+              "holds the results of a `pfeie run` (results.h5)")  # fmt: skip
+    model.write_text(MODEL)  # another model (friction angle 20°) into the study's folder
+    with caplog.at_level(logging.WARNING):
+        assert main(["study", str(p), "--quiet"]) == 0
+    assert "holds the outputs of a study of another model or other settings" in caplog.text
+
+
+def test_histories_switched_on_later(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                                     capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """A study run without histories, then with `histories = true`: before, the kept
+    rows counted as done and no history was written; now they are run again (a warning
+    with their number), and a third run keeps them all, saying so."""
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=2)
+    assert main(["study", str(p), "--quiet"]) == 0
+    p.write_text(p.read_text().replace('folder = "study"', 'folder = "study"\nhistories = true'))
+    with caplog.at_level(logging.WARNING):
+        assert main(["study", str(p), "--quiet"]) == 0
+    assert "2 run(s) done before have no history under runs/" in caplog.text
+    assert len(list((tmp_path / "study" / "runs").glob("*/results.h5"))) == 2
+    capsys.readouterr()
+    assert main(["study", str(p)]) == 0
+    assert "study: 2 of 2 runs kept from before" in capsys.readouterr().err
+
+
+def test_a_study_warns_of_a_coarsely_sampled_record(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A record sampled every 0.2 s: `pfeie check` of a model file warned (times or dt in
+    ms?), a study did not; now it does, naming records[0]."""
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=1)
+    t = np.arange(0.0, 4.0, 0.2)
+    np.savetxt(tmp_path / "rec" / "r0.csv", np.c_[t, 0.3 * np.sin(t)], delimiter=",")
+    with caplog.at_level(logging.WARNING):
+        assert main(["study", str(p), "--quiet"]) == 0
+    assert "records[0]" in caplog.text and "is sampled every 0.2 s" in caplog.text
+
+
+def test_the_median_table_names_its_columns_in_full(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The terminal's median table cut long names from the left
+    (`e.upstream_mid.peak_displacement_m`); now each column is as wide as its name."""
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=1)
+    assert main(["study", str(p)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    head = out[out.index("median over the records:") + 1]
+    assert "probe.top.peak_displacement_m" in head.split()
+    assert len(out[out.index("median over the records:") + 2]) == len(head)
+
+
+def test_a_peak_just_beyond_the_end_is_no_news() -> None:
+    """A record whose peak lies just beyond the end of the run, where the interpolation
+    at the end reaches 0.99998 of it: no note (before, a warning that its PGA lies beyond
+    the run); at 0.5 of it the note stays."""
+    t = np.arange(0.0, 4.0, 0.01)
+    a = np.sin(np.pi * t / 4.0)  # the peak at 2.0 s
+    gm = GroundMotion.from_samples(a, time=t, units="g")
+    assert applied_part(gm, 1.99)[1] is None  # 0.99998 of the PGA applied
+    note = applied_part(gm, 0.7)[1]
+    assert note is not None and "lies beyond the end of the run" in note
