@@ -184,3 +184,28 @@ def test_a_peak_just_beyond_the_end_is_no_news() -> None:
     assert applied_part(gm, 1.99)[1] is None  # 0.99998 of the PGA applied
     note = applied_part(gm, 0.7)[1]
     assert note is not None and "lies beyond the end of the run" in note
+
+
+def test_ctrl_c_while_pfeie_loads(monkeypatch: pytest.MonkeyPatch,
+                                  capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """Ctrl-C in the half second in which the `pfeie` command imports numpy and scipy,
+    before its handlers are installed: a KeyboardInterrupt traceback before; now the
+    console script's module (outside the package) ends with exit 130 and one line. The
+    import is interrupted here by a finder that raises KeyboardInterrupt (with a real
+    SIGINT 0.05 to 0.6 s after the start: exit 130 and that line each time)."""
+    import importlib.abc
+    import sys
+
+    import _pfeie_cli
+
+    class Interrupt(importlib.abc.MetaPathFinder):
+        def find_spec(self, name: str, path: object, target: object = None) -> None:
+            if name == "pfeie.cli":
+                raise KeyboardInterrupt
+            return None
+
+    monkeypatch.delitem(sys.modules, "pfeie.cli", raising=False)
+    monkeypatch.setattr(sys, "meta_path", [Interrupt(), *sys.meta_path])
+    assert _pfeie_cli.main() == 130
+    err = capsys.readouterr().err
+    assert err == "pfeie: interrupted (SIGINT) while starting; nothing was run\n"
