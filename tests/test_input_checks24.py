@@ -209,3 +209,27 @@ def test_ctrl_c_while_pfeie_loads(monkeypatch: pytest.MonkeyPatch,
     assert _pfeie_cli.main() == 130
     err = capsys.readouterr().err
     assert err == "pfeie: interrupted (SIGINT) while starting; nothing was run\n"
+
+
+def test_a_file_system_without_flock(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where flock is not supported (ENOLCK on some network mounts) the lock falls back to
+    the process id in the file: a run takes the folder, and a live process's lock file is
+    still refused (not "cannot take the lock" for every run)."""
+    import errno
+    import fcntl
+    import os
+
+    from pfeie._job import FolderLock
+    from pfeie.errors import InputError
+
+    def no_lock(fd: int, op: int) -> None:
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(fcntl, "flock", no_lock)
+    with FolderLock(tmp_path, tmp_path / "m.toml"):
+        text = (tmp_path / ".pfeie-run.lock").read_text()
+        assert text == f"{os.getpid()}\n{tmp_path / 'm.toml'}\n"
+    assert not (tmp_path / ".pfeie-run.lock").exists()
+    (tmp_path / ".pfeie-run.lock").write_text(f"{os.getpid()}\nother.toml\n")
+    with pytest.raises(InputError, match=r"another pfeie run \(pid \d+, model other.toml\)"):
+        FolderLock(tmp_path, tmp_path / "m.toml").__enter__()

@@ -265,11 +265,14 @@ class FolderLock:
             fd = os.open(self.path, os.O_CREAT | os.O_RDWR, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                os.close(fd)
-                self._refuse()
-                time.sleep(0.05)  # its holder is writing it, or has just ended: again
-                continue
+            except OSError as exc:
+                if exc.errno in (errno.EAGAIN, errno.EWOULDBLOCK, errno.EACCES):
+                    os.close(fd)
+                    self._refuse()
+                    time.sleep(0.05)  # its holder is writing it, or has just ended: again
+                    continue
+                # a file system without flock (some network mounts): the process id alone
+                log.debug("%s: no flock on this file system (%s)", self.path, exc)
             try:
                 same = os.fstat(fd).st_ino == os.stat(self.path).st_ino
             except FileNotFoundError:
