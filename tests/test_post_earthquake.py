@@ -208,3 +208,24 @@ def test_no_post_earthquake_state_for_a_block_that_slid_far(tmp_path: Path) -> N
         assert "post_earthquake" not in f
     html = write_report(tmp_path / "out" / "results.h5", tmp_path / "report.html")
     assert "not computed (large residual motion)" in Path(html).read_text()
+
+
+def test_a_joint_that_starts_broken_is_not_cracked_through_by_the_record() -> None:
+    """A pre-existing joint (initial = "broken", no cohesion, φ = 40°) under the uplift,
+    and a record that broke nothing, as a record of zeros leaves it: the post-earthquake
+    state is the static state (the tester's 3D dam read its normal force 23.8 % and its FS
+    24 % low: every pair of the joint counted cracked, the whole base at full headwater).
+    Closed form: every pair in compression, N = W − U with U = ρ_w g h_w B / 2 (the linear
+    uplift of an uncracked base), to 1e-14 (the limit equilibrium above), and the same
+    bits as the static state."""
+    hw = 12.0
+    model, _ = dam(hw, pf.Joint(phi=PHI, initial="broken"))
+    assert model.pairs is not None and model.pair_laws.initially_broken.all()
+    static = pf.solve_static(model)
+    assert static.pairs is not None
+    post = pf.solve_static(model, damage=static.pairs)
+    assert post.pairs is not None and post.cracks == static.cracks
+    np.testing.assert_array_equal(post.pairs.X, static.pairs.X)
+    W, U = 2400.0 * G * B * H, RHO_W * G * hw * B / 2
+    assert (post.pairs.X[:, -1] > 0).all()
+    assert float(post.pairs.X[:, -1].sum()) == pytest.approx(W - U, rel=1e-14)
