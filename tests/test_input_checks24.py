@@ -233,3 +233,27 @@ def test_a_file_system_without_flock(tmp_path: Path, monkeypatch: pytest.MonkeyP
     (tmp_path / ".pfeie-run.lock").write_text(f"{os.getpid()}\nother.toml\n")
     with pytest.raises(InputError, match=r"another pfeie run \(pid \d+, model other.toml\)"):
         FolderLock(tmp_path, tmp_path / "m.toml").__enter__()
+
+
+@pytest.mark.parametrize("group", ["joint", "bottom"])
+def test_facets_of_another_shape_than_the_cells_faces(group: str) -> None:
+    """A 3D tester's mesh: a joint (or a support's surface) meshed in triangles on a block
+    of hexahedra: a ValueError traceback from the facet matching before; now a MeshError
+    naming the group, the facets' type and the cells' faces (a ModelError from the
+    Python API, which wraps the mesh's errors; exit 2 from `pfeie check`)."""
+    import pfeie as pf
+    from pfeie.errors import ModelError
+
+    mesh = pf.box(1.0, 1.0, 2.0, 2, 2, 2)
+    mesh.add_cell_group("rock", lambda x: x[:, 2] < 1.0)
+    mesh.add_cell_group("block", lambda x: x[:, 2] > 1.0)
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2] - 1.0) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("bottom", lambda x: x[:, 2] < 1e-9)
+    quads = mesh.facet_groups[group].pop("quad")
+    mesh.facet_groups[group]["triangle"] = np.concatenate([quads[:, :3], quads[:, [0, 2, 3]]])
+    rock = pf.Elastic(1e9, 0.25, 2000.0)
+    with pytest.raises(ModelError, match=rf"'{group}': its facets are triangle \(3 corners\), "
+                       "but the faces of the block cells have 4 corners"):  # fmt: skip
+        model = pf.Model(mesh, [pf.Block("rock", rock), pf.Block("block", rock)],
+                         interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+        model.fix("bottom")

@@ -247,6 +247,20 @@ def _edge_sides(pa: IntArray, pb: IntArray, unit: FloatArray) -> IntArray:
     return side
 
 
+def _same_shape(what: str, ftype: str, corners: int) -> None:
+    """A :class:`MeshError` when the facets of ``what``, of type ``ftype``, have another
+    number of corners than the faces of the block cells (``corners``): triangles on
+    hexahedra, quadrilaterals (a recombined surface) on tetrahedra."""
+    n = reference(reference(ftype).linear).n_nodes  # as facet_keys counts them
+    if n != corners:
+        raise MeshError(
+            f"{what}: its facets are {ftype} ({n} corners), but the faces of the block "
+            f"cells have {corners} corners; expected facets of the cells' own face type "
+            "(mesh the surface as the volume: triangles on tetrahedra, quadrilaterals on "
+            "hexahedra)"
+        )
+
+
 def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0) -> SplitMesh:
     """Duplicate the nodes of the named facet groups and pair the copies (see module doc).
 
@@ -287,6 +301,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     iface = np.full(K.shape[0], -1, dtype=np.int64)
     for j, name in enumerate(names):
         for ftype, conn in mesh.facet_group(name).items():
+            _same_shape(f"interface {name!r}", ftype, K.shape[1])
             at, found = match_rows(K, facet_keys(conn, ftype))
             if not found.all():
                 raise MeshError(f"interface {name!r}: {int((~found).sum())} facet(s) are not faces "
@@ -433,6 +448,7 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     fgroups: dict[str, dict[str, IntArray]] = {}
     for gname, grp in mesh.facet_groups.items():
         for gtype, conn in grp.items():
+            _same_shape(f"physical group {gname!r}", gtype, K.shape[1])
             at, found = match_rows(K, facet_keys(conn, gtype))
             if not found.any():
                 continue

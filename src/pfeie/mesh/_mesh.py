@@ -445,7 +445,10 @@ def facet_keys(conn: IntArray, ftype: str) -> IntArray:
 
 
 def match_rows(table: IntArray, keys: IntArray) -> tuple[IntArray, np.ndarray]:
-    """Row index in ``table`` of each row of ``keys`` (first match) and a found-mask."""
+    """Row index in ``table`` of each row of ``keys`` (first match) and a found-mask (none
+    found where the rows differ in length: facets of another shape)."""
+    if table.shape[1] != keys.shape[1]:
+        return np.full(keys.shape[0], -1, dtype=np.int64), np.zeros(keys.shape[0], dtype=bool)
     both = np.concatenate([table, keys])
     _, inv = np.unique(both, axis=0, return_inverse=True)
     inv = inv.ravel()
