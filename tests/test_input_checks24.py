@@ -257,3 +257,15 @@ def test_facets_of_another_shape_than_the_cells_faces(group: str) -> None:
         model = pf.Model(mesh, [pf.Block("rock", rock), pf.Block("block", rock)],
                          interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
         model.fix("bottom")
+
+
+def test_a_record_says_its_direction() -> None:
+    """One file applied along x, y and obliquely: the lines of `pfeie check` and of the
+    run's summary were the same for each (a 3D tester could not see an x/y swap); the
+    record's line now ends with its direction."""
+    t = np.arange(0.0, 1.0, 0.01)
+    a = np.sin(2 * np.pi * t)
+    lines = [GroundMotion.from_samples(a, time=t, units="g", name="ec", direction=e).summary()
+             for e in ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.8, 0.6, 0.0])]  # fmt: skip
+    assert [line.split("dt 0.01 s, ")[1] for line in lines] == [
+        "along x", "along y", "along (0.8, 0.6, 0)"]  # fmt: skip

@@ -3,7 +3,7 @@ the model with its checks of values in a probable wrong unit, and the response s
 and intensity measures of records."""
 
 from ._frames import BodyFrames
-from ._ground import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion
+from ._ground import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion, direction_label
 from ._model import LinearSystem, Model
 from ._physics import DAMPING_RATIO_MAX, Block, Elastic, Interface, Load, Rayleigh, Support
 from ._plausible import (
@@ -31,7 +31,8 @@ __all__ = [
     "BodyFrames",
     "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
     "Reservoir", "ResponseSpectrum", "Support",
-    "Uplift", "implausible_gravity", "implausible_joints", "implausible_materials",
+    "Uplift", "direction_label", "implausible_gravity", "implausible_joints",
+    "implausible_materials",
     "implausible_mesh",
     "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
     "uplift_force", "warn_implausible",

@@ -366,13 +366,35 @@ class GroundMotion:
         """The record's sampling interval (s): the median of its time steps."""
         return _median_step(self.time)
 
+    @property
+    def along(self) -> str:
+        """The record's direction in words (:func:`direction_label`): ``x``, ``-y``, or
+        its components."""
+        return direction_label(self.direction)
+
     def summary(self) -> str:
-        """One line: name, PGA and its time, duration, Δt."""
+        """One line: name, PGA and its time, duration, Δt, direction."""
         i = int(np.argmax(np.abs(self.acceleration)))
         dts = np.diff(self.time)
         dt = f"{dts[0]:g} s" if np.allclose(dts, dts[0]) else f"{dts.min():g}–{dts.max():g} s"
         return (f"{self.name}: PGA {abs(self.acceleration[i]) / 9.81:.3f} g "
                 f"({abs(self.acceleration[i]):.3f} m/s²) at {self.time[i]:.2f} s, "
-                f"duration {self.duration:.2f} s, dt {dt}"
+                f"duration {self.duration:.2f} s, dt {dt}, along {self.along}"
                 + (f", {self.processing}" if self.processing else "")
                 + (f", {self.scaling}" if self.scaling else ""))  # fmt: skip
+
+
+def direction_label(direction: Sequence[float] | FloatArray) -> str:
+    """A unit direction in words: the axis (``x``, ``-z``) where it is one to 1e-12, else
+    its components to three digits.
+
+    >>> direction_label([0.0, 1.0, 0.0]), direction_label([-1.0, 0.0])
+    ('y', '-x')
+    >>> direction_label([0.8, 0.6, 0.0])
+    '(0.8, 0.6, 0)'
+    """
+    e = np.asarray(direction, dtype=float)
+    k = int(np.argmax(np.abs(e)))
+    if abs(abs(e[k]) - 1.0) < 1e-12 and np.abs(np.delete(e, k)).max(initial=0.0) < 1e-12:
+        return ("-" if e[k] < 0 else "") + "xyz"[k]
+    return "(" + ", ".join(f"{c:.3g}" for c in e + 0.0) + ")"

@@ -167,7 +167,7 @@ def plot_input(res: Results, path: Path, title: str = "") -> Path:
     """The input motion: each record's acceleration (g) over time and its elastic
     response spectrum PSa (5 %, g) over the period."""
     plt = _plt()
-    from ..model import response_spectrum
+    from ..model import direction_label, response_spectrum
 
     fig, ax = plt.subplots(2, 1, figsize=(8, 6.5))
     periods = np.geomspace(0.02, 4.0, 150)
@@ -175,6 +175,8 @@ def plot_input(res: Results, path: Path, title: str = "") -> Path:
         g = res.f[f"records/{key}"]
         t, a = np.asarray(g["time"]), np.asarray(g["acceleration"])
         name = g.attrs.get("name", f"record {key}")
+        if "direction" in g:  # one file may drive several directions
+            name = f"{name} along {direction_label(np.asarray(g['direction']))}"
         ax[0].plot(t, a / 9.81, lw=0.7, color=f"C{k % 10}", label=str(name))
         s = response_spectrum(t, a, periods, 0.05)
         ax[1].plot(s.periods, s.psa / 9.81, lw=1.1, color=f"C{k % 10}", label=str(name))
