@@ -269,3 +269,60 @@ def test_a_record_says_its_direction() -> None:
              for e in ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.8, 0.6, 0.0])]  # fmt: skip
     assert [line.split("dt 0.01 s, ")[1] for line in lines] == [
         "along x", "along y", "along (0.8, 0.6, 0)"]  # fmt: skip
+
+
+def test_a_probe_outside_its_block_is_warned(tmp_path: Path,
+                                             caplog: pytest.LogCaptureFixture) -> None:  # fmt: skip
+    """Probes that the nearest node snapped silently (a 3D tester's: 0.8 m above the top,
+    and one in the rock given with the block above it): a warning naming the point, where
+    it lies and the node taken; a point on the model, none; the error beyond a cell names
+    the block whose nearest node it measured, not a node number of the split mesh."""
+    from test_cli import SMALL, _write
+
+    probes = ('probes = { top = [1.0, 2.0], out = [1.0, 2.2], '
+              'wrong = { at = [1.0, 0.85], block = "dam" } }')  # fmt: skip
+    p = _write(tmp_path, SMALL.replace("probes = { top = [1.0, 2.0] }", probes))
+    with caplog.at_level(logging.WARNING):
+        assert main(["check", str(p)]) == 0
+    assert "output.probes.top" not in caplog.text
+    assert ("output.probes.out: the point [1.0, 2.2] lies outside the model's cells; the "
+            "nearest node of the mesh, at [1, 2] (0.2 m away), is taken") in caplog.text
+    assert ("output.probes.wrong: the point [1.0, 0.85] lies in block 'rock', not in block "
+            "'dam'; the nearest node of block 'dam', at [1, 1] (0.15 m away)") in caplog.text
+
+
+def test_the_static_figure_of_a_3d_joint_is_a_map(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The static figure of a 3D joint joined its pairs along one axis in one polyline (a
+    sawtooth of vertical strokes, each row of pairs at one position); now the joint is
+    drawn in its plane, as the joint map (no ordering along an axis is asked for)."""
+    import pfeie as pf
+    from pfeie.plot import _plots
+
+    mesh = pf.box(2.0, 2.0, 2.0, 3, 3, 2)
+    mesh.add_cell_group("rock", lambda x: x[:, 2] < 1.0)
+    mesh.add_cell_group("block", lambda x: x[:, 2] > 1.0)
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2] - 1.0) < 1e-9, boundary_only=False)
+    rock = pf.Elastic(1e9, 0.25, 2000.0)
+    model = pf.Model(mesh, [pf.Block("rock", rock), pf.Block("block", rock)],
+                     interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+    model.fix("zmin")
+    model.add_gravity()
+    st = pf.solve_static(model)
+    assert st.pairs is not None and model.pairs is not None
+    A = model.pairs.area
+    pr = {"x": model.pairs.x, "area": A, "frame": model.pairs.frame, "X": st.pairs.X,
+          "state": st.pairs.state, "normal_stress": st.pairs.X[:, -1] / A,
+          "shear_stress": st.pairs.X[:, :-1] / A[:, None]}  # fmt: skip
+
+    class Static:
+        def static_pairs(self, name: str) -> dict[str, np.ndarray]:
+            return pr
+
+    def no_axis(x: np.ndarray) -> None:
+        raise AssertionError("a 3D joint ordered along one axis")
+
+    monkeypatch.setattr(_plots, "_arc", no_axis)
+    out = _plots.plot_static(Static(), "joint", tmp_path / "static_joint.png")  # type: ignore[arg-type]
+    assert out.stat().st_size > 10_000

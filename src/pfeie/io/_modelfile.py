@@ -890,9 +890,11 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             where = ", ".join(f"{v:.6g}" for v in model.mesh.points[node])
             raise InputError(
                 f"{p}: output.probes.{name}: the point {list(xyz)} lies {gap:.4g} m from the "
-                f"nearest node of the mesh (node {node + 1} at [{where}]); expected a point "
-                f"of the model (its largest cell is {reach:.4g} m across)"
+                f"nearest node of {'the mesh' if block is None else f'block {block!r}'} (at "
+                f"[{where}]); expected a point of the model (its largest cell is "
+                f"{reach:.4g} m across)"
             )
+        _probe_outside(p, name, model, xyz, block, node, reach)
         probes[name] = node
     for mname, material in cfg.materials.items():
         if material.rho == 0.0:
@@ -1174,6 +1176,37 @@ def _probe_node(p: Path, name: str, model: Model, xyz: list[float], block: str |
                     ", ".join(names[k] for k in held), taken, name, list(xyz),
                     taken)  # fmt: skip
     return node
+
+
+def _probe_outside(p: Path, name: str, model: Model, xyz: list[float], block: str | None,
+                   node: int, reach: float) -> None:  # fmt: skip
+    """A WARNING when probe ``name``'s point lies in no cell of its block (``block``, or
+    any block): outside the model, or in another block, so that the node taken (``node``)
+    is a snap the user did not see (a 3D tester's probe 0.8 m above the top, and one in
+    the rock given with the block above it, were taken silently). A cell's bounding box
+    (widened by 1e-6 of the largest cell) stands for the cell: lenient on curved and
+    inclined faces, never a false alarm inside."""
+    mesh, x = model.mesh, np.asarray(xyz, dtype=float)
+    tol = 1e-6 * reach
+
+    def holds(group: str) -> bool:
+        for ctype, idx in mesh.cell_groups.get(group, {}).items():
+            P = mesh.points[mesh.cells[ctype][idx]]
+            if np.any(np.all((P.min(axis=1) - tol <= x) & (x <= P.max(axis=1) + tol), axis=1)):
+                return True
+        return False
+
+    names = [b.name for b in model.blocks]
+    if any(holds(b) for b in ([block] if block is not None else names)):
+        return
+    gap = float(np.linalg.norm(mesh.points[node] - x))
+    at = ", ".join(f"{v:.6g}" for v in mesh.points[node])
+    inside = [b for b in names if b != block and holds(b)]
+    where = (f"in block {inside[0]!r}, not in block {block!r}" if inside and block is not None
+             else "outside the model's cells")  # fmt: skip
+    log.warning("%s: output.probes.%s: the point %s lies %s; the nearest node of %s, at [%s] "
+                "(%.4g m away), is taken", p, name, list(xyz), where,
+                "the mesh" if block is None else f"block {block!r}", at, gap)  # fmt: skip
 
 
 def _group_msg(p: Path, key: str, name: str, mesh: Any, dim: int | None) -> str:

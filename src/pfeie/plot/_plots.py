@@ -317,6 +317,9 @@ def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
     t = res.time
     pr = res.pairs(name)
     order, s = _arc(pr["x"])
+    surface = pr["x"].shape[1] == 3  # a 3D joint: many pairs at one position along it
+    if surface:
+        s = np.arange(order.size, dtype=float)  # a column per pair, in that order
     st = pr["state"][:, order]
     fig, ax = plt.subplots(figsize=(8, 4.5))
     cmap = ListedColormap(STATE_COLOURS)
@@ -328,7 +331,8 @@ def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
     im = ax.pcolormesh(edges, tedges, st, cmap=cmap, norm=norm, shading="flat")
     cb = fig.colorbar(im, ax=ax, ticks=[0, 1, 2, 3])
     cb.ax.set_yticklabels(STATE_LABELS)
-    ax.set_xlabel(_arc_label(pr["x"], order))
+    ax.set_xlabel("pairs, in the order of their position along the joint's main direction"
+                  if surface else _arc_label(pr["x"], order))  # fmt: skip
     ax.set_ylabel("time (s)")
     ax.set_title(f"{title}\npair states along {name}", fontsize=10)
     return _finish(fig, path)
@@ -388,9 +392,11 @@ def plot_energy(res: Results, path: Path, title: str = "") -> Path:
 
 def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
     """Normal and shear stress of the static state along an interface, with the pair
-    states."""
+    states; a joint of a 3D model is drawn in its plane (:func:`_plot_static_3d`)."""
     plt = _plt()
     pr = res.static_pairs(name)
+    if pr["x"].shape[1] == 3:
+        return _plot_static_3d(pr, name, path, title)
     order, s = _arc(pr["x"])
     # 2D: the signed shear stress along the pair's tangent t; 3D: its magnitude
     tau = pr["shear_stress"]
@@ -413,6 +419,45 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
         a.grid(alpha=0.3)
         a.legend(loc="upper right", fontsize=8)
     ax[0].set_title(f"{title}\nstatic state of {name}", fontsize=10)
+    return _finish(fig, path)
+
+
+def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str) -> Path:
+    """The static state of a 3D joint in its plane (:func:`joint_plane`; a pair: a square
+    of its tributary area about its point, as the joint map): the normal stress
+    (compression +), the magnitude of the shear stress (MPa) and the pair states. Along one
+    axis, as the 2D figure does, the pairs of a surface stack at each position (a
+    sawtooth of vertical strokes)."""
+    plt = _plt()
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    uv, _, labels = joint_plane(pr["x"], pr["frame"])
+    corners = 0.5 * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    squares = list(uv[:, None, :] + np.sqrt(pr["area"])[:, None, None] * corners[None, :, :])
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    normal = 1e-6 * pr["normal_stress"]
+    shear = 1e-6 * np.linalg.norm(pr["shear_stress"], axis=-1)
+    for ax, v, what, cmap in ((axes[0], normal, "normal stress (compression +)", "viridis"),
+                              (axes[1], shear, "|shear stress|", "magma")):  # fmt: skip
+        pc = PolyCollection(squares, array=v, cmap=cmap, edgecolors="0.6", linewidths=0.3)
+        ax.add_collection(pc)
+        fig.colorbar(pc, ax=ax, shrink=0.8, label="MPa")
+        ax.set_title(what, fontsize=9)
+    pc = PolyCollection(squares, array=pr["state"], cmap=ListedColormap(STATE_COLOURS),
+                        norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), edgecolors="w",
+                        linewidths=0.3)  # fmt: skip
+    axes[2].add_collection(pc)
+    bar = fig.colorbar(pc, ax=axes[2], shrink=0.8, ticks=[0, 1, 2, 3])
+    bar.ax.set_yticklabels(STATE_LABELS, fontsize=7)
+    axes[2].set_title("pair states", fontsize=9)
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.autoscale_view()
+        ax.set_xlabel(f"{labels[0]} (m)")
+        ax.set_ylabel(f"{labels[1]} (m)")
+    fig.suptitle((f"{title}\n" if title else "") + f"static state of {name}, in its plane",
+                 fontsize=10)  # fmt: skip
     return _finish(fig, path)
 
 
