@@ -326,3 +326,16 @@ def test_the_static_figure_of_a_3d_joint_is_a_map(
     monkeypatch.setattr(_plots, "_arc", no_axis)
     out = _plots.plot_static(Static(), "joint", tmp_path / "static_joint.png")  # type: ignore[arg-type]
     assert out.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_a_study_file_given_as_a_model_file(
+    command: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`pfeie check study.toml`: nine unknown-key and missing-key errors, one per table of
+    the study; now one line that names the study file and `pfeie study`."""
+    study = Path(__file__).resolve().parents[1] / "examples" / "study" / "study.toml"
+    assert main([command, str(study)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "this is a study file (model = '../koyna/koyna.toml'" in err[0]
+    assert f"`pfeie study {study}`" in err[0]

@@ -554,6 +554,13 @@ def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
             raise InputError(f"{p}: expected a model file (.toml); this looks like "
                              f"{kind}{where}") from None  # fmt: skip
         raise InputError(f"{p}: not valid TOML: {exc}") from None
+    if isinstance(data.get("model"), str) and "records" in data and "mesh" not in data:
+        # a study file given where a model file is read (pfeie check, pfeie run): one line
+        # that says so, not an unknown-key error for every table of the study
+        raise InputError(f"{p}: expected a model file; this is a study file (model = "
+                         f"{data['model']!r}, [[records]]): run it with `pfeie study {p}`, "
+                         "which checks every record before any run, or check its model "
+                         "file")  # fmt: skip
     made = [(_apply(data, ov, str(p)), ov.source) for ov in overrides]
     try:
         return ModelFile.model_validate(data)
