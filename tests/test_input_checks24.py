@@ -339,3 +339,13 @@ def test_a_study_file_given_as_a_model_file(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "this is a study file (model = '../koyna/koyna.toml'" in err[0]
     assert f"`pfeie study {study}`" in err[0]
+
+
+def test_a_model_file_given_as_a_study_file(capsys: pytest.CaptureFixture[str]) -> None:
+    """`pfeie study koyna.toml`: an error for every table of the model file before; now
+    one line that names it and `pfeie run`."""
+    model = Path(__file__).resolve().parents[1] / "examples" / "koyna" / "koyna.toml"
+    assert main(["study", str(model)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "expected a study file; this is a model file" in err[0]
+    assert "`pfeie run`" in err[0]

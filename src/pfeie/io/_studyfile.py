@@ -208,6 +208,11 @@ def read_study_file(path: str | Path) -> StudyFile:
             msg = f"{p}: expected a study file (.toml); this looks like {kind}"
             raise InputError(msg) from None
         raise InputError(f"{p}: not valid TOML: {exc}") from None
+    if "mesh" in data and "model" not in data and "records" not in data:
+        # a model file given to pfeie study: one line, not an error for every table
+        raise InputError(f"{p}: expected a study file; this is a model file ([mesh], no "
+                         "model = or [[records]]): run it with `pfeie run`, or write a "
+                         "study file whose model = names it (docs/study.md)")  # fmt: skip
     try:
         return StudyFile.model_validate(data)
     except ValidationError as exc:
