@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -67,3 +71,16 @@ def cli_fails(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) 
     for w in words:
         assert w in err, (w, err)
     return err
+
+
+def hold_folder(folder: Path, model: str = "other.toml") -> subprocess.Popen[str]:
+    """Another process that holds the output folder ``folder`` as a run does
+    (``pfeie._job.FolderLock``: the lock file, locked by the operating system), returned
+    once it holds it; it lets go when its stdin is closed (or it is killed)."""
+    code = ("import sys; from pathlib import Path; from pfeie._job import FolderLock; "
+            f"lock = FolderLock(Path({str(folder)!r}), Path({model!r})); lock.__enter__(); "
+            "print('held', flush=True); sys.stdin.read(); lock.__exit__()")  # fmt: skip
+    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True)  # fmt: skip
+    assert proc.stdout is not None and proc.stdout.readline().strip() == "held"
+    return proc

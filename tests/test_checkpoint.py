@@ -256,21 +256,30 @@ def test_a_stopped_run_is_kept_when_run_again_from_the_start(
 def test_one_run_per_output_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """A run holds a lock on its output folder: a second run while the first is alive
     exits 2 naming the other run's process; a lock left by a process that is gone (a
-    killed run) is taken over; the lock is removed at the end of a run."""
+    killed run) is taken over, even where its process id is in use again; the lock is
+    removed at the end of a run."""
     import os
-    import subprocess
-    import sys
+
+    from conftest import hold_folder
 
     p = _write(tmp_path, SMALL, duration=0.05)
     (tmp_path / "out").mkdir()
     lock = tmp_path / "out" / ".pfeie-run.lock"
-    lock.write_text(f"{os.getpid()}\nother.toml\n")  # this process: alive
-    assert main(["run", str(p), "--quiet"]) == 2
+    other = hold_folder(tmp_path / "out")  # another run, alive
+    try:
+        assert main(["run", str(p), "--quiet"]) == 2
+    finally:
+        other.kill()
+        other.wait()
     err = capsys.readouterr().err
-    assert f"another pfeie run (pid {os.getpid()}, model other.toml)" in err
-    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                          capture_output=True, text=True, check=True).stdout.strip()  # fmt: skip
-    lock.write_text(f"{gone}\nkilled.toml\n")
+    assert f"another pfeie run (pid {other.pid}, model other.toml)" in err
+    # a killed run's lock: the file stays, the operating system's lock went with it
+    assert lock.read_text() == f"{other.pid}\nother.toml\n"
+    assert main(["run", str(p), "--quiet", "--set", "output.checkpoint_seconds=0"]) == 0
+    assert not lock.exists()
+    # a lock file that no process holds, whose process id is now this process's (a
+    # killed container's run was pid 1, and so is the next): taken over
+    lock.write_text(f"{os.getpid()}\nkilled.toml\n")
     assert main(["run", str(p), "--quiet", "--set", "output.checkpoint_seconds=0"]) == 0
     assert not lock.exists()
 

@@ -7,6 +7,7 @@ table's column names in full, and the cut record's note only where the peak is l
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import shutil
 import threading
@@ -27,35 +28,59 @@ def _one_second(text: str) -> str:
     return text + "[analysis]\nduration = 0.3\n"
 
 
-def test_two_runs_started_together_cannot_both_take_the_folder(tmp_path: Path) -> None:
+@pytest.mark.parametrize("lock", ["flock", "no flock", "no fcntl"])
+def test_two_runs_started_together_cannot_both_take_the_folder(
+    lock: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Two runs that start at the same moment (a job array) race for the output folder's
     lock: at most one takes it, in each of 200 trials with two threads released together
     (a tester's finding: the lock file was created, then its process id written, and a
     second run that read it empty in between removed it as stale and took it: both took
     the lock in 83 of 200 such trials; 56 and 87 of 200 in two runs of this test before
-    the change)."""
+    the change). The same where the operating system has no flock for the file (ENOLCK
+    on some network mounts: the file alone, created with its content in one step; 67 of
+    200 before) or no fcntl at all."""
+    import errno
+    import fcntl
+    import sys
+
     from pfeie._job import FolderLock
     from pfeie.errors import InputError
+
+    if lock == "no flock":
+
+        def no_lock(fd: int, op: int) -> None:
+            raise OSError(errno.ENOLCK, "No locks available")
+
+        monkeypatch.setattr(fcntl, "flock", no_lock)
+    elif lock == "no fcntl":
+        monkeypatch.setitem(sys.modules, "fcntl", None)  # import fcntl: ImportError
 
     both = 0
     for trial in range(200):
         folder = tmp_path / str(trial)
         folder.mkdir()
         gate, done = threading.Barrier(2), threading.Barrier(2)
-        taken: list[bool] = []
+        taken: list[bool | BaseException] = []
 
         def take(folder: Path = folder, gate: threading.Barrier = gate,
-                 done: threading.Barrier = done, taken: list[bool] = taken) -> None:  # fmt: skip
-            gate.wait()
+                 done: threading.Barrier = done,
+                 taken: list[bool | BaseException] = taken) -> None:  # fmt: skip
+            gate.wait(timeout=30)
             lock = FolderLock(folder, folder / "m.toml")
             try:
                 lock.__enter__()
             except InputError:
                 taken.append(False)
-                done.wait()
+                done.wait(timeout=30)
+                return
+            except BaseException as exc:  # reported below, never a hang
+                taken.append(exc)
+                done.abort()
                 return
             taken.append(True)
-            done.wait()  # hold it until both have tried
+            with contextlib.suppress(threading.BrokenBarrierError):
+                done.wait(timeout=30)  # hold it until both have tried
             lock.__exit__(None, None, None)
 
         threads = [threading.Thread(target=take) for _ in range(2)]
@@ -63,6 +88,7 @@ def test_two_runs_started_together_cannot_both_take_the_folder(tmp_path: Path) -
             t.start()
         for t in threads:
             t.join()
+        assert not [x for x in taken if isinstance(x, BaseException)], (trial, taken)
         assert any(taken), trial
         both += all(taken)
         assert not (folder / ".pfeie-run.lock").exists()
@@ -128,7 +154,8 @@ def test_study_and_run_folders_kept_apart(tmp_path: Path, caplog: pytest.LogCapt
     model.write_text(MODEL)  # another model (friction angle 20°) into the study's folder
     with caplog.at_level(logging.WARNING):
         assert main(["study", str(p), "--quiet"]) == 0
-    assert "holds the outputs of a study of another model or other settings" in caplog.text
+    assert "holds the outputs of a study of another model, other settings or another pfeie" \
+           " version" in caplog.text
 
 
 def test_histories_switched_on_later(tmp_path: Path, caplog: pytest.LogCaptureFixture,
@@ -141,7 +168,7 @@ def test_histories_switched_on_later(tmp_path: Path, caplog: pytest.LogCaptureFi
     p.write_text(p.read_text().replace('folder = "study"', 'folder = "study"\nhistories = true'))
     with caplog.at_level(logging.WARNING):
         assert main(["study", str(p), "--quiet"]) == 0
-    assert "2 run(s) done before have no history under runs/" in caplog.text
+    assert "2 run(s) done before have no history of theirs under runs/" in caplog.text
     assert len(list((tmp_path / "study" / "runs").glob("*/results.h5"))) == 2
     capsys.readouterr()
     assert main(["study", str(p)]) == 0
@@ -349,3 +376,35 @@ def test_a_model_file_given_as_a_study_file(capsys: pytest.CaptureFixture[str]) 
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "expected a study file; this is a model file" in err[0]
     assert "`pfeie run`" in err[0]
+
+
+def test_a_kept_row_with_another_runs_history(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A reviewer's finding: a study of model A, then of model B into the same folder
+    (B's history replaces A's in runs/r0_0.2), then of A again: A's row was kept beside B's
+    history. Now a kept row needs its own history (the file's study_key): A runs again,
+    and its history is A's."""
+    import json
+
+    p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=1)
+    p.write_text(p.read_text().replace('folder = "study"', 'folder = "study"\nhistories = true'))
+    model = tmp_path / "model.toml"
+
+    def key() -> str:
+        rows = list((tmp_path / "study" / "rows").glob("*.json"))
+        with h5py.File(tmp_path / "study" / "runs" / "r0_0.2" / "results.h5", "r") as f:
+            assert any(r.stem == f.attrs["study_key"] for r in rows)
+            return str(f.attrs["study_key"])
+
+    assert main(["study", str(p), "--quiet"]) == 0
+    a = key()
+    model.write_text(MODEL.replace("friction_angle = 20.0", "friction_angle = 25.0"))
+    assert main(["study", str(p), "--quiet"]) == 0
+    b = key()
+    model.write_text(MODEL)
+    with caplog.at_level(logging.WARNING):
+        assert main(["study", str(p), "--quiet"]) == 0
+    assert "1 run(s) done before have no history of theirs" in caplog.text
+    assert key() == a != b
+    assert json.loads((tmp_path / "study" / "study.json").read_text())["runs"] == 1

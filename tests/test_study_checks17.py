@@ -279,9 +279,10 @@ def test_a_study_folder_in_use_is_refused_with_the_pid(
     p = setup(tmp_path, _one_second(STUDY.replace("[0.2, 0.5]", "[0.2]")), n=1)
     (tmp_path / "study").mkdir()
     lock = tmp_path / "study" / ".pfeie-run.lock"
-    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    from conftest import hold_folder
+
+    other = hold_folder(tmp_path / "study")
     try:
-        lock.write_text(f"{other.pid}\nother.toml\n")
         cli_fails(capsys, ["study", str(p)], f"{p}: output.folder: ",
                   f"another pfeie run (pid {other.pid}, model other.toml)")  # fmt: skip
         assert _no_rows(tmp_path)

@@ -17,6 +17,7 @@ keeps everything computed so far, and says so (``completed = false``).
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import json
 import logging
@@ -249,30 +250,41 @@ def run_job(
 class FolderLock:
     """One run at a time per output folder: a lock file holding the process id and the
     model, locked by the operating system (``flock``; released when the process ends, so a
-    killed run's lock is taken over). The file is written only while locked, and a lock
-    taken on a file that another run has just removed (and maybe created again) is tried
-    again: two runs started at the same moment cannot both take it."""
+    killed run's lock is taken over, whatever process now has its id). The file is written
+    only while locked, and a lock taken on a file that another run has just removed (and
+    maybe created again) is tried again: two runs started at the same moment cannot both
+    take it. Where there is no ``flock`` (another operating system, some network file
+    systems) the file itself is the lock: created with its content in one step (a hard
+    link of a written file), refused while its process runs, and a stale one (its process
+    gone) taken over."""
 
     def __init__(self, folder: Path, model: Path) -> None:
         self.path, self.model = folder / ".pfeie-run.lock", model
         self._fd: int | None = None
 
     def __enter__(self) -> FolderLock:
-        import fcntl
         import os
 
-        for _ in range(20):
+        flock = self._flock_works()
+        if flock:
+            import fcntl
+        for _ in range(100):
+            if not flock:
+                if self._take_by_pid():
+                    return self
+                continue
             fd = os.open(self.path, os.O_CREAT | os.O_RDWR, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError as exc:
+                os.close(fd)
                 if exc.errno in (errno.EAGAIN, errno.EWOULDBLOCK, errno.EACCES):
-                    os.close(fd)
-                    self._refuse()
-                    time.sleep(0.05)  # its holder is writing it, or has just ended: again
+                    self._refuse(held=True)
+                    time.sleep(0.05)  # its holder ended while we read it: again
                     continue
-                # a file system without flock (some network mounts): the process id alone
-                log.debug("%s: no flock on this file system (%s)", self.path, exc)
+                log.debug("%s: flock failed (%s): the file alone", self.path, exc)
+                flock = False
+                continue
             try:
                 same = os.fstat(fd).st_ino == os.stat(self.path).st_ino
             except FileNotFoundError:
@@ -280,21 +292,99 @@ class FolderLock:
             if not same:  # removed by the run that held it: lock the new file
                 os.close(fd)
                 continue
-            held = os.read(fd, 4096).decode(errors="replace")
-            if _alive(held.split("\n")[0].strip()):  # a run that does not lock (an earlier
-                # pfeie) or a process that holds the file some other way
-                os.close(fd)
-                self._refuse(held)
-            os.lseek(fd, 0, os.SEEK_SET)
+            # locked: whatever the file says is a run that has ended
             os.ftruncate(fd, 0)
-            os.write(fd, f"{os.getpid()}\n{self.model}\n".encode())
+            os.write(fd, self._text().encode())
             self._fd = fd
             return self
         raise InputError(f"{self.path}: cannot take the output folder's lock")
 
-    def _refuse(self, text: str | None = None) -> None:
+    def _flock_works(self) -> bool:
+        """Whether this system and the folder's file system lock files (``flock``), tried
+        on a file of this process's own, so that no empty lock file is left where it
+        does not."""
+        import os
+        import threading
+
+        try:
+            import fcntl
+        except ImportError:  # not a POSIX system
+            return False
+        probe = self.path.with_name(
+            f"{self.path.name}.probe.{os.getpid()}.{threading.get_ident()}")  # fmt: skip
+        fd = os.open(probe, os.O_CREAT | os.O_RDWR, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            log.debug("%s: no flock on this file system (%s)", self.path, exc)
+            return False
+        finally:
+            os.close(fd)
+            probe.unlink(missing_ok=True)
+        return True
+
+    def _text(self) -> str:
+        import os
+
+        return f"{os.getpid()}\n{self.model}\n"
+
+    def _take_by_pid(self) -> bool:
+        """The lock without flock: True when taken; False to try again (a stale lock
+        removed); an :class:`InputError` while its process runs (this one's included: two
+        threads of one process are two runs)."""
+        import os
+        import threading
+
+        tmp = self.path.with_name(f"{self.path.name}.{os.getpid()}.{threading.get_ident()}")
+        tmp.write_text(self._text())
+        try:
+            try:
+                os.link(tmp, self.path)  # the lock and its content in one step
+                return True
+            except FileExistsError:
+                pass
+            except OSError:  # no hard links here: create it exclusively, then write
+                try:
+                    fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+                except FileExistsError:
+                    pass
+                else:
+                    with os.fdopen(fd, "w") as fh:
+                        fh.write(self._text())
+                    return True
+        finally:
+            tmp.unlink(missing_ok=True)
+        try:
+            text = self.path.read_text(errors="replace")
+            age = time.time() - self.path.stat().st_mtime
+        except FileNotFoundError:
+            return False
+        if not text and age < 2.0:  # being written (it never is here): wait for it
+            time.sleep(0.05)
+            return False
+        self._refuse(text, own_alive=True)
+        # stale: move it aside, and put it back if it was not the one read (another run
+        # took the folder meanwhile)
+        grave = self.path.with_name(
+            f"{self.path.name}.stale.{os.getpid()}.{threading.get_ident()}")  # fmt: skip
+        try:
+            os.rename(self.path, grave)
+            if grave.read_text(errors="replace") != text:
+                with contextlib.suppress(OSError):
+                    os.link(grave, self.path)
+        except FileNotFoundError:
+            pass
+        grave.unlink(missing_ok=True)
+        return False
+
+    def _refuse(self, text: str | None = None, held: bool = False,
+                own_alive: bool = False) -> None:  # fmt: skip
         """Raise the error that names the run holding the lock (its process id and model
-        file, as it wrote them, or ``text``); return if that process is gone."""
+        file, as it wrote them, or ``text``); return if that process is gone (``held``:
+        the operating system says the lock is held, so refuse whatever the file says, once
+        it can be read). ``own_alive``: this process's id counts as a run."""
+        import os
+
         if text is None:
             try:
                 text = self.path.read_text(errors="replace")
@@ -302,7 +392,7 @@ class FolderLock:
                 return
         lines = text.split("\n")
         pid = lines[0].strip() or "?"
-        if pid != "?" and not _alive(pid):
+        if not held and (not _alive(pid) or (pid == str(os.getpid()) and not own_alive)):
             return
         raise InputError(
             f"{self.path.parent}: another pfeie run (pid {pid}, model "

@@ -17,6 +17,7 @@ import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -212,9 +213,15 @@ def _results_like(folder: Path) -> None:
     (folder / "afile").write_text("x")
 
 
+_HELD: list[Any] = []  # the folders this process holds for the cases, until it ends
+
+
 def _live_lock(folder: Path) -> None:
+    """The output folder held by another run (here this process, as a run holds it)."""
+    from pfeie._job import FolderLock
+
     (folder / "out").mkdir()
-    (folder / "out" / ".pfeie-run.lock").write_text(f"{os.getpid()}\nother.toml\n")
+    _HELD.append(FolderLock(folder / "out", Path("other.toml")).__enter__())
 
 
 # fmt: off

@@ -824,9 +824,11 @@ class Model:
         (:class:`~pfeie.model.Reservoir`, which has the equations, signs and units).
 
         M_a enters the consistent mass (modal analysis, ``mass()``,
-        :meth:`added_mass_matrix`) as it is, and the lumped mass of the time stepping
-        (``mass(lumped=True)``, :meth:`added_mass`) as its row sums per component
-        (:meth:`Reservoir.lumped`). Returns the reservoir (its mesh, pressures).
+        :meth:`added_mass_matrix`) as it is, and the lumped mass (``mass(lumped=True)``,
+        :meth:`added_mass`) as its row sums per component (:meth:`Reservoir.lumped`); the
+        time stepping keeps it whole beside the blocks' lumped mass
+        (``system(lumped_mass=True, full_reservoir=True)``), its row sums only in the metric
+        of the position correction. Returns the reservoir (its mesh, pressures).
 
         >>> import pfeie as pf
         >>> mesh = pf.rectangle(1.0, 10.0, 1, 4)
@@ -932,8 +934,9 @@ class Model:
         diagonal: the diagonal of Westergaard's d × d nodal blocks (:meth:`add_westergaard`;
         n_k² ∫ C N_a dA on a straight facet of normal n) and the finite-element reservoirs'
         row sums (:meth:`add_reservoir`, :meth:`Reservoir.lumped`). The totals and reports
-        use it; the coupling of an inclined face's components is in
-        :meth:`added_mass_matrix`."""
+        use it, and the position correction's metric; the coupling of an inclined face's
+        components is in :meth:`added_mass_matrix`, which the time stepping keeps for the
+        finite-element reservoirs."""
         out = _block_diagonal(self._westergaard_blocks())
         for res in self.fe_reservoirs:
             out += res.lumped()

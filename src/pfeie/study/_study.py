@@ -230,16 +230,18 @@ def run_folders(runs: list[tuple[str, float]]) -> list[str]:
     """The folders of the runs' histories under ``runs/``, one per (record name,
     intensity value): ``<record>@<value>`` with characters other than letters, digits,
     ``.`` and ``-`` as ``_`` (:func:`_slug`); where two runs would share a folder (records
-    ``a b`` and ``a_b``), each of them gets the first 8 hex digits of the SHA-256 of its
+    ``a b`` and ``a_b``, or ``EQ`` and ``eq`` on a case-insensitive file system), each of
+    them gets the first 8 hex digits of the SHA-256 of its
     record name and value appended, so that a folder never holds another run's history.
 
     >>> run_folders([("a b", 0.5), ("a_b", 0.5), ("c", 0.5)])
     ['a_b_0.5-8631bc54', 'a_b_0.5-9edcd68d', 'c_0.5']
     """
     plain = [_slug(f"{name}@{value:.6g}") for name, value in runs]
+    folded = [f.lower() for f in plain]  # one folder on a case-insensitive file system
     out = []
     for (name, value), f in zip(runs, plain, strict=True):
-        if plain.count(f) > 1:
+        if folded.count(f.lower()) > 1:
             f += "-" + hashlib.sha256(f"{name}@{value!r}".encode()).hexdigest()[:8]
         out.append(f)
     return out
@@ -325,10 +327,26 @@ def kept_row(ctx: Context, spec: RunSpec) -> dict[str, Any] | None:
     if there is none, or if histories are kept and the run's history is not there (a
     study run before without them): then it is run again."""
     row = read_row(ctx.folder, spec.key)
-    if row is not None and ctx.histories and spec.folder and not (
-            ctx.folder / "runs" / spec.folder / "results.h5").exists():  # fmt: skip
+    if row is not None and ctx.histories and spec.folder and not _history_of(
+            ctx.folder / "runs" / spec.folder / "results.h5", spec.key):  # fmt: skip
         return None
     return row
+
+
+def _history_of(path: Path, key: str) -> bool:
+    """Whether ``path`` is the history of the run of ``key`` (its attribute
+    ``study_key``): a folder is named by the record and the intensity, so a study of
+    another model (or a changed record) into the same folder leaves another run's file
+    there."""
+    if not path.is_file():
+        return False
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            return bool(f.attrs.get("study_key", "") == key)
+    except OSError:  # damaged, or not HDF5
+        return False
 
 
 def run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | PfeieError]:
@@ -1023,11 +1041,13 @@ class Study:
             return
         key = old.get("model_key") if isinstance(old, dict) else None
         if key is not None and key != self.context().model_key:
-            log.warning("%s: %s holds the outputs of a study of another model or other "
-                        "settings (study.json: %r); its rows are not reused, and its "
+            log.warning("%s: %s holds the outputs of a study of another model, other "
+                        "settings or another pfeie version (study.json: %r, pfeie %s); its "
+                        "rows are not reused, and its "
                         "histories under runs/ that this study does not write again stay "
                         "there: choose another output.folder to keep the two apart", where,
-                        folder, old.get("title") or old.get("model"))  # fmt: skip
+                        folder, old.get("title") or old.get("model"),
+                        old.get("pfeie_version", "?"))  # fmt: skip
 
     def _run(
         self,
@@ -1054,8 +1074,9 @@ class Study:
                 elif ctx.histories and read_row(ctx.folder, s.key) is not None:
                     missing += 1
         if missing:
-            log.warning("%s: %d run(s) done before have no history under runs/ "
-                        "(output.histories was off): run again to write it", ctx.folder,
+            log.warning("%s: %d run(s) done before have no history of theirs under runs/ "
+                        "(output.histories was off, or their folder holds another run's "
+                        "file or has a new name): run again to write it", ctx.folder,
                         missing)  # fmt: skip
         # one run per key: two records with the same bytes and options share their runs
         todo = list({s.key: s for s in specs if s.key not in done}.values())
