@@ -359,7 +359,8 @@ class FolderLock:
             age = time.time() - self.path.stat().st_mtime
         except FileNotFoundError:
             return False
-        if not text and age < 2.0:  # being written (it never is here): wait for it
+        if not text and age < 2.0:  # being written (a file system without hard links
+            # creates it, then writes it): wait for it; an empty one older is a crash's
             time.sleep(0.05)
             return False
         self._refuse(text, own_alive=True)
