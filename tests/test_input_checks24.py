@@ -408,3 +408,15 @@ def test_a_kept_row_with_another_runs_history(
     assert "1 run(s) done before have no history of theirs" in caplog.text
     assert key() == a != b
     assert json.loads((tmp_path / "study" / "study.json").read_text())["runs"] == 1
+
+
+@pytest.mark.parametrize("argv", [["schema", "--out", "a\x00b"], ["check", "x\x00.toml"],
+                                  ["run", "m.toml", "--set", "a=\x00"]])  # fmt: skip
+def test_a_nul_character_in_an_argument(argv: list[str],
+                                        capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """The slow fuzzer's `pfeie schema --out 'a\\x00b'`: a ValueError traceback from open;
+    now exit 2 naming the command, the argument and the value, for any command."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"pfeie: error: {argv[0]}: " in err and "holds a NUL character" in err
+    assert "Traceback" not in err

@@ -249,6 +249,14 @@ def _main(argv: Sequence[str] | None) -> int:
         ap.print_help(sys.stderr)
         print("pfeie: error: expected a command, e.g. pfeie check model.toml", file=sys.stderr)
         return EXIT_INPUT
+    for key, value in vars(args).items():  # no file name can hold a NUL character (the
+        # fuzzer's `schema --out 'a\x00b'`: a ValueError traceback from open)
+        for v in value if isinstance(value, list) else [value]:
+            if isinstance(v, str | os.PathLike) and "\x00" in os.fspath(v):
+                print(f"pfeie: error: {args.command}: {key.replace('_', '-')}: {str(v)!r} "
+                      "holds a NUL character; expected a file name or a value",
+                      file=sys.stderr)  # fmt: skip
+                return EXIT_INPUT
     if args.command in ("plot", "export", "report"):
         return _post(args)
     if args.command == "verify":
