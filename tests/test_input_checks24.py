@@ -12,6 +12,7 @@ import logging
 import shutil
 import threading
 from pathlib import Path
+from typing import Any
 
 import h5py
 import numpy as np
@@ -26,6 +27,19 @@ from test_study import MODEL, STUDY, setup
 
 def _one_second(text: str) -> str:
     return text + "[analysis]\nduration = 0.3\n"
+
+
+def _stacked_boxes() -> tuple[Any, Any]:
+    """A 2 × 2 × 2 m box of hexahedra cut at z = 1 m into "rock" and "block" by the facet
+    group "joint", with "bottom" its base: the mesh and the rock's material."""
+    import pfeie as pf
+
+    mesh = pf.box(2.0, 2.0, 2.0, 3, 3, 2)
+    mesh.add_cell_group("rock", lambda x: x[:, 2] < 1.0)
+    mesh.add_cell_group("block", lambda x: x[:, 2] > 1.0)
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2] - 1.0) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("bottom", lambda x: x[:, 2] < 1e-9)
+    return mesh, pf.Elastic(1e9, 0.25, 2000.0)
 
 
 @pytest.mark.parametrize("lock", ["flock", "no flock", "no fcntl"])
@@ -271,14 +285,9 @@ def test_facets_of_another_shape_than_the_cells_faces(group: str) -> None:
     import pfeie as pf
     from pfeie.errors import ModelError
 
-    mesh = pf.box(1.0, 1.0, 2.0, 2, 2, 2)
-    mesh.add_cell_group("rock", lambda x: x[:, 2] < 1.0)
-    mesh.add_cell_group("block", lambda x: x[:, 2] > 1.0)
-    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2] - 1.0) < 1e-9, boundary_only=False)
-    mesh.add_facet_group("bottom", lambda x: x[:, 2] < 1e-9)
+    mesh, rock = _stacked_boxes()
     quads = mesh.facet_groups[group].pop("quad")
     mesh.facet_groups[group]["triangle"] = np.concatenate([quads[:, :3], quads[:, [0, 2, 3]]])
-    rock = pf.Elastic(1e9, 0.25, 2000.0)
     with pytest.raises(ModelError, match=rf"'{group}': its facets are triangle \(3 corners\), "
                        "but the faces of the block cells have 4 corners"):  # fmt: skip
         model = pf.Model(mesh, [pf.Block("rock", rock), pf.Block("block", rock)],
@@ -327,11 +336,7 @@ def test_the_static_figure_of_a_3d_joint_is_a_map(
     import pfeie as pf
     from pfeie.plot import _plots
 
-    mesh = pf.box(2.0, 2.0, 2.0, 3, 3, 2)
-    mesh.add_cell_group("rock", lambda x: x[:, 2] < 1.0)
-    mesh.add_cell_group("block", lambda x: x[:, 2] > 1.0)
-    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2] - 1.0) < 1e-9, boundary_only=False)
-    rock = pf.Elastic(1e9, 0.25, 2000.0)
+    mesh, rock = _stacked_boxes()
     model = pf.Model(mesh, [pf.Block("rock", rock), pf.Block("block", rock)],
                      interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
     model.fix("zmin")

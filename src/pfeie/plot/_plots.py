@@ -422,6 +422,13 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
     return _finish(fig, path)
 
 
+def _pair_squares(uv: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """Each pair of a 3D joint drawn in the joint's plane: a square of its tributary
+    ``area`` about its in-plane point ``uv`` (m, m²), corners (m, 4, 2)."""
+    corners = 0.5 * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    return uv[:, None, :] + np.sqrt(area)[:, None, None] * corners[None, :, :]
+
+
 def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str) -> Path:
     """The static state of a 3D joint in its plane (:func:`joint_plane`; a pair: a square
     of its tributary area about its point, as the joint map): the normal stress
@@ -433,8 +440,7 @@ def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     uv, _, labels = joint_plane(pr["x"], pr["frame"])
-    corners = 0.5 * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-    squares = list(uv[:, None, :] + np.sqrt(pr["area"])[:, None, None] * corners[None, :, :])
+    squares = list(_pair_squares(uv, pr["area"]))
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
     normal = 1e-6 * pr["normal_stress"]
     shear = 1e-6 * np.linalg.norm(pr["shear_stress"], axis=-1)
@@ -997,12 +1003,11 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
     fig, axes = plt.subplots(2 * len(names), 2, figsize=(11, 7.6 * len(names)), squeeze=False)
     cmap = ListedColormap(STATE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
-    corners = 0.5 * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
     described: dict[str, Any] = {}
     for j, name in enumerate(names):
         pr = res.pairs(name)
         uv, basis, labels = joint_plane(pr["x"], pr["frame"])
-        squares = uv[:, None, :] + np.sqrt(pr["area"])[:, None, None] * corners[None, :, :]
+        squares = _pair_squares(uv, pr["area"])
         first = (res.static_pairs(name)["state"] if "static/state" in res.f
                  else pr["state"][0])  # fmt: skip
         opening = 1e3 * _shown_opening(pr["opening"].max(axis=0))

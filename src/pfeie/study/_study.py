@@ -39,6 +39,7 @@ time writes to a folder (a lock file, :meth:`Study.run`).
 
 from __future__ import annotations
 
+import collections
 import copy
 import dataclasses
 import difflib
@@ -238,10 +239,11 @@ def run_folders(runs: list[tuple[str, float]]) -> list[str]:
     ['a_b_0.5-8631bc54', 'a_b_0.5-9edcd68d', 'c_0.5']
     """
     plain = [_slug(f"{name}@{value:.6g}") for name, value in runs]
-    folded = [f.lower() for f in plain]  # one folder on a case-insensitive file system
+    # one folder on a case-insensitive file system
+    folded = collections.Counter(f.lower() for f in plain)
     out = []
     for (name, value), f in zip(runs, plain, strict=True):
-        if folded.count(f.lower()) > 1:
+        if folded[f.lower()] > 1:
             f += "-" + hashlib.sha256(f"{name}@{value!r}".encode()).hexdigest()[:8]
         out.append(f)
     return out
