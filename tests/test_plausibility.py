@@ -70,7 +70,8 @@ def test_api_warns_of_units(caplog: pytest.LogCaptureFixture) -> None:
     by two blocks is warned once, naming both. A low density beside a normal one is a
     practically massless foundation (20 kg/m³, about 1 % of the rock's, or 0): not warned;
     2.4 kg/m³ beside it reads as t/m³ (in [1, 3.5]) and is; 20 kg/m³ alone is too (no
-    normal density beside it: 20000 meant). A concrete model gives none, nor the mistakes
+    normal density beside it: a unit weight of 20 kN/m³, 2039 kg/m³, meant? 20,000 kg/m³
+    is no rock's). A concrete model gives none, nor the mistakes
     with ``check_units=False``."""
     soft = pf.Elastic(E=30.0, nu=0.2, rho=2400.0)
     tonnes = pf.Elastic(E=30e9, nu=0.2, rho=2.4)
@@ -90,7 +91,10 @@ def test_api_warns_of_units(caplog: pytest.LogCaptureFixture) -> None:
         ({"bottom": pf.Elastic(E=30e9, nu=0.2, rho=0.0)}, []),
         ({"bottom": tonnes}, ["block 'bottom': " + RHO_LOW.format(v=2.4, meant=2400)]),
         ({"bottom": light, "top": light},
-         ["blocks 'bottom', 'top': " + RHO_LOW.format(v=20, meant=20000)]),
+         ["blocks 'bottom', 'top': rho = 20 kg/m³ lies below 500 kg/m³ (concrete and rock: "
+          "1800 to 3200); pfeie takes SI units: did you mean 2039 kg/m³ (a unit weight of 20 "
+          "kN/m³ ÷ g)? A practically massless block (about 1 % of the rock's density) is "
+          "fine"]),
         ({"joint": pf.Joint(phi=0.6)}, [low.format(v=0.6, mu="31.0")]),
         ({"joint": pf.Joint(phi=0.5236)},
          [low.format(v=0.5236, mu="27.6") + meant.format(deg="30.0")]),

@@ -28,8 +28,6 @@ A whole analysis:
 True
 """
 
-import logging
-
 from ._version import __version__
 from .dynamics import Dynamic, DynamicResult, DynamicSettings, History, Newmark, RunStopped, State
 from .errors import (
@@ -56,7 +54,10 @@ from .solvers import (
 )
 from .study import Study, StudyTable
 
-logging.getLogger(__name__).addHandler(logging.NullHandler())
+# No NullHandler on the package's logger: a Python user who has not configured logging
+# then sees its warnings (a joint's strength that never acts, implausible units, a
+# mechanism) on stderr through Python's last-resort handler, WARNING and above only;
+# ``logging.getLogger("pfeie").setLevel(logging.ERROR)`` silences them
 
 __all__ = [
     "Block", "Dynamic", "DynamicResult", "DynamicSettings", "Elastic", "GroundMotion", "History",

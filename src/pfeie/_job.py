@@ -682,7 +682,7 @@ def _most_open(model: Model, st: StaticResult) -> dict[str, Any]:
     if P is None or S is None:
         return {}
     # open as in the summary's joint lines: by more than OPEN_CRACK_MIN_M
-    opened = ((S.state == OPEN) & (S.w[:, -1] > OPEN_CRACK_MIN_M)).astype(float) * P.area
+    opened = ((S.state == OPEN) & (S.s[:, -1] > OPEN_CRACK_MIN_M)).astype(float) * P.area
     shares = {n: float(opened[P.of(n)].sum() / P.area[P.of(n)].sum()) for n in P.names}
     name = max(shares, key=lambda n: shares[n])
     return {"open_joint": name, "open_share": shares[name]} if shares[name] > 0 else {}
@@ -707,7 +707,7 @@ def _open_cohesion(model: Model, st: StaticResult | None) -> dict[str, dict[str,
         lost = is_open[idx] & (c[idx] > 0)
         if total > 0 and lost.any():
             out[n] = {"share": float(c[idx][lost].sum() / total),
-                      "max_opening_m": float(S.w[idx][lost, -1].max())}  # fmt: skip
+                      "max_opening_m": float(S.s[idx][lost, -1].max())}  # fmt: skip
     return out
 
 
@@ -996,7 +996,7 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
     # a shear at the round-off of the joint's forces (FS_ROUNDOFF of their sum) is no shear
     noise = FS_ROUNDOFF * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
-                                       noise, opening=st.w[:, -1])  # fmt: skip
+                                       noise, opening=st.s[:, -1])  # fmt: skip
     out = {}
     for k, name in enumerate(P.names):
         idx = P.of(name)

@@ -245,7 +245,9 @@ class StaticInterfaceProblem:
             if res.status == 0:
                 break
             log.debug("rigid-block check: linprog status %d: %s", res.status, res.message)
-        else:
+        else:  # the check gives no answer: said, not a silent NaN in the diagnosis
+            log.warning("rigid-block check of the floating blocks failed (linprog status %d: "
+                        "%s); the diagnosis goes without it", res.status, res.message)  # fmt: skip
             return failed
         s = np.abs(res.x[n * d : n * d + k] - res.x[n * d + k :])
         for b in np.unique(self.mode_body):

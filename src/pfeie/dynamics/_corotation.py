@@ -203,6 +203,19 @@ class Corotation:
         n = self._I.size
         return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
+    def pair_frames(self, R: FloatArray) -> FloatArray:
+        """The pairs' frames (m, d, d) in the configuration of the body rotations R, those
+        in which the pair forces are expressed: T_k R_aᵀ, turned with the body of side a
+        (the reference T_k where side a does not turn)."""
+        assert self.op0 is not None and self.op0.pairs is not None
+        T0 = self.op0.pairs.frame
+        turns = self.a_body >= 0
+        if not turns.any():
+            return T0
+        Ra = np.broadcast_to(np.eye(self.d), (self.a_body.size, self.d, self.d)).copy()
+        Ra[turns] = R[self.a_body[turns]]
+        return np.asarray(T0 @ np.swapaxes(Ra, 1, 2))
+
     def operators(self, R: FloatArray) -> tuple[PairOperator, GatheredDelassus, bool] | None:
         """The pair operator with frames turned by R, its Delassus operator gathered from
         the nodal flexibility (the corrector through the rotated factor), and whether they

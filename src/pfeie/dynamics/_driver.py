@@ -86,6 +86,9 @@ class StepState:
     # the time of step 0 of the state's grid (s): step k is at origin + k h exactly, not
     # at a running sum of h (None: t − step h)
     origin: float | None = None
+    # the static result the run started from (None: none): its uplift pressures and open
+    # pairs set the pre-earthquake uplift of a run continued from this state
+    static: object | None = None
 
 
 @dataclass
@@ -100,6 +103,10 @@ class Checkpoint:
     origin: tuple[float, float]
     row: int
     envelope: dict[str, FloatArray] | None = None
+    #: the run's excitation (:attr:`Excitation.key`: a digest and its wording), which a
+    #: resumed run must have; None: not checked (a checkpoint read from a results file,
+    #: whose run key the command line checks)
+    excitation: tuple[str, str] | None = None
 
 
 class Dynamic:
@@ -168,6 +175,7 @@ class Dynamic:
                              "or a support")  # fmt: skip
         self.settings = settings
         self.model = model
+        self._revision = model.revision  # the model as built (see _check_model)
         # the blocks' mass lumped; the reservoirs' added mass kept as a matrix where it
         # couples DOFs (a finite-element reservoir's M_a, Westergaard's nodal blocks on an
         # inclined face: the integrators factorise a general M)
@@ -304,6 +312,33 @@ class Dynamic:
         """The body frames (large rotations), or None."""
         return None if self.corot is None else self.corot.frames
 
+    def _check_state(self, st: StepState, what: str) -> None:
+        """Refuse a step state of another model (``what``: the argument): its free DOFs,
+        pairs or dimension differ from this analysis'."""
+        n, m = self.system.n, self.m
+        got_n = int(np.shape(st.kin.u)[0]) if np.ndim(st.kin.u) == 1 else -1
+        X = st.pairs.X
+        got_m, got_d = (X.shape[0], X.shape[1]) if X.ndim == 2 else (-1, -1)
+        if got_n != n or got_m != m or (m and got_d != self.d):
+            raise ModelError(f"{what}: the state is of another model ({got_n} free DOFs and "
+                             f"{got_m} pairs; this analysis has {n} free DOFs and {m} pairs): "
+                             "expected a state of a run of this analysis' model (its "
+                             "result.final, or a checkpoint of it)")  # fmt: skip
+
+    def _check_model(self) -> None:
+        """Refuse a run of a model changed since this analysis was built (supports, loads,
+        reservoirs, uplifts or damping added or replaced; :attr:`Model.revision`): its
+        factorised operators and loads are those of the model then, and the change would
+        be ignored without a word."""
+        now = self.model.revision
+        if now == self._revision:
+            return
+        what = [k for k in now if now[k] != self._revision[k]]
+        raise ModelError(f"the model changed after this analysis was built ({', '.join(what)} "
+                         "changed: a fix or add_* call, or a new damping): the analysis "
+                         "holds the operators and loads of the model as it was; build a new "
+                         "pfeie.Dynamic(model, ...) after the change")  # fmt: skip
+
     # -- operators of the current configuration ------------------------------------------------
     def excitation(self, ground: Sequence[GroundMotion] = (), form: str = "relative",
                    start: object | None = None) -> Excitation:  # fmt: skip
@@ -423,7 +458,8 @@ class Dynamic:
         ``v0`` ((n_points, d) arrays, default zero; e.g. a bar moving towards a wall). Pairs
         of broken joints whose gap is positive start open. ``ground`` and ``form`` give
         the excitation at t0 (the initial acceleration)."""
-        return self._initial(self.excitation(ground, form), static, t0, u0=u0, v0=v0)
+        self._check_model()
+        return self._initial(self.excitation(ground, form, static), static, t0, u0=u0, v0=v0)
 
     def _initial(
         self, ex: Excitation, static: object | None, t0: float = 0.0, *,
@@ -483,8 +519,8 @@ class Dynamic:
             # without pairs start the same way, so that intact joints give the monolithic
             # response to round-off.
             a = self._step_nonsmooth_alpha(first, ex, self.ga, t0, ahead_next=False).kin.a
-            return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0)
-        return StepState(State(t0, u, v, a, f), ps, 0)
+            return StepState(self.ga.initial_state(u, v, a, f_ext, t0), ps, 0, static=static)
+        return StepState(State(t0, u, v, a, f), ps, 0, static=static)
 
     def _probes(self, probes: Sequence[int] | IntArray) -> IntArray:
         """Probe node indices, checked: whole numbers in [0, n_points)."""
@@ -607,6 +643,7 @@ class Dynamic:
             nxt = self._step_newmark(cur, ex, origin)
         nxt.kin.t = origin + nxt.step * self.dt
         nxt.origin = origin
+        nxt.static = cur.static
         return nxt
 
     def _step_newmark(self, cur: StepState, ex: Excitation, origin: float) -> StepState:
@@ -904,7 +941,7 @@ class Dynamic:
         self.event_steps += 1
         return StepState(sub.kin, sub.pairs, cur.step + 1, lam=sub.lam, impact=sub.impact,
                          dissipation=sub.dissipation, correction=sub.correction,
-                         shift=sub.shift, origin=origin)  # fmt: skip
+                         shift=sub.shift, origin=origin, static=cur.static)  # fmt: skip
 
     def _event_step(
         self, cur: StepState, ex: Excitation, rec: Recorder
@@ -996,6 +1033,7 @@ class Dynamic:
         the last completed step are returned with ``completed = False`` and the error is
         logged; nothing computed is lost.
         """
+        self._check_model()
         if (duration is None) == (n_steps is None):
             raise ModelError("give either duration or n_steps")
         given: Any = n_steps  # the API takes what a caller gives: a float too
@@ -1013,20 +1051,39 @@ class Dynamic:
             raise ModelError(f"n_steps must be >= 0, got {n}")
         if isinstance(every, bool) or not isinstance(every, int | np.integer) or every < 1:
             raise ModelError(f"every: expected a whole number of steps >= 1, got {every!r}")
-        ex = self.excitation(ground, form, None if isinstance(start, StepState) else start)
+        # the pre-earthquake uplift: that of the static result the run starts from (a
+        # StepState's own, e.g. Dynamic.initial(static) or a previous run's final state)
+        ex = self.excitation(ground, form, start.static if isinstance(start, StepState)
+                             else start)  # fmt: skip
         for g in ex.ground:
             why = shorter_than_a_step(g, self.dt)
             if why is not None:
                 raise ModelError(f"ground motion {g.name!r}: {why}")
         if resume is not None:
+            if not isinstance(resume, Checkpoint):
+                raise ModelError(f"resume: expected a pfeie Checkpoint (from on_checkpoint), "
+                                 f"got {type(resume).__name__}")  # fmt: skip
+            key = ex.key
+            if resume.excitation is not None and resume.excitation[0] != key[0]:
+                raise ModelError(
+                    f"resume: the checkpoint was taken under {resume.excitation[1]}; this "
+                    f"run is given {key[1]} (or the records' samples differ): a resumed run "
+                    "continues the same run, so give it the same records and form (to "
+                    "continue under another record, start from the state: "
+                    "start=checkpoint.state)")  # fmt: skip
             cur, row0 = resume.state, resume.row
+            self._check_state(cur, "resume")
             if self.corot is not None:
                 self._corotate(cur.kin.u)
             if self.m and ex.follows_pairs:  # the uplift of the pairs open at the checkpoint
                 ex.follow(cur.pairs.state == OPEN)
         else:
+            if isinstance(start, StepState):
+                self._check_state(start, "start")
             cur = start if isinstance(start, StepState) else self._initial(ex, start)
             row0 = 0
+            if isinstance(start, StepState) and self.m and ex.follows_pairs:
+                ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now
         m, d = self.m, self.d
         probes = self._probes(probes)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop
@@ -1085,9 +1142,9 @@ class Dynamic:
             except InterfaceError as exc:
                 log.error("run stopped: %s", exc)
                 completed, reason = False, str(exc)
-                if cur.step % every:  # keep the last completed step
+                if cur.step % every:  # keep the last completed step, with its counters
                     j += 1
-                    rec.record(j, cur)
+                    rec.record(j, cur, solver=since(i - 1))
                     checkpoint()
                 break
             if event:

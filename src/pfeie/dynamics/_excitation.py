@@ -26,6 +26,7 @@ of records, one run each.
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Sequence
 from typing import Literal
 
@@ -179,6 +180,62 @@ class Excitation:
         if self.form != "relative":
             return np.zeros(self.dim)
         return sum((g.direction * g(t) for g in self.ground), np.zeros(self.dim))
+
+    @property
+    def key(self) -> tuple[str, str]:
+        """What identifies the excitation of a run, for a checkpoint (a run resumed under
+        other records or another form would not continue the run): a digest of the form
+        and of each record's times, accelerations and direction, and its wording."""
+        h = hashlib.sha256(self.form.encode())
+        for g in self.ground:
+            for arr in (g.time, g.acceleration, g.direction):
+                h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+        names = ", ".join(f"{g.name!r} along {np.round(g.direction, 6).tolist()}"
+                          for g in self.ground)  # fmt: skip
+        return h.hexdigest()[:16], f"the {self.form} form, " + (
+            f"records {names}" if names else "no record"
+        )
+
+    @property
+    def supports_work(self) -> bool:
+        """True when the prescribed DOFs are displaced (moving with the ground in the
+        absolute form, or held at given values), so that the strain energy of the whole
+        model and the work of the supports' reactions differ from the free DOFs' own
+        (:meth:`support_energy`)."""
+        sy = self.system
+        return bool(sy.prescribed.size and sy.K_fp is not None and sy.K_pp is not None
+                    and (self.moves_supports or np.any(sy.prescribed_values)))  # fmt: skip
+
+    def support_energy(self, t: float, u: FloatArray) -> float:
+        """The strain energy of the whole model beyond the free DOFs' ½u_fᵀK_ff u_f at t
+        (J): u_fᵀK_fp u_p + ½u_pᵀK_pp u_p, with u_p the prescribed displacements. In the
+        absolute form a model that moves rigidly with the ground holds no strain energy:
+        ½u_fᵀK_ff u_f alone would count its translation (the drive load −K_fp u_p, in
+        the external work, balanced it). Zero where the supports are not displaced."""
+        if not self.supports_work:
+            return 0.0
+        sy = self.system
+        assert sy.K_fp is not None and sy.K_pp is not None
+        up = self.prescribed(t)[0]
+        return float(u @ (sy.K_fp @ up) + 0.5 * (up @ (sy.K_pp @ up)))
+
+    def support_damping_work(
+        self, t0: float, t1: float, u0: FloatArray, u1: FloatArray, v0: FloatArray,
+        v1: FloatArray,
+    ) -> float:  # fmt: skip
+        """The damping's work over a step beyond the free DOFs' ½Δu_f·C_ff(v_f0 + v_f1)
+        by the same trapezoidal rule, where the supports move (J):
+        ½Δu_f·C_fp(v_p0 + v_p1) + ½Δu_p·(C_pf(v_f0 + v_f1) + C_pp(v_p0 + v_p1)); with it
+        a stiffness-proportional damping dissipates nothing in a rigid motion with the
+        ground. Zero where the supports do not move or the model is undamped."""
+        sy = self.system
+        if not self.moves_supports or sy.C_fp is None or sy.C_pp is None:
+            return 0.0
+        p0, p1 = self.prescribed(t0), self.prescribed(t1)
+        vp = p0[1] + p1[1]
+        return 0.5 * float(
+            (u1 - u0) @ (sy.C_fp @ vp) + (p1[0] - p0[0]) @ (sy.C_fp.T @ (v0 + v1) + sy.C_pp @ vp)
+        )
 
     def ground_displacement(self, t: float) -> FloatArray:
         """Σ ι d_g(t) (d,), the displacement of the ground."""

@@ -12,7 +12,11 @@ Energy (J), accumulated over the run (method.md §8):
   e = a − q̈ the lag of the auxiliary acceleration, δ = γ − ½; zero for the other
   schemes;
 - ``external_work``: Σ Δu·f̄ of the loads (f̄ the step average; in the absolute form it
-  includes the work of the moving base through the joints);
+  includes the work of the moving base through the joints, and that of the supports'
+  reactions on their motion, elastic and viscous: the strain energy and the damping are
+  those of the whole model, supports included, so that a model moving rigidly with the
+  ground holds no strain energy and dissipates nothing by a stiffness-proportional
+  damping);
 - ``damping``: Σ Δu·C v̄;
 - ``interface``: the work dissipated (friction, contact) or stored (joint springs) at
   the pairs: for the nonsmooth generalised-α the rigid contacts' dissipation by the
@@ -22,9 +26,11 @@ Energy (J), accumulated over the run (method.md §8):
 - ``impact``: the energy the impulses of the velocity correction beyond hλ take from the
   relative motion, ½Λ·(U⁺ − U⁻) = ½sΛᵀWΛ ≥ 0 (nonsmooth generalised-α);
 - ``algorithmic``: the dissipation of the time scheme itself, (θ − ½)(ΔvᵀMΔv + ΔuᵀKΔu)
-  per step for Moreau-Jean (zero for Newmark's average-acceleration rule, whose balance
-  holds exactly); for the default nonsmooth generalised-α the residual that closes the
-  balance with the modified energy: on a step without impulses, position corrections
+  per step for Moreau-Jean; for the Newmark family the rest of the balance (round-off
+  for the average-acceleration rule, whose balance the trapezoidal rule closes exactly;
+  the numerical dissipation of ρ∞ < 1 or HHT's α); for the default nonsmooth
+  generalised-α the residual that closes the balance with the modified energy: on a
+  step without impulses, position corrections
   or working pair forces exactly the scheme's dissipation D = δh²ēᵀMē ≥ 0
   (:meth:`NonsmoothAlpha.dissipation`), plus, on the other steps, what the velocity and
   position corrections leave and K = hλ_{n+1}·U⁺ − ½(λ_n + λ_{n+1})·Δw, the recorded
@@ -406,18 +412,34 @@ class EnergyAccount:
         terms; the balance closes either way)."""
         an = self.an if an is None else an
         acc = self.acc
+        ex, k0, k1 = self.ex, cur.kin, nxt.kin
+        if ex.supports_work:
+            # the supports' share, where they are displaced: the strain energy of the
+            # whole model and the damping's work on the supports' motion, both added to
+            # the external work too (the reactions' work on the supports' motion), which
+            # leaves the other terms of the balance as the free DOFs give them
+            extra = ex.support_energy(k1.t, k1.u) - ex.support_energy(k0.t, k0.u)
+            damp = ex.support_damping_work(k0.t, k1.t, k0.u, k1.u, k0.v, k1.v)
+            acc["external_work"] += extra + damp
+            acc["damping"] += damp
         if an.mj is not None:
             self._add_moreau_jean(an, cur, nxt)
             return
         if an.ga is not None:
             self._add_nonsmooth_alpha(an, cur, nxt)
             return
-        # the Newmark family (no interfaces): the trapezoidal rule, exact for β = 1/4,
-        # γ = 1/2
+        # the Newmark family (no interfaces): loads and damping by the trapezoidal rule,
+        # and ``algorithmic`` the rest of the balance: round-off for the average
+        # acceleration (β = 1/4, γ = 1/2, whose balance the trapezoidal rule closes
+        # exactly), the scheme's numerical dissipation for ρ∞ < 1 or HHT's α
         du = nxt.kin.u - cur.kin.u
-        acc["external_work"] += 0.5 * float(du @ (cur.kin.f + nxt.kin.f))
-        if an.system.C is not None:
-            acc["damping"] += _damping_work(an, du, cur.kin, nxt.kin)
+        ext = 0.5 * float(du @ (cur.kin.f + nxt.kin.f))
+        damp = _damping_work(an, du, cur.kin, nxt.kin) if an.system.C is not None else 0.0
+        dT = 0.5 * (an.mass_product(nxt.kin.v) - an.mass_product(cur.kin.v))
+        dU = an.strain_energy(nxt.kin.u) - an.strain_energy(cur.kin.u)
+        acc["external_work"] += ext
+        acc["damping"] += damp
+        acc["algorithmic"] += ext - dT - dU - damp
 
     def _add_nonsmooth_alpha(self, an: Dynamic, cur: StepState, nxt: StepState) -> None:
         """The nonsmooth generalised-α step: loads and damping by the trapezoidal rule;
@@ -587,17 +609,24 @@ class Recorder:
         R = an.corot.rotations(k.u) if an.corot is not None else None
         self.rigid[i] = an.rigid(full_u, R)
         if m:
+            pg = an.model.pairs
+            assert pg is not None
+            # the frames the pair forces are in, and where the pairs are: with large
+            # rotations turned with side a's body, and moved with their nodes
+            frame, x = pg.frame, None
+            if an.corot is not None and R is not None and an.corot.op0 is not None:
+                frame = an.corot.pair_frames(R)
+                x = pg.x + 0.5 * (U[pg.node_a] + U[pg.node_b])
             self.X[i], self.w[i], self.s[i] = st.pairs.X, st.pairs.w, st.pairs.s
-            self.fs[i] = self._safety_factor(an, st)
-            assert an.model.pairs is not None
+            self.fs[i] = self._safety_factor(an, st, frame)
             self.state[i], self.broken[i] = st.pairs.state, st.pairs.broken
-            self.jf[i], self.jm[i] = an.model.pairs.resultants(st.pairs.X)
+            self.jf[i], self.jm[i] = pg.resultants(st.pairs.X, frame, x)
             broken = st.pairs.broken
             self.jc[i], self.jo[i] = an.model.joint_extent(
                 np.stack([broken, broken & (st.pairs.state == OPEN)]))  # fmt: skip
         E = self.E
         E["kinetic"][i] = 0.5 * an.mass_product(k.v)
-        E["strain"][i] = an.strain_energy(k.u, R)
+        E["strain"][i] = an.strain_energy(k.u, R) + ex.support_energy(k.t, k.u)
         if self.origin is None:
             self.origin = (float(E["kinetic"][i]), float(E["strain"][i]))
         for key in ENERGY_TERMS[2:]:
@@ -618,7 +647,8 @@ class Recorder:
             })  # fmt: skip
 
     @staticmethod
-    def _safety_factor(an: Dynamic, st: StepState) -> FloatArray:
+    def _safety_factor(an: Dynamic, st: StepState,
+                       frame: FloatArray | None = None) -> FloatArray:  # fmt: skip
         """The sliding safety factor of each joint at the state ``st``
         (:meth:`~pfeie.interface.PairLaws.safety_factor`), on the smooth pair forces λ
         where the scheme has them (an impact's impulses aside), else on the step's forces
@@ -637,15 +667,23 @@ class Recorder:
         within its capacity and, by the triangle inequality ‖Σ T‖ ≤ Σ ‖T_i‖ ≤
         Σ max(0, c A + μ N), FS ≥ 1 (1 while the joint slides); and the factor is
         continuous as a pair's λ crosses its cone (taking the step's force X there instead
-        made the factor jump with round-off that moved a pair to either side)."""
+        made the factor jump with round-off that moved a pair to either side). ``frame``:
+        the pairs' frames where they have turned (large rotations), for the shears' vector
+        sum."""
         assert an.model.pairs is not None
         P, laws = st.pairs, an.model.pair_laws
         size = np.abs(P.X).sum(axis=1)
         if st.lam is not None:
             size = size + np.abs(st.lam).sum(axis=1)
         noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
-        args = (P.state == OPEN, P.broken, P.path, an.model.pairs.frame, noise)
-        on_x = laws.safety_factor(P.X, *args, opening=P.w[:, -1])
+        args = (
+            P.state == OPEN,
+            P.broken,
+            P.path,
+            an.model.pairs.frame if frame is None else frame,
+            noise,
+        )
+        on_x = laws.safety_factor(P.X, *args, opening=P.s[:, -1])
         if st.lam is None:
             return on_x
         # the pairs whose smooth force lies outside their cone: the shear on the cone
@@ -656,7 +694,7 @@ class Recorder:
         if beyond.any():
             lam = lam.copy()
             lam[beyond, :-1] *= (tau[beyond] / shear[beyond])[:, None]
-        on_lam = laws.safety_factor(lam, *args, opening=P.w[:, -1])
+        on_lam = laws.safety_factor(lam, *args, opening=P.s[:, -1])
         return np.where(np.isinf(on_lam), on_x, on_lam)
 
     def checkpoint(self, st: StepState, row: int) -> Checkpoint:
@@ -666,7 +704,7 @@ class Recorder:
 
         assert self.origin is not None
         env = self.envelope.snapshot() if self.envelope is not None else None
-        return Checkpoint(st, dict(self.account.acc), self.origin, row, env)
+        return Checkpoint(st, dict(self.account.acc), self.origin, row, env, self.ex.key)
 
     def result(
         self, rows: int, final: StepState, iterations: np.ndarray, wall: float,

@@ -89,20 +89,28 @@ class PairGeometry:
     @property
     def centroids(self) -> FloatArray:
         """The area centroid of every interface (n_interfaces, d), m."""
+        return self._centroids(self.x)
+
+    def _centroids(self, x: FloatArray) -> FloatArray:
+        """The area centroid of every interface (n_interfaces, d) of pairs at ``x``."""
         n = len(self.names)
         A = np.bincount(self.interface, self.area, minlength=n)
-        c = np.stack([np.bincount(self.interface, self.area * self.x[:, i], minlength=n)
+        c = np.stack([np.bincount(self.interface, self.area * x[:, i], minlength=n)
                       for i in range(self.dim)], axis=1)  # fmt: skip
         return c / np.maximum(A, 1e-300)[:, None]
 
-    def resultants(self, X: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def resultants(
+        self, X: FloatArray, frame: FloatArray | None = None, x: FloatArray | None = None
+    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
         """The resultant of the pair forces ``X`` (m, d; local frames, normal + in
         compression, on side b) over each interface: the force on side b in global axes,
         F_j = Σ_k T_kᵀ X_k (n_interfaces, d; N), and its moment about the interface's
         area centroid c_j, M_j = Σ_k (x_k − c_j) × T_kᵀ X_k (n_interfaces, 1 in 2D, the z
         component; 3 in 3D; N·m). For a dam–rock joint, F's horizontal component is the
         base shear and M the overturning moment about the base's centroid; about another
-        point p, M_p = M_j + (c_j − p) × F_j.
+        point p, M_p = M_j + (c_j − p) × F_j. ``frame`` (m, d, d) and ``x`` (m, d): the
+        pairs' frames and positions where they are not the reference ones (large
+        rotations: the frames turned with the bodies, the pairs where they have moved).
 
         >>> g = PairGeometry(("base",), np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64),
         ...                  np.ones(2, dtype=np.int64), np.tile(np.eye(2), (2, 1, 1)),
@@ -112,10 +120,12 @@ class PairGeometry:
         ([[0.0, 40.0]], [[20.0]])
         """
         n, d = len(self.names), self.dim
-        f = np.einsum("kji,kj->ki", self.frame, X)  # T_kᵀ X_k
+        frame = self.frame if frame is None else frame
+        x = self.x if x is None else x
+        f = np.einsum("kji,kj->ki", frame, X)  # T_kᵀ X_k
         F = np.stack([np.bincount(self.interface, f[:, i], minlength=n) for i in range(d)],
                      axis=1)  # fmt: skip
-        r = self.x - self.centroids[self.interface]
+        r = x - self._centroids(x)[self.interface]
         mk = (r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0])[:, None] if d == 2 else np.cross(r, f)
         M = np.stack([np.bincount(self.interface, mk[:, i], minlength=n)
                       for i in range(mk.shape[1])], axis=1)  # fmt: skip

@@ -7,6 +7,7 @@ from ._checkpoint import (
     reopen_results,
     resumable,
     run_key,
+    same_run,
 )
 from ._export import export_csv
 from ._files import output_file, output_folder
@@ -76,6 +77,7 @@ __all__ = [
     "reopen_results",
     "resumable",
     "run_key",
+    "same_run",
     "time_gaps",
     "write_at2",
     "write_modes",

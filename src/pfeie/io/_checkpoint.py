@@ -47,7 +47,7 @@ _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "shift":
           "cid_last_time": "s"}  # fmt: skip
 
 
-def run_key(job: Any) -> str:
+def run_key(job: Any, legacy: bool = False) -> str:
     """The SHA-256 of what a run's results depend on, except its duration: the validated
     model file with its overrides, and the bytes of the mesh and record files. The keys
     of the storage that change no value are left out: ``output.compression`` and
@@ -58,8 +58,12 @@ def run_key(job: Any) -> str:
     (the default, as before the option existed). The scale factors that depend on the
     duration (a ``pga`` or ``target_sa`` met by the part of a record up to
     ``analysis.duration``, :attr:`Job.part_factors`) are in it: a run extended to another
-    duration with another factor is not continued."""
-    spec = _keyed(job.spec)
+    duration with another factor is not continued. The keys that change no value of the
+    results file are left out too: ``output.checkpoint_seconds``, ``paraview`` (the
+    series is written from the file at the end) and ``folder`` (a results folder may be
+    moved, then resumed); ``legacy``: the key with them, as results files written before
+    version 0.3.15 hold it (:func:`same_run` takes either)."""
+    spec = _keyed(job.spec, legacy)
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     part = getattr(job, "part_factors", None)
     if part:  # none: the key as before these factors existed
@@ -72,13 +76,22 @@ def run_key(job: Any) -> str:
     return h.hexdigest()
 
 
-def _keyed(spec: Any) -> dict[str, Any]:
+def same_run(key: str, job: Any) -> bool:
+    """Whether the run key ``key`` of a results file is that of ``job``'s inputs: the
+    present key, or the key of a file written before version 0.3.15 (:func:`run_key`)."""
+    return key in (run_key(job), run_key(job, legacy=True))
+
+
+def _keyed(spec: Any, legacy: bool = False) -> dict[str, Any]:
     """The model spec as the run key takes it (see :func:`run_key`)."""
     spec = json.loads(json.dumps(spec, default=str))
     spec.get("analysis", {}).pop("duration", None)
     out = spec.get("output", {})
     for key in ("compression", "compression_level"):
         out.pop(key, None)
+    if not legacy:  # where and when the file is written, not what it holds
+        for key in ("checkpoint_seconds", "paraview", "folder"):
+            out.pop(key, None)
     if out.get("field_precision") == "float64":
         out.pop("field_precision")
     out.pop("checkpoint_steps", None)  # when to checkpoint changes no value
@@ -309,7 +322,7 @@ def resumable(path: str | Path, job: Any) -> float | None:
         with _h5py().File(p, "r") as f:
             name = next((g for g in ("checkpoint", "checkpoint_new") if g in f), None)
             if (name is None or bool(f.attrs.get("completed", False))
-                    or f.attrs.get("run_key", "") != run_key(job)):  # fmt: skip
+                    or not same_run(f.attrs.get("run_key", ""), job)):  # fmt: skip
                 return None
             return float(f[name].attrs["t"])
     except (OSError, KeyError, ValueError):
@@ -332,15 +345,15 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
             # killed while the new checkpoint replaced the old: it was on disk, complete,
             # before the old one was deleted (format 1.3 on)
             f.move("checkpoint_new", "checkpoint")
-        key = run_key(job)
+        same = same_run(f.attrs.get("run_key", ""), job)
         if "checkpoint" not in f:
-            if f.attrs.get("run_key", "") == key:  # the same run, stopped before a checkpoint
+            if same:  # the same run, stopped before a checkpoint
                 raise NothingToResume(f"{p}: nothing to resume: the run stopped before its "
                                       "first checkpoint")  # fmt: skip
             raise ResultsError(f"{p}: nothing to resume: the file has no checkpoint (a "
                                "run of an older pfeie, or of other inputs); run without "
                                "--resume")  # fmt: skip
-        if f.attrs.get("run_key", "") != key:
+        if not same:
             raise ResultsError(f"{p}: cannot resume: {_differs(f, job)}; run without --resume")
         written = str(f.attrs.get("pfeie_version", "?"))
         if written != __version__:  # another version may compute other numbers

@@ -49,6 +49,19 @@ def output_file(path: str | Path, where: str = "") -> Path:
     return p
 
 
+def toml_text(path: Path, raw: bytes) -> str:
+    """The text of a TOML file (a model or study file) from its bytes: UTF-8, with the
+    byte-order mark that some editors (Windows Notepad) write first dropped; a UTF-16
+    file is refused with a message that says so (:class:`InputError`), other bytes that
+    are not UTF-8 raise UnicodeDecodeError for the caller's message."""
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    elif raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise InputError(f"{path}: the file is UTF-16 text (it starts with a UTF-16 "
+                         "byte-order mark); expected UTF-8: save it as UTF-8")  # fmt: skip
+    return raw.decode("utf-8")
+
+
 def foreign_file(path: Path, raw: bytes) -> str | None:
     """What a file that is not TOML looks like, when it is recognisably another input of
     pfeie (a gmsh mesh, an HDF5 results file, a ground-motion record); ``None`` else."""

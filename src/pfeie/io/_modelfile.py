@@ -51,7 +51,7 @@ from ..model import (
     implausible_materials,
     implausible_mesh,
 )
-from ._files import foreign_file
+from ._files import foreign_file, toml_text
 from ._gmsh import read_mesh
 from ._records import (
     abrupt_end,
@@ -410,6 +410,15 @@ def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
                             "%s: one reservoir, two levels; intended?", p, i, w.water_level,
                             k, h.water_level, ", ".join(map(repr, shared)))  # fmt: skip
     if not hyd:
+        given = [
+            f"loads.{key}"
+            for key, items in (("uplift", loads.uplift), ("westergaard", loads.westergaard))
+            if items
+        ]
+        if given:  # a reservoir's mass or uplift, and no water pressing on the faces
+            log.warning("%s: %s given but no [[loads.hydrostatic]]: the reservoir's water "
+                        "pressure on the faces is missing (its thrust on the dam, the "
+                        "largest static load); intended?", p, " and ".join(given))  # fmt: skip
         return
     k = max(range(len(hyd)), key=lambda i: hyd[i].water_level)  # the reservoir
     lower = [i for i in range(len(hyd)) if i != k]
@@ -546,7 +555,7 @@ def _not_found(p: Path) -> str:
 
 def _validate(p: Path, raw: bytes, overrides: Sequence[Override]) -> ModelFile:
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
+        data = tomllib.loads(toml_text(p, raw))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = foreign_file(p, raw)
         if kind is not None:

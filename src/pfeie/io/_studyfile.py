@@ -36,7 +36,7 @@ from typing import Annotated, Literal
 from pydantic import Field, ValidationError, model_validator
 
 from ..errors import InputError
-from ._files import foreign_file
+from ._files import foreign_file, toml_text
 from ._schema import PathText, Positive, RecordReading, _check, _found, _Table, problems
 
 
@@ -201,7 +201,7 @@ def read_study_file(path: str | Path) -> StudyFile:
         raise InputError(f"{p}: study file not found")
     raw = p.read_bytes()
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
+        data = tomllib.loads(toml_text(p, raw))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = foreign_file(p, raw)
         if kind is not None:

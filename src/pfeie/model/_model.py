@@ -225,6 +225,11 @@ class LinearSystem:
     #: prescribed ones (free × prescribed), through which a moving ground acts
     K_fp: sp.csr_matrix | None = None
     C_fp: sp.csr_matrix | None = None
+    #: the stiffness and the damping among the prescribed DOFs (prescribed × prescribed):
+    #: with K_fp and C_fp, the strain energy and the damping of the whole model, supports
+    #: included, where the supports move (the absolute form)
+    K_pp: sp.csr_matrix | None = None
+    C_pp: sp.csr_matrix | None = None
     #: Rayleigh's (α, β) when ``C`` = α M + β K exactly (None otherwise): then
     #: K q + C v = K (q + β v) + α M v, one sweep of K (:meth:`elastic_and_damping`)
     rayleigh: tuple[float, float] | None = None
@@ -356,6 +361,12 @@ class Model:
         names = [b.name for b in blocks]
         if len(set(names)) != len(names):
             raise ModelError(f"block names must be unique, got {names}")
+        for b in blocks:  # a selection that matched no cell (a missing group: below)
+            grp = mesh.cell_groups.get(b.cell_group)
+            if grp is not None and not sum(np.size(idx) for idx in grp.values()):
+                raise ModelError(f"block {b.name!r}: its cell group {b.cell_group!r} holds "
+                                 "no cell (a selection that matched none?); expected the "
+                                 "block's cells")  # fmt: skip
         owner = _disjoint_blocks(mesh, blocks)
         if check_units:  # before the split: its errors may follow from these
             warn_implausible(mesh, blocks, interfaces)
@@ -490,10 +501,40 @@ class Model:
 
     def nearest_node(self, x: Sequence[float]) -> int:
         """Index of the node nearest to a point."""
-        d = np.linalg.norm(self.mesh.points - np.asarray(x, dtype=float), axis=1)
+        try:
+            p = np.asarray(x, dtype=float)
+        except (TypeError, ValueError):
+            p = np.full(1, np.nan)
+        if p.shape != (self.dim,) or not np.isfinite(p).all():
+            raise ModelError(f"nearest_node: expected a point of {self.dim} finite "
+                             f"coordinates (m), got {x!r}")  # fmt: skip
+        d = np.linalg.norm(self.mesh.points - p, axis=1)
         return int(np.argmin(d))
 
     # -- supports and loads ---------------------------------------------------------------
+    def _check_load(self, what: str, value: object, amplitude: object,
+                    vector: bool = True) -> None:  # fmt: skip
+        """Refuse a load that cannot be applied, naming it (``what``): a value that is
+        neither a function of the points nor a finite vector of the model's dimension (a
+        finite number for a pressure, ``vector`` False), an amplitude that is not a
+        function of time."""
+        if amplitude is not None and not callable(amplitude):
+            raise ModelError(f"{what}: amplitude: expected a function of time t (s) -> "
+                             f"factor, or None, got {type(amplitude).__name__} "
+                             f"{amplitude!r}")  # fmt: skip
+        if callable(value):
+            return
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            arr = np.full(1, np.nan)
+        shape = (self.dim,) if vector else ()
+        if arr.shape != shape or not np.isfinite(arr).all():
+            want = (f"a finite vector of {self.dim} components" if vector
+                    else "a finite number")  # fmt: skip
+            raise ModelError(f"{what}: expected {want} or a function of the points x, got "
+                             f"{value!r}")  # fmt: skip
+
     def fix(
         self,
         where: str | Iterable[int] | IntArray,
@@ -541,6 +582,12 @@ class Model:
             raise ModelError(f"gravity: expected a finite acceleration >= 0 m/s², got {g}")
         if self._check_units and implausible_gravity(g) is not None:
             log.warning("gravity %s", implausible_gravity(g))
+        self._check_load("gravity", 0.0, amplitude, vector=False)
+        massless = [b.cell_group for b in self.blocks if not b.material.rho > 0]
+        if massless and g > 0:
+            log.warning("gravity: block(s) %s have no density (rho = 0, pfeie.Elastic's "
+                        "default): gravity puts no load on them; give their material its "
+                        "density (kg/m³)", ", ".join(repr(n) for n in massless))  # fmt: skip
         self.loads.append(Load("gravity", None, g * e, amplitude))
 
     def add_inertia(
@@ -582,6 +629,7 @@ class Model:
             if unknown:
                 raise ModelError(f"add_body_force: blocks: no block {unknown[0]!r}; the "
                                  f"model's blocks are {', '.join(map(repr, known))}")  # fmt: skip
+        self._check_load("add_body_force", value, amplitude)
         self.loads.append(Load("body", None, value, amplitude,
                                blocks=None if blocks is None else tuple(blocks)))  # fmt: skip
 
@@ -590,6 +638,7 @@ class Model:
     ) -> None:
         """A traction (N/m²) on a facet group: a vector or a function of points."""
         self._boundary_group(group, "traction")
+        self._check_load(f"traction on {group!r}", value, amplitude)
         self.loads.append(Load("traction", group, value, amplitude))
 
     def add_pressure(
@@ -635,6 +684,7 @@ class Model:
         if level is not None and not np.isfinite(level):
             raise ModelError(f"pressure on {group!r}: the level must be finite, got {level}")
         self._boundary_group(group, "pressure")
+        self._check_load(f"pressure on {group!r}", value, amplitude, vector=False)
         self.loads.append(Load("pressure", group, value, amplitude,
                                level=None if level is None else float(level)))  # fmt: skip
 
@@ -1218,20 +1268,22 @@ class Model:
         shift = -(Kfp @ pval) if pres.size else np.zeros(free.size)
         constant = shift + pf_[:, [a is None for a in amps]].sum(axis=1)
         varying = [i for i, a in enumerate(amps) if a is not None]
-        C = Cfp = None
+        C = Cfp = Cpp = None
+        Kpp = K[pres][:, pres].tocsr()
         Mff = M[free][:, free].tocsr()
         Mfp = M[free][:, pres].tocsr()
         Mfp.eliminate_zeros()
         if self.damping is not None and (self.damping.alpha or self.damping.beta):
             Cf = (self.damping.alpha * M + self.damping.beta * K)[free]
             C, Cfp = Cf[:, free].tocsr(), Cf[:, pres].tocsr()
+            Cpp = (self.damping.alpha * M + self.damping.beta * K)[pres][:, pres].tocsr()
         return LinearSystem(
             M=Mff, K=Kff, C=C, free=free, n_dof=self.n_dof,
             prescribed=pres, prescribed_values=pval, _patterns=pf_[:, varying],
             _amplitudes=tuple(amps[i] for i in varying), _constant=constant,
             n_pairs=0 if self.pairs is None else int(self.pairs.n),
             C_update=self._rigid_damping(Mff, free) if C is not None else None,
-            M_fp=Mfp if Mfp.nnz else None, K_fp=Kfp, C_fp=Cfp,
+            M_fp=Mfp if Mfp.nnz else None, K_fp=Kfp, C_fp=Cfp, K_pp=Kpp, C_pp=Cpp,
             rayleigh=(None if C is None or self.damping is None
                       else (float(self.damping.alpha), float(self.damping.beta))),
         )  # fmt: skip
@@ -1718,6 +1770,17 @@ class Model:
             cv = self._values(cs, asm.mass_degree(cs.cell_type))
             total += float((cv.dV * cs.rho[:, None]).sum())
         return total
+
+    @property
+    def revision(self) -> dict[str, int]:
+        """What an analysis built on the model depends on, by count (supports, loads,
+        reservoirs, uplifts) and the damping's identity: each ``fix`` and ``add_*`` call
+        changes it, so that an analysis can tell that the model changed after it was
+        built (its operators and loads are those of that time)."""
+        return {"supports": len(self.supports), "loads": len(self.loads),
+                "Westergaard reservoirs": len(self.reservoirs),
+                "finite-element reservoirs": len(self.fe_reservoirs),
+                "uplifts": len(self.uplifts), "damping": id(self.damping)}  # fmt: skip
 
     def summary(self) -> dict[str, Any]:
         """Counts that describe the model: blocks, cells, nodes, DOFs."""

@@ -206,3 +206,9 @@ class Interface:
 
     group: str
     joint: JointLaw
+
+    def __post_init__(self) -> None:
+        if isinstance(self.joint, type):  # pf.Joint, not pf.Joint(...)
+            raise ModelError(f"interface {self.group!r}: joint: expected a joint law, e.g. "
+                             f"pf.Joint(phi=30.0), got the class {self.joint.__name__} "
+                             "itself")  # fmt: skip

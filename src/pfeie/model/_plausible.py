@@ -40,6 +40,8 @@ RHO_RANGE = (500.0, 2e4)
 #: densities (kg/m³) that read as concrete or rock in t/m³: warned even beside normal
 #: ones (a massless foundation takes 0 or about 1 % of the rock's density, 20 to 30)
 RHO_TONNES = (1.0, 3.5)
+#: densities (kg/m³) that read as the unit weight of concrete or rock in kN/m³ (÷ g)
+UNIT_WEIGHT_KN = (14.0, 32.0)
 #: friction angles below this (degrees) get a warning: joints in concrete and rock have
 #: 20° to 60°, clay-filled ones down to about 10° (a friction coefficient μ, or an angle
 #: in radians, entered as the angle falls below :data:`PHI_AS_NUMBER`)
@@ -109,10 +111,20 @@ def implausible_materials(materials: Mapping[str, Elastic],
     normal = any(lo <= float(mt.rho) <= hi for mt in materials.values())
     for name, mt in materials.items():
         rho = float(mt.rho)
-        if 0.0 < rho < lo and (not normal or RHO_TONNES[0] <= rho <= RHO_TONNES[1]):
+        tonnes = RHO_TONNES[0] <= rho <= RHO_TONNES[1]
+        if 0.0 < rho < lo and (not normal or tonnes):
+            # the value meant where it reads as t/m³ or as a unit weight in kN/m³ (÷ g);
+            # else a practically massless block on purpose?
+            if tonnes:
+                meant = f"did you mean {rho * 1e3:g} kg/m³ (t/m³ × 1000)?"
+            elif UNIT_WEIGHT_KN[0] <= rho <= UNIT_WEIGHT_KN[1]:
+                meant = (f"did you mean {rho * 1e3 / 9.81:.0f} kg/m³ (a unit weight of "
+                         f"{rho:g} kN/m³ ÷ g)? A practically massless block (about 1 % of "
+                         "the rock's density) is fine")  # fmt: skip
+            else:
+                meant = "a practically massless block (about 1 % of the rock's density) is fine"
             out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies below {lo:g} kg/m³ (concrete "
-                       "and rock: 1800 to 3200); pfeie takes SI units: did you mean "
-                       f"{rho * 1e3:g} kg/m³ (t/m³ × 1000)?")  # fmt: skip
+                       f"and rock: 1800 to 3200); pfeie takes SI units: {meant}")  # fmt: skip
         elif rho > hi:
             out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies above {hi:g} kg/m³ (concrete "
                        "and rock: 1800 to 3200); pfeie takes SI units (kg/m³)")  # fmt: skip

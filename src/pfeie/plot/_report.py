@@ -179,7 +179,7 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
         fs_static = job.model.pair_laws.safety_factor(
             X, np.asarray(res.f["static/state"]) == OPEN, np.asarray(res.f["static/broken"]),
             np.zeros(X.shape[0]), P.frame, noise,
-            opening=np.asarray(res.f["static/w"][:, -1]))  # fmt: skip
+            opening=np.asarray(res.f["static/s"][:, -1]))  # fmt: skip
     rows = []
     for name in res.interface_names:
         pr = res.static_pairs(name)
@@ -335,7 +335,7 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
     ``model_spec`` (older) needs the model file's own run key to match."""
     from types import SimpleNamespace
 
-    from ..io import Override, load_job, run_key
+    from ..io import Override, load_job, same_run
 
     meta = res.meta
     given = Path(str(meta.get("model_file", "")))
@@ -358,7 +358,7 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
         # are in the run key (results format 1.8 records them)
         part = {int(k): float(v) for k, v in json.loads(meta.get("part_factors", "{}")).items()}
         ran = SimpleNamespace(spec=spec, path=path, part_factors=part)
-        if key is not None and spec is not None and run_key(ran) != key:
+        if key is not None and spec is not None and not same_run(key, ran):
             return None, (f"the mesh or a record file of the model file {path} changed since "
                           "the run")  # fmt: skip
         try:
@@ -378,7 +378,7 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
                                       f"{meta.get('pfeie_version', '?')})")  # fmt: skip
         except PfeieError as exc:
             return None, f"the model file {path} does not build: {exc}"
-        if spec is None and key is not None and run_key(job) != key:
+        if spec is None and key is not None and not same_run(key, job):
             return None, (f"the model file {path} differs from the run's model: the run had "
                           "--set overrides, or its mesh or a record file changed")  # fmt: skip
         return job, str(path)

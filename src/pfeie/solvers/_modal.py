@@ -124,6 +124,10 @@ def modal(
     n = K.shape[0]
     if n_modes >= n:
         raise SolverError(f"asked for {n_modes} modes of a model with {n} free DOFs")
+    if not np.any(M.diagonal() > 0):
+        raise SolverError("modal: the model has no mass (rho = 0 in every block's material, "
+                          "the default of pfeie.Elastic): it has no modes; give the materials "
+                          "their density (kg/m³)")  # fmt: skip
     scale = float(abs(K.diagonal()).max() / max(abs(M.diagonal()).max(), 1e-300))
     if shift is None:
         shift = -1e-6 * scale
@@ -131,8 +135,13 @@ def modal(
     F = factorize((K - shift * M).tocsc(), spd=spd, backend=backend if spd else "superlu")
     op = spla.LinearOperator((n, n), matvec=F.solve, dtype=float)
     rng = np.random.default_rng(0)
-    w2, vec = spla.eigsh(K, k=n_modes, M=M, sigma=shift, OPinv=op, which="LM",
-                         v0=rng.standard_normal(n))  # fmt: skip
+    try:
+        w2, vec = spla.eigsh(K, k=n_modes, M=M, sigma=shift, OPinv=op, which="LM",
+                             v0=rng.standard_normal(n))  # fmt: skip
+    except (spla.ArpackError, spla.ArpackNoConvergence) as exc:
+        raise SolverError(f"modal: the eigensolver (ARPACK) failed for {n_modes} modes of "
+                          f"{n} free DOFs ({exc}); blocks without mass (rho = 0) or "
+                          "without supports make the problem singular") from None  # fmt: skip
     order = np.argsort(w2)
     w2, vec = w2[order], vec[:, order]
     norms = np.sqrt(np.einsum("ik,ik->k", vec, M @ vec))

@@ -379,7 +379,7 @@ def joint_factors(
     P = st.pairs
     assert P is not None
     capacity, shear = laws.capacity_and_shear(P.X, P.state == OPEN, P.broken, P.path, frames,
-                                              P.w[:, -1], ramp=True)  # fmt: skip
+                                              P.s[:, -1], ramp=True)  # fmt: skip
     # a shear of the round-off of the joint's forces is none (∞, as the summary's FS)
     size = np.abs(P.X).sum(axis=1)
     noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
