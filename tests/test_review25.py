@@ -400,3 +400,217 @@ def test_low_density_message() -> None:
     assert "rock.rho = 26 kg/m³" in out[1] and "practically massless" in out[1]
     assert "did you mean 2650 kg/m³ (a unit weight of 26 kN/m³ ÷ g)" in out[1]
     assert "26000" not in " ".join(out)
+
+
+def test_summary_record_line_says_the_part_applied(tmp_path: Path) -> None:
+    """A 0.4 s record cut by analysis.duration = 0.1 s: the model summary's record line
+    (which the run's final summary and the report print) says so, as the line printed
+    before the run does (the final summary's line left it out)."""
+    from pfeie.io import load_job
+    from test_cli import SMALL, _write
+
+    job = load_job(_write(tmp_path, SMALL, duration=0.1))
+    line = job.summary()["records"][0]
+    assert line.endswith("along x (the motion applied: up to 0.1 s, analysis.duration)")
+    assert job.record_lines() == [line]
+
+
+# -- a rock engineer's meshes ---------------------------------------------------------------
+def test_corner_facets_on_quadratic_cells_take_their_mid_side_nodes() -> None:
+    """A support group exported at first order (2-node lines) on 6-node triangles: the
+    group takes the cells' 3-node edges, so the support holds the mid-side nodes too
+    (it held the corners alone: 16 mid-side nodes of a fixed edge moved by 1.1 µm)."""
+    m = pf.rectangle(2.0, 1.0, 4, 2, cell="triangle6")
+    bottom = m.facet_groups["ymin"]
+    conn = np.concatenate(list(bottom.values()))
+    corners = conn[:, :2]  # the same edges by their corners only
+    mesh = pf.Mesh(m.points, m.cells, facet_groups={"base": {"line": corners}})
+    assert set(mesh.facet_groups["base"]) == {"line3"}
+    assert mesh.facet_groups["base"]["line3"].shape == (4, 3)
+    on_edge = np.flatnonzero(np.abs(m.points[:, 1]) < 1e-12)
+    np.testing.assert_array_equal(mesh.group_nodes("base"), on_edge)  # 9 nodes, not 5
+    assert on_edge.size == 9
+
+
+def _merged(*meshes: pf.Mesh) -> pf.Mesh:
+    """Meshes of quads joined by merging their coincident nodes (gmsh's Coherence)."""
+    pts = np.vstack([m.points for m in meshes])
+    offsets = np.cumsum([0] + [m.n_points for m in meshes])[:-1]
+    cells = np.vstack([m.cells["quad"] + o for m, o in zip(meshes, offsets, strict=True)])
+    _, first, inv = np.unique(np.round(pts, 9), axis=0, return_index=True, return_inverse=True)
+    return pf.Mesh(pts[first], {"quad": inv.ravel()[cells]})
+
+
+def test_non_conforming_mesh_warns(caplog: pytest.LogCaptureFixture) -> None:
+    """Two rectangles meshed at other sizes (2 and 3 cells along their 2 m common edge)
+    and merged: three nodes lie on the other side's edges without being their nodes
+    (at x = 2/3, 1 and 4/3); the model warns, naming the blocks. Conforming meshes (Q8,
+    Tet10, a Q8 mesh split along a joint, whose copies coincide with the other side's
+    nodes) have none."""
+    mesh = _merged(pf.rectangle(2.0, 1.0, 2, 1), pf.rectangle(2.0, 1.0, 3, 1, origin=(0.0, 1.0)))
+    hang = mesh.hanging_nodes()
+    np.testing.assert_allclose(mesh.points[hang], [[2 / 3, 1.0], [1.0, 1.0], [4 / 3, 1.0]])
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 1.0)
+    mesh.add_cell_group("top", lambda x: x[:, 1] > 1.0)
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        pf.Model(mesh, [pf.Block("base", mat), pf.Block("top", mat)])
+    assert "the mesh is not conforming: 3 node(s) of block(s) 'base', 'top'" in caplog.text
+    assert not pf.rectangle(2.0, 2.0, 4, 4, cell="quad8").hanging_nodes().size
+    assert not pf.box(1.0, 1.0, 1.0, 2, 2, 2, cell="tetra10").hanging_nodes().size
+    q8 = pf.rectangle(2.0, 2.0, 2, 4, cell="quad8")
+    q8.add_cell_group("a", lambda x: x[:, 1] < 1)
+    q8.add_cell_group("b", lambda x: x[:, 1] > 1)
+    q8.add_facet_group("j", lambda x: abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
+    split = pf.Model(q8, [pf.Block("a", mat), pf.Block("b", mat)],
+                     interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])  # fmt: skip
+    assert not split.mesh.hanging_nodes().size
+
+
+def _q8_below_q4() -> pf.Mesh:
+    """A 1 m square 8-node quad under a 4-node one, their common edge's nodes merged."""
+    q8 = pf.rectangle(1.0, 1.0, 1, 1, cell="quad8")
+    q4 = pf.rectangle(1.0, 1.0, 1, 1, origin=(0.0, 1.0))
+    pts = np.vstack([q8.points, q4.points])
+    _, first, inv = np.unique(np.round(pts, 9), axis=0, return_index=True, return_inverse=True)
+    inv = inv.ravel()
+    return pf.Mesh(pts[first], {"quad8": inv[q8.cells["quad8"]],
+                                "quad": inv[q4.cells["quad"] + q8.n_points]})  # fmt: skip
+
+
+def test_linear_cell_beside_a_quadratic_one_is_not_conforming() -> None:
+    """A 4-node quad on an 8-node one: the 8-node cell's mid-side node lies inside the
+    4-node cell's edge (their shared edge counts twice by its corners)."""
+    mesh = _q8_below_q4()
+    np.testing.assert_allclose(mesh.points[mesh.hanging_nodes()], [[0.5, 1.0]])
+
+
+# -- the report and the figures ---------------------------------------------------------------
+def test_report_lists_the_runs_warnings(tmp_path: Path) -> None:
+    """summary.json carries the reliability warnings the text summary prints, and the
+    report lists them first (a reviewer found Pine Flat's 'lost contact with all its
+    joints at 189 times' and a 3D run's '96 % of the input dissipated by the scheme' in
+    the summary but not in the report); the report's analysis table gives the energy."""
+    import json
+
+    from pfeie.cli import main
+    from pfeie.plot._report import _warnings, analysis_rows
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert isinstance(s["warnings"], list)
+    meta = {"results_summary": {"warnings": [{"label": "airborne", "text": "block b lost "
+                                              "contact\nsecond line"}]}}  # fmt: skip
+    html_ = "".join(_warnings(meta))
+    assert "Warnings on the reliability" in html_ and "<b>airborne</b>: block b lost" in html_
+    assert "contact<br>second line" in html_
+    assert _warnings({"results_summary": {"warnings": []}}) == []
+    from pfeie.io import Results
+
+    with Results(tmp_path / "out" / "results.h5") as res:
+        rows = dict(analysis_rows(res))
+    assert rows["energy (J)"].startswith("input ")
+
+
+def test_input_figure_marks_the_part_not_applied(tmp_path: Path) -> None:
+    """A 0.4 s record under a 0.1 s run: the input figure shades what the run does not
+    apply and its spectrum is that of the part applied."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pfeie.cli import main
+    from pfeie.io import Results
+    from pfeie.plot._plots import plot_input
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    import matplotlib.pyplot as plt
+
+    seen: list[str] = []
+    orig = plt.Figure.savefig
+
+    def grab(fig: plt.Figure, *a: object, **k: object) -> None:
+        seen.extend(t.get_text() for ax in fig.axes if ax.get_legend() is not None
+                    for t in ax.get_legend().get_texts())  # fmt: skip
+        orig(fig, *a, **k)  # type: ignore[arg-type]
+
+    plt.Figure.savefig = grab  # type: ignore[method-assign]
+    try:
+        with Results(tmp_path / "out" / "results.h5") as res:
+            plot_input(res, tmp_path / "input.png")
+    finally:
+        plt.Figure.savefig = orig  # type: ignore[method-assign]
+    assert "not applied (the run ends at 0.1 s)" in seen
+
+
+def test_unsupported_cells_name_their_own_group(tmp_path: Path) -> None:
+    """gmsh numbers physical groups per dimension: the volume 'block' and the surface
+    'joint' both numbered 2. Wedges in 'block' are refused naming 'block' (the message
+    named 'joint', the first group numbered 2)."""
+    from pfeie.errors import MeshError
+    from pfeie.io import read_mesh
+
+    text = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 2 "joint"
+3 2 "block"
+$EndPhysicalNames
+$Nodes
+6
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 0 0 1
+5 1 0 1
+6 0 1 1
+$EndNodes
+$Elements
+2
+1 2 2 2 1 1 2 3
+2 6 2 2 1 1 2 3 4 5 6
+$EndElements
+"""
+    p = tmp_path / "wedge.msh"
+    p.write_text(text)
+    with pytest.raises(MeshError, match="physical group 'block': 1 wedge cell"):
+        read_mesh(p)
+
+
+def test_second_group_on_a_joint_warns(caplog: pytest.LogCaptureFixture) -> None:
+    """A second physical group on a joint's line (a user's 'jointline' beside the
+    interface 'joint'): a pressure on it acted on one face only, silently; now a warning
+    names the interface's own groups."""
+    mesh = pf.rectangle(2.0, 2.0, 2, 4)
+    mesh.add_cell_group("a", lambda x: x[:, 1] < 1)
+    mesh.add_cell_group("b", lambda x: x[:, 1] > 1)
+    for name in ("joint", "jointline"):
+        mesh.add_facet_group(name, lambda x: abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        pf.Model(mesh, [pf.Block("a", mat), pf.Block("b", mat)],
+                 interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
+    assert ("physical group 'jointline': 2 of its facets lie on the interface 'joint'"
+            in caplog.text)  # fmt: skip
+    assert "'joint:a' or 'joint:b' (one face)" in caplog.text
+
+
+def test_two_element_orders_with_a_joint_are_refused() -> None:
+    """Q8 cells below a joint, Q4 above: one order throughout, said by name."""
+    mesh = _q8_below_q4()
+    mesh.add_cell_group("a", lambda x: x[:, 1] < 1)
+    mesh.add_cell_group("b", lambda x: x[:, 1] > 1)
+    mesh.add_facet_group("j", lambda x: abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    with pytest.raises(
+        ModelError,
+        match=r"cells of two element orders \(their faces have "
+        r"quad \(line, 2 nodes\), quad8 \(line3, 3 nodes\)\)",
+    ):
+        pf.Model(mesh, [pf.Block("a", mat), pf.Block("b", mat)],
+                 interfaces=[pf.Interface("j", pf.Joint(phi=30.0))])  # fmt: skip

@@ -548,6 +548,9 @@ def _run(
         if reduction:
             summary["strength_reduction"] = reduction
         summary["stopped"] = stopped
+        # the reliability warnings, as the text summary gives them (for the report and
+        # for readers of summary.json)
+        summary["warnings"] = [{"label": w.label, "text": w.text} for w in reliability(summary)]
         summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
         writer.close(stopped is None, stopped, summary)
         if job.output.paraview and result is not None:
@@ -1049,7 +1052,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             s["static_pairs"] = static.pairs.counts()
         return s
     s["completed"] = res.completed
-    s["time_reached_s"] = float(res.t[-1])
+    s["time_reached_s"] = _time(res.t[-1])
     # steps, not recorded rows (output.every may be above 1)
     s["steps"] = round(float(res.t[-1] - res.t[0]) / job.analysis.dt)
     probes = {}
@@ -1063,10 +1066,10 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         ku, ka = int(np.argmax(u_mag)), int(np.argmax(a_mag))
         probes[name] = {
             "peak_displacement_m": float(u_mag[ku]),
-            "peak_displacement_time_s": float(res.t[ku]),
+            "peak_displacement_time_s": _time(res.t[ku]),
             "peak_displacement_xyz_m": np.abs(u).max(axis=0).round(6).tolist(),
             "peak_abs_acceleration_g": float(a_mag[ka]),
-            "peak_abs_acceleration_time_s": float(res.t[ka]),
+            "peak_abs_acceleration_time_s": _time(res.t[ka]),
             "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).round(6).tolist(),
         }
     s["probes"] = probes
@@ -1113,7 +1116,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             joints[name][f"cracked_{kind}"] = float(cracked[-1])
             k_open = int(np.argmax(opened))
             joints[name][f"max_open_{kind}"] = float(opened[k_open])
-            joints[name]["max_open_time_s"] = float(res.t[k_open])
+            joints[name]["max_open_time_s"] = _time(res.t[k_open])
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
                 # the first time within round-off of the minimum: a sliding joint sits at
@@ -1128,7 +1131,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 if abs(fs_min - 1.0) <= MIN_FS_TIES:
                     fs_min = 1.0
                 joints[name]["min_safety_factor"] = fs_min if np.isfinite(fs_min) else None
-                joints[name]["min_safety_factor_time_s"] = float(res.t[k])
+                joints[name]["min_safety_factor_time_s"] = _time(res.t[k])
     s["joints"] = joints
     stress = envelope_extremes(res.envelope, model.mesh.points)
     if stress is not None:
@@ -1199,7 +1202,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
         far = (turn[:, b] > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
         if far.any():  # beyond what node-to-node pairs can follow
             out[name]["size_m"] = size
-            out[name]["beyond_pairs_s"] = float(res.t[int(np.argmax(far))])
+            out[name]["beyond_pairs_s"] = _time(res.t[int(np.argmax(far))])
     return out
 
 
@@ -1221,7 +1224,7 @@ def _airborne(model: Model, res: DynamicResult) -> dict[int, tuple[int, float]]:
         rows = np.flatnonzero(apart)
         rows = rows[rows > touched[0]] if touched.size else rows[:0]
         if rows.size:
-            out[int(b)] = (int(rows.size), float(res.t[rows[0]]))
+            out[int(b)] = (int(rows.size), _time(res.t[rows[0]]))
     return out
 
 
@@ -1266,6 +1269,12 @@ def _broken(j: dict[str, Any]) -> str:
     if start >= 100.0:
         return f"broken {now:.0f} % (starts broken: a pre-existing joint)"
     return f"broken {now:.0f} % ({start:.0f} % broken from the start)"
+
+
+def _time(t: float) -> float:
+    """A time of the run's grid for the summary (s), to the nanosecond: t₀ + k h carries
+    the rounding of the product (2.5500000000000003 s), which summary.json would show."""
+    return round(float(t), 9)
 
 
 def format_summary(s: dict[str, Any]) -> str:

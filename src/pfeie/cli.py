@@ -283,11 +283,8 @@ def _main(argv: Sequence[str] | None) -> int:
         else:
             print(_format_check(s))
         return EXIT_OK
-    end = job.analysis.duration if job.analysis.dynamic else None
-    for r in job.records:
-        cut = ("" if end is None or r.time[-1] <= end else
-               f" (the motion applied: up to {end:g} s, analysis.duration)")  # fmt: skip
-        print(f"record: {r.summary()}{cut}", file=sys.stderr)
+    for line in job.record_lines():
+        print(f"record: {line}", file=sys.stderr)
     try:
         summary = run_job(job, progress=not args.quiet, resume=args.resume)
     except (InputError, MeshError, RecordError, ResultsError) as exc:

@@ -100,6 +100,7 @@ class Excitation:
         if form not in ("relative", "absolute"):
             raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
         self.form, self.system, self.dim = form, system, d
+        self._supports_work: bool | None = None  # (see supports_work)
         free, pres = system.free, system.prescribed
         iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
         Mfp = system.M_fp
@@ -202,9 +203,12 @@ class Excitation:
         absolute form, or held at given values), so that the strain energy of the whole
         model and the work of the supports' reactions differ from the free DOFs' own
         (:meth:`support_energy`)."""
-        sy = self.system
-        return bool(sy.prescribed.size and sy.K_fp is not None and sy.K_pp is not None
-                    and (self.moves_supports or np.any(sy.prescribed_values)))  # fmt: skip
+        if self._supports_work is None:
+            sy = self.system
+            self._supports_work = bool(
+                sy.prescribed.size and sy.K_fp is not None and sy.K_pp is not None
+                and (self.moves_supports or np.any(sy.prescribed_values)))  # fmt: skip
+        return self._supports_work
 
     def support_energy(self, t: float, u: FloatArray) -> float:
         """The strain energy of the whole model beyond the free DOFs' ½u_fᵀK_ff u_f at t

@@ -34,6 +34,7 @@ Conventions (all arrays have the pair index first):
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +46,8 @@ from ..element import reference
 from ..errors import InterfaceError, MeshError
 from ..mesh import Mesh, facet_keys, match_rows
 from ..typing import FloatArray, IntArray
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -352,7 +355,14 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     twin[a_inst], twin[b_inst] = b_inst, a_inst
     F = np.concatenate(fnodes) if len({f.shape[1] for f in fnodes}) == 1 else None
     if F is None:
-        raise MeshError("mixed facet node counts across cell types are not supported")
+        widths = {f"{ct} ({reference(ct).facet_type}, {f.shape[1]} nodes)"
+                  for ct, f in zip(ctypes, fnodes, strict=True)}  # fmt: skip
+        raise MeshError(
+            "cells of two element orders (their faces have "
+            f"{', '.join(sorted(widths))}): the mesh of a jointed model takes one order "
+            "throughout (all linear or all quadratic: gmsh's Mesh.ElementOrder for the "
+            "whole model); a linear cell beside a quadratic one is not conforming either"
+        )
     iface_nodes = np.unique(F[iface >= 0]) if (iface >= 0).any() else np.zeros(0, np.int64)
     # incidences (node, cell) of interface nodes, and their links through non-interface facets
     cell_conn = [(mesh.cells[t], offset[t]) for t in ctypes]
@@ -470,6 +480,17 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
                     fgroups.setdefault(f"{gname}:{side}", {})[gtype] = copy_of(
                         conn.ravel(), c_).reshape(conn.shape)  # fmt: skip
             else:
+                on = iface[at] >= 0
+                if on.any():  # a second group on a joint's faces: one side only
+                    joint = names[int(iface[at][on][0])]
+                    log.warning(
+                        "physical group %r: %d of its facets lie on the interface %r, where "
+                        "they keep the face of one side only (the cells of either side, "
+                        "facet by facet); a load or a support meant for the joint's faces "
+                        "takes the interface's own group: %r (both faces: water in the "
+                        "joint), %r or %r (one face)", gname, np.unique(fid[at[on]]).size,
+                        joint, joint,
+                        f"{joint}:a", f"{joint}:b")  # fmt: skip
                 c_ = np.repeat(O[at], kk)
                 fgroups.setdefault(gname, {})[gtype] = copy_of(conn.ravel(), c_).reshape(conn.shape)
     out = Mesh(points, cells, {k_: dict(v) for k_, v in mesh.cell_groups.items()}, fgroups,

@@ -35,6 +35,12 @@ from ..mesh import Mesh, planar_points
 
 log = logging.getLogger(__name__)
 
+#: the dimension of the cell types gmsh writes that pfeie has no element for (to name
+#: the physical group that holds them: gmsh numbers groups per dimension)
+_UNSUPPORTED_DIM = {"wedge": 3, "wedge15": 3, "wedge18": 3, "pyramid": 3, "pyramid13": 3,
+                    "pyramid14": 3, "hexahedron20": 3, "hexahedron24": 3, "hexahedron27": 3,
+                    "tetra20": 3, "triangle10": 2, "quad16": 2}  # fmt: skip
+
 
 def read_mesh(path: str | Path) -> Mesh:
     """Read a gmsh file; its named physical groups become cell and facet groups.
@@ -275,7 +281,12 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         if dims[k] < 0 and tagged.any() and block.type not in ("vertex", "line", "line3"):
             first = f" (gmsh element {int(ids[k][np.argmax(tagged)])})" if ids is not None else ""
             tag0 = int(np.asarray(tags)[tagged][0])
-            group = next((n for (_, t), n in names.items() if t == tag0), "?")
+            # gmsh numbers physical groups per dimension: the group of the cells' own
+            # dimension first (a volume and a surface may both be group 2)
+            dim = _UNSUPPORTED_DIM.get(block.type)
+            group = names.get((dim, tag0)) if dim is not None else None
+            if group is None:
+                group = next((n for (_, t), n in names.items() if t == tag0), "?")
             known = ", ".join(t for t in SUPPORTED if cell_dimension(t) >= 2)
             raise MeshError(f"{path}: physical group {group!r}: {int(tagged.sum())} "
                             f"{block.type} cell(s){first}; pfeie has elements for {known} "

@@ -251,10 +251,18 @@ class Job:
                         "floating": _floating_blocks(m)},
             "extent_m": [round(float(v), 6) for v in np.ptp(m.mesh.points, axis=0)],
             "mass_kg": float(m.total_mass()),
-            "records": [g.summary() for g in self.records], "steps": n_steps,
+            "records": self.record_lines(), "steps": n_steps,
             "dt": self.analysis.dt, "duration": self.duration,
             "estimated_memory_mb": round(mem / 2**20, 1), "analyses": self._analyses(),
         }  # fmt: skip
+
+    def record_lines(self) -> list[str]:
+        """Each record's summary line (:meth:`GroundMotion.summary`), with the part the
+        run applies where ``analysis.duration`` ends it before the record does."""
+        end = self.analysis.duration if self.analysis.dynamic else None
+        return [g.summary() + ("" if end is None or g.time[-1] <= end else
+                               f" (the motion applied: up to {end:g} s, analysis.duration)")
+                for g in self.records]  # fmt: skip
 
     def _analyses(self) -> list[str]:
         """The analyses the run makes, in its order (``pfeie check``'s line)."""

@@ -105,11 +105,128 @@ class Mesh:
                     if first.size < conn.shape[0]:
                         conn = conn[np.sort(first)]
                 fgrp[ftype] = conn
+        self._raise_facet_order()
         for ctype, ids in list(self.cell_ids.items()):
             ids = np.asarray(ids, dtype=np.int64)
             if ctype not in self.cells or ids.shape != (self.cells[ctype].shape[0],):
                 raise MeshError(f"cell_ids of {ctype!r} must give one id per cell")
             self.cell_ids[ctype] = ids
+
+    def _raise_facet_order(self) -> None:
+        """Facets of a group given by their corners only on quadratic cells (gmsh's 2-node
+        lines on 6-node triangles, when the boundary was exported at first order) become
+        the cells' own faces, mid-side nodes included: a support on such a group held the
+        corners alone and left the mid-side nodes free; a load on it was refused. A
+        facet that is a face of a cell of its own order, or of none, is kept."""
+        if not self.facet_groups or not self.cells:
+            return
+        table = None
+        for fgrp in self.facet_groups.values():
+            for ftype in [t for t in fgrp if reference(t).linear == t]:
+                conn = fgrp[ftype]
+                if not conn.size:
+                    continue
+                if table is None:
+                    table = self._facet_table()
+                keys = facet_keys(conn, ftype)
+                own = np.zeros(keys.shape[0], dtype=bool)
+                for ft, _, _, fkeys, _, _ in table:
+                    if ft == ftype:
+                        own |= match_rows(fkeys, keys)[1]
+                for ft, fconn, _, fkeys, _, _ in table:
+                    if ft == ftype or reference(ft).linear != ftype:
+                        continue
+                    rows, found = match_rows(fkeys, keys)
+                    up = found & ~own
+                    if up.any():
+                        raised = fconn[rows[up]]
+                        fgrp[ft] = (np.concatenate([fgrp[ft], raised]) if ft in fgrp
+                                    else raised)  # fmt: skip
+                        keep = ~up
+                        conn, keys, own = conn[keep], keys[keep], own[keep]
+                if conn.shape[0]:
+                    fgrp[ftype] = conn
+                else:
+                    del fgrp[ftype]
+
+    def hanging_nodes(self, nodes: IntArray | None = None, rel_tol: float = 1e-6) -> IntArray:
+        """Nodes that lie on a boundary facet of the cells (a face, in 3D; an edge, in 2D)
+        without being one of its nodes (sorted), among ``nodes`` (default: the nodes of
+        the cells). A conforming mesh has none
+        (its facets inside are shared, and its boundary carries only their nodes); parts
+        meshed separately at other sizes and then merged leave them where they meet (the
+        finer side's nodes on the coarser side's edges: that side hangs on the shared
+        corners), and so does a linear cell beside a quadratic one (the mid-side node).
+        A node counts when it lies within ``rel_tol`` × the facet's size of the facet's
+        corners' chord or plane, inside it, and apart from each of its nodes (the copies
+        of a split interface's nodes coincide with nodes of the other side's facets)."""
+        from scipy.spatial import cKDTree
+
+        if nodes is None:
+            nodes = np.unique(np.concatenate([c.ravel() for c in self.cells.values()] or
+                                             [np.zeros(0, dtype=np.int64)]))  # fmt: skip
+        nodes = np.asarray(nodes, dtype=np.int64)
+        out: list[IntArray] = []
+        if nodes.size < 2:
+            return np.zeros(0, dtype=np.int64)
+        tree = cKDTree(self.points[nodes])
+        table = self._facet_table()
+        for ftype, fconn, _, keys, _, mult in table:
+            # free facets, and those shared with a facet of another order (a 2-node edge
+            # of a linear cell on the 3-node edge of a quadratic one: mult counts corners)
+            free = mult == 1
+            for ft, _, _, other, _, _ in table:
+                if ft != ftype and other.shape[1] == keys.shape[1]:
+                    free |= match_rows(other, keys)[1]
+            fc = fconn[free]
+            if not fc.shape[0]:
+                continue
+            nc = reference(reference(ftype).linear).n_nodes
+            X = self.points[fc]  # (f, nodes, dim)
+            corners = X[:, :nc]
+            centre = corners.mean(axis=1)
+            radius = np.linalg.norm(corners - centre[:, None], axis=2).max(axis=1)
+            size = np.where(radius > 0, radius, 1.0)
+            hits = tree.query_ball_point(centre, radius * (1 + 1e-9) + 1e-12)
+            counts = np.fromiter((len(h) for h in hits), dtype=np.int64, count=len(hits))
+            if not counts.sum():
+                continue
+            fi = np.repeat(np.arange(len(hits)), counts)
+            nj = nodes[np.concatenate([np.asarray(h, dtype=np.int64) for h in hits])]
+            p = self.points[nj]
+            tol = rel_tol * size[fi]
+            # apart from every node of the facet (its own nodes, and coincident copies)
+            apart = (np.linalg.norm(X[fi] - p[:, None, :], axis=2) > tol[:, None]).all(axis=1)
+            if nc == 2:  # an edge: on the chord, strictly between its corners
+                a, b = corners[fi, 0], corners[fi, 1]
+                ab = b - a
+                L2 = np.einsum("kd,kd->k", ab, ab)
+                s_ = np.einsum("kd,kd->k", p - a, ab) / np.where(L2 > 0, L2, 1.0)
+                off = np.linalg.norm(p - a - s_[:, None] * ab, axis=1)
+                on = (off <= tol) & (s_ > 0.0) & (s_ < 1.0)
+            else:  # a face: in its plane, inside a triangle of its corners
+                on = np.zeros(fi.size, dtype=bool)
+                tris = [(0, 1, 2)] if nc == 3 else [(0, 1, 2), (0, 2, 3)]
+                for i0, i1, i2 in tris:
+                    a, b, c = corners[fi, i0], corners[fi, i1], corners[fi, i2]
+                    e1, e2, w = b - a, c - a, p - a
+                    nrm = np.cross(e1, e2)
+                    area2 = np.linalg.norm(nrm, axis=1)
+                    ok = area2 > 0
+                    unit = nrm / np.where(ok, area2, 1.0)[:, None]
+                    height = np.abs(np.einsum("kd,kd->k", w, unit))
+                    d00, d01, d11 = (np.einsum("kd,kd->k", u, v)
+                                     for u, v in ((e1, e1), (e1, e2), (e2, e2)))  # fmt: skip
+                    d20, d21 = np.einsum("kd,kd->k", w, e1), np.einsum("kd,kd->k", w, e2)
+                    den = np.where(ok, d00 * d11 - d01 * d01, 1.0)
+                    v_ = (d11 * d20 - d01 * d21) / den
+                    w_ = (d00 * d21 - d01 * d20) / den
+                    eps = tol / size[fi]
+                    on |= ok & (height <= tol) & (v_ >= -eps) & (w_ >= -eps) & (v_ + w_ <= 1 + eps)
+            hit = on & apart
+            if hit.any():
+                out.append(nj[hit])
+        return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.int64)
 
     def cell_label(self, ctype: str, index: int) -> str:
         """A cell for messages: its gmsh element id, or its type and index."""

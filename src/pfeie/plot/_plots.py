@@ -171,6 +171,9 @@ def plot_input(res: Results, path: Path, title: str = "") -> Path:
 
     fig, ax = plt.subplots(2, 1, figsize=(8, 6.5))
     periods = np.geomspace(0.02, 4.0, 150)
+    # the run's end: a record longer than the run (analysis.duration) is applied up to it
+    end = float(res.time[-1]) if res.time.size else None
+    cut = False
     for k, key in enumerate(sorted(res.f["records"], key=int)):
         g = res.f[f"records/{key}"]
         t, a = np.asarray(g["time"]), np.asarray(g["acceleration"])
@@ -178,18 +181,35 @@ def plot_input(res: Results, path: Path, title: str = "") -> Path:
         if "direction" in g:  # one file may drive several directions
             name = f"{name} along {direction_label(np.asarray(g['direction']))}"
         ax[0].plot(t, a / 9.81, lw=0.7, color=f"C{k % 10}", label=str(name))
+        if end is not None and t[-1] > end and t[0] < end:  # the spectrum of the part applied
+            keep = t < end
+            t, a = np.r_[t[keep], end], np.r_[a[keep], np.interp(end, t, a)]
+            cut = True
         s = response_spectrum(t, a, periods, 0.05)
         ax[1].plot(s.periods, s.psa / 9.81, lw=1.1, color=f"C{k % 10}", label=str(name))
+    if cut and end is not None:
+        ax[0].axvspan(end, ax[0].get_xlim()[1], color="0.85", zorder=0,
+                      label=f"not applied (the run ends at {end:g} s)")  # fmt: skip
     ax[0].set_xlabel("time (s)")
-    ax[0].set_ylabel("ground acceleration (g)")
+    ax[0].set_ylabel("ground acceleration,\nas scaled (g)")
     ax[1].set_xlabel("period T (s)")
-    ax[1].set_ylabel("PSa, 5 % damping (g)")
+    ax[1].set_ylabel("PSa, 5 % damping (g)" + ("\nof the motion applied" if cut else ""))
     for a_ in ax:
         a_.grid(alpha=0.3)
-        a_.legend(loc="upper right", fontsize=8)
+        _legend(a_)
     ax[1].set_xlim(left=0.0)
     ax[0].set_title((f"{title}\n" if title else "") + "input motion", fontsize=10)
     return _finish(fig, path)
+
+
+def _legend(ax: Any, *args: Any, **kw: Any) -> None:
+    """A legend to the right of the axes, where it hides no curve (inside, a legend in a
+    corner covered peaks and breaks of the histories); nothing without labelled
+    artists."""
+    if not args and not ax.get_legend_handles_labels()[0]:
+        return
+    kw.setdefault("fontsize", 8)
+    ax.legend(*args, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **kw)
 
 
 def _finish(fig: Any, path: Path) -> Path:
@@ -199,12 +219,12 @@ def _finish(fig: Any, path: Path) -> Path:
     return path
 
 
-def _style(fig: Any, ax: Any, title: str, path: Path, legend: str) -> Path:
+def _style(fig: Any, ax: Any, title: str, path: Path) -> Path:
     """Time axis, grids, legends and the title; then save."""
     ax[-1].set_xlabel("time (s)")
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(loc=legend, fontsize=8)
+        _legend(a)
     ax[0].set_title(title, fontsize=10)
     return _finish(fig, path)
 
@@ -220,7 +240,7 @@ def plot_probe(res: Results, name: str, path: Path, title: str = "") -> Path:
         ax[1].plot(t, p["a_abs"][:, i] / 9.81, lw=0.7, label=f"a_{AXES[i]}")
     ax[0].set_ylabel("displacement (mm)\n(relative to the ground,\nsince the start of the run)")
     ax[1].set_ylabel("absolute acceleration (g)")
-    return _style(fig, ax, f"{title}\nprobe {name}", path, "upper right")
+    return _style(fig, ax, f"{title}\nprobe {name}", path)
 
 
 def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
@@ -262,7 +282,7 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
         top = float(np.nanmax(shown)) if np.any(np.isfinite(shown)) else 2.0
         ax[-1].set_ylim(0.0, max(1.2, 1.05 * top))
         ax[-1].set_ylabel(f"sliding safety factor\n(shown up to {FS_SHOWN_MAX:g})")
-    return _style(fig, ax, f"{title}\njoint {name}", path, "upper left")
+    return _style(fig, ax, f"{title}\njoint {name}", path)
 
 
 def open_crack(pr: dict[str, np.ndarray], cr: dict[str, np.ndarray]) -> np.ndarray:
@@ -346,21 +366,22 @@ def plot_rigid(res: Results, path: Path, title: str = "") -> Path:
     d = int(res.f["mesh/points"].shape[1])
     moving = [b for b in range(q.shape[1]) if np.abs(q[:, b]).max() > 0]
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    styles = ("-", "--", ":")  # one per component; one colour per body in both panels
     for b in moving:
-        name = res.body_names[b]
+        name, colour = res.body_names[b], f"C{b % 10}"
         for i in range(d):
-            ax[0].plot(t, 1e3 * q[:, b, i], lw=0.9, label=f"{name} u_{AXES[i]}")
+            ax[0].plot(t, 1e3 * q[:, b, i], lw=0.9, color=colour, ls=styles[i],
+                       label=f"{name} u_{AXES[i]}")  # fmt: skip
         rot = q[:, b, d:] if d == 3 else q[:, b, 2:3]
         for i in range(rot.shape[1]):
             lab = f"{name} θ_{AXES[i] if d == 3 else 'z'}"
-            ax[1].plot(t, 1e3 * rot[:, i], lw=0.9, label=lab)
+            ax[1].plot(t, 1e3 * rot[:, i], lw=0.9, color=colour, ls=styles[i], label=lab)
     ax[0].set_ylabel("centroid translation (mm)")
-    ax[1].set_ylabel("rotation (mrad)")
+    ax[1].set_ylabel("rotation (mrad),\ncounter-clockwise +" if d == 2 else "rotation (mrad)")
     ax[1].set_xlabel("time (s)")
     for a in ax:
         a.grid(alpha=0.3)
-        if a.lines:
-            a.legend(loc="upper left", fontsize=7, ncol=2)
+        _legend(a, fontsize=7)
     ax[0].set_title(f"{title}\nrigid motion of the bodies (relative to the start)", fontsize=10)
     return _finish(fig, path)
 
@@ -380,7 +401,7 @@ def plot_energy(res: Results, path: Path, title: str = "") -> Path:
                          or np.any(e[key])):  # fmt: skip
             ax[0].plot(t, e[key] - (e[key][0] if key == "strain" else 0.0), lw=1.0, label=lab)
     ax[0].set_ylabel("energy (J)\n(strain: change)")
-    ax[0].legend(loc="upper left", fontsize=8)
+    _legend(ax[0])
     ax[1].plot(t, e.get("balance", np.zeros_like(t)), lw=0.9, color="k")
     ax[1].set_ylabel("balance (J)")
     ax[1].set_xlabel("time (s)")
@@ -417,8 +438,10 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
     ax[1].set_xlabel(_arc_label(pr["x"], order))
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(loc="upper right", fontsize=8)
-    ax[0].set_title(f"{title}\nstatic state of {name}", fontsize=10)
+        _legend(a)
+    frames = ("; the stresses on side b, t the normal n (from side a into side b) turned "
+              "clockwise" if plane else "")  # fmt: skip
+    ax[0].set_title(f"{title}\nstatic state of {name}{frames}", fontsize=10)
     return _finish(fig, path)
 
 
@@ -487,7 +510,7 @@ def plot_spectrum(spectra: dict[str, ResponseSpectrum], path: str | Path,
     ax[2].set_xlabel("period T (s)")
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(loc="upper right", fontsize=8)
+        _legend(a)
         a.set_xlim(left=0.0)
         a.set_ylim(bottom=0.0)
     head = f"{title}\n" if title else ""
@@ -523,6 +546,40 @@ def _outline(ax: Any, res: Results, alpha: float = 0.35, edges: str = "0.35") ->
     ax.set_ylabel("y (m)")
 
 
+#: the percentile of the nodal values where a stress map's colours stop (and the other
+#: side's, 100 minus it): a stress concentration at one node (a joint's corner where a
+#: block lands) set the scale of the whole map, which then read white everywhere else
+COLOUR_CLIP_PERCENT = 99.5
+
+
+def _colour_range(v: np.ndarray) -> tuple[float, float, str]:
+    """The colour limits of a signed stress map (MPa) and the colour bar's ``extend``:
+    symmetric about 0 (white) over the values' range between the percentiles
+    :data:`COLOUR_CLIP_PERCENT` and 100 minus it; one-sided (0 to the limit) where the
+    values keep one sign to a twentieth of their range, as σ₃ in compression.
+
+    >>> lo, hi, extend = _colour_range(np.r_[np.linspace(-2.0, -1.0, 999), -50.0])  # a spike
+    >>> round(lo, 2), hi, extend
+    (-2.0, 0.0, 'min')
+    """
+    if not v.size:
+        return -1.0, 1.0, "neither"
+    lo = float(np.percentile(v, 100.0 - COLOUR_CLIP_PERCENT))
+    hi = float(np.percentile(v, COLOUR_CLIP_PERCENT))
+    if lo >= -0.05 * abs(hi):  # (one sign, to a twentieth: σ₃ with a few MPa·1e-3 of
+        lo = 0.0  # tension at a free corner reads as compression only)
+    elif hi <= 0.05 * abs(lo):
+        hi = 0.0
+    else:
+        hi = max(abs(lo), abs(hi))
+        lo = -hi
+    if hi - lo <= 0.0:
+        lo, hi = lo - 1.0, hi + 1.0
+    below, above = bool(v.min() < lo - 1e-12 * (hi - lo)), bool(v.max() > hi + 1e-12 * (hi - lo))
+    extend = "both" if below and above else "min" if below else "max" if above else "neither"
+    return round(lo, 12), round(hi, 12), extend
+
+
 def _triangles(res: Results) -> np.ndarray:
     """The 2D cells cut into triangles through their corners (for nodal colour fields)."""
     tris = []
@@ -551,15 +608,22 @@ def plot_fields(
         ok = np.all(np.isfinite(v[tri]), axis=1)
         tr = mtri.Triangulation(x[:, 0], x[:, 1], tri[ok])
         vv = np.where(np.isfinite(v), v, 0.0)
-        lim = float(np.abs(vv[tri[ok]]).max()) if ok.any() else 1.0
-        im = ax.tripcolor(tr, vv, shading="gouraud", cmap="RdBu_r", vmin=-lim, vmax=lim)
-        fig.colorbar(im, ax=ax, shrink=0.8, label="MPa")
+        lo, hi, extend = _colour_range(vv[np.unique(tri[ok])] if ok.any() else vv[:0])
+        # red tension, blue compression, white zero: one-sided maps take one of the halves
+        cmap = "Blues_r" if hi == 0.0 else "Reds" if lo == 0.0 else "RdBu_r"
+        im = ax.tripcolor(tr, vv, shading="gouraud", cmap=cmap, vmin=lo, vmax=hi)
+        clipped = (f" (colours to the {COLOUR_CLIP_PERCENT:g}th percentile)"
+                   if extend != "neither" else "")  # fmt: skip
+        fig.colorbar(im, ax=ax, shrink=0.8, label="MPa" + clipped, extend=extend)
         at = None if marks is None else marks[k]
         if at is not None:
             ax.plot(at[0], at[1], "k*", ms=10, mec="w")
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
+        if extend != "neither" and ok.any():  # say what the clipped colours hide
+            used = vv[np.unique(tri[ok])]
+            label += f"\n(extremes {used.min():.3g} to {used.max():.3g} MPa)"
         ax.set_title(label, fontsize=9)
     fig.suptitle(title, fontsize=10)
     return _finish(fig, path)
@@ -603,9 +667,10 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
                 color="C3", label="largest opening")  # fmt: skip
         ax.plot(s, 1e3 * slip.max(axis=0), ".-", lw=1.0, color="C0", label="largest slip")
         ax.plot(s, 1e3 * slip[-1], "--", lw=1.0, color="C0", label="residual slip")
-        ax.set_ylabel("mm")
+        ax.set_ylabel("opening, slip (mm)")
+        ax.set_ylim(bottom=0.0)  # magnitudes: a small slip is not read as none
         ax.grid(alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8)
+        _legend(ax)
         ax.set_title(f"joint {name}", fontsize=9)
         first = (res.static_pairs(name)["state"][order] if "static/state" in res.f
                  else pr["state"][0, order])  # fmt: skip

@@ -120,9 +120,11 @@ def envelope_rows(res: Results) -> list[tuple[str, str]]:
     if ext is None:
         return []
     out = []
-    for name, label in (("max_principal", "largest principal stress σ1"),
-                        ("min_principal", "smallest principal stress σ3")):  # fmt: skip
-        where = ", ".join(f"{x:g}" for x in ext[f"{name}_at_m"])
+    for name, label in (
+        ("max_principal", "largest principal stress σ1 (at the nodes)"),
+        ("min_principal", "smallest principal stress σ3 (at the nodes)"),
+    ):
+        where = ", ".join(f"{x:.4g}" for x in ext[f"{name}_at_m"])
         out.append((label, f"{ext[f'{name}_Pa'] / 1e6:.3g} MPa at ({where}) m, "
                            f"t = {ext[f'{name}_time_s']:.3f} s"))  # fmt: skip
     return out
@@ -140,7 +142,7 @@ def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
     from ..dynamics import CID_LIMIT, DCR_LIMIT, OVERSTRESSED_LIMIT
 
     def at(key: str) -> str:
-        return "(" + ", ".join(f"{x:g}" for x in dc[key]) + ") m"
+        return "(" + ", ".join(f"{x:.4g}" for x in dc[key]) + ") m"
 
     words = {
         "linear": "linear: the stresses stay below the tensile strength (DCR ≤ 1)",
@@ -151,8 +153,10 @@ def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
                       "%): a nonlinear analysis is required",
     }  # fmt: skip
     return [
-        ("largest demand-capacity ratio σ1/f_t",
-         f"{dc['max_dcr']:.3g} at {at('max_dcr_at_m')}, t = {dc['max_dcr_time_s']:.3f} s"),
+        ("largest demand-capacity ratio σ1/f_t (per cell: its largest σ1 at its quadrature "
+         "points, where the nodes' values are extrapolated)",
+         f"{dc['max_dcr']:.3g} at {at('max_dcr_at_m')} (the cell's centre), t = "
+         f"{dc['max_dcr_time_s']:.3f} s"),
         ("largest cumulative inelastic duration",
          f"{dc['max_cid_s']:.3g} s at {at('max_cid_at_m')}" if dc["max_cid_s"] > 0
          else "0 s (no cell beyond its tensile strength)"),
@@ -245,6 +249,14 @@ def analysis_rows(res: Results) -> list[tuple[str, str]]:
     sv = summ.get("solver")
     if sv:
         out.append(("pair solver", solver_line(sv)))
+    e = summ.get("energy_J")
+    if e:  # the energy account at the end (J), as the text summary's line
+        out.append(("energy (J)", ", ".join(
+            f"{label} {e[key]:.4g}" for key, label in (
+                ("external_work", "input"), ("interface", "friction/contact"),
+                ("impact", "impact"), ("damping", "damping"), ("algorithmic", "algorithmic"),
+                ("correction", "position corrections"), ("balance", "balance"))
+            if key in e)))  # fmt: skip
     if "wall_time_s" in summ:
         out.append(("wall time", f"{summ['wall_time_s']:.1f} s"))
     return out
@@ -661,6 +673,27 @@ def _table(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _warnings(meta: dict[str, Any]) -> list[str]:
+    """The run's reliability warnings (the summary's, ``warnings``: a block thrown off its
+    joints, a large slip, the scheme's dissipation, the position corrections' energy),
+    first on the page, where a reader of the figures meets them."""
+    warns = (meta.get("results_summary") or {}).get("warnings") or []
+    if not warns:
+        return []
+    esc = html.escape
+    items = [
+        f"<li><b>{esc(str(w.get('label', '')))}</b>: "
+        f"{esc(str(w.get('text', ''))).replace(chr(10), '<br>')}</li>"
+        for w in warns
+    ]
+    return [
+        "<div class='note'><p><b>Warnings on the reliability of these results</b> (as "
+        "the run's summary gives them):</p><ul>",
+        *items,
+        "</ul></div>",
+    ]
+
+
 def _heading(level: int, text: str, anchor: str) -> str:
     return f"<a id='{anchor}'></a><h{level}>{html.escape(text)}</h{level}>"
 
@@ -804,6 +837,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         f"<h1>{esc(title)}</h1>",
         f"<p>pfeie {esc(str(meta['pfeie_version']))}; run {run}; Δt = "
         f"{esc(str(summ['dt']))} s; model file {esc(str(meta['model_file']))}.</p>",
+        *_warnings(meta),
         "<nav><ol>",
         *[f"<li><a href='#{a}'>{esc(h)}</a></li>" for a, h in SECTIONS],
         "</ol></nav>",

@@ -163,6 +163,11 @@ def run_parallel(
         raise InputError("running a study on workers needs Dask (pip install "
                          "'pfeie[study]'); or run it with workers = 0") from None  # fmt: skip
     logging.getLogger("distributed").setLevel(logging.WARNING)  # not its start-up chatter
+    # the event loop's own callbacks: a Ctrl-C that interrupts distributed's cancellation
+    # made one of them fail with a traceback on stderr (a NameError inside distributed,
+    # seen once in ten interrupts), from the loop's thread before the interrupt reached
+    # the code below; the runs' own errors come back through their futures
+    logging.getLogger("tornado.application").setLevel(logging.CRITICAL)
     cluster = None
     if scheduler:
         try:
