@@ -118,8 +118,8 @@ class Mesh:
         the cells' own faces, mid-side nodes included: a support on such a group held the
         corners alone and left the mid-side nodes free; a load on it was refused. A
         facet that is a face of a cell of its own order, or of none, is kept."""
-        if not self.facet_groups or not self.cells:
-            return
+        if not self.facet_groups or all(reference(c).linear == c for c in self.cells):
+            return  # (no quadratic cell: nothing to raise)
         table = None
         for fgrp in self.facet_groups.values():
             for ftype in [t for t in fgrp if reference(t).linear == t]:

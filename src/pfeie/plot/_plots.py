@@ -255,7 +255,7 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     fig, ax = plt.subplots(n, 1, figsize=(8, 1.75 * n + 1.75), sharex=True)
     ax[0].plot(t, 1e3 * slip.max(axis=1), lw=1.0, label="largest")
     ax[0].plot(t, 1e3 * (slip * A).sum(axis=1) / A.sum(), lw=1.0, label="area mean")
-    ax[0].set_ylabel("slip (mm)")
+    ax[0].set_ylabel("slip magnitude (mm)\n(since the start of the run)")
     ax[1].plot(t, 1e3 * _shown_opening(pr["opening"].max(axis=1)), lw=1.0, color="C3",
                label="largest")  # fmt: skip
     ax[1].set_ylabel(f"opening (mm)\n(below {1e3 * OPENING_FLOOR_M:g} mm: 0)")

@@ -673,6 +673,24 @@ def _table(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _history_caption(name: str) -> str:
+    """The caption of a history figure of the report, by its file's stem."""
+    if name.startswith("probe_"):
+        return (f"Probe {name[len('probe_'):]}: displacement relative to the ground from the "
+                "start of the run (the static state subtracted) and absolute acceleration, "
+                "per component.")  # fmt: skip
+    if name.startswith("joint_"):
+        return (f"Joint {name[len('joint_'):]} over time: the largest and the area-mean slip "
+                "since the start of the run, the largest opening, the shares of its area "
+                "broken, sliding and open, the cracked length and the open crack, and the "
+                "sliding safety factor.")  # fmt: skip
+    return {"rigid_motion": "Rigid motion of each block's centroid from the start of the "
+                            "run: translations and rotation (one colour per block).",
+            "energy": "The energy account: the work of the loads and where it went (kinetic, "
+                      "strain, damping, friction and contact, impact, the time scheme's), "
+                      "and the balance."}.get(name, "")  # fmt: skip
+
+
 def _warnings(meta: dict[str, Any]) -> list[str]:
     """The run's reliability warnings (the summary's, ``warnings``: a block thrown off its
     joints, a large slip, the scheme's dissipation, the position corrections' energy),
@@ -915,7 +933,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
     if not hist:
         parts.append("<p>No histories (a static-only run).</p>")
     for name in hist:
-        parts += figure(name)
+        parts += figure(name, _history_caption(name))
     if probes:
         parts += ["<h3>Probes</h3>", *_table(probes)]
     if blocks:
