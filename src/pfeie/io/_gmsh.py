@@ -72,7 +72,7 @@ def read_mesh(path: str | Path) -> Mesh:
     except Exception as exc:
         log.debug("%s: the gmsh reader stopped: %r", p, exc)
         try:
-            why = _diagnose(p)
+            why = _unsupported(p, exc) or _diagnose(p)
         except Exception:  # (a diagnosis that fails itself: the general words)
             why = None
         why = why or "the file is truncated or corrupt (the gmsh reader could not parse it)"
@@ -119,6 +119,49 @@ def _log_reader_warnings(path: Path, said: str) -> None:
             text = (f"the section ${hit[1]} is not closed by $End{hit[1]}: the file may be "
                     "truncated (export the mesh again from gmsh)")  # fmt: skip
         log.warning("%s: %s", path, text)
+
+
+#: the largest file whose section names are scanned for a feature the reader lacks
+_SCAN_BYTES = 256 * 2**20
+
+
+def _unsupported(path: Path, exc: Exception) -> str | None:
+    """A valid gmsh file that the reader cannot take, and how to export it instead: a
+    format version other than 2.2 and 4.1, parametric nodes (``Mesh.SaveParametric``), a
+    partitioned mesh, entities outside the physical groups (``Mesh.SaveAll``); ``None``
+    where it is none of these (a damaged file: :func:`_diagnose`)."""
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    hit = re.search(rb"\$MeshFormat\s+(\S+)", head)
+    version = hit[1].decode("ascii", "replace") if hit else "?"
+    if version not in ("2", "2.2", "4.1"):  # (2: an older 2.x header, read as 2.2)
+        return (f"the file is in gmsh's format {version}, which pfeie does not read (set "
+                "Mesh.MshFileVersion = 2.2 or 4.1 in gmsh and save it again)")  # fmt: skip
+    said = str(exc)
+    if "parametric" in said.lower():
+        return (
+            "the file holds parametric node coordinates (gmsh's Mesh.SaveParametric = "
+            "1), which pfeie does not read (save it again with Mesh.SaveParametric = 0)"
+        )
+    sections: set[bytes] = set()
+    if path.stat().st_size <= _SCAN_BYTES:
+        sections = set(re.findall(rb"(?m)^\$(\w+)", path.read_bytes()))
+    if b"ParametricNodes" in sections:
+        return ("the file holds parametric nodes ($ParametricNodes: gmsh's "
+                "Mesh.SaveParametric = 1), which pfeie does not read (save it again with "
+                "Mesh.SaveParametric = 0)")  # fmt: skip
+    if b"PartitionedEntities" in sections or b"GhostElements" in sections:
+        return (
+            "the mesh is partitioned ($PartitionedEntities), which pfeie does not read "
+            "(save the mesh before partitioning it, or unpartition it in gmsh)"
+        )
+    if "Incompatible cell data" in said:
+        return (
+            "the file holds entities that belong to no physical group (gmsh's "
+            "Mesh.SaveAll = 1), which pfeie does not read; save it again with "
+            "Mesh.SaveAll = 0: the blocks and the joints in named physical groups"
+        )
+    return None
 
 
 def _diagnose(path: Path) -> str | None:

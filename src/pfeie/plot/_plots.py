@@ -1000,7 +1000,8 @@ def plot_fields_3d(
             ax.scatter(*x[at], marker="*", s=160, color="k", edgecolors="w", depthshade=False,
                        zorder=_ON_TOP)  # fmt: skip
             where = ", ".join(f"{c:.4g}" for c in x[at])
-            label = f"{label}\n{'max' if k == 0 else 'min'} {v[at]:.4g} MPa at ({where}) m"
+            label = (f"{label}\n{'max' if k == 0 else 'min'} {v[at]:.4g} MPa at ({where}) m "
+                     "(★: drawn through the faces; it may lie inside or behind)")  # fmt: skip
             panel.update({"extreme_MPa": float(v[at]), "at_m": x[at].tolist()})
         panels.append(panel)
         _frame3d(ax, x)
