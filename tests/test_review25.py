@@ -120,7 +120,7 @@ def test_spinning_blocks_joint_force_is_centripetal() -> None:
         turn = res.rigid[k, right, 2]
         to_centre = -np.array([np.cos(turn), np.sin(turn)])  # from the right block's centroid
         F = res.joint_force[k, 0] * (1.0 if side_b_right else -1.0)
-        assert np.linalg.norm(F - expected * to_centre) < 2e-3 * expected  # measured 6e-5
+        assert np.linalg.norm(F - expected * to_centre) < 5e-5 * expected  # measured 9.2e-6
     assert res.rigid[-1, right, 2] == pytest.approx(np.pi / 2, rel=1e-3)
 
 

@@ -101,6 +101,7 @@ class Excitation:
             raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
         self.form, self.system, self.dim = form, system, d
         self._supports_work: bool | None = None  # (see supports_work)
+        self._key: tuple[str, str] | None = None  # (see key)
         free, pres = system.free, system.prescribed
         iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
         Mfp = system.M_fp
@@ -186,16 +187,19 @@ class Excitation:
     def key(self) -> tuple[str, str]:
         """What identifies the excitation of a run, for a checkpoint (a run resumed under
         other records or another form would not continue the run): a digest of the form
-        and of each record's times, accelerations and direction, and its wording."""
+        and of each record's times, accelerations and direction, and its wording; hashed
+        once (a checkpoint is taken at every recorded row)."""
+        if self._key is not None:
+            return self._key
         h = hashlib.sha256(self.form.encode())
         for g in self.ground:
             for arr in (g.time, g.acceleration, g.direction):
                 h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
         names = ", ".join(f"{g.name!r} along {np.round(g.direction, 6).tolist()}"
                           for g in self.ground)  # fmt: skip
-        return h.hexdigest()[:16], f"the {self.form} form, " + (
-            f"records {names}" if names else "no record"
-        )
+        self._key = (h.hexdigest()[:16], f"the {self.form} form, "
+                     + (f"records {names}" if names else "no record"))  # fmt: skip
+        return self._key
 
     @property
     def supports_work(self) -> bool:
