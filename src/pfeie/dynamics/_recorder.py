@@ -575,6 +575,21 @@ class Recorder:
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
 
+    def _ground_acceleration(self, st: StepState) -> FloatArray:
+        """Σ ι a_g that turns the recorded relative acceleration of ``st`` into the
+        absolute one: a_g(t_{n+1}) for the generalised-α and Newmark steps, whose
+        acceleration is that of the instant; for a Moreau–Jean step, whose acceleration is
+        the step average (v_{n+1} − v_n)/h under the load f_{n+θ} = (1 − θ) f_n + θ f_{n+1},
+        the same mix (1 − θ) a_g(t_n) + θ a_g(t_{n+1}): a body that no joint or support
+        pushes then reads an absolute acceleration of zero, where a_g(t_{n+1}) alone would
+        leave (1 − θ)(a_g(t_{n+1}) − a_g(t_n))."""
+        ex, t = self.ex, st.kin.t
+        mj = self.an.mj
+        if mj is None or st.step == 0 or mj.theta == 1.0:
+            return ex.ground_acceleration(t)
+        th = mj.theta
+        return (1.0 - th) * ex.ground_acceleration(t - mj.dt) + th * ex.ground_acceleration(t)
+
     def record(self, i: int, st: StepState, emit: bool = True,
                solver: list[Any] | None = None) -> None:  # fmt: skip
         """Row i of the histories from the state ``st``; ``emit`` False keeps it from
@@ -605,7 +620,7 @@ class Recorder:
         self.pv[i] = full_v.reshape(-1, d)[probes]
         A = full_a.reshape(-1, d)[probes]
         self.pa[i] = A
-        self.paa[i] = A + ex.ground_acceleration(k.t) if ex.form == "relative" else A
+        self.paa[i] = A + self._ground_acceleration(st) if ex.form == "relative" else A
         R = an.corot.rotations(k.u) if an.corot is not None else None
         self.rigid[i] = an.rigid(full_u, R)
         if m:
