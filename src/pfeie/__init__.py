@@ -28,6 +28,7 @@ A whole analysis:
 True
 """
 
+from ._job import run_to_folder
 from ._version import __version__
 from .dynamics import Dynamic, DynamicResult, DynamicSettings, History, Newmark, RunStopped, State
 from .errors import (
@@ -65,6 +66,7 @@ __all__ = [
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
     "StaticResult", "StrengthReduction", "Study", "StudyTable", "YieldCoefficient", "__version__",
-    "box", "factorize", "graded", "modal", "rectangle", "solve_static", "strength_reduction",
+    "box", "factorize", "graded", "modal", "rectangle", "run_to_folder", "solve_static",
+    "strength_reduction",
     "yield_coefficient",
 ]  # fmt: skip

@@ -24,7 +24,7 @@ import logging
 import signal
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO
@@ -66,8 +66,8 @@ from .io import (
     run_key,
     write_paraview,
 )  # fmt: skip
-from .model import Model
-from .plot import solver_line
+from .model import GroundMotion, Model
+from .plot import plot_all, solver_line
 from .solvers import (
     REDUCTION_F_MAX,
     YIELD_K_MAX,
@@ -568,6 +568,109 @@ def _run(
             "`pfeie run --resume` writes the summary and the ParaView files"
         ) from None
     return summary
+
+
+def run_to_folder(
+    analysis: Dynamic, duration: float, folder: str | Path, *,
+    ground: Sequence[GroundMotion] = (), form: str = "relative",
+    start: StaticResult | StepState | None = None, probes: Mapping[str, int] | None = None,
+    every: int = 1, field_every: int = 10, envelope: bool = True, paraview: bool = True,
+    figures: bool = True, title: str = "",
+) -> DynamicResult:  # fmt: skip
+    """Run ``analysis`` (a :class:`~pfeie.Dynamic`) for ``duration`` s under ``ground``
+    and write what ``pfeie run`` writes of a model file into ``folder``: ``results.h5``
+    (docs/results.md; the static state too when ``start`` is a static result, and the
+    post-earthquake static state of a completed run with joints), ``summary.json`` and
+    ``summary.txt``, the ParaView series (``paraview``; needs meshio) and the figures in
+    ``folder/figures`` (``figures``; needs matplotlib). Returns the run's
+    :class:`~pfeie.DynamicResult`, the same bits as ``analysis.run`` with the same
+    arguments. ``probes`` names nodes (name → node index) whose histories are kept;
+    ``every``, ``field_every`` and ``envelope`` are the ``[output]`` keys of a model
+    file. The results file records ``<python>`` as its model file and, as its digest,
+    the SHA-256 of the model's mesh, matrices, loads, pairs, settings and records
+    (:meth:`pfeie.io.Job.of_run`). ``pfeie plot``, ``pfeie export`` and ``pfeie report``
+    read the folder (the report without the model file's sections).
+
+    A run whose step fails keeps its histories up to the last completed step (the file
+    says why it stopped, ``completed`` false); Ctrl-C closes the file with what was
+    computed and raises :class:`KeyboardInterrupt`.
+
+    >>> import pfeie as pf, tempfile
+    >>> mesh = pf.rectangle(1.0, 1.0, nx=2, ny=2)
+    >>> model = pf.Model(mesh, [pf.Block("all", pf.Elastic(E=1e9, nu=0.2, rho=2000))])
+    >>> model.fix("ymin")
+    >>> g = pf.GroundMotion.from_function(lambda t: 1.0, duration=0.05, dt=0.01)
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     res = pf.run_to_folder(pf.Dynamic(model, dt=0.01), 0.05, out, ground=[g],
+    ...                            probes={"top": 8}, paraview=False, figures=False)
+    ...     with pf.io.Results(f"{out}/results.h5") as f:
+    ...         print(f.n_times, f.probe_names, f.meta["model_file"])
+    6 ['top'] <python>
+    """
+    static = start if isinstance(start, StaticResult) else None
+    if isinstance(start, StepState) and isinstance(start.static, StaticResult):
+        static = start.static
+    names = {} if probes is None else dict(probes)
+    n_nodes = analysis.model.mesh.n_points
+    for name, node in names.items():
+        if isinstance(node, bool) or not isinstance(node, int | np.integer) or not (
+                0 <= int(node) < n_nodes):  # fmt: skip
+            raise ModelError(f"probes: {name!r}: expected a node index in [0, {n_nodes}), "
+                             f"got {node!r}")  # fmt: skip
+    output = {"every": every, "field_every": field_every, "envelope": envelope,
+              "paraview": paraview, "folder": "."}  # fmt: skip
+    job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
+                     duration=duration, form=form, static=static is not None, title=title,
+                     output=output)  # fmt: skip
+    out = output_folder(folder, "run_to_folder: folder")
+    if (out / "study.json").exists():
+        raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "
+                         "(study.json): choose another folder")  # fmt: skip
+    with FolderLock(out, job.path):
+        for stale in ("summary.json", "summary.txt", "report.html"):
+            (out / stale).unlink(missing_ok=True)
+        t0 = time.perf_counter()
+        writer = ResultsWriter(out / "results.h5", job, field_every=field_every)
+        try:
+            if static is not None:
+                writer.write_static(static)
+            result = analysis.run(duration, ground=ground, form=form, start=start,
+                                  probes=list(job.probes.values()), every=every,
+                                  on_record=writer.append, envelope=envelope)  # fmt: skip
+        except KeyboardInterrupt as exc:
+            writer.close(False, f"interrupted ({str(exc) or 'SIGINT'})")
+            raise
+        except BaseException as exc:
+            writer.close(False, f"the run failed: {exc}")
+            raise
+        writer.write_envelope(result.envelope)
+        stopped = None if result.completed else (result.stop_reason or "stopped")
+        summary = summarize(job, static, result)
+        post = _post_earthquake(job, static, result, result.final, writer,
+                                summary.get("bodies", {}))  # fmt: skip
+        if post:
+            summary["post_earthquake"] = post
+        summary["stopped"] = stopped
+        summary["warnings"] = [{"label": w.label, "text": w.text} for w in reliability(summary)]
+        summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+        writer.close(stopped is None, stopped, summary)
+        (out / "summary.json").write_text(
+            json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
+        )
+        (out / "summary.txt").write_text(format_summary(summary) + "\n")
+        # what needs an optional library (meshio, matplotlib) comes last and warns where
+        # it is missing: the run and its results file are not lost to it
+        try:
+            if paraview:
+                write_paraview(out / "results.h5", analysis.model, out)
+        except PfeieError as exc:
+            log.warning("%s: ParaView series not written: %s", out, exc)
+        try:
+            if figures:
+                plot_all(out / "results.h5", out / "figures")
+        except PfeieError as exc:
+            log.warning("%s: figures not written: %s", out, exc)
+    return result
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:

@@ -14,6 +14,7 @@ from ._files import output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import (
     MAX_PGA_G,
+    PYTHON_RUN,
     Job,
     ModelFile,
     Override,
@@ -45,6 +46,7 @@ __all__ = [
     "MAX_BATCH",
     "MAX_PGA_G",
     "MAX_WORKERS",
+    "PYTHON_RUN",
     "TIME_GAP",
     "CheckpointWriter",
     "Job",

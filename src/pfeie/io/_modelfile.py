@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 import logging
 import re
 import tomllib
@@ -172,6 +173,10 @@ def _apply(data: dict[str, Any], ov: Override, where: str) -> list[str | int]:
     return made
 
 
+#: the model file a run made through the Python API records (:meth:`Job.of_run`)
+PYTHON_RUN = "<python>"
+
+
 @dataclass
 class Job:
     """A validated model file and what it builds.
@@ -191,6 +196,38 @@ class Job:
     digest: str
     interface_names: list[str] = field(default_factory=list)
     part_factors: dict[int, float] = field(default_factory=dict)
+
+    @classmethod
+    def of_run(
+        cls, model: Model, settings: Any, *, records: Sequence[GroundMotion] = (),
+        probes: dict[str, int] | None = None, duration: float | None = None,
+        form: str = "relative", static: bool = False, title: str = "",
+        output: dict[str, Any] | None = None,
+    ) -> Job:  # fmt: skip
+        """The job of a run made through the Python API (no model file): what a results
+        file records of a run, from the ``model``, the dynamic ``settings`` (a
+        :class:`pfeie.dynamics.DynamicSettings`, e.g. ``Dynamic.settings``), the
+        ``records``, the named ``probes`` (name → node) and the ``[output]`` keys given.
+        Its path reads ``<python>``; its digest is the SHA-256 of what determines the
+        run (the mesh, the assembled matrices and loads, the pairs and their laws, the
+        settings and the records), so that the same model built again gives the same
+        digest."""
+        try:
+            analysis = Analysis.model_validate({
+                **settings.model_dump(), "static": bool(static), "dynamic": True,
+                "duration": None if duration is None else float(duration), "form": form,
+            })  # fmt: skip
+            out = Output.model_validate(dict(output or {}))
+        except ValidationError as exc:
+            what = "; ".join(f"{'.'.join(str(v) for v in e['loc'])}: {e['msg']}"
+                             for e in exc.errors())  # fmt: skip
+            raise ModelError(f"run settings: {what}") from None
+        spec = {"title": str(title), "analysis": analysis.model_dump(),
+                "output": out.model_dump()}  # fmt: skip
+        probes = {} if probes is None else {str(k): int(v) for k, v in probes.items()}
+        return cls(Path(PYTHON_RUN), spec, model, list(records), probes,
+                   _model_digest(model, spec, records),
+                   [it.group for it in model.interfaces])  # fmt: skip
 
     @property
     def analysis(self) -> Analysis:
@@ -278,6 +315,42 @@ class Job:
             if a.static and a.post_earthquake and self.model.pairs is not None:
                 out.append("post-earthquake static state")
         return out
+
+
+def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMotion]) -> str:
+    """SHA-256 of what determines a run made through the Python API (:meth:`Job.of_run`):
+    the mesh's points and cells, the assembled stiffness, mass and damping, the loads'
+    patterns and prescribed values, the pairs' geometry and laws, the settings and the
+    records' samples. Deterministic: the same model built again hashes the same."""
+    h = hashlib.sha256()
+
+    def add(a: Any) -> None:
+        arr = np.ascontiguousarray(a)
+        h.update(f"{arr.dtype.str}{arr.shape}".encode())
+        h.update(arr.tobytes())
+
+    mesh = model.mesh
+    add(mesh.points)
+    for ctype, conn in sorted(mesh.cells.items()):
+        h.update(ctype.encode())
+        add(conn)
+    system = model.system()
+    for mat in (system.K, system.M, system.C):
+        if mat is not None:
+            for arr in (mat.data, mat.indices, mat.indptr):
+                add(arr)
+    for arr in (system.free, system.prescribed_values, system._patterns, system._constant):
+        add(arr)
+    P = model.pairs
+    if P is not None:
+        for arr in (P.x, P.frame, P.area, P.node_a, P.node_b, P.interface):
+            add(arr)
+    h.update(json.dumps([_joint_laws(model), spec], sort_keys=True, default=str).encode())
+    for g in records:
+        for arr in (g.time, g.acceleration, g.direction):
+            add(arr)
+        h.update(g.name.encode())
+    return h.hexdigest()
 
 
 def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:

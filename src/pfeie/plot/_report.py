@@ -20,7 +20,7 @@ import numpy as np
 from ..dynamics import envelope_extremes
 from ..errors import InputError, PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
-from ..io import Results, applied_part, output_file
+from ..io import PYTHON_RUN, Results, applied_part, output_file
 from ._plots import (
     open_crack,
     plot_all,
@@ -350,6 +350,9 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
     from ..io import Override, load_job, same_run
 
     meta = res.meta
+    if meta.get("model_file") == PYTHON_RUN:
+        return None, ("the run was made through the Python API (pfeie.run_to_folder), "
+                      "without a model file to rebuild the model from")  # fmt: skip
     given = Path(str(meta.get("model_file", "")))
     here = res.path.resolve().parent
     candidates = [
