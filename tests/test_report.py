@@ -412,8 +412,25 @@ def test_report_of_a_3d_model(run3d: tuple[Path, str]) -> None:
     assert lo["extreme_MPa"] == 1e-6 * ext["min_principal_Pa"]
     assert np.allclose(hi["at_m"], ext["max_principal_at_m"], rtol=0, atol=5e-5)
     assert np.allclose(lo["at_m"], ext["min_principal_at_m"], rtol=0, atol=5e-5)
+    # the colours as the 2D maps': the boundary faces' means between their 0.5th and
+    # 99.5th percentiles, symmetric about zero, or one-sided where the values keep one
+    # sign to a twentieth of their range (σ₃ here: compression)
+    from pfeie.plot._plots import _faces_of
+
+    with Results(tmp / "out" / "results.h5") as res:
+        faces = _faces_of(res)[1]
     for panel, key in ((hi, "node_max"), (lo, "node_min")):
-        assert panel["colour_limit_MPa"] == float(np.nanmax(np.abs(1e-6 * env[key])))
+        v = 1e-6 * env[key]
+        mean = np.concatenate([v[f].mean(axis=1) for f in faces])
+        p_lo, p_hi = np.percentile(mean[np.isfinite(mean)], [0.5, 99.5])
+        c_lo, c_hi = panel["colour_range_MPa"]
+        if p_lo >= -0.05 * abs(p_hi):
+            assert (c_lo, c_hi) == (0.0, pytest.approx(p_hi, rel=1e-9))
+        elif p_hi <= 0.05 * abs(p_lo):
+            assert (c_lo, c_hi) == (pytest.approx(p_lo, rel=1e-9), 0.0)
+        else:
+            assert -c_lo == c_hi == pytest.approx(max(-p_lo, p_hi), rel=1e-9)
+    assert lo["colour_range_MPa"][1] == 0.0  # σ₃: compression only, blue
     # the loads: the upstream faces of the dam (NY × NZ) loaded; the largest face pressure
     # at the centroid of the lowest ones, z = LZ + LZ / (2 NZ): ρ_w g (H − z) (reached
     # exactly here; 1e-15 for round-off)

@@ -968,40 +968,47 @@ def plot_fields_3d(
 ) -> Path:  # fmt: skip
     """Nodal scalar fields (label, values (n_points,) in MPa) painted on the boundary
     faces of a 3D mesh, one panel each: a face's colour is the mean of its corner nodes'
-    values (a face with a missing value grey); the colour bar spans ± the largest |value|
-    over all the nodes, and the extreme of each field (the largest of the first panel,
-    the smallest of the others) is starred at its node, drawn through the faces (it may
-    lie inside) and given in the panel's title. The PNG's description gives, per panel,
-    the colour bar's limit and the extreme (MPa) with its node's position (m)."""
+    values (a face with a missing value grey); the colours follow the 2D maps'
+    (:func:`_colour_range` over the face means: red tension, blue compression, white
+    zero, one-sided where the values keep one sign, clipped at the percentile
+    :data:`COLOUR_CLIP_PERCENT` with the colour bar extended), and the extreme of each
+    field over all the nodes (the largest of the first panel, the smallest of the others)
+    is starred at its node, drawn through the faces (it may lie inside) and given in the
+    panel's title. The PNG's description gives, per panel, the colour limits and the
+    extreme (MPa) with its node's position (m)."""
     plt = _plt()
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
 
     x, faces = _faces_of(res)
-    cmap = plt.get_cmap("RdBu_r")
     fig = plt.figure(figsize=(6.0 * len(fields), 6.0))
     panels = []
     for k, (label, v) in enumerate(fields):
         ax = _axes3d(fig, 1, len(fields), k + 1)
         v = np.asarray(v, dtype=float)
         finite = np.isfinite(v)
-        lim = float(np.abs(v[finite]).max()) if finite.any() else 1.0
-        lim = lim if lim > 0 else 1.0
-        norm = Normalize(-lim, lim)
         mean = np.concatenate([v[f].mean(axis=1) for f in faces]) if faces else np.zeros(0)
-        colours = cmap(norm(np.where(np.isfinite(mean), mean, 0.0)))
-        colours[~np.isfinite(mean)] = (0.8, 0.8, 0.8, 1.0)
+        shown = np.isfinite(mean)
+        lo, hi, extend = _colour_range(mean[shown])
+        # red tension, blue compression, white zero: one-sided maps take one of the halves
+        cmap = plt.get_cmap("Blues_r" if hi == 0.0 else "Reds" if lo == 0.0 else "RdBu_r")
+        norm = Normalize(lo, hi)
+        colours = cmap(norm(np.where(shown, mean, 0.0)))
+        colours[~shown] = (0.8, 0.8, 0.8, 1.0)
         ax.add_collection3d(_art3d().Poly3DCollection(_polygons(x, faces), facecolors=colours,
                                              edgecolors="0.4", linewidths=0.15))  # fmt: skip
-        fig.colorbar(ScalarMappable(norm, cmap), ax=ax, shrink=0.6, pad=0.1, label="MPa")
-        panel: dict[str, Any] = {"label": label, "colour_limit_MPa": lim}
+        clipped = (f" (colours to the {COLOUR_CLIP_PERCENT:g}th percentile)"
+                   if extend != "neither" else "")  # fmt: skip
+        fig.colorbar(ScalarMappable(norm, cmap), ax=ax, shrink=0.6, pad=0.1,
+                     label="MPa" + clipped, extend=extend)  # fmt: skip
+        panel: dict[str, Any] = {"label": label, "colour_range_MPa": [lo, hi]}
         if finite.any():
             at = int(np.nanargmax(v) if k == 0 else np.nanargmin(v))
             ax.scatter(*x[at], marker="*", s=160, color="k", edgecolors="w", depthshade=False,
                        zorder=_ON_TOP)  # fmt: skip
             where = ", ".join(f"{c:.4g}" for c in x[at])
-            label = (f"{label}\n{'max' if k == 0 else 'min'} {v[at]:.4g} MPa at ({where}) m "
-                     "(★: drawn through the faces; it may lie inside or behind)")  # fmt: skip
+            label = (f"{label}\n{'max' if k == 0 else 'min'} {v[at]:.4g} MPa at ({where}) m\n"
+                     "(★ drawn through the faces: it may lie inside or behind)")  # fmt: skip
             panel.update({"extreme_MPa": float(v[at]), "at_m": x[at].tolist()})
         panels.append(panel)
         _frame3d(ax, x)
