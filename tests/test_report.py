@@ -444,16 +444,29 @@ def test_report_of_a_3d_model(run3d: tuple[Path, str]) -> None:
 
 def test_plot_writes_the_3d_figures(run3d: tuple[Path, str], tmp_path: Path) -> None:
     """`pfeie plot` of a 3D run writes the 3D mesh, joint map and envelope beside the
-    histories (the names of the module docstring of pfeie.plot._plots)."""
+    histories (the names of the module docstring of pfeie.plot._plots), and, as the
+    report has them, the loads and the static stresses (the model file found beside the
+    results) and the joint's static state; without the model file, all but the loads and
+    the static stresses."""
     tmp, _ = run3d
     assert main(["plot", str(tmp / "out" / "results.h5"), "--out", str(tmp_path)]) == 0
     names = {p.name for p in tmp_path.iterdir()}
-    assert {"mesh.png", "joint_map.png", "envelope.png", "input_motion.png",
-            "probe_crest.png", "joint_joint.png", "states_joint.png", "rigid_motion.png",
-            "energy.png"} == names  # fmt: skip
-    for name in ("mesh.png", "joint_map.png", "envelope.png"):
+    common = {"mesh.png", "joint_map.png", "envelope.png", "input_motion.png",
+              "probe_crest.png", "joint_joint.png", "states_joint.png", "rigid_motion.png",
+              "energy.png", "static_joint.png"}  # fmt: skip
+    assert common | {"loads.png", "static_stress.png"} == names
+    for name in ("mesh.png", "joint_map.png", "envelope.png", "loads.png", "static_stress.png"):
         (w, h), text = png((tmp_path / name).read_bytes())
         assert w >= 500 and h >= 350 and "Description" in text
+    alone = tmp_path / "alone"  # the results file without its model file
+    alone.mkdir()
+    (alone / "results.h5").write_bytes((tmp / "out" / "results.h5").read_bytes())
+    import h5py
+
+    with h5py.File(alone / "results.h5", "r+") as f:  # a model file moved away
+        f.attrs["model_path"] = f.attrs["model_file"] = str(tmp_path / "gone" / "model.toml")
+    assert main(["plot", str(alone / "results.h5"), "--out", str(alone / "fig")]) == 0
+    assert {p.name for p in (alone / "fig").iterdir()} == common
 
 
 @pytest.mark.parametrize("cell", ["hexahedron", "tetra", "tetra10"])

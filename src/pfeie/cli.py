@@ -371,10 +371,10 @@ def _post(args: argparse.Namespace) -> int:
 
     try:
         if args.command == "plot":
-            from .plot import plot_all
+            from .plot import plot_run
 
             out = Path(args.out) if args.out else Path(args.results).parent / "figures"
-            files = plot_all(args.results, out)
+            files = plot_run(args.results, out)
         elif args.command == "export":
             from .io import export_csv
 

@@ -6,12 +6,14 @@ statistics and the time step (:func:`write_report`)."""
 from __future__ import annotations
 
 import base64
+import contextlib
 import copy
 import hashlib
 import html
 import json
 import logging
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -331,6 +333,19 @@ def _differs(new: Any, old: Any, key: str) -> list[str]:
     return [] if new == old else [key]
 
 
+@contextlib.contextmanager
+def _quiet() -> Iterator[None]:
+    """Warnings and lower off while a run's model is rebuilt for its report or figures
+    (its warnings were given by the run and are in its summary); the earlier
+    ``logging.disable`` level comes back after."""
+    before = logging.root.manager.disable
+    logging.disable(max(before, logging.WARNING))
+    try:
+        yield
+    finally:
+        logging.disable(before)
+
+
 def model_of_run(res: Results) -> tuple[Job | None, str]:
     """The model of a run rebuilt from its model file, or None and why not.
 
@@ -377,13 +392,15 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
             return None, (f"the mesh or a record file of the model file {path} changed since "
                           "the run")  # fmt: skip
         try:
-            job = load_job(path)
+            with _quiet():  # the model's warnings were the run's; not again for a figure
+                job = load_job(path)
             if spec is not None:
                 plain = json.loads(json.dumps(job.spec, default=str))
                 changed = [k for k in STRUCTURE if _differs(plain.get(k), spec.get(k), k)]
                 if changed:
-                    job = load_job(path, [Override(k, spec[k], "the results file")
-                                          for k in changed if k in spec])  # fmt: skip
+                    with _quiet():
+                        job = load_job(path, [Override(k, spec[k], "the results file")
+                                              for k in changed if k in spec])  # fmt: skip
                     plain = json.loads(json.dumps(job.spec, default=str))
                     still = [d for k in STRUCTURE for d in _differs(plain.get(k), spec.get(k), k)]
                     if still:
@@ -763,6 +780,51 @@ SECTIONS = (
 )  # fmt: skip
 
 
+def model_figures(
+    res: Results, job: Job | None, folder: Path, title: str, joints: bool = True
+) -> dict[str, Path]:
+    """The figures of a run beyond :func:`~pfeie.plot.plot_all`'s, written into
+    ``folder`` and returned by name: with the model of the run (``job``,
+    :func:`model_of_run`) the loads (``loads.png``) and the principal stresses of the
+    static state (``static_stress.png``); with a static state and ``joints``, each
+    joint's static pair states and forces (``static_<joint>.png``; a static-only run has
+    them from ``plot_all``)."""
+    two_d = res.f["mesh/points"].shape[1] == 2
+    extra: dict[str, Path] = {}
+    if job is not None:
+        extra["loads"] = (plot_loads if two_d else plot_loads_3d)(
+            res, job.model, job.spec, folder / "loads.png", title)  # fmt: skip
+        if "static/u" in res.f:
+            head = f"{title}\nprincipal stresses of the static state (tension +)"
+            extra["static_stress"] = (
+                plot_fields(res, static_stress(res, job), folder / "static_stress.png",
+                            head) if two_d else
+                plot_fields_3d(res, static_stress(res, job),
+                               folder / "static_stress.png", f"{head}, on the "
+                               "boundary faces"))  # fmt: skip
+    if joints:
+        for name in res.interface_names if "static/X" in res.f else []:
+            extra[f"static_{name}"] = plot_static(res, name, folder / f"static_{name}.png",
+                                                  title)  # fmt: skip
+    return extra
+
+
+def plot_run(results: str | Path, folder: str | Path) -> list[Path]:
+    """``pfeie plot``: every figure of a results file (:func:`~pfeie.plot.plot_all`) and
+    those of :func:`model_figures` (the loads and the static stresses where the model
+    file of the run is found, the static joint states), into ``folder``; returns the
+    files written. Where the model file is not found, the log says why its figures are
+    missing."""
+    files = plot_all(results, folder)
+    with Results(results) as res:
+        job, source = model_of_run(res)
+        if job is None:
+            log.info("%s: no loads or static-stress figures: %s", res.path, source)
+        title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        extra = model_figures(res, job, Path(folder), title, joints=res.n_times > 0)
+    return files + list(extra.values())
+
+
 def write_report(results: str | Path, out: str | Path | None = None, where: str = "") -> Path:
     """Write ``report.html`` beside the results file (or at ``out``): one self-contained
     page (figures embedded as PNG) with the sections of :data:`SECTIONS`: the geometry and
@@ -808,21 +870,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         extra: dict[str, Path] = {}
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp)
-            if job is not None:
-                extra["loads"] = (plot_loads if two_d else plot_loads_3d)(
-                    res, job.model, job.spec, folder / "loads.png", title)  # fmt: skip
-                if "static/u" in res.f:
-                    head = f"{title}\nprincipal stresses of the static state (tension +)"
-                    extra["static_stress"] = (
-                        plot_fields(res, static_stress(res, job), folder / "static_stress.png",
-                                    head) if two_d else
-                        plot_fields_3d(res, static_stress(res, job),
-                                       folder / "static_stress.png", f"{head}, on the "
-                                       "boundary faces"))  # fmt: skip
-            if not static_only:
-                for name in res.interface_names if "static/X" in res.f else []:
-                    extra[f"static_{name}"] = plot_static(res, name, folder / f"static_{name}.png",
-                                                          title)  # fmt: skip
+            extra = model_figures(res, job, folder, title, joints=not static_only)
             try:
                 figs = plot_all(rpath, folder / "all")
             except ResultsError:  # nothing to plot (static run without interfaces)
