@@ -96,9 +96,10 @@ def test_plot_export_report_commands(small_run, tmp_path: Path,  # type: ignore[
     path, _, _ = small_run
     assert main(["plot", str(path), "--out", str(tmp_path / "fig")]) == 0
     pngs = sorted(p.name for p in (tmp_path / "fig").iterdir())
+    # (the loads and static figures too: the run's model file is beside its results)
     assert pngs == ["energy.png", "input_motion.png", "joint_joint.png", "joint_map.png",
-                    "mesh.png", "probe_top.png", "rigid_motion.png",
-                    "states_joint.png"]  # fmt: skip
+                    "loads.png", "mesh.png", "probe_top.png", "rigid_motion.png",
+                    "states_joint.png", "static_joint.png", "static_stress.png"]  # fmt: skip
     assert all((tmp_path / "fig" / p).stat().st_size > 10_000 for p in pngs)
     assert main(["export", str(path), "--csv", str(tmp_path / "csv")]) == 0
     probes = (tmp_path / "csv" / "probes.csv").read_text().splitlines()
