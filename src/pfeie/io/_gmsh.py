@@ -376,6 +376,7 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
                 if tag:
                     ignored.add(name_of(tag, dim))
     _more_groups(m, dims, top, offsets, cgroups, fgroups)
+    _merge_written_twice(cells, cell_ids, cgroups, path)
     if ignored:
         log.info("%s: physical groups of lower dimension ignored: %s", path, sorted(ignored))
     clash = set(cgroups) & set(fgroups)
@@ -409,6 +410,54 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         log.info("%s: %d clockwise cell(s) reoriented", path, flipped)
     mesh.check(str(path))
     return mesh
+
+
+def _merge_written_twice(
+    cells: dict[str, list[np.ndarray]], cell_ids: dict[str, list[np.ndarray]],
+    cgroups: dict[str, dict[str, list[np.ndarray]]], path: Path | str,
+) -> None:  # fmt: skip
+    """Merge the cells that MSH 2 writes once per physical group of their entity (a
+    surface in the groups 'dam' and 'concrete': each element twice, on the same nodes,
+    with two element ids and two tags) into one cell in both groups, as MSH 4 gives them
+    (one element, an entity in two groups). Only copies whose groups are all different
+    merge; a cell written twice in one group (or in none) stays, for
+    :meth:`Mesh.check` to refuse as duplicated. In place."""
+    for ctype in list(cells):
+        conn = np.concatenate(cells[ctype])
+        if conn.shape[0] < 2:
+            continue
+        _, first, inv = np.unique(conn, axis=0, return_index=True, return_inverse=True)
+        inv = inv.ravel()
+        head = first[inv]  # each cell's first copy
+        copies = np.flatnonzero(head != np.arange(conn.shape[0]))
+        if not copies.size:
+            continue
+        involved = np.flatnonzero(np.isin(head, head[copies]))  # every copy, first ones too
+        member: dict[int, set[str]] = {int(i): set() for i in involved}
+        for name, by_type in cgroups.items():
+            for idx in by_type.get(ctype, []):
+                for i in np.intersect1d(np.asarray(idx).ravel(), involved).tolist():
+                    member[int(i)].add(name)
+        seen: dict[int, set[str]] = {}
+        distinct = True
+        for i in involved.tolist():
+            got = seen.setdefault(int(head[i]), set())
+            # untagged, or twice in one group: not merged (Mesh.check refuses the copies)
+            distinct = distinct and bool(member[i]) and not got & member[i]
+            got |= member[i]
+        if not distinct:
+            continue
+        keep = head == np.arange(conn.shape[0])
+        new_index = np.cumsum(keep) - 1
+        target = new_index[head]
+        log.info("%s: %d %s cell(s) written once per physical group (MSH 2) taken as one cell "
+                 "in each of their groups", path, copies.size, ctype)  # fmt: skip
+        cells[ctype] = [conn[keep]]
+        if ctype in cell_ids:
+            cell_ids[ctype] = [np.concatenate(cell_ids[ctype])[keep]]
+        for by_type in cgroups.values():
+            if ctype in by_type:
+                by_type[ctype] = [np.unique(target[np.concatenate(by_type[ctype])])]
 
 
 def _physical_names(path: Path) -> list[tuple[int, int, str]] | None:
