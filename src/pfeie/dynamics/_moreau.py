@@ -29,10 +29,15 @@ impact-dominated runs
 (rockfall, toppling), not the default for dam engineering. θ = ½ with contacts is refused:
 it does not dissipate the impacts and lets blocks hop.
 
-The accelerations recorded are the step averages (v_{n+1} − v_n)/h, impulses included. In
-the absolute form of ground motion the first-order position update acts on the large
-absolute motion (0.7 % on V2b at Δt = 2 ms against 5e-6 in the relative form): prefer the
-relative form with this scheme.
+The accelerations recorded are the step averages (v_{n+1} − v_n)/h, impulses included
+(their absolute value in the relative form adds (1 − θ) a_g(t_n) + θ a_g(t_{n+1}), the
+ground acceleration the load applied). In the absolute form of ground motion the
+first-order position update acts on the large absolute motion (0.7 % on V2b at Δt = 2 ms
+against 5e-6 in the relative form): prefer the relative form with this scheme. There the
+pairs' relative motion takes the moving supports' share by the same θ-rule,
+Δw = G Δu + h G_p v_{p,θ}, not from their exact displacement, whose difference from the
+blocks' update, h v_g(t_{n+1}) − ∫v_g a step, would open the gap of a block resting on a
+shaken base and let it fall for a step.
 """
 
 from __future__ import annotations

@@ -552,6 +552,9 @@ class Recorder:
         envelope_values: dict[str, FloatArray] | None = None,
     ) -> None:  # fmt: skip
         self.an, self.ex, self.probes, self.on_record = an, excitation, probes, on_record
+        # the probes' prescribed components (n_probes, d): supports move with the ground
+        dofs = (an.d * np.asarray(probes, dtype=np.int64)[:, None] + np.arange(an.d)).ravel()
+        self._fixed = np.isin(dofs, an.system.prescribed).reshape(-1, an.d)
         self.envelope = (StressEnvelope(an.model, envelope_values)
                          if envelope and an.corot is None else None)  # fmt: skip
         # the kinetic and strain energy the balance is measured from (those of row 0 of
@@ -575,21 +578,6 @@ class Recorder:
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
 
-    def _ground_acceleration(self, st: StepState) -> FloatArray:
-        """Σ ι a_g that turns the recorded relative acceleration of ``st`` into the
-        absolute one: a_g(t_{n+1}) for the generalised-α and Newmark steps, whose
-        acceleration is that of the instant; for a Moreau–Jean step, whose acceleration is
-        the step average (v_{n+1} − v_n)/h under the load f_{n+θ} = (1 − θ) f_n + θ f_{n+1},
-        the same mix (1 − θ) a_g(t_n) + θ a_g(t_{n+1}): a body that no joint or support
-        pushes then reads an absolute acceleration of zero, where a_g(t_{n+1}) alone would
-        leave (1 − θ)(a_g(t_{n+1}) − a_g(t_n))."""
-        ex, t = self.ex, st.kin.t
-        mj = self.an.mj
-        if mj is None or st.step == 0 or mj.theta == 1.0:
-            return ex.ground_acceleration(t)
-        th = mj.theta
-        return (1.0 - th) * ex.ground_acceleration(t - mj.dt) + th * ex.ground_acceleration(t)
-
     def record(self, i: int, st: StepState, emit: bool = True,
                solver: list[Any] | None = None) -> None:  # fmt: skip
         """Row i of the histories from the state ``st``; ``emit`` False keeps it from
@@ -602,7 +590,7 @@ class Recorder:
         self.t[i] = k.t
         full_u = system.expand(k.u)
         full_v = system.expand(k.v, prescribed=False)
-        full_a = system.expand(k.a, prescribed=False)
+        full_a = system.expand(k.a if st.a_out is None else st.a_out, prescribed=False)
         if ex.form == "absolute":
             pres = system.prescribed
             full_u[pres], full_v[pres], full_a[pres] = ex.prescribed(k.t)
@@ -620,7 +608,14 @@ class Recorder:
         self.pv[i] = full_v.reshape(-1, d)[probes]
         A = full_a.reshape(-1, d)[probes]
         self.pa[i] = A
-        self.paa[i] = A + self._ground_acceleration(st) if ex.form == "relative" else A
+        if ex.form == "relative":
+            # the ground acceleration the step applied (StepState.ground) at the free DOFs,
+            # that of the instant at the supports, which move with the ground
+            now = ex.ground_acceleration(k.t)
+            self.paa[i] = A + (now if st.ground is None else
+                               np.where(self._fixed, now, st.ground))  # fmt: skip
+        else:
+            self.paa[i] = A
         R = an.corot.rotations(k.u) if an.corot is not None else None
         self.rigid[i] = an.rigid(full_u, R)
         if m:

@@ -39,6 +39,7 @@ from ._results import ResultsWriter, _h5py, read_envelope
 _KIN = ("u", "v", "a", "f")
 _PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
 _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "shift": "m",
+          "ground": "m/s^2",
           "state": "code",
           "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
           "lam": "N", "node_max": "Pa", "node_min": "Pa", "cell_max": "Pa", "cell_min": "Pa",
@@ -218,6 +219,8 @@ class CheckpointWriter:
             data["pairs/lam"] = st.lam
         if st.shift is not None:  # the row's stress envelope excludes it (the recorder)
             data["kin/shift"] = st.shift
+        if st.ground is not None:  # the ground acceleration the step applied (a_abs)
+            data["kin/ground"] = st.ground
         for k, v in (ck.envelope or {}).items():
             data[f"envelope/{k}"] = v
         if w._last is not None:  # the row's fields, when it is off the field grid
@@ -288,9 +291,10 @@ def read_checkpoint(f: Any) -> Checkpoint:
     pairs = PairState(*(np.asarray(g[f"pairs/{k}"]) for k in _PAIRS))
     lam = np.asarray(g["pairs/lam"]) if "pairs/lam" in g else None
     shift = np.asarray(g["kin/shift"]) if "kin/shift" in g else None
+    ground = np.asarray(g["kin/ground"]) if "kin/ground" in g else None
     t0 = g.attrs.get("time_origin")  # (older files have none: t − step h)
     st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam, shift=shift,
-                   origin=None if t0 is None else float(t0))  # fmt: skip
+                   origin=None if t0 is None else float(t0), ground=ground)  # fmt: skip
     energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
     o0, o1 = json.loads(g.attrs["origin"])
     env = ({k: np.asarray(v) for k, v in g["envelope"].items()} if "envelope" in g

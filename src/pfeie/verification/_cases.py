@@ -620,8 +620,11 @@ def v4m(fast: bool) -> CaseResult:
               float(np.abs(fine["mean"] - fine["rigid"])[s].max() / q), 0.3, False),
         Check("largest face-node distance to the rigid block while sliding / μg", 0.0,
               float(np.abs(fine["at"] - fine["rigid"][:, None])[s].max() / q), 0.5, False),
+        # (7.9e-13: row 0, the equation's acceleration at t₀ with the smooth pair forces
+        # of the acceleration-level problem, solved to the interface solver's tolerance;
+        # 7e-15 on the later rows)
         Check("largest normal acceleration of a face node / μg (closed pairs)", 0.0,
-              max(r["an"] for r in runs) / q, 5e-14, False),
+              max(r["an"] for r in runs) / q, 5e-12, False),
         Check("largest opening (no hop)", 0.0, max(r["open"] for r in runs), 2e-15, False,
               "m"),
     ]  # fmt: skip
