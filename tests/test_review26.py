@@ -202,3 +202,20 @@ def test_moreau_jean_absolute_form_block_stays_on_a_shaken_base() -> None:
         assert n_w.min() > 0.8 - 1e-5 and n_w.max() < 1.2 + 1e-5, form
         # (the 30 GPa block's own vibration adds 1.4e-5 of 0.2 g)
         assert np.abs(r.probe_a_abs[:, 0, 1]).max() < 0.2 * g * (1 + 1e-4), form
+
+
+def test_yield_coefficient_leaves_out_the_models_own_horizontal_coefficient() -> None:
+    """A rigid block on a level joint, μ = tan 30°: k_y = μ (closed form), also when the
+    model carries a pseudo-static load of its own (k_h = 0.1 along +x: the search added to
+    it and read μ − 0.1 = 0.477); a vertical coefficient k_v (upward) acts with the search:
+    k_y = μ (1 − k_v). Tolerance 1e-5 (the search's bracket, tol 1e-6 relative)."""
+    from pfeie.verification._models import block_on_base
+
+    mu = np.tan(np.radians(30.0))
+    g = 9.81
+    for kh, kv in ((0.0, 0.0), (0.1, 0.0), (-0.2, 0.0), (0.1, 0.2)):
+        m = block_on_base(joint=pf.Joint(phi=30.0), incline_deg=0.0)
+        if kh or kv:
+            m.add_inertia([kh * g, kv * g])  # k_v g upward: −M (k_v g) down is unloading
+        y = pf.yield_coefficient(m)
+        assert y.k_y == pytest.approx(mu * (1.0 - kv), rel=1e-5), (kh, kv)

@@ -736,8 +736,10 @@ def test_plausibility_warnings(
     for text_k, mesh_k, warning in cases:
         caplog.clear()
         p = model(tmp_path, text=text_k, elements=elements, names=names, **mesh_k)
+        # (without supports the static state is a mechanism: check exits 1)
+        unheld = "[[supports]]" not in text_k
         with caplog.at_level("WARNING"):
-            assert main(["check", str(p)]) == 0
+            assert main(["check", str(p)]) == (1 if unheld else 0)
         assert warning in caplog.text
         # a declared joint, or one block only: no warning
         between = 'right = "rock"' in text_k and "[interfaces.mid]" not in text_k
@@ -861,11 +863,14 @@ def test_check_names_the_floating_and_the_unsupported_blocks(
     assert "unsupported" not in out
     p = model(tmp_path, text=text.replace('[[supports]]\ngroup = "bottom"\n', ""),
               elements=elements, names=names)  # fmt: skip
-    assert main(["check", str(p)]) == 0
-    out = capsys.readouterr().out
+    # the static state would stop as a mechanism (pfeie run: exit 1): check says so
+    assert main(["check", str(p)]) == 1
+    cap = capsys.readouterr()
+    out = cap.out
     assert "bodies       2\n" in out
     assert ("unsupported  left, right: no support, and no joint to a supported block (add "
             "[[supports]])") in out
+    assert "the static state cannot be solved: left, right has no support" in cap.err
 
 
 def test_analyses_that_the_model_cannot_make_are_refused_before_work(

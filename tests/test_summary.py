@@ -377,6 +377,14 @@ def test_round_off_energies_are_not_warned(
       "safety_factor": 1.65, "k_affine": None, "open_joint": "lift", "open_share": 0.93},
      "least FS 1.65 on 'lift'; at k_y 'lift' is the most open, 93 % of its area: the block "
      "on it rocks or overturns)"),
+    # a 3D dam whose contraction joint opens (its margin followed, FS 14.23) while the
+    # dam-rock joint is at FS 1.2: the least FS is the dam-rock joint's
+    ({"k_y": 0.5097, "k_fail": 0.5098, "limit": "no equilibrium found", "joint": "cj",
+      "safety_factor": 14.23, "safety_factors": {"dam_rock": 1.2, "cj": 14.23},
+      "k_affine": 0.517, "open_joint": "cj", "open_share": 0.73},
+     "least FS 1.2 on 'dam_rock' (the margins followed 'cj', FS 14.23), the margins' affine "
+     "estimate 0.517; at k_y 'cj' is the most open, 73 % of its area: the block on it "
+     "rocks or overturns)"),
     # below half of the joint open, no rocking is said (the monolith above: 62 %)
     ({"k_y": 0.30, "k_fail": 0.3001, "limit": "no equilibrium found", "joint": "lift",
       "safety_factor": 1.5, "k_affine": None, "open_joint": "lift", "open_share": 0.40},

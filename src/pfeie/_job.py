@@ -737,6 +737,9 @@ def _yield_coefficients(
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
             "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
+            # every joint's FS at k_y (None: no shear)
+            "safety_factors": {n: (float(f) if np.isfinite(f) else None)
+                               for n, f in y.safety_factors.items()},
             "analyses": y.analyses, "k_max": YIELD_K_MAX, **_most_open(model, y.static),
         }  # fmt: skip
         if stream is not None:  # (the library logs it at INFO too)
@@ -833,6 +836,23 @@ def _open_text(y: dict[str, Any]) -> str:
     if share >= ROCKING_OPEN_SHARE:
         out += ": the block on it rocks or overturns"
     return out
+
+
+def _least_fs(y: dict[str, Any]) -> str:
+    """The least joint FS at k_y of a yield search's summary entry, and the joint whose
+    margin the search followed where it is another (its FS beside)."""
+    if "safety_factors" not in y:  # (summaries before version 0.3.16: the joint's own)
+        f = y.get("safety_factor")
+        return f"least FS {'∞' if f is None else f'{f:.4g}'} on {y.get('joint')!r}"
+    finite = {n: f for n, f in y["safety_factors"].items() if f is not None}
+    text = (f"least FS {min(finite.values()):.4g} on {min(finite, key=finite.__getitem__)!r}"
+            if finite else "least FS ∞")  # fmt: skip
+    least = min(finite, key=finite.__getitem__) if finite else None
+    if y.get("joint") is not None and y["joint"] != least:
+        f = y.get("safety_factor")
+        text += (f" (the margins followed {y['joint']!r}, FS "
+                 f"{'∞' if f is None else f'{f:.4g}'})")  # fmt: skip
+    return text
 
 
 def _reduction_text(sr: dict[str, Any]) -> str:
@@ -1385,6 +1405,8 @@ def format_summary(s: dict[str, Any]) -> str:
     mdl = s["model"]
     lines = [f"{mdl['title'] or Path(mdl['file']).stem}  (pfeie {s['version']})"]
     lines.append(f"  model file   {mdl['file']}  sha256 {mdl['sha256'][:12]}")
+    for ov in mdl.get("overrides", []):  # the run's settings over the file's
+        lines.append(f"  override     {ov}")
     lines.append(f"  blocks {len(mdl['blocks'])}, bodies {mdl['bodies']}, DOF {mdl['dof']}, "
                  f"pairs {sum(mdl['pairs'].values())}")  # fmt: skip
     for r in mdl["records"]:
@@ -1458,8 +1480,7 @@ def format_summary(s: dict[str, Any]) -> str:
         else:
             what = (f"k_y {k:.4g} ({y['limit']} beyond it, not a sliding limit: a joint "
                     f"breaking through, opening or rocking, or the pair solver failing short "
-                    f"of the limit; least FS {'∞' if fs is None else f'{fs:.4g}'} on "
-                    f"{y['joint']!r}")  # fmt: skip
+                    f"of the limit; {_least_fs(y)}")  # fmt: skip
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
             what += _open_text(y) + ")"

@@ -9,7 +9,8 @@ Exit codes:
 
 - 0: success;
 - 1: the analysis failed (a mechanism in statics, an interface step that did not
-  converge); the results computed so far are written;
+  converge); the results computed so far are written; for ``check``, a model whose static
+  state cannot be solved (a block that no support or joint holds);
 - 2: invalid input (model file, mesh, record, command-line arguments);
 - 130: interrupted (Ctrl-C or SIGTERM); the results computed so far are written;
 - 141: the reader of the output closed it (``| head``); no traceback.
@@ -282,6 +283,14 @@ def _main(argv: Sequence[str] | None) -> int:
             print(json.dumps(s, indent=2, default=str))
         else:
             print(_format_check(s))
+        unheld = s.get("unsupported") or []
+        if unheld and "static state" in (s.get("analyses") or []):
+            # `pfeie run` would stop at the static state with this mechanism (exit 1)
+            print(f"pfeie: error: {args.model}: the static state cannot be solved: "
+                  f"{', '.join(unheld)} has no support and no joint to a supported block "
+                  "(add [[supports]], or analysis.static = false for a block that falls "
+                  "freely)", file=sys.stderr)  # fmt: skip
+            return EXIT_FAILED
         return EXIT_OK
     for line in job.record_lines():
         print(f"record: {line}", file=sys.stderr)

@@ -552,7 +552,8 @@ class PairLaws:
         the cracked length of the summary, which use the same threshold. ∞ when the joint
         carries no shear: ‖Σ T‖ ≤ ``noise`` (N; a number, or one per interface), the
         round-off of its forces: a shear of that order gives a ratio of round-off (0.02
-        was seen on a pair whose smooth force was 5e-16 N).
+        was seen on a pair whose smooth force was 5e-16 N), or ‖Σ T‖ ≤
+        :data:`FS_ROUNDOFF` times the capacity (a factor beyond 1e10 is ∞).
 
         >>> law = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
         ...                                [MohrCoulomb(phi=45.0)], 2)
@@ -573,7 +574,10 @@ class PairLaws:
         3.666667
         """
         capacity, shear = self.capacity_and_shear(X, open_, broken, path, frames, opening)
-        floor = np.broadcast_to(np.asarray(noise, dtype=float), shear.shape)
+        # a shear below FS_ROUNDOFF of the capacity is round-off too (a bonded joint lifted
+        # by a vertical ramp, its forces near zero and its c A whole, read FS 5.9e15)
+        floor = np.maximum(np.broadcast_to(np.asarray(noise, dtype=float), shear.shape),
+                           FS_ROUNDOFF * capacity)  # fmt: skip
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where((shear > floor) & (shear > 0), capacity / shear, np.inf)
 

@@ -196,6 +196,8 @@ class Job:
     digest: str
     interface_names: list[str] = field(default_factory=list)
     part_factors: dict[int, float] = field(default_factory=dict)
+    #: the settings given over the file's: "key = value (--set)" (or --dt, --duration)
+    overrides: list[str] = field(default_factory=list)
 
     @classmethod
     def of_run(
@@ -274,6 +276,7 @@ class Job:
                + 40 * dof * 8 + _pair_caches(M) + _BASE_MEMORY)  # fmt: skip
         return {
             "title": self.spec["title"], "file": str(self.path), "sha256": self.digest,
+            "overrides": list(self.overrides),
             "dimension": m.dim, "blocks": {b.name: b.material for b in m.blocks},
             "bodies": m.n_bodies, "floating": _floating_blocks(m),
             "unsupported": [m.body_names()[b] for b in m.unsupported_bodies()],
@@ -315,6 +318,12 @@ class Job:
             if a.static and a.post_earthquake and self.model.pairs is not None:
                 out.append("post-earthquake static state")
         return out
+
+
+def _origin(source: str) -> str:
+    """Where an override came from, for the summary: the option (``--set``, ``--dt``)."""
+    first = source.split()[0] if source.split() else source
+    return first if first.startswith("--") else source
 
 
 def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMotion]) -> str:
@@ -758,6 +767,11 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                 hint = (f"; the mesh has {len(pairs)} pair(s) of coincident nodes that are not "
                         f"shared (the first at [{at}]): blocks meshed separately? (gmsh: "
                         "fragment the geometry, so that they share the joint's nodes)")  # fmt: skip
+            else:  # meshed apart with nodes that do not even coincide (non-conforming)
+                hint = ("; if the joint lies between two blocks, their cells do not share its "
+                        "faces: blocks meshed separately, whose nodes on the joint differ "
+                        "(gmsh: fragment the geometry, so that the blocks share the joint's "
+                        "nodes)")  # fmt: skip
         raise InputError(f"{p}: {exc}{hint}") from None
     axes = {"x": 0, "y": 1, "z": 2}
     for i, sup in enumerate(cfg.supports):
@@ -1016,7 +1030,8 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
     if not modal:
         _refuse_impossible(p, cfg.analysis, model)
     return Job(p, cfg.model_dump(), model, records, probes, digest,
-               [i.group for i in interfaces], part_factors)  # fmt: skip
+               [i.group for i in interfaces], part_factors,
+               [f"{o.key} = {o.value!r} ({_origin(o.source)})" for o in overrides])  # fmt: skip
 
 
 def _refuse_impossible(p: Path, a: Analysis, model: Model) -> None:

@@ -4,7 +4,9 @@ A Newmark sliding-block analysis (Newmark 1965; USACE EM 1110-2-2100 App. G) res
 the *yield coefficient* k_y: the horizontal acceleration, as a fraction of g, under which
 the static state of the structure reaches its limit of equilibrium. pfeie finds it on the
 model itself, with its loads, water and uplift, blocks and joints, by static analyses
-under the loads f_0 (those of :func:`~pfeie.solve_static` at t = 0) plus the
+under the loads f_0 (those of :func:`~pfeie.solve_static` at t = 0, without the
+horizontal part of the model's own pseudo-static inertia loads, :meth:`Model.add_inertia`:
+k_y is the whole horizontal coefficient, and a vertical coefficient acts with it) plus the
 pseudo-static inertia force of a uniform acceleration k g along a horizontal unit
 vector ι (normal to gravity):
 
@@ -131,6 +133,15 @@ class YieldCoefficient:
                 f"joint={self.joint!r}, analyses={self.analyses})")  # fmt: skip
 
 
+def _gravity(model: Model) -> FloatArray:
+    """The model's gravity vector (m/s²): the sum of its constant gravity loads."""
+    gvec = np.zeros(model.dim)
+    for ld in model.loads:
+        if ld.kind == "gravity" and ld.amplitude is None:
+            gvec = gvec + np.asarray(ld.value, dtype=float)
+    return gvec
+
+
 def horizontal(
     model: Model, direction: Sequence[float] | FloatArray | None = None, axis: int = 0
 ) -> tuple[float, FloatArray]:
@@ -138,10 +149,7 @@ def horizontal(
     ``direction`` made unit (it must be normal to gravity), or the coordinate axis ``axis``
     (0: +x, 1: +y) made normal to gravity. :class:`ModelError` without gravity or with a
     direction that is not horizontal."""
-    gvec = np.zeros(model.dim)
-    for ld in model.loads:
-        if ld.kind == "gravity" and ld.amplitude is None:
-            gvec = gvec + np.asarray(ld.value, dtype=float)
+    gvec = _gravity(model)
     g = float(np.linalg.norm(gvec))
     if not g > 0:
         raise ModelError("yield coefficient: the model has no gravity (the coefficient is a "
@@ -205,6 +213,23 @@ def yield_coefficient(
     system = problem.system
     free = system.free
     f0_free, f0_all = system.load(0.0), model.load_vector(0.0)
+    # the model's own pseudo-static coefficients (Model.add_inertia, loads.pseudo_static):
+    # their horizontal part is left out, so that k_y is the whole horizontal coefficient
+    # (a model under k_h = 0.1 read k_y 0.41 for a limit at 0.51); a vertical one acts
+    # with it
+    up = -_gravity(model) / g
+    a_h = np.zeros(model.dim)
+    for ld in model.loads:
+        if ld.kind == "inertia":
+            a = np.asarray(ld.value, dtype=float)
+            scale = 1.0 if ld.amplitude is None else float(ld.amplitude(0.0))
+            a_h = a_h + scale * (a - (a @ up) * up)
+    if np.any(a_h):
+        f_own = model.inertia_load(a_h)
+        f0_free, f0_all = f0_free - f_own[free], f0_all - f_own
+        log.info("yield coefficient: the model's horizontal pseudo-static acceleration %s "
+                 "m/s² is left out (k_y is the whole horizontal coefficient)",
+                 np.round(a_h, 6).tolist())  # fmt: skip
     # the inertia of a uniform acceleration g ι
     f_h = model.inertia_load(g * iota)
     names = list(model.pairs.names)
