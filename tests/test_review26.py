@@ -219,3 +219,25 @@ def test_yield_coefficient_leaves_out_the_models_own_horizontal_coefficient() ->
             m.add_inertia([kh * g, kv * g])  # k_v g upward: −M (k_v g) down is unloading
         y = pf.yield_coefficient(m)
         assert y.k_y == pytest.approx(mu * (1.0 - kv), rel=1e-5), (kh, kv)
+
+
+def test_3d_joint_map_cells_cover_the_joint_and_no_more() -> None:
+    """The tributary cells of a 3D joint's pairs (Voronoi cells clipped to the points'
+    convex hull) tile the joint: their areas sum to the hull's (a 4 m × 3 m joint of
+    random points, its corners among them: 12 m² to 1e-12), every cell inside it, and
+    pairs at one point share a cell; points on a line fall back to squares."""
+    from pfeie.plot._plots import _pair_cells, _polygon_area
+
+    rng = np.random.default_rng(7)
+    uv = np.vstack([[[0, 0], [4, 0], [4, 3], [0, 3]], rng.uniform([0, 0], [4, 3], (60, 2))])
+    uv = np.vstack([uv, uv[10:12]])  # two pairs at the points of two others
+    cells = _pair_cells(uv, np.ones(len(uv)))
+    unique = cells[:-2]
+    assert sum(_polygon_area(c) for c in unique) == pytest.approx(12.0, rel=1e-12)
+    allv = np.vstack(unique)
+    assert allv.min(axis=0) == pytest.approx([0, 0], abs=1e-12)
+    assert allv.max(axis=0) == pytest.approx([4, 3], abs=1e-12)
+    assert np.array_equal(cells[-2], cells[10]) and np.array_equal(cells[-1], cells[11])
+    line = np.c_[np.linspace(0, 1, 5), np.zeros(5)]
+    sq = _pair_cells(line, np.full(5, 0.04))
+    assert len(sq) == 5 and _polygon_area(sq[0]) == pytest.approx(0.04)

@@ -452,9 +452,71 @@ def _pair_squares(uv: np.ndarray, area: np.ndarray) -> np.ndarray:
     return uv[:, None, :] + np.sqrt(area)[:, None, None] * corners[None, :, :]
 
 
+def _pair_cells(uv: np.ndarray, area: np.ndarray) -> list[np.ndarray]:
+    """Each pair of a 3D joint drawn in the joint's plane as its tributary cell: the
+    Voronoi cell of its point ``uv`` (m) among the joint's pairs, clipped to their convex
+    hull, so that the map covers the joint and no more (squares of the tributary area
+    about the points stood out by half a square beyond the joint's edges). Pairs at one
+    point share its cell. Falls back to :func:`_pair_squares` where the points span no
+    area (all on a line). Polygons (k, 2), m.
+
+    >>> uv = np.array([[x, y] for y in (0.0, 1.0, 2.0) for x in (0.0, 1.0, 2.0)])
+    >>> cells = _pair_cells(uv, np.ones(9))
+    >>> [round(_polygon_area(c), 6) for c in cells]  # corners ¼, edges ½, centre 1
+    [0.25, 0.5, 0.25, 0.5, 1.0, 0.5, 0.25, 0.5, 0.25]
+    """
+    from scipy.spatial import ConvexHull, QhullError, Voronoi
+
+    pts, inverse = np.unique(np.round(uv, 9), axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    try:
+        hull = pts[ConvexHull(pts).vertices]  # counter-clockwise
+    except (QhullError, ValueError):
+        return list(_pair_squares(uv, area))
+    span = float(np.ptp(pts, axis=0).max())
+    centre = pts.mean(axis=0)
+    far = centre + 10.0 * span * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    vor = Voronoi(np.vstack([pts, far]))
+    cells = []
+    for i in range(pts.shape[0]):
+        region = vor.regions[vor.point_region[i]]
+        poly = vor.vertices[region]
+        # the cell's vertices counter-clockwise about its point (a convex polygon)
+        ang = np.arctan2(*(poly - pts[i]).T[::-1])
+        cells.append(_clip_convex(poly[np.argsort(ang)], hull))
+    return [cells[k] for k in inverse]
+
+
+def _clip_convex(poly: np.ndarray, clip: np.ndarray) -> np.ndarray:
+    """The convex polygon ``poly`` clipped to the convex polygon ``clip`` (both
+    counter-clockwise, (k, 2)): Sutherland–Hodgman."""
+    out = poly
+    for a, b in zip(clip, np.roll(clip, -1, axis=0), strict=True):
+        if not len(out):
+            break
+        edge = b - a
+        side = edge[0] * (out[:, 1] - a[1]) - edge[1] * (out[:, 0] - a[0])  # ≥ 0: inside
+        kept = []
+        for k in range(len(out)):
+            p, q = out[k], out[(k + 1) % len(out)]
+            sp, sq = side[k], side[(k + 1) % len(out)]
+            if sp >= 0:
+                kept.append(p)
+            if (sp >= 0) != (sq >= 0):
+                kept.append(p + (q - p) * (sp / (sp - sq)))
+        out = np.array(kept).reshape(-1, 2)
+    return out
+
+
+def _polygon_area(poly: np.ndarray) -> float:
+    """The area of a polygon (k, 2) by the shoelace formula (m²)."""
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * abs(float(x @ np.roll(y, -1) - y @ np.roll(x, -1)))
+
+
 def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str) -> Path:
-    """The static state of a 3D joint in its plane (:func:`joint_plane`; a pair: a square
-    of its tributary area about its point, as the joint map): the normal stress
+    """The static state of a 3D joint in its plane (:func:`joint_plane`; a pair: its
+    tributary cell, :func:`_pair_cells`, as the joint map): the normal stress
     (compression +), the magnitude of the shear stress (MPa) and the pair states. Along one
     axis, as the 2D figure does, the pairs of a surface stack at each position (a
     sawtooth of vertical strokes)."""
@@ -463,7 +525,7 @@ def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     uv, _, labels = joint_plane(pr["x"], pr["frame"])
-    squares = list(_pair_squares(uv, pr["area"]))
+    squares = _pair_cells(uv, pr["area"])
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
     normal = 1e-6 * pr["normal_stress"]
     shear = 1e-6 * np.linalg.norm(pr["shear_stress"], axis=-1)
@@ -1063,7 +1125,7 @@ MAP_FLOOR_MM = 1e-3
 
 def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
     """Per joint of a 3D model, its pairs in the joint's plane (:func:`joint_plane`), each
-    pair a square of its tributary area about its point: the pair states of the static
+    pair its tributary cell (:func:`_pair_cells`): the pair states of the static
     state and at the end (the colours of the 2D map; broken pairs crossed), the largest
     opening of the run and the residual slip (mm; each colour scale from 0 to the
     largest value, at least :data:`MAP_FLOOR_MM`). The PNG's description gives, per
@@ -1073,14 +1135,14 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     names = res.interface_names
-    fig, axes = plt.subplots(2 * len(names), 2, figsize=(11, 7.6 * len(names)), squeeze=False)
+    fig, axes = plt.subplots(2 * len(names), 2, figsize=(11, 8.4 * len(names)), squeeze=False)
     cmap = ListedColormap(STATE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
     described: dict[str, Any] = {}
     for j, name in enumerate(names):
         pr = res.pairs(name)
         uv, basis, labels = joint_plane(pr["x"], pr["frame"])
-        squares = _pair_squares(uv, pr["area"])
+        squares = _pair_cells(uv, pr["area"])
         first = (res.static_pairs(name)["state"] if "static/state" in res.f
                  else pr["state"][0])  # fmt: skip
         opening = 1e3 * _shown_opening(pr["opening"].max(axis=0))
@@ -1121,7 +1183,7 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
     head = fig.suptitle((f"{title}\n" if title else "") + "joint maps, each joint in its "
-                        "plane (a pair: a square of its area)", fontsize=10)  # fmt: skip
+                        "plane (a pair: its tributary cell)", fontsize=10)  # fmt: skip
     fig.tight_layout(rect=(0, 0.03, 1, _below_title(fig, head.get_text())))
     fig.savefig(path, dpi=110, metadata={"Description": json.dumps({"joints": described})})
     plt.close(fig)

@@ -761,7 +761,8 @@ CAPTIONS_3D = {
     "static_stress": "Principal stresses of the static state (MPa, tension positive) "
                      "painted on the boundary faces (a face: the mean of its corner nodes); "
                      "the stars mark the extremes over all the nodes, inside ones included.",
-    "joint_map": "Each joint in its own plane (a pair: a square of its tributary area): the "
+    "joint_map": "Each joint in its own plane (a pair: its tributary cell, the Voronoi cell "
+                 "of its point within the joint): the "
                  "pair states of the static state and at the end (broken pairs crossed), the "
                  "largest opening of the run and the residual slip.",
     "envelope": "The largest σ1 and the smallest σ3 of the run (MPa, tension positive; static "
