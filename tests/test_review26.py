@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -102,10 +103,41 @@ def test_run_to_folder_digest_and_bad_probe(tmp_path: Any) -> None:
     """The digest a Python run records is that of the model: the same model built again
     gives the same SHA-256, another friction angle another; a probe that is no node is
     refused by name."""
-    a = pf.io.Job.of_run(_sliding_block(11.0), pf.DynamicSettings(dt=0.002), records=[_pulse()])
-    b = pf.io.Job.of_run(_sliding_block(11.0), pf.DynamicSettings(dt=0.002), records=[_pulse()])
-    c = pf.io.Job.of_run(_sliding_block(12.0), pf.DynamicSettings(dt=0.002), records=[_pulse()])
-    assert a.digest == b.digest != c.digest
+
+    def digest(model: pf.Model) -> str:
+        return pf.io.Job.of_run(model, pf.DynamicSettings(dt=0.002), records=[_pulse()]).digest
+
+    a, b, c = (digest(_sliding_block(phi)) for phi in (11.0, 11.0, 12.0))
+    assert a == b != c
+    # what the assembled arrays do not show: every law parameter, an amplitude, the
+    # damping's deformation_only, uplift (a review found these hashed alike)
+    c0 = pf.Elastic(E=30e9, nu=0.2, rho=2400)
+
+    def variant(
+        joint: pf.JointLaw, ramp: float = 0.1, only: bool = False, uplift: float | None = None
+    ) -> str:
+        mesh = pf.rectangle(1.0, 1.5, nx=2, ny=3)
+        mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
+        mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
+        mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9,
+                             boundary_only=False)  # fmt: skip
+        m = pf.Model(mesh, [pf.Block("base", c0), pf.Block("block", c0)],
+                     interfaces=[pf.Interface("joint", joint)],
+                     damping=pf.Rayleigh(1.0, 0.0, deformation_only=only))  # fmt: skip
+        m.fix("base")
+        m.add_gravity(amplitude=lambda t: min(t / ramp, 1.0))
+        if uplift is not None:
+            m.add_uplift("joint", uplift)
+        return digest(m)
+
+    base = variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01))
+    others = [variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.05)),
+              variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01, gap=1e-3)),
+              variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01), ramp=0.5),
+              variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01), only=True),
+              variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01), uplift=1.0)]  # fmt: skip
+    assert base == variant(pf.SlipWeakening(phi=30.0, phi_r=20.0, dc=0.01))
+    assert len({base, *others}) == 6
     model = _sliding_block(11.0)
     with pytest.raises(pf.ModelError, match="probes: 'crest': expected a node index"):
         pf.run_to_folder(pf.Dynamic(model, dt=0.002), 0.01, tmp_path, probes={"crest": 999})
@@ -193,8 +225,9 @@ def test_moreau_jean_absolute_form_block_stays_on_a_shaken_base() -> None:
     top = model.nearest_node([0.5, 1.5])
     ry = pf.GroundMotion.from_function(lambda t: 0.2 * g * np.sin(6 * np.pi * t),
                                        duration=2.0, dt=0.0005, direction=(0, 1))  # fmt: skip
-    for form in ("relative", "absolute"):
-        r = pf.Dynamic(model, dt=0.002, scheme="moreau-jean").run(
+    # (with large rotations too: its pair operator turns with the blocks)
+    for form, lr in (("relative", False), ("absolute", False), ("absolute", True)):
+        r = pf.Dynamic(model, dt=0.002, scheme="moreau-jean", large_rotation=lr).run(
             0.6, ground=[ry], form=form, start=static, probes=[top]
         )
         assert not (r.state == 3).any(), form
@@ -241,3 +274,88 @@ def test_3d_joint_map_cells_cover_the_joint_and_no_more() -> None:
     line = np.c_[np.linspace(0, 1, 5), np.zeros(5)]
     sq = _pair_cells(line, np.full(5, 0.04))
     assert len(sq) == 5 and _polygon_area(sq[0]) == pytest.approx(0.04)
+
+
+def test_resume_of_a_model_without_interfaces_is_the_uninterrupted_run(tmp_path: Any) -> None:
+    """The demo dam without its joints (Newmark, ρ∞ = 0.8): a run of 0.3 s extended by
+    `--resume` to 0.6 s gives the datasets of a run of 0.6 s, shapes and values; the
+    pair histories of a model without pairs keep their 0 rows (the resume cut them to
+    the checkpoint's row count, 31, while history/time had 61)."""
+    import re
+
+    import h5py
+
+    from pfeie.cli import main
+
+    root = Path(__file__).resolve().parents[1] / "examples" / "koyna"
+    text = (root / "koyna.toml").read_text()
+    text = re.sub(r"\[interfaces\.[a-z_]+\][^\[]*", "", text)
+    text = text.replace("rho_inf = 0.5", 'scheme = "newmark"\nrho_inf = 0.8')
+    text = text.replace('file = "../data/', f'file = "{root.parent}/data/')
+    text = text.replace('file = "koyna.msh"', f'file = "{root}/koyna.msh"')
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.toml").write_text(
+            text.replace('folder = "results"', f'folder = "out_{name}"')
+        )
+    argv = ["run", "--quiet", "--set", "output.paraview=false"]
+    assert main([*argv, str(tmp_path / "a.toml"), "--duration", "0.6"]) == 0
+    assert main([*argv, str(tmp_path / "b.toml"), "--duration", "0.3"]) == 0
+    assert main([*argv, str(tmp_path / "b.toml"), "--duration", "0.6", "--resume"]) == 0
+    with h5py.File(tmp_path / "out_a" / "results.h5") as fa, \
+         h5py.File(tmp_path / "out_b" / "results.h5") as fb:  # fmt: skip
+        assert fa["history/pairs/X"].shape == fb["history/pairs/X"].shape == (0, 0, 2)
+        for key in (
+            "history/time",
+            "history/probes/u",
+            "history/probes/a_abs",
+            "history/energy/kinetic",
+        ):
+            assert np.array_equal(fa[key][...], fb[key][...]), key
+
+
+def test_run_to_folder_keeps_the_folder_on_bad_input_and_stops_on_ctrl_c(
+    tmp_path: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A second run into a folder that the run refuses (a static result of another
+    model) leaves the first run's files as they were; probes given as a list are named
+    node<i>; Ctrl-C stops the run at the end of a step, the files hold what was computed
+    (completed false, the reason SIGINT) and KeyboardInterrupt follows."""
+    import signal
+
+    import pfeie._job as job
+
+    model = _sliding_block(11.0)
+    analysis = pf.Dynamic(model, dt=0.002)
+    static = pf.solve_static(model)
+    top = int(np.argmax(model.mesh.points[:, 1]))
+    out = tmp_path / "out"
+    pf.run_to_folder(analysis, 0.05, out, ground=[_pulse()], start=static, probes=[top],
+                     paraview=False, figures=False)  # fmt: skip
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
+    small = pf.Model(pf.rectangle(1.0, 1.0, 2, 2), [pf.Block("all", pf.Elastic(30e9, 0.2, 2400))])
+    small.fix("ymin")
+    small.add_gravity()
+    other = pf.solve_static(small)
+    with pytest.raises(pf.ModelError, match="static result is of another model"):
+        pf.run_to_folder(analysis, 0.05, out, ground=[_pulse()], start=other,
+                         paraview=False, figures=False)  # fmt: skip
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
+    with pf.io.Results(out / "results.h5") as f:
+        assert f.probe_names == [f"node{top}"] and f.completed
+
+    append = job.ResultsWriter.append
+
+    def append_and_interrupt(self: Any, row: dict[str, Any]) -> None:
+        append(self, row)
+        if self.rows == 10:
+            signal.raise_signal(signal.SIGINT)
+
+    monkeypatch.setattr(job.ResultsWriter, "append", append_and_interrupt)
+    with pytest.raises(KeyboardInterrupt, match="SIGINT"):
+        pf.run_to_folder(analysis, 0.5, out, ground=[_pulse()], start=static,
+                         paraview=False, figures=False)  # fmt: skip
+    with pf.io.Results(out / "results.h5") as f:
+        assert not f.completed and "SIGINT" in f.meta["stop_reason"]
+        assert f.n_times == f.f["history/probes/u"].shape[0] == f.f["history/rigid"].shape[0]
+        assert 10 <= f.n_times < 250
+    assert json.loads((out / "summary.json").read_text())["stopped"].startswith("stopped")

@@ -297,7 +297,14 @@ def test_cells_in_two_block_groups(tmp_path: Path, capsys: pytest.CaptureFixture
     # a cell written twice in one group is still refused as duplicated
     cli_fails(capsys, ["check", str(model(tmp_path, names=names, text=text,
                                       elements=[*ELEMENTS, (12, 3, 1, [2, 3, 6, 5])]))],
-              "duplicated", "gmsh element 11 and gmsh element 12")  # fmt: skip
+              "duplicated", "gmsh element 11 and gmsh element 12",
+              "written twice in one physical group")  # fmt: skip
+    # both in one file: the cell in two groups merges, the copies in one group alone are
+    # named
+    both = [*ELEMENTS, (12, 3, 2, [1, 2, 5, 4]), (13, 3, 1, [2, 3, 6, 5])]
+    err = cli_fails(capsys, ["check", str(model(tmp_path, names=names, elements=both))],
+                    "1 duplicated cell(s)", "gmsh element 11 and gmsh element 13")  # fmt: skip
+    assert "gmsh element 12" not in err
 
 
 def test_pressure_on_interior_facets(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -23,6 +23,7 @@ import json
 import logging
 import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -55,9 +56,11 @@ from .errors import (
 )
 from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
 from .io import (
+    PYTHON_RUN,
     CheckpointWriter,
     Job,
     NothingToResume,
+    Results,
     ResultsWriter,
     history,
     output_folder,
@@ -67,7 +70,7 @@ from .io import (
     write_paraview,
 )  # fmt: skip
 from .model import GroundMotion, Model
-from .plot import plot_all, solver_line
+from .plot import plot_run, solver_line
 from .solvers import (
     REDUCTION_F_MAX,
     YIELD_K_MAX,
@@ -573,27 +576,32 @@ def _run(
 def run_to_folder(
     analysis: Dynamic, duration: float, folder: str | Path, *,
     ground: Sequence[GroundMotion] = (), form: str = "relative",
-    start: StaticResult | StepState | None = None, probes: Mapping[str, int] | None = None,
+    start: StaticResult | StepState | None = None,
+    probes: Mapping[str, int] | Sequence[int] | None = None,
     every: int = 1, field_every: int = 10, envelope: bool = True, paraview: bool = True,
     figures: bool = True, title: str = "",
 ) -> DynamicResult:  # fmt: skip
     """Run ``analysis`` (a :class:`~pfeie.Dynamic`) for ``duration`` s under ``ground``
     and write what ``pfeie run`` writes of a model file into ``folder``: ``results.h5``
-    (docs/results.md; the static state too when ``start`` is a static result, and the
-    post-earthquake static state of a completed run with joints), ``summary.json`` and
-    ``summary.txt``, the ParaView series (``paraview``; needs meshio) and the figures in
-    ``folder/figures`` (``figures``; needs matplotlib). Returns the run's
-    :class:`~pfeie.DynamicResult`, the same bits as ``analysis.run`` with the same
-    arguments. ``probes`` names nodes (name → node index) whose histories are kept;
+    (docs/results.md; the static state too when ``start`` is a static result or a step
+    state that carries one, and the post-earthquake static state of a completed run with
+    joints), ``summary.json`` and ``summary.txt``, the ParaView series (``paraview``;
+    needs meshio) and the figures in ``folder/figures`` (``figures``; needs matplotlib;
+    those of ``pfeie plot``). Returns the run's :class:`~pfeie.DynamicResult`, the same
+    bits as ``analysis.run`` with the same arguments. ``probes`` names nodes (name → node
+    index), or lists node indices (named ``node<i>``), whose histories are kept;
     ``every``, ``field_every`` and ``envelope`` are the ``[output]`` keys of a model
     file. The results file records ``<python>`` as its model file and, as its digest,
-    the SHA-256 of the model's mesh, matrices, loads, pairs, settings and records
-    (:meth:`pfeie.io.Job.of_run`). ``pfeie plot``, ``pfeie export`` and ``pfeie report``
-    read the folder (the report without the model file's sections).
+    the SHA-256 of what determines the run (:meth:`pfeie.io.Job.of_run`). ``pfeie plot``,
+    ``pfeie export`` and ``pfeie report`` read the folder (the report without the model
+    file's sections).
 
-    A run whose step fails keeps its histories up to the last completed step (the file
-    says why it stopped, ``completed`` false); Ctrl-C closes the file with what was
-    computed and raises :class:`KeyboardInterrupt`.
+    Nothing in the folder changes before the run has checked its arguments and taken its
+    first row; a stopped ``pfeie run`` there that ``--resume`` would continue is moved
+    aside to ``results.stopped.h5``. A run whose step fails keeps its histories up to the
+    last completed step (the file says why it stopped, ``completed`` false). Ctrl-C (in
+    the main thread) stops the run at the end of a step, writes the files of what was
+    computed and then raises :class:`KeyboardInterrupt`.
 
     >>> import pfeie as pf, tempfile
     >>> mesh = pf.rectangle(1.0, 1.0, nx=2, ny=2)
@@ -610,13 +618,7 @@ def run_to_folder(
     static = start if isinstance(start, StaticResult) else None
     if isinstance(start, StepState) and isinstance(start.static, StaticResult):
         static = start.static
-    names = {} if probes is None else dict(probes)
-    n_nodes = analysis.model.mesh.n_points
-    for name, node in names.items():
-        if isinstance(node, bool) or not isinstance(node, int | np.integer) or not (
-                0 <= int(node) < n_nodes):  # fmt: skip
-            raise ModelError(f"probes: {name!r}: expected a node index in [0, {n_nodes}), "
-                             f"got {node!r}")  # fmt: skip
+    names = _probe_names(probes, analysis.model.mesh.n_points)
     output = {"every": every, "field_every": field_every, "envelope": envelope,
               "paraview": paraview, "folder": "."}  # fmt: skip
     job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
@@ -626,34 +628,63 @@ def run_to_folder(
     if (out / "study.json").exists():
         raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "
                          "(study.json): choose another folder")  # fmt: skip
-    with FolderLock(out, job.path):
-        for stale in ("summary.json", "summary.txt", "report.html"):
-            (out / stale).unlink(missing_ok=True)
-        t0 = time.perf_counter()
-        writer = ResultsWriter(out / "results.h5", job, field_every=field_every)
-        try:
+    path = out / "results.h5"
+    opened: list[ResultsWriter] = []
+
+    def on_record(row: dict[str, Any]) -> None:
+        # the folder is touched at the first row, once the run has accepted its inputs
+        if not opened:
+            for stale in ("summary.json", "summary.txt", "report.html"):
+                (out / stale).unlink(missing_ok=True)
+            _keep_stopped_model_run(path)
+            opened.append(ResultsWriter(path, job, field_every=field_every))
             if static is not None:
-                writer.write_static(static)
+                opened[0].write_static(static)
+        opened[0].append(row)
+
+    flag: dict[str, str] = {}
+
+    def on_signal(signum: int, _frame: Any) -> None:
+        flag["why"] = signal.Signals(signum).name
+
+    def callback(_st: StepState) -> None:
+        if flag:
+            raise RunStopped(flag["why"])
+
+    main = threading.current_thread() is threading.main_thread()
+    with FolderLock(out, job.path):
+        t0 = time.perf_counter()
+        old = signal.signal(signal.SIGINT, on_signal) if main else None
+        try:
             result = analysis.run(duration, ground=ground, form=form, start=start,
                                   probes=list(job.probes.values()), every=every,
-                                  on_record=writer.append, envelope=envelope)  # fmt: skip
-        except KeyboardInterrupt as exc:
-            writer.close(False, f"interrupted ({str(exc) or 'SIGINT'})")
-            raise
+                                  on_record=on_record, callback=callback,
+                                  envelope=envelope)  # fmt: skip
         except BaseException as exc:
-            writer.close(False, f"the run failed: {exc}")
+            if opened:
+                opened[0].close(False, f"the run failed: {exc}")
             raise
-        writer.write_envelope(result.envelope)
-        stopped = None if result.completed else (result.stop_reason or "stopped")
-        summary = summarize(job, static, result)
-        post = _post_earthquake(job, static, result, result.final, writer,
-                                summary.get("bodies", {}))  # fmt: skip
-        if post:
-            summary["post_earthquake"] = post
-        summary["stopped"] = stopped
-        summary["warnings"] = [{"label": w.label, "text": w.text} for w in reliability(summary)]
-        summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
-        writer.close(stopped is None, stopped, summary)
+        finally:
+            if old is not None:
+                signal.signal(signal.SIGINT, old)
+        writer = opened[0]
+        try:
+            writer.write_envelope(result.envelope)
+            stopped = None if result.completed else (result.stop_reason or "stopped")
+            summary = summarize(job, static, result)
+            post = _post_earthquake(job, static, result, result.final, writer,
+                                    summary.get("bodies", {}))  # fmt: skip
+            if post:
+                summary["post_earthquake"] = post
+            summary["stopped"] = stopped
+            summary["warnings"] = [{"label": w.label, "text": w.text}
+                                   for w in reliability(summary)]  # fmt: skip
+            summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+            writer.close(stopped is None, stopped, summary)
+        except BaseException as exc:
+            if writer.f.id.valid:  # the histories stay readable
+                writer.close(False, f"interrupted after the time stepping ({exc!r})")
+            raise
         (out / "summary.json").write_text(
             json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
         )
@@ -662,15 +693,63 @@ def run_to_folder(
         # it is missing: the run and its results file are not lost to it
         try:
             if paraview:
-                write_paraview(out / "results.h5", analysis.model, out)
+                write_paraview(path, analysis.model, out)
         except PfeieError as exc:
             log.warning("%s: ParaView series not written: %s", out, exc)
         try:
             if figures:
-                plot_all(out / "results.h5", out / "figures")
+                plot_run(path, out / "figures")
         except PfeieError as exc:
             log.warning("%s: figures not written: %s", out, exc)
+    if flag:
+        raise KeyboardInterrupt(f"{flag['why']}: the run stopped at t = {result.t[-1]:.6g} s; "
+                                f"{path} holds it to there")  # fmt: skip
     return result
+
+
+def _probe_names(probes: Mapping[str, int] | Sequence[int] | None, n_nodes: int) -> dict[str, int]:
+    """The probes of :func:`run_to_folder` as name → node: a mapping as given, a sequence
+    of node indices named ``node<i>``; checked (node indices in [0, n_nodes))."""
+    if probes is None:
+        return {}
+    if isinstance(probes, Mapping):
+        names = dict(probes)
+    elif isinstance(probes, Sequence | np.ndarray) and not isinstance(probes, str | bytes):
+        names = {f"node{int(n)}" if isinstance(n, int | np.integer) else str(n): n
+                 for n in probes}  # fmt: skip
+    else:
+        raise ModelError(f"probes: expected a mapping of names to node indices or a list of "
+                         f"node indices, got {type(probes).__name__}")  # fmt: skip
+    for name, node in names.items():
+        if isinstance(node, bool) or not isinstance(node, int | np.integer) or not (
+                0 <= int(node) < n_nodes):  # fmt: skip
+            raise ModelError(f"probes: {name!r}: expected a node index in [0, {n_nodes}), "
+                             f"got {node!r}")  # fmt: skip
+    return {str(k): int(v) for k, v in names.items()}
+
+
+def _keep_stopped_model_run(path: Path) -> None:
+    """A stopped ``pfeie run`` in ``path`` (its model file's, not completed: ``--resume``
+    continues it) is moved aside to ``results.stopped.h5`` (``.1``, … if taken) before a
+    Python run writes there, with a warning."""
+    if not path.is_file():
+        return
+    try:
+        with Results(path) as res:
+            meta = res.meta
+            if meta.get("model_file") == PYTHON_RUN or res.completed:
+                return
+    except (PfeieError, OSError):
+        return  # not a results file: overwritten, as by `pfeie run`
+    keep = path.with_name("results.stopped.h5")
+    k = 0
+    while keep.exists():
+        k += 1
+        keep = path.with_name(f"results.stopped.{k}.h5")
+    path.rename(keep)
+    log.warning("%s held a stopped run of %s, which `pfeie run --resume` continues; it is "
+                "kept as %s (move it back to results.h5 to resume it)", path,
+                meta.get("model_file"), keep.name)  # fmt: skip
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:

@@ -700,6 +700,7 @@ class Dynamic:
         of the pairs predicted closed (and the intact ones) at the velocity level, then
         the positions. The committed pair state holds X = P/h, the step-average force."""
         kin, h, th = cur.kin, self.dt, mj.theta
+        op0 = self.op  # the pair operator of the start (large rotations may turn it below)
         t1 = origin + (cur.step + 1) * h
         f1 = ex.load(t1)
         f_theta = (1 - th) * kin.f + th * f1
@@ -734,15 +735,16 @@ class Dynamic:
         new = mj.advance(kin, v_free + sol.du, f1)
         laws = self.model.pair_laws
         P = sol.pairs
-        if moving and self.corot is None:
+        if moving:
             # the supports' share of the relative motion by the step's own θ-rule, as the
             # blocks' (u_{n+1} = u_n + h v_θ): with the exact prescribed displacement the
             # gap of a block resting on a base that moves drifts by h v_g(t_{n+1}) − ∫v_g a
             # step (O(h² a_g), up to 5e-5 m at Δt = 2 ms under 0.2 g vertical shaking), and
-            # the pairs it opens drop out for a step of free fall and a landing
+            # the pairs it opens drop out for a step of free fall and a landing. The share
+            # at t_n is what the blocks' part G u_n leaves of w_n (in the start's frames)
             vp = (1.0 - th) * ex.prescribed(kin.t)[1] + th * ex.prescribed(t1)[1]
-            w = (prev.w.ravel() + self.op.G @ (new.u - kin.u) + h * (self.op.Gp @ vp)).reshape(
-                m, d)  # fmt: skip
+            share = prev.w.ravel() - op0.G @ kin.u + h * (self.op.Gp @ vp)
+            w = (self.op.G @ new.u + share).reshape(m, d)
         else:
             w = (self.op.G @ new.u + self.w_pres(t1, ex)).reshape(m, d)
         s = w.copy()

@@ -10,11 +10,10 @@ from ._checkpoint import (
     same_run,
 )
 from ._export import export_csv
-from ._files import output_file, output_folder
+from ._files import PYTHON_RUN, output_file, output_folder
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import (
     MAX_PGA_G,
-    PYTHON_RUN,
     Job,
     ModelFile,
     Override,

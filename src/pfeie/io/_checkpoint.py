@@ -378,7 +378,9 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
         tails = f["checkpoint"].get("tail")
 
         def cut(name: str, obj: Any) -> None:
-            if _grows(obj):
+            # (a history of zero-width rows, the pairs of a model without interfaces,
+            # never grows: it keeps its 0 rows, as in a run never stopped)
+            if _grows(obj) and not (len(obj.shape) > 1 and 0 in obj.shape[1:]):
                 keep = frows if name.startswith("fields") else rows
                 if tails is not None and name in tails:  # the last chunk, as checkpointed
                     _restore_tail(obj, keep, np.asarray(tails[name]))

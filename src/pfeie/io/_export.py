@@ -43,7 +43,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                 for q, arr in p.items():
                     for i in range(arr.shape[1]):
                         for ti, val in zip(t, arr[:, i], strict=True):
-                            w.writerow([f"{ti:.6g}", name, q, AXES[i], f"{val:.9g}", units[q]])
+                            w.writerow([f"{ti:.12g}", name, q, AXES[i], f"{val:.9g}", units[q]])
         files.append(path)
         path = out / "bodies.csv"
         rig = np.asarray(res.f["history/rigid"][...])
@@ -56,7 +56,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                 for k, dn in enumerate(dof_names):
                     unit = "rad" if dn.startswith("r") else "m"
                     for ti, val in zip(t, rig[:, b, k], strict=True):
-                        w.writerow([f"{ti:.6g}", name, dn, f"{val:.9g}", unit])
+                        w.writerow([f"{ti:.12g}", name, dn, f"{val:.9g}", unit])
         files.append(path)
         path = out / "energy.csv"
         with path.open("w", newline="") as fh:
@@ -64,7 +64,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
             w.writerow(["time_s", "term", "value_J"])
             for term, arr in res.energy().items():
                 for ti, val in zip(t, arr, strict=True):
-                    w.writerow([f"{ti:.6g}", term, f"{val:.9g}"])
+                    w.writerow([f"{ti:.12g}", term, f"{val:.9g}"])
         files.append(path)
         if res.interface_names:
             path = out / "joints.csv"
@@ -113,16 +113,16 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                             series[(f"moment_{axis}", "N*m")] = mom[:, i]
                     for (qn, unit), arr in series.items():
                         for ti, val in zip(t, arr, strict=True):
-                            w.writerow([f"{ti:.6g}", name, qn, f"{val:.9g}", unit])
+                            w.writerow([f"{ti:.12g}", name, qn, f"{val:.9g}", unit])
                     names = ["intact", "stick", "slide", "open"]
                     for k in range(A.size):
-                        xk = [f"{c:.6g}" for c in pr["x"][k]]
+                        xk = [f"{c:.9g}" for c in pr["x"][k]]
                         w2.writerow(
                             [
                                 name,
                                 k,
                                 *xk,
-                                f"{A[k]:.6g}",
+                                f"{A[k]:.9g}",
                                 f"{slip[-1, k]:.9g}",
                                 f"{pr['opening'][:, k].max():.9g}",
                                 *(f"{v:.9g}" for v in pr["w"][-1, k]),
@@ -150,7 +150,7 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
         w = csv.writer(fh)
         w.writerow(["node", *(f"{a}_m" for a in AXES[:d]), *(f"u{a}_m" for a in AXES[:d])])
         for k in range(x.shape[0]):
-            w.writerow([k, *(f"{c:.6g}" for c in x[k]), *(f"{c:.9g}" for c in u[k])])
+            w.writerow([k, *(f"{c:.9g}" for c in x[k]), *(f"{c:.9g}" for c in u[k])])
     files = [path]
     if res.interface_names and "static/X" in res.f:
         path = out / "pairs_static.csv"
@@ -166,8 +166,8 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
             for name in res.interface_names:
                 pr = res.static_pairs(name)
                 for k in range(pr["area"].size):
-                    w.writerow([name, k, *(f"{c:.6g}" for c in pr["x"][k]),
-                                f"{pr['area'][k]:.6g}", f"{pr['normal_stress'][k]:.9g}",
+                    w.writerow([name, k, *(f"{c:.9g}" for c in pr["x"][k]),
+                                f"{pr['area'][k]:.9g}", f"{pr['normal_stress'][k]:.9g}",
                                 *(f"{c:.9g}" for c in pr["shear_stress"][k]),
                                 f"{pr['opening'][k]:.9g}",
                                 names[int(pr["state"][k])], int(pr["broken"][k])])  # fmt: skip

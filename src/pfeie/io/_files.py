@@ -8,6 +8,9 @@ from pathlib import Path
 
 from ..errors import InputError
 
+#: the model file a run made through the Python API records (:meth:`Job.of_run`)
+PYTHON_RUN = "<python>"
+
 
 def output_folder(path: str | Path, where: str = "") -> Path:
     """Create the folder ``path`` (and its parents) if needed and check that it can be

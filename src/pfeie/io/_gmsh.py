@@ -438,20 +438,24 @@ def _merge_written_twice(
             for idx in by_type.get(ctype, []):
                 for i in np.intersect1d(np.asarray(idx).ravel(), involved).tolist():
                     member[int(i)].add(name)
+        # a cell's copies merge where each is in groups of its own; copies in one group
+        # (or in none) stay, for Mesh.check to refuse as duplicated
         seen: dict[int, set[str]] = {}
-        distinct = True
+        distinct: dict[int, bool] = {}
         for i in involved.tolist():
-            got = seen.setdefault(int(head[i]), set())
-            # untagged, or twice in one group: not merged (Mesh.check refuses the copies)
-            distinct = distinct and bool(member[i]) and not got & member[i]
+            first_i = int(head[i])
+            got = seen.setdefault(first_i, set())
+            ok = bool(member[i]) and not got & member[i]
+            distinct[first_i] = distinct.get(first_i, True) and ok
             got |= member[i]
-        if not distinct:
+        merged = np.isin(head, [h for h, ok in distinct.items() if ok])
+        keep = (head == np.arange(conn.shape[0])) | ~merged
+        if keep.all():
             continue
-        keep = head == np.arange(conn.shape[0])
         new_index = np.cumsum(keep) - 1
-        target = new_index[head]
+        target = np.where(merged, new_index[head], new_index)
         log.info("%s: %d %s cell(s) written once per physical group (MSH 2) taken as one cell "
-                 "in each of their groups", path, copies.size, ctype)  # fmt: skip
+                 "in each of their groups", path, int((~keep).sum()), ctype)  # fmt: skip
         cells[ctype] = [conn[keep]]
         if ctype in cell_ids:
             cell_ids[ctype] = [np.concatenate(cell_ids[ctype])[keep]]

@@ -52,7 +52,7 @@ from ..model import (
     implausible_materials,
     implausible_mesh,
 )
-from ._files import foreign_file, toml_text
+from ._files import PYTHON_RUN, foreign_file, toml_text
 from ._gmsh import read_mesh
 from ._records import (
     abrupt_end,
@@ -171,10 +171,6 @@ def _apply(data: dict[str, Any], ov: Override, where: str) -> list[str | int]:
                 made = parts[: i + 1] if made is parts else made
             cur = cur[part]
     return made
-
-
-#: the model file a run made through the Python API records (:meth:`Job.of_run`)
-PYTHON_RUN = "<python>"
 
 
 @dataclass
@@ -329,8 +325,10 @@ def _origin(source: str) -> str:
 def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMotion]) -> str:
     """SHA-256 of what determines a run made through the Python API (:meth:`Job.of_run`):
     the mesh's points and cells, the assembled stiffness, mass and damping, the loads'
-    patterns and prescribed values, the pairs' geometry and laws, the settings and the
-    records' samples. Deterministic: the same model built again hashes the same."""
+    patterns and prescribed values (and, for loads with a time amplitude, the load
+    vector at 33 times over the run), the pairs' geometry, every parameter of their laws,
+    the damping and the uplift, the settings and the records' samples. Deterministic: the
+    same model built again hashes the same."""
     h = hashlib.sha256()
 
     def add(a: Any) -> None:
@@ -354,7 +352,17 @@ def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMo
     if P is not None:
         for arr in (P.x, P.frame, P.area, P.node_a, P.node_b, P.interface):
             add(arr)
-    h.update(json.dumps([_joint_laws(model), spec], sort_keys=True, default=str).encode())
+    # the joint laws, damping and uplift as their dataclass fields (every parameter of a
+    # law, Rayleigh's deformation_only, the uplift's heads and drains)
+    h.update(repr([(it.group, it.joint) for it in model.interfaces]).encode())
+    h.update(repr((model.damping, model.uplifts)).encode())
+    # loads with a time amplitude: the load vector sampled over the run (an amplitude is a
+    # function, known only by its values)
+    if any(ld.amplitude is not None for ld in model.loads):
+        end = float(spec["analysis"].get("duration") or 1.0)
+        for t in np.linspace(0.0, end, 33):
+            add(system.load(float(t)))
+    h.update(json.dumps(spec, sort_keys=True, default=str).encode())
     for g in records:
         for arr in (g.time, g.acceleration, g.direction):
             add(arr)

@@ -60,6 +60,7 @@ import numpy as np
 from .._version import __version__
 from ..errors import PfeieError, ResultsError
 from ..typing import FloatArray
+from ._files import PYTHON_RUN
 
 UNITS = {
     "time": "s", "u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2", "X": "N", "w": "m",
@@ -232,7 +233,9 @@ class ResultsWriter:
             pfeie_version=__version__, format_version=FORMAT_VERSION,
             model_file=str(job.path), model_sha256=job.digest,
             form=job.analysis.form, completed=False, stop_reason="",
-            model_path=str(Path(job.path).resolve()), **_run_attrs(job),
+            model_path=(str(job.path) if str(job.path) == PYTHON_RUN
+                        else str(Path(job.path).resolve())),
+            **_run_attrs(job),
             units=json.dumps(UNITS), **self.storage.attrs,
         )  # fmt: skip
         g = f.create_group("mesh")

@@ -8,8 +8,9 @@ some of them and a negative one at others):
   size to the power of the dimension (collinear or coplanar nodes: zero area or volume);
 - *inverted or self-intersecting*: det J < 0 somewhere (after the 2D cells were turned
   counter-clockwise, :meth:`Mesh.orient`);
-- *duplicated*: two cells on the same corner nodes (a surface in two physical groups,
-  written twice);
+- *duplicated*: two cells on the same corner nodes (a cell written twice in one physical
+  group; a cell in two groups, which MSH 2 writes once per group, is merged by the gmsh
+  reader);
 - node coordinates that are not finite.
 
 and warns (``logging``, the run goes on) about *poorly shaped* cells, whose shape quality
@@ -168,8 +169,8 @@ def check_cells(mesh: Mesh, where: str = "") -> None:
                      f"{mesh.cell_label(*who[int(j)])}" for j in dup[:_SHOW]]  # fmt: skip
             more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
             problems.append(
-                f"{dup.size} duplicated cell(s) on the same nodes (a surface or volume in two "
-                f"physical groups?): {'; '.join(pairs)}{more}"
+                f"{dup.size} duplicated cell(s) on the same nodes (written twice in one "
+                f"physical group, or in none?): {'; '.join(pairs)}{more}"
             )
     if problems:
         raise MeshError("\n".join(head + p for p in problems))

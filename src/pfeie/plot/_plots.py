@@ -455,8 +455,9 @@ def _pair_squares(uv: np.ndarray, area: np.ndarray) -> np.ndarray:
 def _pair_cells(uv: np.ndarray, area: np.ndarray) -> list[np.ndarray]:
     """Each pair of a 3D joint drawn in the joint's plane as its tributary cell: the
     Voronoi cell of its point ``uv`` (m) among the joint's pairs, clipped to their convex
-    hull, so that the map covers the joint and no more (squares of the tributary area
-    about the points stood out by half a square beyond the joint's edges). Pairs at one
+    hull, so that the map of a convex joint covers it and no more (squares of the
+    tributary area about the points stood out by half a square beyond the joint's edges;
+    an L-shaped joint, or two patches named as one, is painted over its hull). Pairs at one
     point share its cell. Falls back to :func:`_pair_squares` where the points span no
     area (all on a line). Polygons (k, 2), m.
 

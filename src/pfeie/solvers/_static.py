@@ -383,6 +383,8 @@ def joint_factors(
     # a shear of the round-off of the joint's forces is none (∞, as the summary's FS)
     size = np.abs(P.X).sum(axis=1)
     noise = FS_ROUNDOFF * np.array([size[idx].sum() for idx in laws.index])
+    # (and below FS_ROUNDOFF of the capacity: a factor beyond 1e10 is ∞, as the run's)
+    noise = np.maximum(noise, FS_ROUNDOFF * capacity)
     with np.errstate(divide="ignore", invalid="ignore"):
         fs = np.where((shear > noise) & (shear > 0), capacity / shear, np.inf)
     return capacity, shear, fs
