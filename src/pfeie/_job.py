@@ -741,15 +741,22 @@ def _keep_stopped_model_run(path: Path) -> None:
                 return
     except (PfeieError, OSError):
         return  # not a results file: overwritten, as by `pfeie run`
+    keep = _move_aside(path)
+    log.warning("%s held a stopped run of %s, which `pfeie run --resume` continues; it is "
+                "kept as %s (move it back to results.h5 to resume it)", path,
+                meta.get("model_file"), keep.name)  # fmt: skip
+
+
+def _move_aside(path: Path) -> Path:
+    """Rename the results file ``path`` to ``results.stopped.h5`` beside it (``.1``,
+    ``.2``, … if taken); returns the new path."""
     keep = path.with_name("results.stopped.h5")
     k = 0
     while keep.exists():
         k += 1
         keep = path.with_name(f"results.stopped.{k}.h5")
     path.rename(keep)
-    log.warning("%s held a stopped run of %s, which `pfeie run --resume` continues; it is "
-                "kept as %s (move it back to results.h5 to resume it)", path,
-                meta.get("model_file"), keep.name)  # fmt: skip
+    return keep
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:
@@ -759,12 +766,7 @@ def _keep_stopped_run(path: Path, job: Job) -> None:
     t = resumable(path, job)
     if t is None:
         return
-    keep = path.with_name("results.stopped.h5")
-    k = 0
-    while keep.exists():
-        k += 1
-        keep = path.with_name(f"results.stopped.{k}.h5")
-    path.rename(keep)
+    keep = _move_aside(path)
     log.warning("%s held this model's run, stopped at t = %.6g s, which `pfeie run --resume` "
                 "continues; this run starts again from t = 0, and that one is kept as %s "
                 "(move it back to results.h5 to resume it)", path, t, keep.name)  # fmt: skip
