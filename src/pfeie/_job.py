@@ -623,7 +623,7 @@ def run_to_folder(
               "paraview": paraview, "folder": "."}  # fmt: skip
     job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
                      duration=duration, form=form, static=static is not None, title=title,
-                     output=output)  # fmt: skip
+                     output=output, system=analysis.system)  # fmt: skip
     out = output_folder(folder, "run_to_folder: folder")
     if (out / "study.json").exists():
         raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "

@@ -200,13 +200,14 @@ class Job:
         cls, model: Model, settings: Any, *, records: Sequence[GroundMotion] = (),
         probes: dict[str, int] | None = None, duration: float | None = None,
         form: str = "relative", static: bool = False, title: str = "",
-        output: dict[str, Any] | None = None,
+        output: dict[str, Any] | None = None, system: Any = None,
     ) -> Job:  # fmt: skip
         """The job of a run made through the Python API (no model file): what a results
         file records of a run, from the ``model``, the dynamic ``settings`` (a
         :class:`pfeie.dynamics.DynamicSettings`, e.g. ``Dynamic.settings``), the
-        ``records``, the named ``probes`` (name → node) and the ``[output]`` keys given.
-        Its path reads ``<python>``; its digest is the SHA-256 of what determines the
+        ``records``, the named ``probes`` (name → node) and the ``[output]`` keys given;
+        ``system``: the run's assembled operators (``Dynamic.system``; default: assembled
+        here). Its path reads ``<python>``; its digest is the SHA-256 of what determines the
         run (the mesh, the assembled matrices and loads, the pairs and their laws, the
         settings and the records), so that the same model built again gives the same
         digest."""
@@ -224,7 +225,7 @@ class Job:
                 "output": out.model_dump()}  # fmt: skip
         probes = {} if probes is None else {str(k): int(v) for k, v in probes.items()}
         return cls(Path(PYTHON_RUN), spec, model, list(records), probes,
-                   _model_digest(model, spec, records),
+                   _model_digest(model, spec, records, system),
                    [it.group for it in model.interfaces])  # fmt: skip
 
     @property
@@ -322,7 +323,9 @@ def _origin(source: str) -> str:
     return first if first.startswith("--") else source
 
 
-def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMotion]) -> str:
+def _model_digest(
+    model: Model, spec: dict[str, Any], records: Sequence[GroundMotion], system: Any = None
+) -> str:
     """SHA-256 of what determines a run made through the Python API (:meth:`Job.of_run`):
     the mesh's points and cells, the assembled stiffness, mass and damping, the loads'
     patterns and prescribed values (and, for loads with a time amplitude, the load
@@ -341,7 +344,7 @@ def _model_digest(model: Model, spec: dict[str, Any], records: Sequence[GroundMo
     for ctype, conn in sorted(mesh.cells.items()):
         h.update(ctype.encode())
         add(conn)
-    system = model.system()
+    system = model.system() if system is None else system
     for mat in (system.K, system.M, system.C):
         if mat is not None:
             for arr in (mat.data, mat.indices, mat.indptr):
