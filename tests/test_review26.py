@@ -359,3 +359,39 @@ def test_run_to_folder_keeps_the_folder_on_bad_input_and_stops_on_ctrl_c(
         assert f.n_times == f.f["history/probes/u"].shape[0] == f.f["history/rigid"].shape[0]
         assert 10 <= f.n_times < 250
     assert json.loads((out / "summary.json").read_text())["stopped"].startswith("stopped")
+
+
+def test_run_to_folder_rerun_ground_forms_staged_post_earthquake_and_cli_folder(
+    tmp_path: Any,
+) -> None:
+    """A new user's findings: a second run into a folder removes the first's ParaView
+    series and figures; ground=None is no record and one record alone is taken; a run
+    started from another run's final state judges the post-earthquake geometry from the
+    undeformed one (the block has slid 0.18 m of its 1 m: skipped, as in one run);
+    `pfeie report DIR` reads DIR/results.h5; read_record's scale is in its summary."""
+    from pfeie.cli import main
+
+    model = _sliding_block(float(np.degrees(np.arctan(0.2))))
+    analysis = pf.Dynamic(model, dt=0.002)
+    static = pf.solve_static(model)
+    out = tmp_path / "out"
+    pf.run_to_folder(analysis, 0.05, out, ground=_pulse(), start=static, probes={"a": 3},
+                     figures=True)  # fmt: skip
+    assert (out / "blocks.xdmf").is_file() and (out / "figures" / "probe_a.png").is_file()
+    pf.run_to_folder(analysis, 0.05, out, ground=None, start=static, paraview=False,
+                     figures=True)  # fmt: skip
+    assert not (out / "blocks.xdmf").exists() and not (out / "figures" / "probe_a.png").exists()
+    with pytest.raises(pf.ModelError, match=r"ground: expected a list of pfeie\.GroundMotion"):
+        pf.run_to_folder(analysis, 0.05, out, ground=["x.csv"])  # type: ignore[list-item]
+    r1 = pf.run_to_folder(analysis, 0.5, tmp_path / "s1", ground=[_pulse()], start=static,
+                          paraview=False, figures=False)  # fmt: skip
+    pf.run_to_folder(analysis, 0.5, tmp_path / "s2", ground=[_pulse()], start=r1.final,
+                     paraview=False, figures=False)  # fmt: skip
+    for stage in ("s1", "s2"):
+        post = json.loads((tmp_path / stage / "summary.json").read_text())["post_earthquake"]
+        assert "skipped" in post, (stage, post)
+    assert main(["report", str(out)]) == 0 and (out / "report.html").is_file()
+    csv = tmp_path / "r.csv"
+    csv.write_text("".join(f"{0.01 * k},{0.1 * np.sin(k)}\n" for k in range(50)))
+    rec = pf.io.read_record(csv, units="g", scale=1.5)
+    assert "scaled ×1.5" in rec.summary()

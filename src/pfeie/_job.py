@@ -214,6 +214,12 @@ class Progress:
         self.stream.flush()
 
 
+#: what a run writes beside results.h5, removed when a new run starts in the folder (with
+#: ParaView off, an earlier run's series would stand beside the new results as if theirs)
+STALE_OUTPUTS = ("summary.json", "summary.txt", "report.html", "blocks.xdmf", "blocks.h5",
+                 "interfaces.xdmf", "interfaces.h5", "envelope.vtu")  # fmt: skip
+
+
 def run_job(
     job: Job, *, progress: bool = True, duration: float | None = None,
     stream: TextIO | None = None, resume: bool = False, checkpoint_s: float | None = None,
@@ -459,7 +465,7 @@ def _run(
     if ck is None:
         # a new run: the summaries and the report of a former run in this folder go (after a
         # failure they would stand beside the new results as if they were theirs)
-        for stale in ("summary.json", "summary.txt", "report.html"):
+        for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
         _keep_stopped_run(out / "results.h5", job)
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
@@ -575,7 +581,7 @@ def _run(
 
 def run_to_folder(
     analysis: Dynamic, duration: float, folder: str | Path, *,
-    ground: Sequence[GroundMotion] = (), form: str = "relative",
+    ground: Sequence[GroundMotion] | GroundMotion | None = (), form: str = "relative",
     start: StaticResult | StepState | None = None,
     probes: Mapping[str, int] | Sequence[int] | None = None,
     every: int = 1, field_every: int = 10, envelope: bool = True, paraview: bool = True,
@@ -618,6 +624,14 @@ def run_to_folder(
     static = start if isinstance(start, StaticResult) else None
     if isinstance(start, StepState) and isinstance(start.static, StaticResult):
         static = start.static
+    if ground is None:
+        ground = ()
+    elif isinstance(ground, GroundMotion):
+        ground = [ground]
+    elif not all(isinstance(g, GroundMotion) for g in ground):
+        raise ModelError("ground: expected a list of pfeie.GroundMotion records (e.g. "
+                         "pfeie.io.read_record), got "
+                         f"{[type(g).__name__ for g in ground]}")  # fmt: skip
     names = _probe_names(probes, analysis.model.mesh.n_points)
     output = {"every": every, "field_every": field_every, "envelope": envelope,
               "paraview": paraview, "folder": "."}  # fmt: skip
@@ -634,8 +648,10 @@ def run_to_folder(
     def on_record(row: dict[str, Any]) -> None:
         # the folder is touched at the first row, once the run has accepted its inputs
         if not opened:
-            for stale in ("summary.json", "summary.txt", "report.html"):
+            for stale in STALE_OUTPUTS:
                 (out / stale).unlink(missing_ok=True)
+            for png in (out / "figures").glob("*.png") if figures else ():
+                png.unlink(missing_ok=True)  # (the figures this function writes there)
             _keep_stopped_model_run(path)
             opened.append(ResultsWriter(path, job, field_every=field_every))
             if static is not None:
@@ -1146,7 +1162,9 @@ def _post_earthquake(
     if (not job.analysis.post_earthquake or static is None or result is None
             or not result.completed or final is None or model.pairs is None):  # fmt: skip
         return {}
-    moved = _far_moved(model, bodies)
+    # the blocks' motion from the undeformed geometry, relative to the ground: a run
+    # started from another run's final state has moved since before its own row 0
+    moved = _far_moved(model, _total_motions(job, result) or bodies)
     if moved:
         why = (f"{'; '.join(moved)}: the post-earthquake static state takes the undeformed "
                "geometry, which holds where the residual motions are small beside the "
@@ -1168,6 +1186,22 @@ def _post_earthquake(
         out["cracks_m"] = {u.interface: float(c)
                            for u, c in zip(model.uplifts, post.cracks, strict=True)}  # fmt: skip
     return out
+
+
+def _total_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
+    """Per body, its rigid motion at the end of the run from the undeformed geometry
+    (relative to the ground in the absolute form), as :func:`_body_motions`' residual
+    keys: what the post-earthquake static state's geometry is judged by, whatever state
+    the run started from."""
+    model, d = job.model, job.model.dim
+    if not res.rigid.size:
+        return {}
+    q = res.rigid[-1].copy()
+    if job.analysis.form == "absolute":
+        q[:, :d] -= _ground_displacement(job, res.t[-1:])[-1]
+    return {name: {"residual_displacement_m": float(np.linalg.norm(q[b, :d])),
+                   "residual_rotation_deg": float(np.degrees(np.linalg.norm(q[b, d:])))}
+            for b, name in enumerate(model.body_names())}  # fmt: skip
 
 
 def _far_moved(model: Model, motions: dict[str, dict[str, Any]]) -> list[str]:
@@ -1259,6 +1293,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     s["time_reached_s"] = _time(res.t[-1])
     # steps, not recorded rows (output.every may be above 1)
     s["steps"] = round(float(res.t[-1] - res.t[0]) / job.analysis.dt)
+    s["form"] = job.analysis.form
     probes = {}
     for k, (name, _node) in enumerate(job.probes.items()):
         u = res.probe_u[:, k]
@@ -1494,8 +1529,11 @@ def format_summary(s: dict[str, Any]) -> str:
         lines.append(f"  record       {r}")
     if "completed" in s:
         state = "completed" if s["completed"] else f"STOPPED ({s.get('stopped')})"
+        form = (", ground motion in the absolute form (the supports move; a mass-"
+                "proportional damping acts on absolute velocities)"
+                if s.get("form") == "absolute" else "")  # fmt: skip
         lines.append(f"  run          {state} at t = {s['time_reached_s']:.3f} s, "
-                     f"{s['steps']} steps")  # fmt: skip
+                     f"{s['steps']} steps{form}")  # fmt: skip
     for name, p in s.get("probes", {}).items():
         lines.append(
             f"  {name:<12} peak |u| {1e3 * p['peak_displacement_m']:.1f} mm"

@@ -378,6 +378,8 @@ def _verify(args: argparse.Namespace) -> int:
 def _post(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    if Path(args.results).is_dir():  # the run's output folder: its results file
+        args.results = str(Path(args.results) / "results.h5")
     try:
         if args.command == "plot":
             from .plot import plot_run

@@ -69,7 +69,7 @@ class Excitation:
         self,
         model: Model,
         system: LinearSystem,
-        ground: Sequence[GroundMotion] | GroundMotion = (),
+        ground: Sequence[GroundMotion] | GroundMotion | None = (),
         form: str = "relative",
         uplift: FloatArray | None = None,
         open0: BoolArray | None = None,
@@ -83,7 +83,9 @@ class Excitation:
             self._f_up = model.uplift_load(self._p0)[system.free]
             m = 0 if model.pairs is None else model.pairs.n
             self._open0 = np.zeros(m, dtype=bool) if open0 is None else np.asarray(open0)
-        if isinstance(ground, GroundMotion):  # one record given alone
+        if ground is None:  # no record
+            ground = ()
+        elif isinstance(ground, GroundMotion):  # one record given alone
             ground = [ground]
         self.ground = list(ground)
         for k, g in enumerate(self.ground):

@@ -472,6 +472,9 @@ def read_record(
                 raise RecordError(f"{p}: a one-column record needs its time step dt")
             acc = np.array([x for _, r in rows for x in r])
             gm = _make(p, acc, dt, None, units, scale, direction, label)
+    if scale != 1.0:  # said in its summary line, as a model file's scale is
+        how = "flipped (scale -1)" if scale == -1.0 else f"scaled ×{scale:g}"
+        gm = dataclasses.replace(gm, scaling=how)
     if highpass is not None or lowpass is not None:
         try:
             gm = gm.filtered(highpass=highpass, lowpass=lowpass, order=order)
