@@ -318,7 +318,8 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
             at, found = match_rows(K, facet_keys(conn, ftype))
             if not found.all():
                 raise MeshError(f"interface {name!r}: {int((~found).sum())} facet(s) are not faces "
-                                "of the mesh (is the mesh conforming across it?)")  # fmt: skip
+                                "of the model's cells (are they faces of cells in no block, or "
+                                "is the mesh not conforming across the joint?)")  # fmt: skip
             hit = np.isin(fid, fid[at])
             other = np.unique(iface[hit & (iface >= 0) & (iface != j)])
             if other.size:

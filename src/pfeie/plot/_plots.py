@@ -55,7 +55,7 @@ import numpy as np
 
 from ..errors import PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
-from ..io import Results, output_folder
+from ..io import PYTHON_RUN, Results, output_folder
 from ..model import ResponseSpectrum
 
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
@@ -85,11 +85,20 @@ def _plt() -> Any:
     return plt
 
 
+def run_title(meta: dict[str, Any]) -> str:
+    """The title of a run's figures: its model's title, else the model file's name (none
+    for a Python run without a title)."""
+    given = meta["model_summary"].get("title")
+    if given or meta.get("model_file") == PYTHON_RUN:
+        return str(given or "")
+    return Path(meta["model_file"]).stem
+
+
 def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
     """Every figure of a results file into ``folder``; returns the files written."""
     files: list[Path] = []
     with Results(results) as res:
-        title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        title = run_title(res.meta)
         two_d = res.f["mesh/points"].shape[1] == 2
         if res.n_times == 0:
             if not (res.interface_names and "static/X" in res.f):
@@ -158,8 +167,8 @@ def plot_mesh(res: Results, path: Path, title: str = "") -> Path:
     names = res.body_names
     ax.set_title((f"{title}\n" if title else "") + f"mesh: {len(names)} bodies "
                  f"({', '.join(names)}), {x.shape[0]} nodes", fontsize=10)  # fmt: skip
-    if "pairs/x" in res.f:
-        ax.legend(loc="best", fontsize=8)
+    if "pairs/x" in res.f:  # beside the axes: inside, it covered a probe at the top
+        _legend(ax)
     return _finish(fig, path)
 
 

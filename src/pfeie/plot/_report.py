@@ -31,6 +31,7 @@ from ._plots import (
     plot_loads,
     plot_loads_3d,
     plot_static,
+    run_title,
 )
 
 if TYPE_CHECKING:
@@ -821,7 +822,7 @@ def plot_run(results: str | Path, folder: str | Path) -> list[Path]:
         job, source = model_of_run(res)
         if job is None:
             log.info("%s: no loads or static-stress figures: %s", res.path, source)
-        title = res.meta["model_summary"].get("title") or Path(res.meta["model_file"]).stem
+        title = run_title(res.meta)
         extra = model_figures(res, job, Path(folder), title, joints=res.n_times > 0)
     return files + list(extra.values())
 
@@ -867,7 +868,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         joint_laws = joint_property_rows(job)
         loads = load_rows(res, job) if job is not None else []
         modes, why = modal_tables(job) if job is not None else ([], "")
-        title = summ.get("title") or Path(meta["model_file"]).stem
+        title = run_title(meta)
         extra: dict[str, Path] = {}
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp)
@@ -904,7 +905,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         "padding:4px 8px;text-align:left}th{background:#f3f3f3}img{max-width:100%}"
         "figure{margin:1em 0}figcaption{font-size:90%;color:#555}.note{color:#a33}"
         "h2{border-bottom:1px solid #ccc;margin-top:2em}</style></head><body>",
-        f"<h1>{esc(title)}</h1>",
+        f"<h1>{esc(title or 'a run of the Python API')}</h1>",
         f"<p>pfeie {esc(str(meta['pfeie_version']))}; run {run}; Δt = "
         f"{esc(str(summ['dt']))} s; model file {esc(str(meta['model_file']))}.</p>",
         *_warnings(meta),
