@@ -63,7 +63,7 @@ def _pulse() -> pf.GroundMotion:
 
 def test_run_to_folder_writes_what_a_model_file_run_writes(tmp_path: Any) -> None:
     """A Python run written to a folder: the same bits as ``Dynamic.run``, the README's
-    sliding block (V2b: 0.1798 m back, the rigid-block closed form of docs/verification
+    sliding block (V2b: 0.179804 m back, the rigid-block closed form of docs/verification
     to 0.01 %), results.h5 read back by :class:`pfeie.io.Results`, summaries, ParaView
     and figures; ``pfeie export`` and ``pfeie report`` read the folder."""
     from pfeie.cli import main
@@ -79,17 +79,23 @@ def test_run_to_folder_writes_what_a_model_file_run_writes(tmp_path: Any) -> Non
     for key in ("probe_u", "probe_a_abs", "X", "s", "rigid"):
         assert np.array_equal(getattr(res, key), getattr(ref, key)), key
     b = model.body_index("block")
-    assert res.rigid[-1, b, 0] - res.rigid[0, b, 0] == pytest.approx(-0.1798, rel=2e-4)
+    from pfeie.verification._rigid import RigidBlock
+
+    t = np.linspace(0.0, 0.4, 4001)
+    exact = RigidBlock(t, 0.5 * 9.81 * np.sin(np.pi * t / 0.4), 0.2 * 9.81, t_end=1.0)
+    u_ref = -float(exact.displacement([1.0])[0])  # 0.179804 m
+    assert res.rigid[-1, b, 0] - res.rigid[0, b, 0] == pytest.approx(-u_ref, rel=2e-4)
     with pf.io.Results(out / "results.h5") as f:
         assert f.completed and f.meta["model_file"] == pf.io.PYTHON_RUN
         assert f.probe_names == ["top"]
         assert np.array_equal(f.probe("top")["u"], ref.probe_u[:, 0])
         assert np.array_equal(f.time, ref.t)
         assert f.has_static and f.has_envelope
-        assert f.energy()["balance"][-1] == pytest.approx(0.0, abs=1e-9 * 846.6)
+        energy = f.energy()  # the balance closes to round-off of the work put in
+        assert abs(energy["balance"][-1]) < 1e-9 * abs(energy["external_work"]).max()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["model"]["title"] == "V2b"
-    assert summary["joints"]["joint"]["residual_slip_max_m"] == pytest.approx(0.1798, rel=2e-4)
+    assert summary["joints"]["joint"]["residual_slip_max_m"] == pytest.approx(u_ref, rel=2e-4)
     assert (out / "blocks.xdmf").is_file() and (out / "interfaces.xdmf").is_file()
     assert main(["export", str(out / "results.h5"), "--csv", str(tmp_path / "csv")]) == 0
     assert (tmp_path / "csv" / "probes.csv").is_file()

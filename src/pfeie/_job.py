@@ -548,26 +548,21 @@ def _run(
         if ck is not None:  # the summary of the whole run, not of its resumed part
             result = history(writer, result.completed, result.stop_reason)
     try:
-        summary = summarize(job, static, result)
-        post = _post_earthquake(job, static, result, final, writer, summary.get("bodies", {}))
-        if post:
-            summary["post_earthquake"] = post
-        if yields:
-            summary["yield_coefficient"] = yields
-        if reduction:
-            summary["strength_reduction"] = reduction
-        summary["stopped"] = stopped
-        # the reliability warnings, as the text summary gives them (for the report and
-        # for readers of summary.json)
-        summary["warnings"] = [{"label": w.label, "text": w.text} for w in reliability(summary)]
-        summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+        summary = _run_summary(
+            job,
+            static,
+            result,
+            final,
+            writer,
+            stopped,
+            t0,
+            yield_coefficient=yields,
+            strength_reduction=reduction,
+        )
         writer.close(stopped is None, stopped, summary)
         if job.output.paraview and result is not None:
             write_paraview(out / "results.h5", model, out)
-        (out / "summary.json").write_text(
-            json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
-        )  # strict JSON
-        (out / "summary.txt").write_text(format_summary(summary) + "\n")
+        _write_summaries(out, summary)
     except KeyboardInterrupt as exc:  # after the time stepping: results.h5 holds the run
         why = str(exc) or "SIGINT"
         if writer.f.id.valid:  # (not closed yet)
@@ -577,6 +572,34 @@ def _run(
             "`pfeie run --resume` writes the summary and the ParaView files"
         ) from None
     return summary
+
+
+def _run_summary(
+    job: Job, static: StaticResult | None, result: DynamicResult | None,
+    final: StepState | None, writer: ResultsWriter, stopped: str | None, t0: float,
+    **extra: dict[str, Any],
+) -> dict[str, Any]:  # fmt: skip
+    """The summary of a run (:func:`summarize`) with its post-earthquake static state
+    (written to ``writer``), the non-empty ``extra`` entries (the limit searches), why it
+    stopped, the reliability warnings as the text summary gives them (for the report and
+    for readers of summary.json) and the wall time since ``t0``."""
+    summary = summarize(job, static, result)
+    post = _post_earthquake(job, static, result, final, writer, summary.get("bodies", {}))
+    if post:
+        summary["post_earthquake"] = post
+    summary.update({k: v for k, v in extra.items() if v})
+    summary["stopped"] = stopped
+    summary["warnings"] = [{"label": w.label, "text": w.text} for w in reliability(summary)]
+    summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    return summary
+
+
+def _write_summaries(out: Path, summary: dict[str, Any]) -> None:
+    """``summary.json`` (strict JSON) and ``summary.txt`` of a run into ``out``."""
+    (out / "summary.json").write_text(
+        json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
+    )
+    (out / "summary.txt").write_text(format_summary(summary) + "\n")
 
 
 def run_to_folder(
@@ -687,24 +710,13 @@ def run_to_folder(
         try:
             writer.write_envelope(result.envelope)
             stopped = None if result.completed else (result.stop_reason or "stopped")
-            summary = summarize(job, static, result)
-            post = _post_earthquake(job, static, result, result.final, writer,
-                                    summary.get("bodies", {}))  # fmt: skip
-            if post:
-                summary["post_earthquake"] = post
-            summary["stopped"] = stopped
-            summary["warnings"] = [{"label": w.label, "text": w.text}
-                                   for w in reliability(summary)]  # fmt: skip
-            summary["wall_time_s"] = round(time.perf_counter() - t0, 3)
+            summary = _run_summary(job, static, result, result.final, writer, stopped, t0)
             writer.close(stopped is None, stopped, summary)
         except BaseException as exc:
             if writer.f.id.valid:  # the histories stay readable
                 writer.close(False, f"interrupted after the time stepping ({exc!r})")
             raise
-        (out / "summary.json").write_text(
-            json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
-        )
-        (out / "summary.txt").write_text(format_summary(summary) + "\n")
+        _write_summaries(out, summary)
         # what needs an optional library (meshio, matplotlib) comes last and warns where
         # it is missing: the run and its results file are not lost to it
         try:
@@ -942,9 +954,8 @@ def _least_fs(y: dict[str, Any]) -> str:
         f = y.get("safety_factor")
         return f"least FS {'∞' if f is None else f'{f:.4g}'} on {y.get('joint')!r}"
     finite = {n: f for n, f in y["safety_factors"].items() if f is not None}
-    text = (f"least FS {min(finite.values()):.4g} on {min(finite, key=finite.__getitem__)!r}"
-            if finite else "least FS ∞")  # fmt: skip
     least = min(finite, key=finite.__getitem__) if finite else None
+    text = f"least FS {finite[least]:.4g} on {least!r}" if least else "least FS ∞"
     if y.get("joint") is not None and y["joint"] != least:
         f = y.get("safety_factor")
         text += (f" (the margins followed {y['joint']!r}, FS "

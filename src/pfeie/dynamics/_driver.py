@@ -666,7 +666,6 @@ class Dynamic:
         Moreau–Jean load (1 − θ) f_n + θ f_{n+1} gives a free body the relative step-average
         acceleration −[(1 − θ) a_g(t_n) + θ a_g(t_{n+1})]; the Newmark family's balance at
         (α_m, α_f) gives it −g_{n+1} of the recurrence."""
-        a0 = cur.ground if cur.ground is not None else ex.ground_acceleration(cur.kin.t)
         a1 = ex.ground_acceleration(nxt.kin.t)
         if self.mj is not None:
             th = self.mj.theta
@@ -674,8 +673,10 @@ class Dynamic:
         am, af = self.nm.alpha_m, self.nm.alpha_f
         if not am and not af:
             return a1
-        mixed = (1.0 - af) * a1 + af * ex.ground_acceleration(cur.kin.t)
-        return mixed if not am else (mixed - am * a0) / (1.0 - am)
+        a0 = ex.ground_acceleration(cur.kin.t)
+        mixed = (1.0 - af) * a1 + af * a0
+        g0 = a0 if cur.ground is None else cur.ground  # the recurrence's last value
+        return mixed if not am else (mixed - am * g0) / (1.0 - am)
 
     def _step_newmark(self, cur: StepState, ex: Excitation, origin: float) -> StepState:
         """One step of the Newmark family (models without interfaces)."""
