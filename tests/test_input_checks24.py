@@ -341,22 +341,19 @@ def test_the_static_figure_of_a_3d_joint_is_a_map(
                      interfaces=[pf.Interface("joint", pf.Joint(phi=30.0))])  # fmt: skip
     model.fix("zmin")
     model.add_gravity()
-    st = pf.solve_static(model)
-    assert st.pairs is not None and model.pairs is not None
-    A = model.pairs.area
-    pr = {"x": model.pairs.x, "area": A, "frame": model.pairs.frame, "X": st.pairs.X,
-          "state": st.pairs.state, "normal_stress": st.pairs.X[:, -1] / A,
-          "shear_stress": st.pairs.X[:, :-1] / A[:, None]}  # fmt: skip
+    from pfeie.io import Results
 
-    class Static:
-        def static_pairs(self, name: str) -> dict[str, np.ndarray]:
-            return pr
+    gm = pf.GroundMotion.from_function(lambda t: 0.0 * t, duration=0.01, dt=0.005,
+                                       direction=(1, 0, 0))  # fmt: skip
+    pf.run_to_folder(pf.Dynamic(model, 0.005), 0.01, tmp_path / "run", ground=[gm],
+                     start=pf.solve_static(model), figures=False, paraview=False)  # fmt: skip
 
     def no_axis(x: np.ndarray) -> None:
         raise AssertionError("a 3D joint ordered along one axis")
 
     monkeypatch.setattr(_plots, "_arc", no_axis)
-    out = _plots.plot_static(Static(), "joint", tmp_path / "static_joint.png")  # type: ignore[arg-type]
+    with Results(tmp_path / "run" / "results.h5") as res:
+        out = _plots.plot_static(res, "joint", tmp_path / "static_joint.png")
     assert out.stat().st_size > 10_000
 
 

@@ -77,7 +77,7 @@ def test_at2_fused_numbers(tmp_path: Path) -> None:
     [
         ("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    5, DT=   .0100 SEC\n"
          "1 2 3\n4\n", "NPTS = 5 but the file has 4"),
-        ("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF CM/S/S\nNPTS=    2, DT=   .0100 SEC\n"
+        ("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF MG\nNPTS=    2, DT=   .0100 SEC\n"
          "1 2\n", "line 3: expected the units"),
         ("PEER\nT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    2, DT=   .0100 SEC\n"
          "1 x2\n", "line 5: non-numeric"),
@@ -96,7 +96,7 @@ def test_at2_malformed(tmp_path: Path, text: str, match: str) -> None:
 def test_at2_units_conflict(tmp_path: Path) -> None:
     p = tmp_path / "r.at2"
     write_at2(p, np.array([0.1, 0.2]), 0.01)
-    with pytest.raises(RecordError, match="in g"):
+    with pytest.raises(RecordError, match="line 3 states the units g"):
         read_record(p, units="m/s2")
 
 

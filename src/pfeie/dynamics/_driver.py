@@ -361,6 +361,22 @@ class Dynamic:
         return Excitation(self.model, self.system, ground, form,
                           getattr(start, "uplift", None), open0)  # fmt: skip
 
+    def _supports_on_grid(self, ex: Excitation, cur: StepState) -> None:
+        """In the absolute form, the supports moved as this analysis's scheme integrates
+        the records on the run's grid of steps (:meth:`Excitation.on_grid`), from the
+        grid's origin, so that a resumed run reads the same support motion. Moreau–Jean
+        keeps the exact motion (its supports' share of the pairs' motion follows its
+        θ-rule, :meth:`_step_moreau_jean`)."""
+        if not ex.moves_supports or self.mj is not None:
+            return
+        origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
+        if self.ga is not None:
+            ga = self.ga
+            ex.on_grid(origin, self.dt, beta=ga.beta, gamma=ga.gamma, alpha_m=ga.alpha_m,
+                       alpha_f=ga.alpha_f, auxiliary=True)  # fmt: skip
+        else:
+            ex.on_grid(origin, self.dt, beta=self.nm.beta, gamma=self.nm.gamma)
+
     def w_pres(self, t: float, ex: Excitation) -> FloatArray:
         """G_p u_p(t) (M,): the relative motion the prescribed DOFs give the pairs."""
         if not ex.moves_supports:
@@ -1129,6 +1145,7 @@ class Dynamic:
             row0 = 0
             if isinstance(start, StepState) and self.m and ex.follows_pairs:
                 ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now
+        self._supports_on_grid(ex, cur)
         m, d = self.m, self.d
         probes = self._probes(probes)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop

@@ -3,10 +3,11 @@
 Formats (``fmt``):
 
 - ``"at2"``: the PEER NGA format. Four header lines; the third states the units
-  ("... IN UNITS OF G"), the fourth NPTS and DT, either as ``NPTS=  4000, DT=   .0100 SEC``
+  ("... IN UNITS OF G"; also read: "UNITS OF GAL" or "CM/S/S", cm/s², and "M/S/S"), the
+  fourth NPTS and DT, either as ``NPTS=  4000, DT=   .0100 SEC``
   (NGA-West1) or as ``4000   0.0100   NPTS, DT`` (NGA-West2). Then the samples, several
-  per line, in g. Numbers written without a separating blank (``1.234E-02-5.678E-03``) are
-  split. The number of samples must equal NPTS.
+  per line, in the units of the third line. Numbers written without a separating blank
+  (``1.234E-02-5.678E-03``) are split. The number of samples must equal NPTS.
 - ``"two-column"``: time (s) and acceleration, separated by commas, semicolons, tabs or
   blanks; an optional header line (any non-numeric first line).
 - ``"one-column"``: one acceleration per line (or several per line, read row by row),
@@ -231,16 +232,27 @@ def _numbers(line: str, path: Path, lineno: int) -> list[float]:
     return values
 
 
-def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArray, float, str]:
+def _read_at2(
+    path: Path, lines: list[str], units: str | None
+) -> tuple[FloatArray, float, str, str]:
+    """The samples, DT (s), title and units (g, cm/s2 or m/s2, as its third line states
+    them, :func:`_at2_units`) of a PEER .AT2 file."""
     if len(lines) < 5:
         raise RecordError(f"{path}: an AT2 file needs 4 header lines and data; it has "
                           f"{len(lines)} line(s)")  # fmt: skip
-    unit_line = lines[2].upper()
-    if "UNITS OF G" not in unit_line and not re.search(r"\bG\b", unit_line):
-        raise RecordError(f"{path}: line 3: expected the units 'IN UNITS OF G', found "
-                          f"{lines[2].strip()!r}")  # fmt: skip
-    if units not in (None, "g"):
-        raise RecordError(f"{path}: AT2 records are in g; the model asks for units {units!r}")
+    stated = _at2_units(lines[2])
+    if stated is None:
+        raise RecordError(f"{path}: line 3: expected the units 'IN UNITS OF G' (or of CM/S/S, "
+                          f"GAL or M/S/S), found {lines[2].strip()!r}")  # fmt: skip
+    asked = (
+        None
+        if units is None
+        else {"gal": "cm/s2", "m/s^2": "m/s2"}.get(units.lower(), units.lower())
+    )
+    if asked not in (None, stated):
+        raise RecordError(f"{path}: line 3 states the units {stated} ({lines[2].strip()!r}); "
+                          f"units {units!r} were given: give {stated!r} or "
+                          "none")  # fmt: skip
     head = lines[3]
     m1 = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([0-9.eE+-]+)", head, re.I)
     m2 = re.match(r"\s*(\d+)\s+([0-9.eE+-]+)\s+NPTS\s*,\s*DT", head, re.I)
@@ -273,7 +285,32 @@ def _read_at2(path: Path, lines: list[str], units: str | None) -> tuple[FloatArr
         raise RecordError(f"{path}: the header says NPTS = {npts} but the file has "
                           f"{len(values)} sample(s) (truncated or wrong header?)")  # fmt: skip
     name = lines[1].strip() or path.stem
-    return np.asarray(values, dtype=float), dt, name
+    return np.asarray(values, dtype=float), dt, name, stated
+
+
+#: the units a PEER .AT2 header's third line may state after "UNITS OF" (NGA writes G)
+_AT2_UNITS = {"G": "g", "GAL": "cm/s2", "GALS": "cm/s2", "CM/S/S": "cm/s2", "CM/S2": "cm/s2",
+              "CM/S^2": "cm/s2", "CM/SEC/SEC": "cm/s2", "CM/SEC2": "cm/s2", "CM/SEC^2": "cm/s2",
+              "M/S/S": "m/s2", "M/S2": "m/s2", "M/S^2": "m/s2", "M/SEC/SEC": "m/s2"}  # fmt: skip
+
+
+def _at2_units(line: str) -> str | None:
+    """The units of an AT2 record from its third header line: the first word after
+    "UNITS OF" or "IN" that names units (:data:`_AT2_UNITS`: "IN UNITS OF G", "UNITS OF
+    GAL", "IN CM/SEC/SEC"), matched whole ("UNITS OF GAL" is cm/s², not g); ``None`` if
+    there is none.
+
+    >>> _at2_units("ACCELERATION TIME SERIES IN UNITS OF G"), _at2_units("UNITS OF GAL")
+    ('g', 'cm/s2')
+    >>> _at2_units("ACCELERATION IN CM/SEC/SEC (G = 981 CM/S/S)"), _at2_units("IN G.")
+    ('cm/s2', 'g')
+    >>> _at2_units("UNITS OF MG") is None
+    True
+    """
+    for m in re.finditer(r"(?=(?:UNITS\s+OF|\bIN)\s+([A-Z/^0-9]+))", line.upper()):
+        if m.group(1).rstrip(".") in _AT2_UNITS:
+            return _AT2_UNITS[m.group(1).rstrip(".")]
+    return None
 
 
 def _data_lines(
@@ -384,7 +421,8 @@ def read_record(
 ) -> GroundMotion:
     """Read an acceleration record into a :class:`GroundMotion` (see the module doc).
 
-    ``units`` defaults to "g" for AT2 files and must be given otherwise (no guessing).
+    ``units`` defaults to the units an AT2 file states (g in PEER's files) and must be given
+    otherwise (no guessing).
     The record is scaled by ``scale``, then, with ``highpass`` or ``lowpass`` (corner
     frequencies, Hz), filtered by :meth:`GroundMotion.filtered` (zero-phase Butterworth of
     order ``order``), then, with ``baseline``, corrected by
@@ -430,13 +468,13 @@ def read_record(
         kind = "two-column" if len(rows[0][1]) == 2 else "one-column"
     label = name or p.stem
     if kind == "at2":
-        acc, step, title = _read_at2(p, lines, units)
+        acc, step, title, at2_units = _read_at2(p, lines, units)
         if dt is not None and dt != step:
             raise RecordError(
                 f"{p}: a PEER .AT2 record states its own time step (DT = "
                 f"{step:g} s in its header); do not give dt (given {dt:g})"
             )
-        gm = _make(p, acc, step, None, "g", scale, direction, name or title)
+        gm = _make(p, acc, step, None, at2_units, scale, direction, name or title)
     else:
         if units is None:
             raise RecordError(f"{p}: give the units of the record (g, m/s2 or cm/s2)")

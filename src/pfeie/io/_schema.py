@@ -587,7 +587,10 @@ class RecordReading(_Table):
     ] = "auto"
     units: Annotated[
         Literal["g", "m/s2", "cm/s2", "gal"] | None,
-        Field(description="units of the record: 'g', 'm/s2', 'cm/s2' or 'gal' (= cm/s2; AT2: g)"),
+        Field(
+            description="units of the record: 'g', 'm/s2', 'cm/s2' or 'gal' (= cm/s2; AT2: as "
+            "its third line states them, g in PEER's files)"
+        ),
     ] = None
     dt: Annotated[Positive | None, Field(description="time step of a one-column record (s)")] = None
     component: Annotated[

@@ -49,7 +49,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -340,31 +340,49 @@ def _shown_opening(w: np.ndarray) -> np.ndarray:
 
 
 def plot_states(res: Results, name: str, path: Path, title: str = "") -> Path:
+    """The pair states of a joint over time, the pairs in the order of their position along
+    the joint (:func:`_arc`); a joint in several pieces (:func:`joint_pieces`) a panel per
+    piece."""
     plt = _plt()
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     t = res.time
     pr = res.pairs(name)
-    order, s = _arc(pr["x"])
+    pieces = joint_pieces(res, name)
     surface = pr["x"].shape[1] == 3  # a 3D joint: many pairs at one position along it
-    if surface:
-        s = np.arange(order.size, dtype=float)  # a column per pair, in that order
-    st = pr["state"][:, order]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, axes = plt.subplots(len(pieces), 1, figsize=(8, 1.0 + 3.5 * len(pieces)),
+                             squeeze=False)  # fmt: skip
     cmap = ListedColormap(STATE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
-    edges = np.concatenate([[s[0]], 0.5 * (s[1:] + s[:-1]), [s[-1]]]) if s.size > 1 else np.r_[0, 1]
     tedges = (
         np.concatenate([[t[0]], 0.5 * (t[1:] + t[:-1]), [t[-1]]]) if t.size > 1 else np.r_[0, 1]
     )
-    im = ax.pcolormesh(edges, tedges, st, cmap=cmap, norm=norm, shading="flat")
-    cb = fig.colorbar(im, ax=ax, ticks=[0, 1, 2, 3])
-    cb.ax.set_yticklabels(STATE_LABELS)
-    ax.set_xlabel("pairs, in the order of their position along the joint's main direction"
-                  if surface else _arc_label(pr["x"], order))  # fmt: skip
-    ax.set_ylabel("time (s)")
-    ax.set_title(f"{title}\npair states along {name}", fontsize=10)
+    for j, (ax, idx) in enumerate(zip(axes[:, 0], pieces, strict=True)):
+        x = pr["x"][idx]
+        order, s = _arc(x)
+        if surface:
+            s = np.arange(order.size, dtype=float)  # a column per pair, in that order
+        st = pr["state"][:, idx[order]]
+        edges = (np.concatenate([[s[0]], 0.5 * (s[1:] + s[:-1]), [s[-1]]]) if s.size > 1
+                 else np.r_[0, 1])  # fmt: skip
+        im = ax.pcolormesh(edges, tedges, st, cmap=cmap, norm=norm, shading="flat")
+        cb = fig.colorbar(im, ax=ax, ticks=[0, 1, 2, 3])
+        cb.ax.set_yticklabels(STATE_LABELS)
+        ax.set_xlabel("pairs, in the order of their position along the joint's main direction"
+                      if surface else _arc_label(x, order))  # fmt: skip
+        ax.set_ylabel("time (s)")
+        ax.set_title((f"{title}\n" if title and j == 0 else "") + f"pair states along {name}"
+                     + _piece_label(j, len(pieces), x.mean(axis=0)), fontsize=10)  # fmt: skip
     return _finish(fig, path)
+
+
+def _piece_label(j: int, n: int, centre: np.ndarray) -> str:
+    """The suffix naming piece ``j`` of ``n`` of a joint in a panel's title, with the
+    centroid of its pairs (m); empty for a joint in one piece."""
+    if n == 1:
+        return ""
+    where = ", ".join(f"{v + 0.0:.4g}" for v in centre)
+    return f"\npiece {j + 1} of {n}, about ({where}) m"
 
 
 def plot_rigid(res: Results, path: Path, title: str = "") -> Path:
@@ -426,31 +444,37 @@ def plot_static(res: Results, name: str, path: Path, title: str = "") -> Path:
     plt = _plt()
     pr = res.static_pairs(name)
     if pr["x"].shape[1] == 3:
-        return _plot_static_3d(pr, name, path, title)
-    order, s = _arc(pr["x"])
-    # 2D: the signed shear stress along the pair's tangent t; 3D: its magnitude
-    tau = pr["shear_stress"]
-    plane = tau.shape[-1] == 1
-    shear = (tau[:, 0] if plane else np.linalg.norm(tau, axis=-1))[order]
-    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
-    ax[0].plot(s, 1e-6 * pr["normal_stress"][order], lw=1.0, marker=".",
-               label="normal (compression +)")  # fmt: skip
-    ax[0].set_ylabel("normal stress (MPa)")
-    ax[1].plot(s, 1e-6 * shear, lw=1.0, marker=".", color="C1", label="shear")
-    state = pr["state"][order]
-    for k, lab in enumerate(STATE_LABELS):
-        hit = state == k
-        if hit.any():
-            ax[1].scatter(s[hit], 1e-6 * shear[hit], s=18, color=STATE_COLOURS[k], label=lab,
-                          zorder=3)  # fmt: skip
-    ax[1].set_ylabel("shear stress along t (MPa)" if plane else "|shear stress| (MPa)")
-    ax[1].set_xlabel(_arc_label(pr["x"], order))
-    for a in ax:
-        a.grid(alpha=0.3)
-        _legend(a)
-    frames = ("; the stresses on side b, t the normal n (from side a into side b) turned "
-              "clockwise" if plane else "")  # fmt: skip
-    ax[0].set_title(f"{title}\nstatic state of {name}{frames}", fontsize=10)
+        return _plot_static_3d(res, name, path, title)
+    pieces = joint_pieces(res, name)
+    fig, axes = plt.subplots(2 * len(pieces), 1, figsize=(8, 5.5 * len(pieces)), squeeze=False)
+    # 2D: the signed shear stress along the pair's tangent t
+    tau = pr["shear_stress"][:, 0]
+    for j, idx in enumerate(pieces):
+        ax = axes[2 * j : 2 * j + 2, 0]
+        x = pr["x"][idx]
+        order, s = _arc(x)
+        at = idx[order]
+        ax[0].plot(s, 1e-6 * pr["normal_stress"][at], lw=1.0, marker=".",
+                   label="normal (compression +)")  # fmt: skip
+        ax[0].set_ylabel("normal stress (MPa)")
+        ax[1].plot(s, 1e-6 * tau[at], lw=1.0, marker=".", color="C1", label="shear")
+        state = pr["state"][at]
+        for k, lab in enumerate(STATE_LABELS):
+            hit = state == k
+            if hit.any():
+                ax[1].scatter(s[hit], 1e-6 * tau[at][hit], s=18, color=STATE_COLOURS[k],
+                              label=lab, zorder=3)  # fmt: skip
+        ax[1].set_ylabel("shear stress along t (MPa)")
+        ax[1].set_xlabel(_arc_label(x, order))
+        ax[1].sharex(ax[0])
+        for a in ax:
+            a.grid(alpha=0.3)
+            _legend(a)
+        frames = ("; the stresses on side b, t the normal n (from side a into side b) turned "
+                  "clockwise")  # fmt: skip
+        ax[0].set_title((f"{title}\n" if title and j == 0 else "")
+                        + f"static state of {name}{frames}"
+                        + _piece_label(j, len(pieces), x.mean(axis=0)), fontsize=10)  # fmt: skip
     return _finish(fig, path)
 
 
@@ -461,14 +485,20 @@ def _pair_squares(uv: np.ndarray, area: np.ndarray) -> np.ndarray:
     return uv[:, None, :] + np.sqrt(area)[:, None, None] * corners[None, :, :]
 
 
-def _pair_cells(uv: np.ndarray, area: np.ndarray) -> list[np.ndarray]:
+def _pair_cells(
+    uv: np.ndarray,
+    area: np.ndarray,
+    neighbours: np.ndarray | None = None,
+    clip: np.ndarray | None = None,
+) -> list[np.ndarray]:
     """Each pair of a 3D joint drawn in the joint's plane as its tributary cell: the
-    Voronoi cell of its point ``uv`` (m) among the joint's pairs, clipped to their convex
-    hull, so that the map of a convex joint covers it and no more (squares of the
-    tributary area about the points stood out by half a square beyond the joint's edges;
-    an L-shaped joint, or two patches named as one, is painted over its hull). Pairs at one
-    point share its cell. Falls back to :func:`_pair_squares` where the points span no
-    area (all on a line). Polygons (k, 2), m.
+    Voronoi cell of its point ``uv`` (m) among the joint's pairs and the points
+    ``neighbours`` (the pairs of other interfaces along a seam: they take their share of
+    the faces there), clipped to the convex polygon ``clip`` (counter-clockwise; by default
+    the pairs' convex hull), so that the map of a convex joint covers it and no more
+    (squares of the tributary area about the points stood out by half a square beyond the
+    joint's edges). Pairs at one point share its cell. Falls back to
+    :func:`_pair_squares` where the points span no area (all on a line). Polygons (k, 2), m.
 
     >>> uv = np.array([[x, y] for y in (0.0, 1.0, 2.0) for x in (0.0, 1.0, 2.0)])
     >>> cells = _pair_cells(uv, np.ones(9))
@@ -480,13 +510,19 @@ def _pair_cells(uv: np.ndarray, area: np.ndarray) -> list[np.ndarray]:
     pts, inverse = np.unique(np.round(uv, 9), axis=0, return_inverse=True)
     inverse = inverse.ravel()
     try:
-        hull = pts[ConvexHull(pts).vertices]  # counter-clockwise
+        hull = pts[ConvexHull(pts).vertices] if clip is None else clip  # counter-clockwise
     except (QhullError, ValueError):
         return list(_pair_squares(uv, area))
-    span = float(np.ptp(pts, axis=0).max())
+    others = np.zeros((0, 2)) if neighbours is None else np.round(neighbours, 9)
+    if others.size:
+        from scipy.spatial import cKDTree
+
+        others = np.unique(others, axis=0)
+        others = others[cKDTree(pts).query(others)[0] > 1e-9]
+    span = float(np.ptp(np.vstack([pts, hull]), axis=0).max())
     centre = pts.mean(axis=0)
     far = centre + 10.0 * span * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-    vor = Voronoi(np.vstack([pts, far]))
+    vor = Voronoi(np.vstack([pts, others, far]))
     cells = []
     for i in range(pts.shape[0]):
         region = vor.regions[vor.point_region[i]]
@@ -495,6 +531,155 @@ def _pair_cells(uv: np.ndarray, area: np.ndarray) -> list[np.ndarray]:
         ang = np.arctan2(*(poly - pts[i]).T[::-1])
         cells.append(_clip_convex(poly[np.argsort(ang)], hull))
     return [cells[k] for k in inverse]
+
+
+class JointPatch(NamedTuple):
+    """A connected, drawable piece of a 3D joint: ``members`` its pairs (positions among the
+    joint's pairs), ``uv`` their coordinates in the patch's plane (m), ``basis`` the plane's
+    axes and normal (3, 3), ``labels`` the axes' names, ``cells`` each pair's tributary
+    polygon in the plane (:func:`_pair_cells`), ``outline`` the patch's faces in the
+    plane (corner polygons, m), the region the cells are clipped to when drawn, and
+    ``centre`` the centroid of its pairs (3,), m."""
+
+    members: np.ndarray
+    uv: np.ndarray
+    basis: np.ndarray
+    labels: list[str]
+    cells: list[np.ndarray]
+    outline: list[np.ndarray]
+    centre: np.ndarray
+
+
+def _joint_faces(res: Results, name: str) -> dict[str, Any]:
+    """The faces of a joint and its pieces, for :func:`joint_pieces` and
+    :func:`joint_patches`: ``label`` (m,) the piece of each of the joint's pairs (pieces
+    numbered in the order of their first pairs), ``corners`` the faces' corner coordinates
+    (a list of (k, d) arrays), ``face_piece`` each face's piece, ``seam`` (s, 2) the nodes of
+    other interfaces on the faces with their face's piece, and the joint's pairs'
+    ``x``, ``frame``, ``area``, and the mesh's ``points``. See :func:`joint_patches`."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from ..element import reference
+    from ..mesh import Mesh
+
+    f = res.f
+    sel = res._select(name)
+    x_pair = np.asarray(f["pairs/x"])[sel]
+    frame = np.asarray(f["pairs/frame"])[sel]
+    node = np.asarray(f["pairs/node_a"])[sel]
+    points = np.asarray(f["mesh/points"], dtype=float)
+    cells = {ctype: np.asarray(f[f"mesh/cells/{ctype}"]) for ctype in f["mesh/cells"]}
+    n_pts = points.shape[0]
+    pair_of = np.full(n_pts, -1)
+    pair_of[node] = np.arange(node.size)
+    normal = frame[:, -1, :]
+    on_any = np.zeros(n_pts, dtype=bool)  # a node of a pair of any interface
+    on_any[np.asarray(f["pairs/node_a"])] = True
+    on_any[np.asarray(f["pairs/node_b"])] = True
+    links: list[np.ndarray] = []  # (pair, pair): a face's first pair of the joint and each
+    corners: list[np.ndarray] = []  # the faces' corner coordinates (k, d)
+    firsts: list[np.ndarray] = []  # each face's first pair of the joint
+    seams: list[np.ndarray] = []  # (node, its face's first pair): nodes of other interfaces
+    for ftype, conn in Mesh(points, cells).facets(boundary_only=True).items():
+        conn = np.asarray(conn)
+        ids = pair_of[conn]
+        # on a face of the joint: every node a pair's, one at least of this joint (a face
+        # along the seam with another interface has nodes of both)
+        conn, ids = (a[on_any[conn].all(axis=1) & (ids >= 0).any(axis=1)] for a in (conn, ids))
+        k = reference(reference(ftype).linear).n_nodes
+        c = points[conn[:, :k]]
+        if points.shape[1] == 3:
+            fn = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
+        else:  # a segment: its tangent turned
+            fn = (c[:, 1] - c[:, 0]) @ np.array([[0.0, -1.0], [1.0, 0.0]])
+        pn = np.where((ids >= 0)[..., None], normal[np.maximum(ids, 0)], 0.0).sum(axis=1)
+        cos = (fn * pn).sum(axis=1) / np.maximum(
+            np.linalg.norm(fn, axis=1) * np.linalg.norm(pn, axis=1), 1e-300
+        )
+        keep = np.abs(cos) > 0.5
+        conn, ids = conn[keep], ids[keep]
+        lead = ids[np.arange(ids.shape[0]), (ids >= 0).argmax(axis=1)]
+        pair = np.where(ids >= 0, ids, lead[:, None])
+        links.append(np.column_stack([np.repeat(lead, ids.shape[1]), pair.ravel()]))
+        corners.extend(points[conn[:, :k]])
+        firsts.append(lead)
+        other = ids < 0
+        seams.append(
+            np.column_stack([conn[other], np.broadcast_to(lead[:, None], ids.shape)[other]])
+        )
+    m = node.size
+    ij = np.concatenate(links) if links else np.zeros((0, 2), dtype=int)
+    graph = coo_matrix((np.ones(ij.shape[0]), (ij[:, 0], ij[:, 1])), shape=(m, m))
+    n_piece, label = connected_components(graph, directed=False)
+    # the pieces numbered in the order of their first pairs
+    first = np.unique(label, return_index=True)[1]
+    rank = np.empty(n_piece, dtype=int)
+    rank[label[np.sort(first)]] = np.arange(n_piece)
+    label = rank[label]
+    seam = np.concatenate(seams) if seams else np.zeros((0, 2), dtype=int)
+    seam[:, 1] = label[seam[:, 1]]
+    face_piece = label[np.concatenate(firsts)] if firsts else np.zeros(0, dtype=int)
+    return {"label": label, "corners": corners, "seam": seam, "x": x_pair, "frame": frame,
+            "area": np.asarray(f["pairs/area"])[sel], "points": points,
+            "face_piece": face_piece}  # fmt: skip
+
+
+def joint_pieces(res: Results, name: str) -> list[np.ndarray]:
+    """The connected pieces of a joint (:func:`joint_patches`), as the positions of their
+    pairs among the joint's, pieces in the order of their first pairs. A 2D group holding
+    two lift joints is two pieces; a joint is one.
+
+    The figures along a joint draw each piece apart: laid along one axis, the pairs of two
+    parallel joints interleave, and a line through them zigzags between the joints."""
+    label = _joint_faces(res, name)["label"]
+    return [np.flatnonzero(label == j) for j in range(int(label.max(initial=-1)) + 1)]
+
+
+def joint_patches(res: Results, name: str) -> list[JointPatch]:
+    """The pieces of a 3D joint that are drawn apart: its pairs split into the connected
+    sets of the joint's faces, each in its own plane (:func:`joint_plane`). One physical
+    group may hold several joints (the contraction joints of a dam, parallel planes):
+    projected on one plane their pairs would lie on top of each other. The faces are the
+    blocks' boundary faces whose nodes are all nodes of pairs, one at least a side-a node
+    of the joint, and whose normal is within 60° of the pairs' (a face of a block's outer
+    surface with its corners on the joint's edge is not one); a face along the seam with
+    another interface, with nodes of both, is counted in. Two pairs are in one patch when
+    a chain of such faces links them, and a pair on no face (there should be none) is a
+    patch of its own. Each pair's cell is its Voronoi cell in the patch
+    (:func:`_pair_cells`) among the patch's pairs and the other interfaces' nodes on its
+    faces (a seam's pairs belong to one of the interfaces that meet there, and their
+    tributary area spans both), drawn clipped to the patch's faces (``outline``), so that
+    a joint with a re-entrant corner is not painted over its convex hull."""
+    jf = _joint_faces(res, name)
+    label, corners, seam = jf["label"], jf["corners"], jf["seam"]
+    out = []
+    for j in range(int(label.max(initial=-1)) + 1):
+        idx = np.flatnonzero(label == j)
+        uv, basis, labels = joint_plane(jf["x"][idx], jf["frame"][idx])
+        outline = [corners[i] @ basis[:2].T for i in np.flatnonzero(jf["face_piece"] == j)]
+        clip = None
+        if outline:  # the faces' bounding box: the outline clips the drawing
+            lo, hi = np.vstack(outline).min(axis=0), np.vstack(outline).max(axis=0)
+            clip = np.array([lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]])
+        near = jf["points"][seam[seam[:, 1] == j, 0]] @ basis[:2].T
+        cells_j = _pair_cells(uv, jf["area"][idx], near, clip)
+        out.append(JointPatch(idx, uv, basis, labels, cells_j, outline,
+                              jf["x"][idx].mean(axis=0)))  # fmt: skip
+    return out
+
+
+def _clip_to(pc: Any, ax: Any, outline: list[np.ndarray]) -> None:
+    """Clip a collection drawn on ``ax`` to the union of the polygons ``outline`` (data
+    coordinates; none: no clipping)."""
+    if not outline:
+        return
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
+    path = MplPath.make_compound_path(*[MplPath(np.vstack([p, p[:1]]), closed=True)
+                                        for p in outline])  # fmt: skip
+    pc.set_clip_path(PathPatch(path, transform=ax.transData))
 
 
 def _clip_convex(poly: np.ndarray, clip: np.ndarray) -> np.ndarray:
@@ -524,42 +709,54 @@ def _polygon_area(poly: np.ndarray) -> float:
     return 0.5 * abs(float(x @ np.roll(y, -1) - y @ np.roll(x, -1)))
 
 
-def _plot_static_3d(pr: dict[str, np.ndarray], name: str, path: Path, title: str) -> Path:
-    """The static state of a 3D joint in its plane (:func:`joint_plane`; a pair: its
-    tributary cell, :func:`_pair_cells`, as the joint map): the normal stress
-    (compression +), the magnitude of the shear stress (MPa) and the pair states. Along one
-    axis, as the 2D figure does, the pairs of a surface stack at each position (a
-    sawtooth of vertical strokes)."""
+def _plot_static_3d(res: Results, name: str, path: Path, title: str) -> Path:
+    """The static state of a 3D joint in its plane, each connected piece in its own
+    (:func:`joint_patches`; a pair: its tributary cell, as the joint map): the normal
+    stress (compression +), the magnitude of the shear stress (MPa) and the pair states,
+    a row per piece."""
     plt = _plt()
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
-    uv, _, labels = joint_plane(pr["x"], pr["frame"])
-    squares = _pair_cells(uv, pr["area"])
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    pr = res.static_pairs(name)
+    patches = joint_patches(res, name)
+    fig, axes = plt.subplots(len(patches), 3, figsize=(15, 4.8 * len(patches)), squeeze=False)
     normal = 1e-6 * pr["normal_stress"]
     shear = 1e-6 * np.linalg.norm(pr["shear_stress"], axis=-1)
-    for ax, v, what, cmap in ((axes[0], normal, "normal stress (compression +)", "viridis"),
-                              (axes[1], shear, "|shear stress|", "magma")):  # fmt: skip
-        pc = PolyCollection(squares, array=v, cmap=cmap, edgecolors="0.6", linewidths=0.3)
-        ax.add_collection(pc)
-        fig.colorbar(pc, ax=ax, shrink=0.8, label="MPa")
-        ax.set_title(what, fontsize=9)
-    pc = PolyCollection(squares, array=pr["state"], cmap=ListedColormap(STATE_COLOURS),
-                        norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), edgecolors="w",
-                        linewidths=0.3)  # fmt: skip
-    axes[2].add_collection(pc)
-    bar = fig.colorbar(pc, ax=axes[2], shrink=0.8, ticks=[0, 1, 2, 3])
-    bar.ax.set_yticklabels(STATE_LABELS, fontsize=7)
-    axes[2].set_title("pair states", fontsize=9)
-    for ax in axes:
-        ax.set_aspect("equal")
-        ax.autoscale_view()
-        ax.set_xlabel(f"{labels[0]} (m)")
-        ax.set_ylabel(f"{labels[1]} (m)")
-    fig.suptitle((f"{title}\n" if title else "") + f"static state of {name}, in its plane",
+    for j, (row, patch) in enumerate(zip(axes, patches, strict=True)):
+        at = _patch_label(patch, j, len(patches))
+        for ax, v, what, cmap in ((row[0], normal, "normal stress (compression +)", "viridis"),
+                                  (row[1], shear, "|shear stress|", "magma")):  # fmt: skip
+            pc = PolyCollection(patch.cells, array=v[patch.members], cmap=cmap, edgecolors="0.6",
+                                linewidths=0.3)  # fmt: skip
+            pc.set_clim(float(v.min()), float(v.max()))  # one scale over the pieces
+            ax.add_collection(pc)
+            _clip_to(pc, ax, patch.outline)
+            fig.colorbar(pc, ax=ax, shrink=0.8, label="MPa")
+            ax.set_title(what + at, fontsize=9)
+        pc = PolyCollection(patch.cells, array=pr["state"][patch.members],
+                            cmap=ListedColormap(STATE_COLOURS),
+                            norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), edgecolors="w",
+                            linewidths=0.3)  # fmt: skip
+        row[2].add_collection(pc)
+        _clip_to(pc, row[2], patch.outline)
+        bar = fig.colorbar(pc, ax=row[2], shrink=0.8, ticks=[0, 1, 2, 3])
+        bar.ax.set_yticklabels(STATE_LABELS, fontsize=7)
+        row[2].set_title("pair states" + at, fontsize=9)
+        for ax in row:
+            ax.set_aspect("equal")
+            ax.autoscale_view()
+            ax.set_xlabel(f"{patch.labels[0]} (m)")
+            ax.set_ylabel(f"{patch.labels[1]} (m)")
+    fig.suptitle((f"{title}\n" if title else "") + f"static state of {name}, in its plane"
+                 + (f" ({len(patches)} pieces, each in its own)" if len(patches) > 1 else ""),
                  fontsize=10)  # fmt: skip
     return _finish(fig, path)
+
+
+def _patch_label(patch: JointPatch, j: int, n: int) -> str:
+    """:func:`_piece_label` of a patch."""
+    return _piece_label(j, n, patch.centre)
 
 
 def plot_spectrum(spectra: dict[str, ResponseSpectrum], path: str | Path,
@@ -726,16 +923,20 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     names = res.interface_names
-    fig, axes = plt.subplots(2 * len(names), 1, figsize=(8, 3.6 * len(names)), squeeze=False,
-                             gridspec_kw={"height_ratios": [4, 1] * len(names)})  # fmt: skip
+    rows = [(name, j, idx, len(pieces)) for name in names
+            for pieces in [joint_pieces(res, name)] for j, idx in enumerate(pieces)]  # fmt: skip
+    fig, axes = plt.subplots(2 * len(rows), 1, figsize=(8, 3.6 * len(rows)), squeeze=False,
+                             gridspec_kw={"height_ratios": [4, 1] * len(rows)})  # fmt: skip
     cmap = ListedColormap(STATE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
-    for j, name in enumerate(names):
-        ax, strip = axes[2 * j, 0], axes[2 * j + 1, 0]
+    for i, (name, j, idx, n) in enumerate(rows):
+        ax, strip = axes[2 * i, 0], axes[2 * i + 1, 0]
         pr = res.pairs(name)
-        order, s = _arc(pr["x"])
-        slip = np.linalg.norm(pr["slip"], axis=-1)[:, order]
-        ax.plot(s, 1e3 * _shown_opening(pr["opening"][:, order].max(axis=0)), ".-", lw=1.0,
+        x = pr["x"][idx]
+        order, s = _arc(x)
+        at = idx[order]
+        slip = np.linalg.norm(pr["slip"], axis=-1)[:, at]
+        ax.plot(s, 1e3 * _shown_opening(pr["opening"][:, at].max(axis=0)), ".-", lw=1.0,
                 color="C3", label="largest opening")  # fmt: skip
         ax.plot(s, 1e3 * slip.max(axis=0), ".-", lw=1.0, color="C0", label="largest slip")
         ax.plot(s, 1e3 * slip[-1], "--", lw=1.0, color="C0", label="residual slip")
@@ -743,18 +944,18 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
         ax.set_ylim(bottom=0.0)  # magnitudes: a small slip is not read as none
         ax.grid(alpha=0.3)
         _legend(ax)
-        ax.set_title(f"joint {name}", fontsize=9)
-        first = (res.static_pairs(name)["state"][order] if "static/state" in res.f
-                 else pr["state"][0, order])  # fmt: skip
-        st = np.stack([first, pr["state"][-1, order]])
+        ax.set_title(f"joint {name}" + _piece_label(j, n, x.mean(axis=0)), fontsize=9)
+        first = (res.static_pairs(name)["state"][at] if "static/state" in res.f
+                 else pr["state"][0, at])  # fmt: skip
+        st = np.stack([first, pr["state"][-1, at]])
         edges = (np.concatenate([[s[0]], 0.5 * (s[1:] + s[:-1]), [s[-1]]]) if s.size > 1
                  else np.r_[-0.5, 0.5])  # fmt: skip
         strip.pcolormesh(edges, [0, 1, 2], st, cmap=cmap, norm=norm, shading="flat")
-        broken = pr["broken"][-1, order]
+        broken = pr["broken"][-1, at]
         strip.plot(s[broken], np.full(int(broken.sum()), 1.5), "kx", ms=4)
         strip.set_yticks([0.5, 1.5], ["static", "end"], fontsize=8)
         strip.set_xlim(ax.get_xlim())
-        strip.set_xlabel(_arc_label(pr["x"], order))
+        strip.set_xlabel(_arc_label(x, order))
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
@@ -1134,61 +1335,79 @@ MAP_FLOOR_MM = 1e-3
 
 
 def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
-    """Per joint of a 3D model, its pairs in the joint's plane (:func:`joint_plane`), each
-    pair its tributary cell (:func:`_pair_cells`): the pair states of the static
-    state and at the end (the colours of the 2D map; broken pairs crossed), the largest
-    opening of the run and the residual slip (mm; each colour scale from 0 to the
-    largest value, at least :data:`MAP_FLOOR_MM`). The PNG's description gives, per
-    joint, the pairs drawn, the plane's normal and the largest values shown."""
+    """Per joint of a 3D model, each connected piece of it in its plane
+    (:func:`joint_patches`: a physical group may hold several parallel joints), each pair
+    its tributary cell clipped to the joint's faces: the pair states of the static state
+    and at the end (the colours of the 2D map; broken pairs crossed), the largest opening
+    of the run and the residual slip (mm; each colour scale from 0 to the joint's largest
+    value, at least :data:`MAP_FLOOR_MM`). The PNG's description gives, per joint, the
+    pairs drawn, the mean plane's normal, the largest values shown and its pieces (pairs,
+    normal, centroid)."""
     plt = _plt()
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     names = res.interface_names
-    fig, axes = plt.subplots(2 * len(names), 2, figsize=(11, 8.4 * len(names)), squeeze=False)
+    pieces = [
+        (name, j, patch, len(patches))
+        for name in names
+        for patches in [joint_patches(res, name)]
+        for j, patch in enumerate(patches)
+    ]
+    fig, axes = plt.subplots(2 * len(pieces), 2, figsize=(11, 8.4 * len(pieces)),
+                             squeeze=False)  # fmt: skip
     cmap = ListedColormap(STATE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
     described: dict[str, Any] = {}
-    for j, name in enumerate(names):
+    data: dict[str, tuple[np.ndarray, ...]] = {}
+    for name in names:
         pr = res.pairs(name)
-        uv, basis, labels = joint_plane(pr["x"], pr["frame"])
-        squares = _pair_cells(uv, pr["area"])
         first = (res.static_pairs(name)["state"] if "static/state" in res.f
                  else pr["state"][0])  # fmt: skip
         opening = 1e3 * _shown_opening(pr["opening"].max(axis=0))
         residual = 1e3 * np.linalg.norm(pr["slip"][-1], axis=-1)
-        broken = pr["broken"][-1]
+        data[name] = (first, pr["state"][-1], opening, residual, pr["broken"][-1])
+        uv, basis, labels = joint_plane(pr["x"], pr["frame"])
+        described[name] = {"pairs": int(uv.shape[0]), "normal": basis[-1].tolist(),
+                           "axes": labels, "largest_opening_mm": float(opening.max()),
+                           "largest_residual_slip_mm": float(residual.max()),
+                           "pieces": []}  # fmt: skip
+    for i, (name, j, patch, n) in enumerate(pieces):
+        first, last, opening, residual, broken = (v[patch.members] for v in data[name])
+        at = _patch_label(patch, j, n)
         panels = (
             (first, "pair states, static", None),
-            (pr["state"][-1], "pair states at the end (× broken)", None),
+            (last, "pair states at the end (× broken)", None),
             (opening, "largest opening of the run", "Reds"),
             (residual, "residual slip", "Blues"),
         )  # fmt: skip
         for k, (v, what, seq) in enumerate(panels):
-            ax = axes[2 * j + k // 2, k % 2]
+            ax = axes[2 * i + k // 2, k % 2]
             if seq is None:
-                pc = PolyCollection(list(squares), array=v, cmap=cmap, norm=norm, edgecolors="w",
+                pc = PolyCollection(patch.cells, array=v, cmap=cmap, norm=norm, edgecolors="w",
                                     linewidths=0.3)  # fmt: skip
                 # a colour bar of the states too, so that the four panels of a joint are
                 # drawn at one scale (a panel without one was drawn larger)
                 bar = fig.colorbar(pc, ax=ax, shrink=0.8, ticks=[0, 1, 2, 3])
                 bar.ax.set_yticklabels(STATE_LABELS, fontsize=7)
             else:
-                pc = PolyCollection(list(squares), array=v, cmap=seq, edgecolors="0.6",
+                whole = data[name][2 if seq == "Reds" else 3]  # one scale over the pieces
+                pc = PolyCollection(patch.cells, array=v, cmap=seq, edgecolors="0.6",
                                     linewidths=0.3)  # fmt: skip
-                pc.set_clim(0.0, max(float(v.max()), MAP_FLOOR_MM))
+                pc.set_clim(0.0, max(float(whole.max()), MAP_FLOOR_MM))
                 fig.colorbar(pc, ax=ax, shrink=0.8, label="mm")
             ax.add_collection(pc)
+            _clip_to(pc, ax, patch.outline)
             if k == 1 and broken.any():
-                ax.plot(uv[broken, 0], uv[broken, 1], "kx", ms=4)
+                ax.plot(patch.uv[broken, 0], patch.uv[broken, 1], "kx", ms=4)
             ax.set_aspect("equal")
             ax.autoscale_view()
-            ax.set_xlabel(f"{labels[0]} (m)")
-            ax.set_ylabel(f"{labels[1]} (m)")
-            ax.set_title(f"joint {name}: {what}", fontsize=9)
-        described[name] = {"pairs": int(uv.shape[0]), "normal": basis[-1].tolist(),
-                           "axes": labels, "largest_opening_mm": float(opening.max()),
-                           "largest_residual_slip_mm": float(residual.max())}  # fmt: skip
+            ax.set_xlabel(f"{patch.labels[0]} (m)")
+            ax.set_ylabel(f"{patch.labels[1]} (m)")
+            ax.set_title(f"joint {name}: {what}{at}", fontsize=9)
+        described[name]["pieces"].append(
+            {"pairs": int(patch.members.size), "normal": patch.basis[-1].tolist(),
+             "centre": patch.centre.tolist(), "axes": patch.labels})  # fmt: skip
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLOURS]
     handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
     fig.legend(handles, [*STATE_LABELS, "broken"], loc="lower center", ncol=5, fontsize=8)
