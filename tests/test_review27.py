@@ -56,7 +56,7 @@ def test_an_at2_record_refuses_units_other_than_its_header_s(
 
 
 # -- the absolute form's supports, moved as the scheme integrates the record -------------
-@pytest.mark.parametrize("scheme", ["newmark", "nonsmooth-alpha"])
+@pytest.mark.parametrize("scheme", ["newmark", "nonsmooth-alpha", "moreau-jean"])
 def test_absolute_form_a_block_carried_by_the_base_reads_the_ground_acceleration(
     scheme: str,
 ) -> None:
@@ -68,7 +68,8 @@ def test_absolute_form_a_block_carried_by_the_base_reads_the_ground_acceleration
     against 3.5e-3 and 1.4e-4 in the relative form. Now the supports move as the scheme
     integrates a_g, and the absolute form reads what the relative form reads: measured
     3.5e-3 (Newmark, its own error of a stiff mode, as in the relative form) and 1.4e-4
-    after the default scheme's start step (2.6e-3 in its first steps)."""
+    after the default scheme's start step (2.6e-3 in its first steps); Moreau–Jean
+    (θ = 1) 0.72 m/s² before, 7e-5 now."""
     from pfeie.io import read_record
 
     record = Path(__file__).resolve().parents[1] / "examples" / "data"
@@ -87,3 +88,20 @@ def test_absolute_form_a_block_carried_by_the_base_reads_the_ground_acceleration
     rel, ab = err["relative"], err["absolute"]
     assert ab[0] <= 1.05 * rel[0] + 1e-9  # measured equal to 1e-6 of each other
     assert ab[1] <= 2e-3 * gm.pga  # measured 1.1e-3 (Newmark), 8.2e-4 of the PGA
+
+
+def test_a_peer_record_under_another_name_is_read_as_one(tmp_path: Path) -> None:
+    """A PEER record saved as .txt was refused ('line 2: non-numeric text') and `pfeie
+    spectrum` could not read it at all; its header now says what it is. A velocity
+    series is refused by name."""
+    at2 = AT2_GAL.format(units="ACCELERATION TIME SERIES IN UNITS OF G")
+    (tmp_path / "rec.AT2").write_text(at2)
+    (tmp_path / "rec.txt").write_text(at2)
+    ref = read_record(tmp_path / "rec.AT2")
+    got = read_record(tmp_path / "rec.txt")
+    np.testing.assert_array_equal(got.acceleration, ref.acceleration)
+    assert got.pga == pytest.approx(15.0 * 9.81, rel=1e-15)
+    assert main(["spectrum", str(tmp_path / "rec.txt"), "-o", str(tmp_path / "s")]) == 0
+    (tmp_path / "rec.VT2").write_text(at2.replace("ACCELERATION", "VELOCITY"))
+    with pytest.raises(pf.PfeieError, match="a PEER velocity record"):
+        read_record(tmp_path / "rec.VT2")

@@ -364,13 +364,13 @@ class Dynamic:
     def _supports_on_grid(self, ex: Excitation, cur: StepState) -> None:
         """In the absolute form, the supports moved as this analysis's scheme integrates
         the records on the run's grid of steps (:meth:`Excitation.on_grid`), from the
-        grid's origin, so that a resumed run reads the same support motion. Moreau–Jean
-        keeps the exact motion (its supports' share of the pairs' motion follows its
-        θ-rule, :meth:`_step_moreau_jean`)."""
-        if not ex.moves_supports or self.mj is not None:
+        grid's origin, so that a resumed run reads the same support motion."""
+        if not ex.moves_supports:
             return
         origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
-        if self.ga is not None:
+        if self.mj is not None:
+            ex.on_grid(origin, self.dt, theta=self.mj.theta)
+        elif self.ga is not None:
             ga = self.ga
             ex.on_grid(origin, self.dt, beta=ga.beta, gamma=ga.gamma, alpha_m=ga.alpha_m,
                        alpha_f=ga.alpha_f, auxiliary=True)  # fmt: skip

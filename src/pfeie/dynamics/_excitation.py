@@ -68,7 +68,11 @@ class GridGround:
 
         (1 − α_m) a_{k+1} + α_m a_k = (1 − α_f) q̈_{k+1} + α_f q̈_k   (a = q̈ without it),
         d_{k+1} = d_k + h v_k + h² ((½ − β) a_k + β a_{k+1}),
-        v_{k+1} = v_k + h ((1 − γ) a_k + γ a_{k+1}).
+        v_{k+1} = v_k + h ((1 − γ) a_k + γ a_{k+1});
+
+    with ``theta``, Moreau–Jean's: v_{k+1} = v_k + h a_θ, a_θ = (1 − θ) a_g(t_k) +
+    θ a_g(t_{k+1}) (the acceleration given at t_{k+1}: the step's average, as the scheme
+    records it), d_{k+1} = d_k + h ((1 − θ) v_k + θ v_{k+1}).
 
     :meth:`motion` gives (d_k, v_k, q̈_k) on the grid, and off it (event sub-steps) the
     exact motion plus the scheme's drift d_k − d_g(t_k) (and v's) interpolated linearly
@@ -88,13 +92,14 @@ class GridGround:
         t0: float,
         h: float,
         *,
-        beta: float,
-        gamma: float,
+        beta: float = 0.25,
+        gamma: float = 0.5,
         alpha_m: float = 0.0,
         alpha_f: float = 0.0,
         auxiliary: bool = False,
+        theta: float | None = None,
     ) -> None:
-        self.g, self.t0, self.h = g, float(t0), float(h)
+        self.g, self.t0, self.h, self.theta = g, float(t0), float(h), theta
         self.beta, self.gamma, self.alpha_m, self.alpha_f = beta, gamma, alpha_m, alpha_f
         self.auxiliary = auxiliary
         d, v, a = g.motion(self.t0)
@@ -103,9 +108,15 @@ class GridGround:
     def _row(self, k: int) -> tuple[float, float, float, float]:
         rows, h, b, gm = self._rows, self.h, self.beta, self.gamma
         am, af = self.alpha_m, self.alpha_f
+        th = self.theta
         while len(rows) <= k:
             d, v, qdd, a = rows[-1]
             q1 = self.g.motion(self.t0 + len(rows) * h)[2]
+            if th is not None:  # Moreau–Jean: a holds a_g(t_k), q̈ the step's average
+                a_th = (1.0 - th) * a + th * q1
+                v1 = v + h * a_th
+                rows.append((d + h * ((1.0 - th) * v + th * v1), v1, a_th, q1))
+                continue
             a1 = ((1.0 - af) * q1 + af * qdd - am * a) / (1.0 - am) if self.auxiliary else q1
             rows.append((d + h * v + h * h * ((0.5 - b) * a + b * a1),
                          v + h * ((1.0 - gm) * a + gm * a1), q1, a1))  # fmt: skip
@@ -228,14 +239,15 @@ class Excitation:
                     if up.shaking == "full" else 0.0)  # fmt: skip
         self._f_up = self.model.uplift_load(p)[self.system.free]
 
-    def on_grid(self, t0: float, h: float, *, beta: float, gamma: float, alpha_m: float = 0.0,
-                alpha_f: float = 0.0, auxiliary: bool = False) -> None:  # fmt: skip
+    def on_grid(self, t0: float, h: float, *, beta: float = 0.25, gamma: float = 0.5,
+                alpha_m: float = 0.0, alpha_f: float = 0.0, auxiliary: bool = False,
+                theta: float | None = None) -> None:  # fmt: skip
         """Move the supports of the absolute form as the time scheme integrates the
         records on the grid t₀ + k h (:class:`GridGround`, its parameters the scheme's);
         without it (and in the relative form) the records' exact motion."""
         if self.moves_supports:
             self._grid = [GridGround(g, t0, h, beta=beta, gamma=gamma, alpha_m=alpha_m,
-                                     alpha_f=alpha_f, auxiliary=auxiliary)
+                                     alpha_f=alpha_f, auxiliary=auxiliary, theta=theta)
                           for g in self.ground]  # fmt: skip
 
     def _motion(self, i: int, t: float) -> tuple[float, float, float]:

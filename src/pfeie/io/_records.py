@@ -12,8 +12,9 @@ Formats (``fmt``):
   blanks; an optional header line (any non-numeric first line).
 - ``"one-column"``: one acceleration per line (or several per line, read row by row),
   sampled at the ``dt`` given; an optional header line.
-- ``"auto"``: ``.at2`` files are AT2; otherwise two columns if the first data line has
-  two numbers, else one column (which then needs ``dt``).
+- ``"auto"``: ``.at2`` files, and files whose first lines are a PEER header (a third
+  line naming a TIME SERIES, a fourth NPTS and DT), are AT2; otherwise two columns if the
+  first data line has two numbers, else one column (which then needs ``dt``).
 
 Units: ``"g"`` (×9.81 m/s²), ``"m/s2"``, ``"cm/s2"`` (= gal). Every error names the file
 and, where it applies, the line.
@@ -240,6 +241,11 @@ def _read_at2(
     if len(lines) < 5:
         raise RecordError(f"{path}: an AT2 file needs 4 header lines and data; it has "
                           f"{len(lines)} line(s)")  # fmt: skip
+    series = re.search(r"\b(VELOCITY|DISPLACEMENT)\s+TIME\s+SERIES", lines[2], re.I)
+    if series is not None:
+        raise RecordError(f"{path}: line 3: a PEER {series.group(1).lower()} record "
+                          f"({lines[2].strip()!r}); pfeie reads accelerations (the .AT2 "
+                          "file of the same record)")  # fmt: skip
     stated = _at2_units(lines[2])
     if stated is None:
         raise RecordError(f"{path}: line 3: expected the units 'IN UNITS OF G' (or of CM/S/S, "
@@ -286,6 +292,21 @@ def _read_at2(
                           f"{len(values)} sample(s) (truncated or wrong header?)")  # fmt: skip
     name = lines[1].strip() or path.stem
     return np.asarray(values, dtype=float), dt, name, stated
+
+
+def _peer_header(lines: list[str]) -> bool:
+    """Whether a file's first lines are a PEER NGA header (an AT2 record saved under
+    another name is read as one in the "auto" format): a third line naming a "TIME SERIES"
+    and a fourth stating NPTS and DT.
+
+    >>> _peer_header(["PEER NGA", "T", "ACCELERATION TIME SERIES IN UNITS OF G",
+    ...               "NPTS=  4000, DT=   .0100 SEC", "0.1"])
+    True
+    >>> _peer_header(["time,acc", "0,0", "0.01,0.1", "0.02,0.0", "0.03,0.1"])
+    False
+    """
+    return (len(lines) >= 5 and "TIME SERIES" in lines[2].upper()
+            and bool(re.search(r"NPTS\s*[=,]|NPTS\s*,\s*DT", lines[3], re.I)))  # fmt: skip
 
 
 #: the units a PEER .AT2 header's third line may state after "UNITS OF" (NGA writes G)
@@ -459,7 +480,7 @@ def read_record(
     kind = fmt.lower()
     if kind not in ("auto", "at2", "two-column", "one-column"):
         raise RecordError(f"{p}: format must be auto, at2, two-column or one-column, got {fmt!r}")
-    if kind == "auto" and p.suffix.lower() == ".at2":
+    if kind == "auto" and (p.suffix.lower() == ".at2" or _peer_header(lines)):
         kind = "at2"
     if kind != "at2":
         rows, _ = _data_lines(p, lines)
