@@ -105,3 +105,17 @@ def test_a_peer_record_under_another_name_is_read_as_one(tmp_path: Path) -> None
     (tmp_path / "rec.VT2").write_text(at2.replace("ACCELERATION", "VELOCITY"))
     with pytest.raises(pf.PfeieError, match="a PEER velocity record"):
         read_record(tmp_path / "rec.VT2")
+
+
+def test_the_units_gal_and_the_flat_readers(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`pfeie spectrum --units gal` was refused ('invalid choice') while the model file and
+    read_record take gal; and read_record and read_mesh are in the flat API."""
+    p = tmp_path / "rec.csv"
+    p.write_text("t,a\n0,0\n0.01,15\n0.02,-5\n0.03,0\n")
+    assert pf.read_record is read_record
+    assert pf.read_record(p, units="gal").pga == pytest.approx(0.15, rel=1e-15)
+    assert main(["spectrum", str(p), "--units", "gal", "--periods", "0.1",
+                 "-o", str(tmp_path / "s")]) == 0  # fmt: skip
+    assert "PGA 0.015 g (0.150 m/s²)" in capsys.readouterr().out  # 15 gal = 0.15 m/s²

@@ -40,6 +40,7 @@ from .errors import (
     SolverError,
 )  # fmt: skip
 from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings
+from .io import read_mesh, read_record
 from .mesh import Mesh, box, graded, rectangle
 from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh, Reservoir
 from .solvers import (
@@ -66,7 +67,6 @@ __all__ = [
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
     "StaticResult", "StrengthReduction", "Study", "StudyTable", "YieldCoefficient", "__version__",
-    "box", "factorize", "graded", "modal", "rectangle", "run_to_folder", "solve_static",
-    "strength_reduction",
-    "yield_coefficient",
+    "box", "factorize", "graded", "modal", "read_mesh", "read_record", "rectangle",
+    "run_to_folder", "solve_static", "strength_reduction", "yield_coefficient",
 ]  # fmt: skip

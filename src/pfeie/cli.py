@@ -128,8 +128,9 @@ def _parser() -> argparse.ArgumentParser:
                      " or a comma-separated list, e.g. 0.1,0.5,1")  # fmt: skip
     spc.add_argument("--t1", metavar="T", help="period (s) of the intensity measure Sa(T1) "
                      "(default: the target_sa period of a model's record, if any)")  # fmt: skip
-    spc.add_argument("--units", choices=["g", "m/s2", "cm/s2"],
-                     help="units of a record file that is not AT2 (required for it)")  # fmt: skip
+    spc.add_argument("--units", choices=["g", "m/s2", "cm/s2", "gal"],
+                     help="units of a record file that is not AT2 (required for it; an AT2 "
+                     "file states its own: given, they must be the same)")  # fmt: skip
     spc.add_argument("--dt", metavar="DT", help="time step of a one-column record file (s)")
     spc.add_argument("-o", "--out", default=".", metavar="DIR",
                      help="output folder (default: the current folder)")  # fmt: skip

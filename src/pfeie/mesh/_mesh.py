@@ -58,7 +58,9 @@ class Mesh:
     cells: connectivity per cell type, each of shape (n_cells, n_nodes_per_cell).
     cell_groups: group name → cell type → indices into ``cells[type]``.
     facet_groups: group name → facet type → facet connectivity (n_facets, n_nodes); a
-        facet given twice (on both of its cells) is stored once.
+        facet given twice to the constructor (on both of its cells) is stored once, while
+        :meth:`add_facet_group` with ``boundary_only=False`` keeps an interior facet once
+        per cell it bounds (as the interface split reads a joint: a facet a side).
     cell_ids: cell type → the id of each cell in the file it was read from (gmsh element
         ids), for messages; empty for a mesh built in Python (cells are then named by type
         and index).
@@ -357,7 +359,9 @@ class Mesh:
     def add_facet_group(
         self, name: str, where: Callable[[FloatArray], Any], boundary_only: bool = True
     ) -> dict[str, IntArray]:
-        """Add a facet group of the (boundary) facets whose centroid satisfies ``where(x)``."""
+        """Add a facet group of the (boundary) facets whose centroid satisfies ``where(x)``.
+        With ``boundary_only=False`` an interior facet is taken once per cell it bounds
+        (both sides of a joint; :meth:`facets`), so a joint of k faces holds 2k."""
         grp: dict[str, IntArray] = {}
         for ftype, conn in self.facets(boundary_only=boundary_only).items():
             mask = _mask(where, self.points[conn].mean(axis=1), f"facet group {name!r}")

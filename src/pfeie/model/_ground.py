@@ -225,8 +225,9 @@ class GroundMotion:
         Hz; about the duration of the filter's transient, Converse & Brady 1992), then the
         two passes start from rest, and the pads are cut off: the record keeps its time
         grid, and the transients of its ends lie in the pads. The samples must be equally
-        spaced; the corners must satisfy 0 < highpass < lowpass < 1/(2Δt) (the Nyquist
-        frequency). Accelerations stay in m/s².
+        spaced; the corners must satisfy 0.01/D ≤ highpass < lowpass < 1/(2Δt) (D the
+        record's duration: :data:`HIGHPASS_MIN_CYCLES` cycles per record at least; the
+        Nyquist frequency). Accelerations stay in m/s².
 
         >>> import numpy as np
         >>> t = np.arange(20000) * 0.005
