@@ -119,3 +119,16 @@ def test_the_units_gal_and_the_flat_readers(
     assert main(["spectrum", str(p), "--units", "gal", "--periods", "0.1",
                  "-o", str(tmp_path / "s")]) == 0  # fmt: skip
     assert "PGA 0.015 g (0.150 m/s²)" in capsys.readouterr().out  # 15 gal = 0.15 m/s²
+
+
+def test_a_thickness_that_underflows_the_normals_is_refused(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The long fuzz found `thickness = 2.87e-202`: the facets' area-weighted normals
+    underflowed to 0/0 and the interface split raised an IndexError. A 2D thickness now
+    lies in [1e-6, 1e6] m, in the model file and in Python."""
+    koyna = Path(__file__).resolve().parents[1] / "examples" / "koyna" / "koyna.toml"
+    assert main(["check", str(koyna), "--set", "thickness=2.8746245836245954e-202"]) == 2
+    assert "thickness" in capsys.readouterr().err
+    with pytest.raises(pf.ModelError, match=r"thickness: expected a number in \[1e-06"):
+        pf.Model(pf.rectangle(1.0, 1.0, 1, 1), [], thickness=1e-202)

@@ -81,6 +81,9 @@ FluidDensity = Annotated[float, Field(gt=0.0, le=1e5), Unit("kg/m³")]
 Elevation = Annotated[float, Field(ge=-1e6, le=1e6), Unit("m")]
 Distance = Annotated[float, Field(ge=0.0, le=1e6), Unit("m")]
 Length = Annotated[float, Field(gt=0.0, le=1e6), Unit("m")]
+#: a 2D model's out-of-plane thickness: a micrometre to 1000 km (a thinner one underflows
+#: the facets' area-weighted normals, 1e-202 m gave NaN normals)
+Thickness = Annotated[float, Field(ge=1e-6, le=1e6), Unit("m")]
 Displacement = Annotated[float, Field(ge=-1e3, le=1e3), Unit("m")]
 Stress = Annotated[float, Field(ge=-1e10, le=1e10), Unit("Pa")]
 Strength = Annotated[float, Field(ge=0.0, le=1e10), Unit("Pa")]
@@ -812,7 +815,7 @@ class ModelFile(_Table):
     plane: Annotated[
         Literal["strain", "stress"], Field(description="2D hypothesis: 'strain' or 'stress'")
     ] = "strain"
-    thickness: Annotated[Length, Field(description="out-of-plane thickness in 2D (m)")] = 1.0
+    thickness: Annotated[Thickness, Field(description="out-of-plane thickness in 2D (m)")] = 1.0
     materials: Annotated[
         dict[str, Material], Field(description="isotropic elastic materials by name")
     ]

@@ -332,8 +332,8 @@ class Model:
                              f"{mesh!r}")  # fmt: skip
         if plane not in ("strain", "stress"):
             raise ModelError(f"plane must be 'strain' or 'stress', got {plane!r}")
-        if not thickness > 0:
-            raise ModelError(f"thickness must be > 0 m, got {thickness}")
+        if not 1e-6 <= thickness <= 1e6:  # (a thinner one underflows the facets' normals)
+            raise ModelError(f"thickness: expected a number in [1e-06, 1e+06] m, got {thickness}")
         if mesh.dim == 3 and thickness != 1.0:
             raise ModelError(f"thickness = {thickness} m is a 2D setting, but the mesh is 3D; a "
                              "3D model takes no thickness")  # fmt: skip
