@@ -361,19 +361,21 @@ class Dynamic:
         return Excitation(self.model, self.system, ground, form,
                           getattr(start, "uplift", None), open0)  # fmt: skip
 
-    def _supports_on_grid(self, ex: Excitation, cur: StepState) -> None:
+    def _supports_on_grid(self, ex: Excitation, origin: float, *, trial: bool = False) -> None:
         """In the absolute form, the supports moved as this analysis's scheme integrates
-        the records on the run's grid of steps (:meth:`Excitation.on_grid`), from the
-        grid's origin, so that a resumed run reads the same support motion."""
+        the records on the run's grid of steps from ``origin`` (:meth:`Excitation.on_grid`),
+        so that a resumed run reads the same support motion. The nonsmooth
+        generalised-α starts from the acceleration it finds over a trial first step
+        (:meth:`_initial`): for the supports that is a_g(t₀ + h), which their grid starts
+        from (``trial``: the grid of that trial step, from a_g(t₀))."""
         if not ex.moves_supports:
             return
-        origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
         if self.mj is not None:
             ex.on_grid(origin, self.dt, theta=self.mj.theta)
         elif self.ga is not None:
             ga = self.ga
             ex.on_grid(origin, self.dt, beta=ga.beta, gamma=ga.gamma, alpha_m=ga.alpha_m,
-                       alpha_f=ga.alpha_f, auxiliary=True)  # fmt: skip
+                       alpha_f=ga.alpha_f, auxiliary=True, start_ahead=not trial)  # fmt: skip
         else:
             ex.on_grid(origin, self.dt, beta=self.nm.beta, gamma=self.nm.gamma)
 
@@ -486,7 +488,9 @@ class Dynamic:
         of broken joints whose gap is positive start open. ``ground`` and ``form`` give
         the excitation at t0 (the initial acceleration)."""
         self._check_model()
-        return self._initial(self.excitation(ground, form, static), static, t0, u0=u0, v0=v0)
+        ex = self.excitation(ground, form, static)
+        self._supports_on_grid(ex, t0, trial=True)  # (the start's trial step)
+        return self._initial(ex, static, t0, u0=u0, v0=v0)
 
     def _initial(
         self, ex: Excitation, static: object | None, t0: float = 0.0, *,
@@ -1141,11 +1145,14 @@ class Dynamic:
         else:
             if isinstance(start, StepState):
                 self._check_state(start, "start")
+            if not isinstance(start, StepState):
+                self._supports_on_grid(ex, 0.0, trial=True)  # (the start's trial step)
             cur = start if isinstance(start, StepState) else self._initial(ex, start)
             row0 = 0
             if isinstance(start, StepState) and self.m and ex.follows_pairs:
                 ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now
-        self._supports_on_grid(ex, cur)
+        self._supports_on_grid(ex, cur.kin.t - cur.step * self.dt if cur.origin is None
+                               else cur.origin)  # fmt: skip
         m, d = self.m, self.d
         probes = self._probes(probes)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop

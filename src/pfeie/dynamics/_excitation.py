@@ -74,6 +74,10 @@ class GridGround:
     θ a_g(t_{k+1}) (the acceleration given at t_{k+1}: the step's average, as the scheme
     records it), d_{k+1} = d_k + h ((1 − θ) v_k + θ v_{k+1}).
 
+    With ``start_ahead`` the recurrence starts from q̈₀ = a₀ = a_g(t₀ + h): the nonsmooth
+    generalised-α starts from the acceleration a trial first step finds, which for a body
+    the supports carry is a_g(t₁) (the acceleration given at t₀ stays a_g(t₀)).
+
     :meth:`motion` gives (d_k, v_k, q̈_k) on the grid, and off it (event sub-steps) the
     exact motion plus the scheme's drift d_k − d_g(t_k) (and v's) interpolated linearly
     between the neighbouring steps. The rows are computed once, in order, so a run and its
@@ -98,11 +102,15 @@ class GridGround:
         alpha_f: float = 0.0,
         auxiliary: bool = False,
         theta: float | None = None,
+        start_ahead: bool = False,
     ) -> None:
         self.g, self.t0, self.h, self.theta = g, float(t0), float(h), theta
         self.beta, self.gamma, self.alpha_m, self.alpha_f = beta, gamma, alpha_m, alpha_f
         self.auxiliary = auxiliary
         d, v, a = g.motion(self.t0)
+        self._a0 = a  # the acceleration given at t₀
+        if start_ahead:  # the scheme's own start (see the class)
+            a = g.motion(self.t0 + self.h)[2]
         self._rows: list[tuple[float, float, float, float]] = [(d, v, a, a)]  # d, v, q̈, a
 
     def _row(self, k: int) -> tuple[float, float, float, float]:
@@ -129,7 +137,7 @@ class GridGround:
         k = round(x)
         tol = 8 * np.spacing(max(abs(t), self.h))
         if k >= 0 and abs(t - (self.t0 + k * self.h)) <= tol:
-            return self._row(k)[:3]
+            return self._row(k)[:3] if k else (*self._row(0)[:2], self._a0)
         exact = self.g.motion(t)
         if t < self.t0:
             return exact
@@ -241,13 +249,14 @@ class Excitation:
 
     def on_grid(self, t0: float, h: float, *, beta: float = 0.25, gamma: float = 0.5,
                 alpha_m: float = 0.0, alpha_f: float = 0.0, auxiliary: bool = False,
-                theta: float | None = None) -> None:  # fmt: skip
+                theta: float | None = None, start_ahead: bool = False) -> None:  # fmt: skip
         """Move the supports of the absolute form as the time scheme integrates the
         records on the grid t₀ + k h (:class:`GridGround`, its parameters the scheme's);
         without it (and in the relative form) the records' exact motion."""
         if self.moves_supports:
             self._grid = [GridGround(g, t0, h, beta=beta, gamma=gamma, alpha_m=alpha_m,
-                                     alpha_f=alpha_f, auxiliary=auxiliary, theta=theta)
+                                     alpha_f=alpha_f, auxiliary=auxiliary, theta=theta,
+                                     start_ahead=start_ahead)
                           for g in self.ground]  # fmt: skip
 
     def _motion(self, i: int, t: float) -> tuple[float, float, float]:
