@@ -138,3 +138,80 @@ def test_two_lift_joints_in_one_2d_group_are_two_pieces(tmp_path: Path) -> None:
                     plot_states(res, "lifts", tmp_path / "states.png"),
                     plot_static(res, "lifts", tmp_path / "static.png")):  # fmt: skip
             assert fig.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("cell, sizes", [("hexahedron", [18, 9]), ("tetra10", [50, 25])])
+def test_a_t_junction_in_one_group_is_two_pieces(tmp_path: Path, cell: str,
+                                                 sizes: list[int]) -> None:  # fmt: skip
+    """A foundation joint H (z = 1 m) and a contraction joint V (x = 1 m) above it, named
+    as one group: two pieces, H and V. At the junction a side-a node carries pairs of
+    both joints; keeping one pair per node had split H into a piece of 15 pairs and three
+    single pairs (Tet10: a single-pair piece for every midside pair)."""
+    from pfeie.io import Results
+    from pfeie.plot._plots import joint_patches
+
+    mesh = pf.box(2.0, 1.0, 2.0, 4, 2, 4, cell=cell)
+    mesh.add_cell_group("low", lambda x: x[:, 2] < 1)
+    mesh.add_cell_group("ul", lambda x: (x[:, 2] > 1) & (x[:, 0] < 1))
+    mesh.add_cell_group("ur", lambda x: (x[:, 2] > 1) & (x[:, 0] > 1))
+    mesh.add_facet_group("T", lambda x: np.isclose(x[:, 2], 1)
+                         | (np.isclose(x[:, 0], 1) & (x[:, 2] > 1 - 1e-9)),
+                         boundary_only=False)  # fmt: skip
+    joint = pf.Joint(phi=35, c=1e5, tensile=1e5, initial="intact")
+    path = _run(tmp_path, mesh, ["low", "ul", "ur"], [pf.Interface("T", joint)])
+    with Results(path) as res:
+        pieces = joint_patches(res, "T")
+    assert [p.members.size for p in pieces] == sizes
+    np.testing.assert_allclose([p.basis[-1] for p in pieces], [[0, 0, 1], [1, 0, 0]],
+                               atol=1e-12)  # fmt: skip
+    assert [len(p.outline) for p in pieces] == ([8, 4] if cell == "hexahedron" else [16, 8])
+
+
+def test_a_crack_inside_a_block_is_drawn_to_its_front(tmp_path: Path) -> None:
+    """A crack over x ≤ 1 m of a 2 m block's mid-plane: the faces along its front hold
+    whole nodes (of no pair) and had been left out, so the map covered x ≤ 0.5 m (1 m² of
+    the 2 m²). Now every face of the crack is drawn: its cells cover 2 m²."""
+    from pfeie.io import Results
+    from pfeie.plot._plots import _polygon_area, joint_patches
+
+    mesh = pf.box(2.0, 2.0, 2.0, 4, 4, 4, cell="hexahedron")
+    mesh.add_cell_group("all", lambda x: x[:, 2] > -1)
+    mesh.add_facet_group("crack", lambda x: np.isclose(x[:, 2], 1) & (x[:, 0] < 1 + 1e-9),
+                         boundary_only=False)  # fmt: skip
+    joint = pf.Joint(phi=35, c=1e5, tensile=1e5, initial="intact")
+    path = _run(tmp_path, mesh, ["all"], [pf.Interface("crack", joint)])
+    with Results(path) as res:
+        (piece,) = joint_patches(res, "crack")
+    outline = np.vstack(piece.outline)
+    assert len(piece.outline) == 8  # 2 × 4 faces of 0.5 m
+    assert outline[:, 0].min() == pytest.approx(0.0) and outline[:, 0].max() == pytest.approx(1.0)
+    assert sum(_polygon_area(c) for c in piece.cells) == pytest.approx(2.0, rel=1e-12)
+
+
+def test_a_cross_in_one_2d_group_is_four_arms(tmp_path: Path) -> None:
+    """Two joints crossing at (2, 2) m, named as one group: each arm is a straight piece
+    (a piece of the two arms below and left had been drawn along a diagonal, compressed
+    and open pairs on one line)."""
+    from pfeie.io import Results
+    from pfeie.plot._plots import joint_pieces
+
+    mesh = pf.rectangle(4.0, 4.0, 4, 4, cell="quad")
+    for name, fx, fy in (("q1", 1, 1), ("q2", -1, 1), ("q3", -1, -1), ("q4", 1, -1)):
+        mesh.add_cell_group(name, lambda x, fx=fx, fy=fy: (fx * (x[:, 0] - 2) > 0)
+                            & (fy * (x[:, 1] - 2) > 0))  # fmt: skip
+    mesh.add_facet_group("X", lambda x: np.isclose(x[:, 0], 2) | np.isclose(x[:, 1], 2),
+                         boundary_only=False)  # fmt: skip
+    concrete = pf.Elastic(30e9, 0.2, 2400)
+    model = pf.Model(mesh, [pf.Block(b, concrete) for b in ("q1", "q2", "q3", "q4")],
+                     interfaces=[pf.Interface("X", pf.Joint(phi=30))])  # fmt: skip
+    model.fix("ymin")
+    model.add_gravity()
+    gm = pf.GroundMotion.from_function(lambda t: 0.0 * t, duration=0.01, dt=0.005)
+    pf.run_to_folder(pf.Dynamic(model, 0.005), 0.01, tmp_path / "out", ground=[gm],
+                     start=pf.solve_static(model), figures=False, paraview=False)  # fmt: skip
+    with Results(tmp_path / "out" / "results.h5") as res:
+        x = res.pairs("X")["x"]
+        pieces = joint_pieces(res, "X")
+    for p in pieces:  # each piece straight: its pairs on one line x = 2 or y = 2
+        assert np.ptp(x[p, 0]) < 1e-12 or np.ptp(x[p, 1]) < 1e-12
+    assert sum(p.size for p in pieces) == x.shape[0] and len(pieces) == 4

@@ -101,6 +101,10 @@ def test_a_peer_record_under_another_name_is_read_as_one(tmp_path: Path) -> None
     np.testing.assert_array_equal(got.acceleration, ref.acceleration)
     assert got.pga == pytest.approx(15.0 * 9.81, rel=1e-15)
     assert main(["spectrum", str(tmp_path / "rec.txt"), "-o", str(tmp_path / "s")]) == 0
+    old = at2.replace("TIME SERIES", "TIME HISTORY")  # PEER's 1999 files
+    (tmp_path / "old.dat").write_text(old)
+    np.testing.assert_array_equal(read_record(tmp_path / "old.dat").acceleration,
+                                  ref.acceleration)  # fmt: skip
     (tmp_path / "rec.VT2").write_text(at2.replace("ACCELERATION", "VELOCITY"))
     with pytest.raises(pf.PfeieError, match="a PEER velocity record"):
         read_record(tmp_path / "rec.VT2")
@@ -133,19 +137,20 @@ def test_a_thickness_that_underflows_the_normals_is_refused(
         pf.Model(pf.rectangle(1.0, 1.0, 1, 1), [], thickness=1e-202)
 
 
-@pytest.mark.parametrize("scheme, tol_u, tol_a", [("nonsmooth-alpha", 3e-8, 1e-6),
-                                                   ("newmark", 1e-6, 3e-6),
-                                                   ("moreau-jean", 3e-10, 3e-10)])  # fmt: skip
+@pytest.mark.parametrize("scheme, alpha, tol_u, tol_a", [
+    ("nonsmooth-alpha", 0.0, 3e-8, 1e-6), ("newmark", 0.0, 1e-6, 3e-6),
+    ("newmark", -0.1, 1e-6, 3e-6), ("moreau-jean", 0.0, 3e-10, 3e-10)])  # fmt: skip
 def test_absolute_form_equals_the_relative_form_plus_the_ground(
-    scheme: str, tol_u: float, tol_a: float
+    scheme: str, alpha: float, tol_u: float, tol_a: float
 ) -> None:
     """With a stiffness-proportional damping (C ι = 0) the two forms are one equation: the
     absolute motion less the supports' (the grid's) is the relative motion (independent
     computation: the relative form). A 12 m column under El Centro, 4 s, Δt = 5 ms;
     measured max|u_abs − d̃ − u_rel| / max|u_rel| 7.3e-9 (default scheme, ρ∞ = 0.5; 2.1e-4
     before its supports started from the scheme's own start acceleration a_g(t₁)), 3.0e-7
-    (Newmark), 4.3e-11 (Moreau–Jean); the absolute accelerations 1.4e-7, 7.8e-7, 7.2e-11
-    of the peak."""
+    (Newmark; HHT-α = −0.1 too: 1.85e-2 before its supports followed the α-weighted
+    recurrence), 4.3e-11 (Moreau–Jean); the absolute accelerations 1.4e-7, 7.8e-7,
+    7.2e-11 of the peak."""
     from pfeie.dynamics._excitation import GridGround
 
     record = Path(__file__).resolve().parents[1] / "examples" / "data"
@@ -155,14 +160,16 @@ def test_absolute_form_equals_the_relative_form_plus_the_ground(
                      damping=pf.Rayleigh(0.0, 2e-3))  # fmt: skip
     model.fix("ymin")
     top = int(np.argmax(mesh.points[:, 1] + 1e-3 * mesh.points[:, 0]))
-    kw = {"rho_inf": 0.5} if scheme == "nonsmooth-alpha" else {}
+    kw = {"rho_inf": 0.5} if scheme == "nonsmooth-alpha" else {"alpha": alpha} if alpha else {}
     an = pf.Dynamic(model, dt=0.005, scheme=scheme, **kw)  # type: ignore[arg-type]
     r = an.run(4.0, ground=[gm], form="relative", probes=[top])
     a = an.run(4.0, ground=[gm], form="absolute", probes=[top])
     if scheme == "moreau-jean":
         grid = GridGround(gm, 0.0, 0.005, theta=1.0)
-    elif scheme == "newmark":
-        grid = GridGround(gm, 0.0, 0.005)
+    elif scheme == "newmark":  # HHT-α balances a_g at α_f: the auxiliary recurrence
+        nm = an.nm
+        grid = GridGround(gm, 0.0, 0.005, beta=nm.beta, gamma=nm.gamma, alpha_m=nm.alpha_m,
+                          alpha_f=nm.alpha_f, auxiliary=True)  # fmt: skip
     else:
         ga = an.ga
         assert ga is not None

@@ -376,8 +376,10 @@ class Dynamic:
             ga = self.ga
             ex.on_grid(origin, self.dt, beta=ga.beta, gamma=ga.gamma, alpha_m=ga.alpha_m,
                        alpha_f=ga.alpha_f, auxiliary=True, start_ahead=not trial)  # fmt: skip
-        else:
-            ex.on_grid(origin, self.dt, beta=self.nm.beta, gamma=self.nm.gamma)
+        else:  # HHT-α and generalised-α balance a_g at (α_m, α_f): the auxiliary recurrence
+            nm = self.nm
+            ex.on_grid(origin, self.dt, beta=nm.beta, gamma=nm.gamma, alpha_m=nm.alpha_m,
+                       alpha_f=nm.alpha_f, auxiliary=True)  # fmt: skip
 
     def w_pres(self, t: float, ex: Excitation) -> FloatArray:
         """G_p u_p(t) (M,): the relative motion the prescribed DOFs give the pairs."""

@@ -241,7 +241,7 @@ def _read_at2(
     if len(lines) < 5:
         raise RecordError(f"{path}: an AT2 file needs 4 header lines and data; it has "
                           f"{len(lines)} line(s)")  # fmt: skip
-    series = re.search(r"\b(VELOCITY|DISPLACEMENT)\s+TIME\s+SERIES", lines[2], re.I)
+    series = re.search(r"\b(VELOCITY|DISPLACEMENT)\s+TIME\s+(SERIES|HISTORY)", lines[2], re.I)
     if series is not None:
         raise RecordError(f"{path}: line 3: a PEER {series.group(1).lower()} record "
                           f"({lines[2].strip()!r}); pfeie reads accelerations (the .AT2 "
@@ -297,7 +297,7 @@ def _read_at2(
 def _peer_header(lines: list[str]) -> bool:
     """Whether a file's first lines are a PEER NGA header (an AT2 record saved under
     another name is read as one in the "auto" format): a third line naming a "TIME SERIES"
-    and a fourth stating NPTS and DT.
+    (or, in PEER's 1999 files, a "TIME HISTORY") and a fourth stating NPTS and DT.
 
     >>> _peer_header(["PEER NGA", "T", "ACCELERATION TIME SERIES IN UNITS OF G",
     ...               "NPTS=  4000, DT=   .0100 SEC", "0.1"])
@@ -305,7 +305,8 @@ def _peer_header(lines: list[str]) -> bool:
     >>> _peer_header(["time,acc", "0,0", "0.01,0.1", "0.02,0.0", "0.03,0.1"])
     False
     """
-    return (len(lines) >= 5 and "TIME SERIES" in lines[2].upper()
+    third = lines[2].upper() if len(lines) >= 5 else ""
+    return (("TIME SERIES" in third or "TIME HISTORY" in third)
             and bool(re.search(r"NPTS\s*[=,]|NPTS\s*,\s*DT", lines[3], re.I)))  # fmt: skip
 
 

@@ -550,14 +550,30 @@ class JointPatch(NamedTuple):
     centre: np.ndarray
 
 
+#: |cos| of the angle between two faces of a joint that share a node, above which they are
+#: one piece (30°): a bent joint's neighbouring faces stay together, the arms of a T or a
+#: cross, and the steps of a keyed base, are pieces of their own
+PIECE_COS = np.cos(np.radians(30.0))
+
+
 def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     """The faces of a joint and its pieces, for :func:`joint_pieces` and
     :func:`joint_patches`: ``label`` (m,) the piece of each of the joint's pairs (pieces
     numbered in the order of their first pairs), ``corners`` the faces' corner coordinates
     (a list of (k, d) arrays), ``face_piece`` each face's piece, ``seam`` (s, 2) the nodes of
-    other interfaces on the faces with their face's piece, and the joint's pairs'
-    ``x``, ``frame``, ``area``, and the mesh's ``points``. See :func:`joint_patches`."""
-    from scipy.sparse import coo_matrix
+    pairs of other interfaces on the faces with their face's piece, and the joint's
+    pairs' ``x``, ``frame``, ``area``, and the mesh's ``points``.
+
+    The joint's faces are the blocks' boundary faces that coincide with another boundary
+    face (the other side of a cut: an outer face has no twin), hold a side-a node of a
+    pair of the joint (at a crack's front the other nodes are whole, of no pair) and lie
+    within 60° of the plane of a pair of the joint at one of their nodes (a face of
+    another joint through a junction node is not one). Faces that share a node and whose
+    planes differ by less than 30° (:data:`PIECE_COS`) are one piece; a pair belongs to
+    the piece of the face at its node whose plane is closest to its own (at a junction a
+    node carries pairs of each joint that meets there), a pair on no face to a piece of
+    its own. See :func:`joint_patches`."""
+    from scipy.sparse import coo_matrix, csr_matrix
     from scipy.sparse.csgraph import connected_components
 
     from ..element import reference
@@ -570,56 +586,98 @@ def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     node = np.asarray(f["pairs/node_a"])[sel]
     points = np.asarray(f["mesh/points"], dtype=float)
     cells = {ctype: np.asarray(f[f"mesh/cells/{ctype}"]) for ctype in f["mesh/cells"]}
-    n_pts = points.shape[0]
-    pair_of = np.full(n_pts, -1)
-    pair_of[node] = np.arange(node.size)
+    n_pts, m, dim = points.shape[0], node.size, points.shape[1]
     normal = frame[:, -1, :]
-    on_any = np.zeros(n_pts, dtype=bool)  # a node of a pair of any interface
-    on_any[np.asarray(f["pairs/node_a"])] = True
-    on_any[np.asarray(f["pairs/node_b"])] = True
-    links: list[np.ndarray] = []  # (pair, pair): a face's first pair of the joint and each
-    corners: list[np.ndarray] = []  # the faces' corner coordinates (k, d)
-    firsts: list[np.ndarray] = []  # each face's first pair of the joint
-    seams: list[np.ndarray] = []  # (node, its face's first pair): nodes of other interfaces
+    # node → the joint's pairs there (several at a junction)
+    at_node = csr_matrix((np.ones(m), (node, np.arange(m))), shape=(n_pts, m))
+    other = np.zeros(n_pts, dtype=bool)  # nodes of pairs of other interfaces
+    names = res.interface_names
+    k_if = names.index(name)
+    iface = np.asarray(f["pairs/interface"])
+    other[np.asarray(f["pairs/node_a"])[iface != k_if]] = True
+    other[np.asarray(f["pairs/node_b"])[iface != k_if]] = True
+    other[node] = False
+    span = float(np.ptp(points, axis=0).max()) or 1.0
+    conns: list[np.ndarray] = []  # the faces' nodes, corners first
+    n_corner: list[int] = []
+    fns: list[np.ndarray] = []
     for ftype, conn in Mesh(points, cells).facets(boundary_only=True).items():
-        conn = np.asarray(conn)
-        ids = pair_of[conn]
-        # on a face of the joint: every node a pair's, one at least of this joint (a face
-        # along the seam with another interface has nodes of both)
-        conn, ids = (a[on_any[conn].all(axis=1) & (ids >= 0).any(axis=1)] for a in (conn, ids))
-        k = reference(reference(ftype).linear).n_nodes
-        c = points[conn[:, :k]]
-        if points.shape[1] == 3:
-            fn = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
-        else:  # a segment: its tangent turned
-            fn = (c[:, 1] - c[:, 0]) @ np.array([[0.0, -1.0], [1.0, 0.0]])
-        pn = np.where((ids >= 0)[..., None], normal[np.maximum(ids, 0)], 0.0).sum(axis=1)
-        cos = (fn * pn).sum(axis=1) / np.maximum(
-            np.linalg.norm(fn, axis=1) * np.linalg.norm(pn, axis=1), 1e-300
-        )
-        keep = np.abs(cos) > 0.5
-        conn, ids = conn[keep], ids[keep]
-        lead = ids[np.arange(ids.shape[0]), (ids >= 0).argmax(axis=1)]
-        pair = np.where(ids >= 0, ids, lead[:, None])
-        links.append(np.column_stack([np.repeat(lead, ids.shape[1]), pair.ravel()]))
-        corners.extend(points[conn[:, :k]])
-        firsts.append(lead)
-        other = ids < 0
-        seams.append(
-            np.column_stack([conn[other], np.broadcast_to(lead[:, None], ids.shape)[other]])
-        )
-    m = node.size
-    ij = np.concatenate(links) if links else np.zeros((0, 2), dtype=int)
-    graph = coo_matrix((np.ones(ij.shape[0]), (ij[:, 0], ij[:, 1])), shape=(m, m))
-    n_piece, label = connected_components(graph, directed=False)
-    # the pieces numbered in the order of their first pairs
-    first = np.unique(label, return_index=True)[1]
-    rank = np.empty(n_piece, dtype=int)
-    rank[label[np.sort(first)]] = np.arange(n_piece)
-    label = rank[label]
-    seam = np.concatenate(seams) if seams else np.zeros((0, 2), dtype=int)
-    seam[:, 1] = label[seam[:, 1]]
-    face_piece = label[np.concatenate(firsts)] if firsts else np.zeros(0, dtype=int)
+        conns.append(np.asarray(conn))
+        n_corner.append(reference(reference(ftype).linear).n_nodes)
+    if not conns or m == 0:
+        empty = np.zeros(0, dtype=int)
+        return {"label": np.arange(m), "corners": [], "seam": np.zeros((0, 2), dtype=int),
+                "x": x_pair, "frame": frame, "area": np.asarray(f["pairs/area"])[sel],
+                "points": points, "face_piece": empty}  # fmt: skip
+    # a face's twin: the same corner coordinates (rounded to 1e-9 of the model's size)
+    keys = []
+    for c, k in zip(conns, n_corner, strict=True):
+        xyz = np.round(points[c[:, :k]] / (1e-9 * span)).astype(np.int64)  # (f, k, d)
+        order = np.lexsort(xyz.transpose(2, 0, 1)[::-1], axis=-1)
+        keys.append(np.take_along_axis(xyz, order[..., None], axis=1).reshape(len(c), -1))
+    kept: list[np.ndarray] = []
+    kept_k: list[int] = []
+    for c, k, key in zip(conns, n_corner, keys, strict=True):
+        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        twin = cnt[inv.ravel()] >= 2
+        mine = np.asarray(at_node[c.ravel()].sum(axis=1)).reshape(c.shape) > 0
+        p = points[c[:, :k]]
+        fn = (np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) if dim == 3
+              else (p[:, 1] - p[:, 0]) @ np.array([[0.0, -1.0], [1.0, 0.0]]))  # fmt: skip
+        fn = fn / np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
+        # the best alignment with a pair of the joint at one of the face's nodes
+        rows, pairs = (at_node[c.ravel()]).nonzero()
+        face_of = rows // c.shape[1]
+        cos = np.abs(np.einsum("id,id->i", fn[face_of], normal[pairs]))
+        best = np.zeros(len(c))
+        np.maximum.at(best, face_of, cos)
+        ok = twin & mine.any(axis=1) & (best > 0.5)
+        kept.append(c[ok])
+        kept_k.append(k)
+        fns.append(fn[ok])
+    corner_of = [k for c, k in zip(kept, kept_k, strict=True) if len(c)]
+    faces = [c for c in kept if len(c)]
+    fn_all = (
+        np.concatenate([n for n, c in zip(fns, kept, strict=True) if len(c)])
+        if faces
+        else np.zeros((0, dim))
+    )
+    n_f = int(sum(len(c) for c in faces))
+    # face–node incidence, then faces sharing a node within 30° of each other
+    fi = np.concatenate([np.repeat(np.arange(len(c)), c.shape[1]) + off for c, off in
+                         zip(faces, np.cumsum([0] + [len(c) for c in faces])[:-1],
+                             strict=True)]) if faces else np.zeros(0, dtype=int)  # fmt: skip
+    ni = np.concatenate([c.ravel() for c in faces]) if faces else np.zeros(0, dtype=int)
+    B = csr_matrix((np.ones(fi.size), (fi, ni)), shape=(n_f, n_pts))
+    A = (B @ B.T).tocoo()
+    near = np.abs(np.einsum("id,id->i", fn_all[A.row], fn_all[A.col])) > PIECE_COS
+    graph = coo_matrix((np.ones(int(near.sum())), (A.row[near], A.col[near])), shape=(n_f, n_f))
+    _, face_label = connected_components(graph, directed=False)
+    # each pair: the face at its node closest to its plane
+    P = B[:, node].T.tocoo()  # (pair, face) for the faces at the pair's node
+    score = np.abs(np.einsum("id,id->i", normal[P.row], fn_all[P.col]))
+    order = np.lexsort((-score, P.row))
+    first = np.r_[True, P.row[order][1:] != P.row[order][:-1]]
+    pair_face = np.full(m, -1)
+    pair_face[P.row[order][first]] = P.col[order][first]
+    raw = np.where(pair_face >= 0, face_label[np.maximum(pair_face, 0)], -1)
+    lone = raw < 0  # a pair on no face: a piece of its own
+    raw[lone] = face_label.max(initial=-1) + 1 + np.arange(int(lone.sum()))
+    # the pieces numbered in the order of their first pairs (pieces without pairs dropped)
+    uniq, first_pair = np.unique(raw, return_index=True)
+    rank = np.full(int(raw.max(initial=-1)) + 1, -1)
+    rank[uniq[np.argsort(first_pair)]] = np.arange(uniq.size)
+    label = rank[raw]
+    face_piece = rank[face_label] if n_f else np.zeros(0, dtype=int)
+    corners = [points[c[:k]] for arr, k in zip(faces, corner_of, strict=True) for c in arr]
+    # the nodes of other interfaces' pairs on each face, with its piece
+    on = other[ni]
+    seam = np.column_stack([ni[on], face_piece[fi[on]]]) if faces else np.zeros((0, 2), int)
+    keep = face_piece >= 0
+    if not keep.all():  # faces of no pair's piece
+        corners = [c for c, k in zip(corners, keep, strict=True) if k]
+        face_piece = face_piece[keep]
+        seam = seam[seam[:, 1] >= 0]
     return {"label": label, "corners": corners, "seam": seam, "x": x_pair, "frame": frame,
             "area": np.asarray(f["pairs/area"])[sel], "points": points,
             "face_piece": face_piece}  # fmt: skip
@@ -637,20 +695,16 @@ def joint_pieces(res: Results, name: str) -> list[np.ndarray]:
 
 
 def joint_patches(res: Results, name: str) -> list[JointPatch]:
-    """The pieces of a 3D joint that are drawn apart: its pairs split into the connected
-    sets of the joint's faces, each in its own plane (:func:`joint_plane`). One physical
-    group may hold several joints (the contraction joints of a dam, parallel planes):
-    projected on one plane their pairs would lie on top of each other. The faces are the
-    blocks' boundary faces whose nodes are all nodes of pairs, one at least a side-a node
-    of the joint, and whose normal is within 60° of the pairs' (a face of a block's outer
-    surface with its corners on the joint's edge is not one); a face along the seam with
-    another interface, with nodes of both, is counted in. Two pairs are in one patch when
-    a chain of such faces links them, and a pair on no face (there should be none) is a
-    patch of its own. Each pair's cell is its Voronoi cell in the patch
-    (:func:`_pair_cells`) among the patch's pairs and the other interfaces' nodes on its
-    faces (a seam's pairs belong to one of the interfaces that meet there, and their
-    tributary area spans both), drawn clipped to the patch's faces (``outline``), so that
-    a joint with a re-entrant corner is not painted over its convex hull."""
+    """The pieces of a 3D joint that are drawn apart, each in its own plane
+    (:func:`joint_plane`): one physical group may hold several joints (the contraction
+    joints of a dam, parallel planes, or a T), which projected on one plane would lie on
+    top of each other. The faces and pieces are :func:`_joint_faces`'s. Each pair's cell is
+    its Voronoi cell in the piece (:func:`_pair_cells`) among the piece's pairs and the
+    other interfaces' pair nodes on its faces (a seam's pairs belong to one of the
+    interfaces that meet there, and their tributary area spans both), clipped to the box
+    of the piece's faces and drawn clipped to the faces themselves (``outline``), so that
+    a joint with a re-entrant corner is not painted over its convex hull and a crack is
+    drawn to its front."""
     jf = _joint_faces(res, name)
     label, corners, seam = jf["label"], jf["corners"], jf["seam"]
     out = []
