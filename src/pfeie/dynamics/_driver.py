@@ -1147,9 +1147,10 @@ class Dynamic:
         else:
             if isinstance(start, StepState):
                 self._check_state(start, "start")
-            if not isinstance(start, StepState):
+                cur = start
+            else:
                 self._supports_on_grid(ex, 0.0, trial=True)  # (the start's trial step)
-            cur = start if isinstance(start, StepState) else self._initial(ex, start)
+                cur = self._initial(ex, start)
             row0 = 0
             if isinstance(start, StepState) and self.m and ex.follows_pairs:
                 ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now

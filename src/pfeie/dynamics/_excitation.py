@@ -62,9 +62,10 @@ class GridGround:
     """A record's ground motion as the time scheme integrates it on the run's grid
     t_k = t₀ + k h (the supports' motion in the absolute form, :meth:`Excitation.on_grid`).
 
-    The scheme's kinematics with q̈_k = a_g(t_k) from the exact state at t₀ (Newmark's
-    and generalised-α's, Chung & Hulbert 1993; with ``auxiliary``, the nonsmooth
-    generalised-α's auxiliary acceleration a of Arnold & Brüls 2007):
+    The scheme's kinematics with q̈_k = a_g(t_k) from the exact state at t₀ (Newmark's;
+    with ``auxiliary``, through the α-weighted auxiliary acceleration a of Arnold & Brüls
+    2007, for the schemes that balance a_g at (α_m, α_f): HHT-α and generalised-α, Chung &
+    Hulbert 1993, and the nonsmooth generalised-α):
 
         (1 − α_m) a_{k+1} + α_m a_k = (1 − α_f) q̈_{k+1} + α_f q̈_k   (a = q̈ without it),
         d_{k+1} = d_k + h v_k + h² ((½ − β) a_k + β a_{k+1}),

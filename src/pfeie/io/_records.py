@@ -13,8 +13,9 @@ Formats (``fmt``):
 - ``"one-column"``: one acceleration per line (or several per line, read row by row),
   sampled at the ``dt`` given; an optional header line.
 - ``"auto"``: ``.at2`` files, and files whose first lines are a PEER header (a third
-  line naming a TIME SERIES, a fourth NPTS and DT), are AT2; otherwise two columns if the
-  first data line has two numbers, else one column (which then needs ``dt``).
+  line naming a TIME SERIES or TIME HISTORY, a fourth NPTS and DT), are AT2; otherwise
+  two columns if the first data line has two numbers, else one column (which then needs
+  ``dt``).
 
 Units: ``"g"`` (×9.81 m/s²), ``"m/s2"``, ``"cm/s2"`` (= gal). Every error names the file
 and, where it applies, the line.
