@@ -99,7 +99,8 @@ def test_an_l_shaped_joint_is_drawn_over_its_faces_only(tmp_path: Path) -> None:
             if name == "j":
                 assert not ((pts[:, 0] > 1.25 + 1e-9) & (pts[:, 1] > 1.25 + 1e-9)).any()
             else:
-                assert pts.min() == pytest.approx(0.75)
+                # the seam at 1 m less half a face (0.5 m): its pairs' share of j's faces
+                assert pts.min() == pytest.approx(1.0 - 0.5 / 2)
         assert total == pytest.approx(4.0, rel=1e-12)  # the plane, 2 m × 2 m
 
 

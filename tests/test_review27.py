@@ -20,11 +20,15 @@ AT2_GAL = ("PEER NGA STRONG MOTION DATABASE RECORD\nSYNTH\n{units}\n"
            "  .0000000E+00\n")  # fmt: skip
 
 
+GAL = 0.01  # m/s² (1 gal = 1 cm/s²)
+PEAK = 15.0  # the largest |sample| of AT2_GAL, in the units its header states
+
+
 @pytest.mark.parametrize("line, pga", [
-    ("ACCELERATION TIME SERIES IN UNITS OF GAL", 0.15),
-    ("ACCELERATION IN CM/SEC/SEC (G = 981 CM/S/S)", 0.15),
-    ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", 15.0),
-    ("ACCELERATION TIME SERIES IN UNITS OF G", 15.0 * 9.81),
+    ("ACCELERATION TIME SERIES IN UNITS OF GAL", PEAK * GAL),
+    ("ACCELERATION IN CM/SEC/SEC (G = 981 CM/S/S)", PEAK * GAL),
+    ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", PEAK),
+    ("ACCELERATION TIME SERIES IN UNITS OF G", PEAK * 9.81),
 ])  # fmt: skip
 def test_an_at2_record_is_read_in_the_units_its_header_states(
     tmp_path: Path, line: str, pga: float
@@ -44,8 +48,8 @@ def test_an_at2_record_refuses_units_other_than_its_header_s(
     units are refused naming line 3."""
     p = tmp_path / "rec.AT2"
     p.write_text(AT2_GAL.format(units="ACCELERATION TIME SERIES IN UNITS OF GAL"))
-    assert read_record(p, units="cm/s2").pga == pytest.approx(0.15, rel=1e-15)
-    assert read_record(p, units="gal").pga == pytest.approx(0.15, rel=1e-15)
+    assert read_record(p, units="cm/s2").pga == pytest.approx(PEAK * GAL, rel=1e-15)
+    assert read_record(p, units="gal").pga == pytest.approx(PEAK * GAL, rel=1e-15)
     with pytest.raises(pf.PfeieError, match="line 3 states the units cm/s2"):
         read_record(p, units="g")
     assert main(["spectrum", str(p), "--units", "g", "-o", str(tmp_path / "s")]) == 2
@@ -99,7 +103,7 @@ def test_a_peer_record_under_another_name_is_read_as_one(tmp_path: Path) -> None
     ref = read_record(tmp_path / "rec.AT2")
     got = read_record(tmp_path / "rec.txt")
     np.testing.assert_array_equal(got.acceleration, ref.acceleration)
-    assert got.pga == pytest.approx(15.0 * 9.81, rel=1e-15)
+    assert got.pga == pytest.approx(PEAK * 9.81, rel=1e-15)
     assert main(["spectrum", str(tmp_path / "rec.txt"), "-o", str(tmp_path / "s")]) == 0
     old = at2.replace("TIME SERIES", "TIME HISTORY")  # PEER's 1999 files
     (tmp_path / "old.dat").write_text(old)
@@ -118,7 +122,7 @@ def test_the_units_gal_and_the_flat_readers(
     p = tmp_path / "rec.csv"
     p.write_text("t,a\n0,0\n0.01,15\n0.02,-5\n0.03,0\n")
     assert pf.read_record is read_record
-    assert pf.read_record(p, units="gal").pga == pytest.approx(0.15, rel=1e-15)
+    assert pf.read_record(p, units="gal").pga == pytest.approx(15 * GAL, rel=1e-15)
     assert main(["spectrum", str(p), "--units", "gal", "--periods", "0.1",
                  "-o", str(tmp_path / "s")]) == 0  # fmt: skip
     assert "PGA 0.015 g (0.150 m/s²)" in capsys.readouterr().out  # 15 gal = 0.15 m/s²

@@ -47,6 +47,7 @@ histories nor a static pair state.
 from __future__ import annotations
 
 import json
+import weakref
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -556,6 +557,45 @@ class JointPatch(NamedTuple):
 PIECE_COS = np.cos(np.radians(30.0))
 
 
+#: per results file, its cut faces (:func:`_cut_faces`): every joint's figures read them
+_CUT_FACES: weakref.WeakKeyDictionary[Results, list[tuple[np.ndarray, int, np.ndarray]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _cut_faces(res: Results) -> list[tuple[np.ndarray, int, np.ndarray]]:
+    """The faces of the mesh's cuts, per face type: the blocks' boundary faces that
+    coincide with another boundary face (the other side of a joint or crack; an outer face
+    has no twin; corner coordinates rounded to 1e-9 of the model's size), as (nodes,
+    corners first; the number of corners; unit normals (f, d)). Formed once per results
+    file, for all its joints' figures."""
+    hit = _CUT_FACES.get(res)
+    if hit is not None:
+        return hit
+    from ..element import reference
+    from ..mesh import Mesh
+
+    f = res.f
+    points = np.asarray(f["mesh/points"], dtype=float)
+    cells = {ctype: np.asarray(f[f"mesh/cells/{ctype}"]) for ctype in f["mesh/cells"]}
+    span = float(np.ptp(points, axis=0).max()) or 1.0
+    out = []
+    for ftype, conn in Mesh(points, cells).facets(boundary_only=True).items():
+        c = np.asarray(conn)
+        k = reference(reference(ftype).linear).n_nodes
+        xyz = np.round(points[c[:, :k]] / (1e-9 * span)).astype(np.int64)  # (f, k, d)
+        order = np.lexsort(xyz.transpose(2, 0, 1)[::-1], axis=-1)
+        key = np.take_along_axis(xyz, order[..., None], axis=1).reshape(len(c), -1)
+        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        c = c[cnt[inv.ravel()] >= 2]
+        p = points[c[:, :k]]
+        fn = (np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) if points.shape[1] == 3
+              else (p[:, 1] - p[:, 0]) @ np.array([[0.0, -1.0], [1.0, 0.0]]))  # fmt: skip
+        out.append((c, k, fn / np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)))
+    _CUT_FACES[res] = out
+    return out
+
+
 def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     """The faces of a joint and its pieces, for :func:`joint_pieces` and
     :func:`joint_patches`: ``label`` (m,) the piece of each of the joint's pairs (pieces
@@ -564,8 +604,7 @@ def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     pairs of other interfaces on the faces with their face's piece, and the joint's
     pairs' ``x``, ``frame``, ``area``, and the mesh's ``points``.
 
-    The joint's faces are the blocks' boundary faces that coincide with another boundary
-    face (the other side of a cut: an outer face has no twin), hold a side-a node of a
+    The joint's faces are the cut faces (:func:`_cut_faces`) that hold a side-a node of a
     pair of the joint (at a crack's front the other nodes are whole, of no pair) and lie
     within 60° of the plane of a pair of the joint at one of their nodes (a face of
     another joint through a junction node is not one). Faces that share a node and whose
@@ -576,16 +615,12 @@ def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     from scipy.sparse import coo_matrix, csr_matrix
     from scipy.sparse.csgraph import connected_components
 
-    from ..element import reference
-    from ..mesh import Mesh
-
     f = res.f
     sel = res._select(name)
     x_pair = np.asarray(f["pairs/x"])[sel]
     frame = np.asarray(f["pairs/frame"])[sel]
     node = np.asarray(f["pairs/node_a"])[sel]
     points = np.asarray(f["mesh/points"], dtype=float)
-    cells = {ctype: np.asarray(f[f"mesh/cells/{ctype}"]) for ctype in f["mesh/cells"]}
     n_pts, m, dim = points.shape[0], node.size, points.shape[1]
     normal = frame[:, -1, :]
     # node → the joint's pairs there (several at a junction)
@@ -597,41 +632,23 @@ def _joint_faces(res: Results, name: str) -> dict[str, Any]:
     other[np.asarray(f["pairs/node_a"])[iface != k_if]] = True
     other[np.asarray(f["pairs/node_b"])[iface != k_if]] = True
     other[node] = False
-    span = float(np.ptp(points, axis=0).max()) or 1.0
-    conns: list[np.ndarray] = []  # the faces' nodes, corners first
-    n_corner: list[int] = []
-    fns: list[np.ndarray] = []
-    for ftype, conn in Mesh(points, cells).facets(boundary_only=True).items():
-        conns.append(np.asarray(conn))
-        n_corner.append(reference(reference(ftype).linear).n_nodes)
-    if not conns or m == 0:
-        empty = np.zeros(0, dtype=int)
+    table = _cut_faces(res)
+    if not table or m == 0:
         return {"label": np.arange(m), "corners": [], "seam": np.zeros((0, 2), dtype=int),
                 "x": x_pair, "frame": frame, "area": np.asarray(f["pairs/area"])[sel],
-                "points": points, "face_piece": empty}  # fmt: skip
-    # a face's twin: the same corner coordinates (rounded to 1e-9 of the model's size)
-    keys = []
-    for c, k in zip(conns, n_corner, strict=True):
-        xyz = np.round(points[c[:, :k]] / (1e-9 * span)).astype(np.int64)  # (f, k, d)
-        order = np.lexsort(xyz.transpose(2, 0, 1)[::-1], axis=-1)
-        keys.append(np.take_along_axis(xyz, order[..., None], axis=1).reshape(len(c), -1))
+                "points": points, "face_piece": np.zeros(0, dtype=int)}  # fmt: skip
     kept: list[np.ndarray] = []
     kept_k: list[int] = []
-    for c, k, key in zip(conns, n_corner, keys, strict=True):
-        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-        twin = cnt[inv.ravel()] >= 2
-        mine = np.asarray(at_node[c.ravel()].sum(axis=1)).reshape(c.shape) > 0
-        p = points[c[:, :k]]
-        fn = (np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) if dim == 3
-              else (p[:, 1] - p[:, 0]) @ np.array([[0.0, -1.0], [1.0, 0.0]]))  # fmt: skip
-        fn = fn / np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
-        # the best alignment with a pair of the joint at one of the face's nodes
+    fns: list[np.ndarray] = []
+    for c, k, fn in table:
+        # the best alignment with a pair of the joint at one of the face's nodes (0 on a
+        # face without one)
         rows, pairs = (at_node[c.ravel()]).nonzero()
         face_of = rows // c.shape[1]
         cos = np.abs(np.einsum("id,id->i", fn[face_of], normal[pairs]))
         best = np.zeros(len(c))
         np.maximum.at(best, face_of, cos)
-        ok = twin & mine.any(axis=1) & (best > 0.5)
+        ok = best > 0.5
         kept.append(c[ok])
         kept_k.append(k)
         fns.append(fn[ok])
@@ -778,7 +795,7 @@ def _plot_static_3d(res: Results, name: str, path: Path, title: str) -> Path:
     normal = 1e-6 * pr["normal_stress"]
     shear = 1e-6 * np.linalg.norm(pr["shear_stress"], axis=-1)
     for j, (row, patch) in enumerate(zip(axes, patches, strict=True)):
-        at = _patch_label(patch, j, len(patches))
+        at = _piece_label(j, len(patches), patch.centre)
         for ax, v, what, cmap in ((row[0], normal, "normal stress (compression +)", "viridis"),
                                   (row[1], shear, "|shear stress|", "magma")):  # fmt: skip
             pc = PolyCollection(patch.cells, array=v[patch.members], cmap=cmap, edgecolors="0.6",
@@ -806,11 +823,6 @@ def _plot_static_3d(res: Results, name: str, path: Path, title: str) -> Path:
                  + (f" ({len(patches)} pieces, each in its own)" if len(patches) > 1 else ""),
                  fontsize=10)  # fmt: skip
     return _finish(fig, path)
-
-
-def _patch_label(patch: JointPatch, j: int, n: int) -> str:
-    """:func:`_piece_label` of a patch."""
-    return _piece_label(j, n, patch.centre)
 
 
 def plot_spectrum(spectra: dict[str, ResponseSpectrum], path: str | Path,
@@ -1428,7 +1440,7 @@ def plot_joint_map_3d(res: Results, path: Path, title: str = "") -> Path:
                            "pieces": []}  # fmt: skip
     for i, (name, j, patch, n) in enumerate(pieces):
         first, last, opening, residual, broken = (v[patch.members] for v in data[name])
-        at = _patch_label(patch, j, n)
+        at = _piece_label(j, n, patch.centre)
         panels = (
             (first, "pair states, static", None),
             (last, "pair states at the end (× broken)", None),
