@@ -142,8 +142,8 @@ def test_a_thickness_that_underflows_the_normals_is_refused(
 
 
 @pytest.mark.parametrize("scheme, alpha, tol_u, tol_a", [
-    ("nonsmooth-alpha", 0.0, 3e-8, 1e-6), ("newmark", 0.0, 1e-6, 3e-6),
-    ("newmark", -0.1, 1e-6, 3e-6), ("moreau-jean", 0.0, 3e-10, 3e-10)])  # fmt: skip
+    ("nonsmooth-alpha", 0.0, 3e-10, 5e-10), ("newmark", 0.0, 4e-10, 5e-10),
+    ("newmark", -0.1, 8e-10, 5e-10), ("moreau-jean", 0.0, 4e-10, 7e-10)])  # fmt: skip
 def test_absolute_form_equals_the_relative_form_plus_the_ground(
     scheme: str, alpha: float, tol_u: float, tol_a: float
 ) -> None:
@@ -154,7 +154,9 @@ def test_absolute_form_equals_the_relative_form_plus_the_ground(
     before its supports started from the scheme's own start acceleration a_g(t₁)), 3.0e-7
     (Newmark; HHT-α = −0.1 too: 1.85e-2 before its supports followed the α-weighted
     recurrence), 4.3e-11 (Moreau–Jean); the absolute accelerations 1.4e-7, 7.8e-7,
-    7.2e-11 of the peak."""
+    7.2e-11 of the peak. Since the record's motion reads its own first sample's
+    acceleration at t₀ (it read 0 there: test_review28), every scheme agrees to round-off:
+    2.8e-11, 4.1e-11 (HHT: 8.6e-11), 4.3e-11; the accelerations 3e-11 to 7e-11."""
     from pfeie.dynamics._excitation import GridGround
 
     record = Path(__file__).resolve().parents[1] / "examples" / "data"

@@ -90,7 +90,11 @@ class DynamicResult:
     (the broken pairs that are open), lengths in 2D (m), areas in 3D (m²;
     :meth:`pfeie.Model.joint_extent`). ``energy``: kinetic, strain, modified,
     external_work, damping, interface, impact, algorithmic, correction (J) and ``balance``
-    (their residual).
+    (their residual). ``ground`` (n_t, d): the ground's displacement Σ ι d_g (m), in the
+    absolute form as the supports followed it (the time scheme's integration of the
+    records on the run's grid, :class:`~pfeie.dynamics.GridGround`), in the relative form
+    the records' exact displacement; u − ground is a probe's motion relative to the
+    ground in the absolute form.
     """
 
     t: FloatArray
@@ -119,6 +123,7 @@ class DynamicResult:
     joint_moment: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 0)))
     joint_cracked: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
     joint_open: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
+    ground: FloatArray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def normal_stress(self) -> FloatArray:
@@ -574,6 +579,7 @@ class Recorder:
         self.jm = np.zeros((n_out, n_joints, 1 if d == 2 else 3))
         # the cracked extent (broken pairs) and the open crack (broken and open) per joint
         self.jc, self.jo = np.zeros((n_out, n_joints)), np.zeros((n_out, n_joints))
+        self.ground = np.zeros((n_out, d))  # the ground's displacement as the run applied it
         self.broken = np.zeros((n_out, m), dtype=bool)
         self.E = {k: np.zeros(n_out) for k in ENERGY_TERMS}
         self.account = EnergyAccount(an, excitation)
@@ -605,6 +611,7 @@ class Recorder:
             self.envelope.update(k.t, full_u if st.shift is None else
                                  full_u - system.expand(st.shift, prescribed=False))  # fmt: skip
         self.pu[i] = U[probes]
+        self.ground[i] = ex.ground_displacement(k.t)
         self.pv[i] = full_v.reshape(-1, d)[probes]
         A = full_a.reshape(-1, d)[probes]
         self.pa[i] = A
@@ -653,7 +660,7 @@ class Recorder:
                 "solver": [0, 0, 0.0, 0, 0] if solver is None else list(solver),
                 "safety_factor": self.fs[i].copy(), "joint_force": self.jf[i].copy(),
                 "joint_moment": self.jm[i].copy(), "joint_cracked": self.jc[i].copy(),
-                "joint_open": self.jo[i].copy(),
+                "joint_open": self.jo[i].copy(), "ground": self.ground[i].copy(),
             })  # fmt: skip
 
     @staticmethod
@@ -733,7 +740,7 @@ class Recorder:
             iterations, wall, completed, P.area if P is not None else np.zeros(0), reason,
             solver or {}, self.fs[keep],
             self.envelope.snapshot() if self.envelope is not None else {},
-            self.jf[keep], self.jm[keep], self.jc[keep], self.jo[keep],
+            self.jf[keep], self.jm[keep], self.jc[keep], self.jo[keep], self.ground[keep],
         )  # fmt: skip
 
 

@@ -428,6 +428,7 @@ def history(writer: ResultsWriter, completed: bool, reason: str | None) -> Dynam
         broken=arr("pairs/broken"), energy=energy, completed=completed, pair_area=area,
         stop_reason=reason, solver=solver, safety_factor=fs, envelope=read_envelope(f),
         joint_force=jf, joint_moment=jm, joint_cracked=jc, joint_open=jo,
+        ground=arr("ground") if "ground" in h else np.zeros((0, 0)),
     )  # fmt: skip
 
 

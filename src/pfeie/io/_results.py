@@ -78,7 +78,7 @@ UNITS = {
 #: counts steps, no longer solves, and not those the semismooth Newton finished; 1.7: the
 #: group post_earthquake; 1.8: the attribute part_factors and the checkpoint's kin/shift;
 #: 1.9: history/solver/substeps; files without the attribute are 1.0)
-FORMAT_VERSION = "1.9"
+FORMAT_VERSION = "1.10"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
@@ -272,6 +272,7 @@ class ResultsWriter:
         for key in ("u", "v", "a", "a_abs"):
             self._grow(pr, key, (k, d), UNITS[key])
         self._grow(h, "rigid", (nb, r), UNITS["rigid"])
+        self._grow(h, "ground", (d,), "m")
         hp = h.create_group("pairs")
         for key in ("X", "w", "s"):
             self._grow(hp, key, (m, d), UNITS[key])
@@ -401,6 +402,8 @@ class ResultsWriter:
             for key in ("u", "v", "a", "a_abs"):
                 self._extend(f[f"history/probes/{key}"], [r[f"probe_{key}"] for r in buf])
             self._extend(f["history/rigid"], [r["rigid"] for r in buf])
+            if "ground" in f["history"]:  # (files of format 1.9 and older lack it)
+                self._extend(f["history/ground"], [r["ground"] for r in buf])
             if buf[0]["X"].size:
                 for key in ("X", "w", "s", "state", "broken"):
                     self._extend(f[f"history/pairs/{key}"], [r[key] for r in buf])
@@ -630,6 +633,14 @@ class Results:
         k = names.index(name)
         return {key: np.asarray(self.f[f"history/probes/{key}"][:, k])
                 for key in ("u", "v", "a", "a_abs")}  # fmt: skip
+
+    @property
+    def ground(self) -> FloatArray | None:
+        """The ground's displacement (n_t, d) at the recorded rows (m): in the absolute
+        form as the supports followed it, in the relative form the records' exact one;
+        None for a file of format 1.9 or older."""
+        h = self.f["history"]
+        return np.asarray(h["ground"][...]) if "ground" in h else None
 
     @property
     def body_names(self) -> list[str]:

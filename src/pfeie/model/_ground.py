@@ -303,7 +303,15 @@ class GroundMotion:
     def motion(self, t: float) -> tuple[float, float, float]:
         """Ground displacement (m), velocity (m/s) and acceleration (m/s²) at t, integrated
         exactly from the piecewise-linear record (zero before its start, constant velocity
-        after its end)."""
+        after its end). The acceleration is the record's at its first and last samples
+        too, as :meth:`__call__` gives it (the loads of the relative form): the absolute
+        form's supports start from it (it read 0 at t₀, and a record that starts at a
+        non-zero acceleration drove the two forms apart from the first step).
+
+        >>> g = GroundMotion.from_samples([2.0, 2.0], dt=0.01)
+        >>> g.motion(0.0), g.motion(0.01)[2] == g(0.01) == 2.0
+        ((0.0, 0.0, 2.0), True)
+        """
         tt, a = self.time, self.acceleration
         h = np.diff(tt)
         if not hasattr(self, "_vd"):
@@ -311,10 +319,11 @@ class GroundMotion:
             d = np.concatenate([[0.0], np.cumsum(v[:-1] * h + h * h * (2 * a[:-1] + a[1:]) / 6)])
             object.__setattr__(self, "_vd", (v, d))
         v, d = self._vd  # type: ignore[attr-defined]
-        if t <= tt[0]:
+        if t < tt[0]:
             return 0.0, 0.0, 0.0
         if t >= tt[-1]:
-            return float(d[-1] + v[-1] * (t - tt[-1])), float(v[-1]), 0.0
+            return (float(d[-1] + v[-1] * (t - tt[-1])), float(v[-1]),
+                    float(a[-1]) if t == tt[-1] else 0.0)  # fmt: skip
         i = int(np.searchsorted(tt, t, side="right")) - 1
         tau, hi = t - tt[i], h[i]
         da = (a[i + 1] - a[i]) / hi

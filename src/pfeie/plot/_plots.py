@@ -243,7 +243,11 @@ def plot_probe(res: Results, name: str, path: Path, title: str = "") -> Path:
     plt = _plt()
     t = res.time
     p = res.probe(name)
-    u = p["u"] - p["u"][:1]
+    u = p["u"]
+    ground = res.ground
+    if ground is not None and res.meta.get("form") == "absolute":
+        u = u - ground  # the absolute form's probes move with the ground
+    u = u - u[:1]
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     for i in range(u.shape[1]):
         ax[0].plot(t, 1e3 * u[:, i], lw=0.9, label=f"u_{AXES[i]}")
