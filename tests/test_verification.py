@@ -49,24 +49,33 @@ def test_case_passes(name: str) -> None:
     assert res.checks and not _failures(res), _failures(res)
 
 
-# numbers of the fast runs asserted beyond the checks: the conserved or exact quantities
-# of the sliding cases (the checks bound them; these record the values reached)
+# numbers of the fast runs asserted beyond the checks: the friction work of the sliding
+# cases against its closed form, μN over the rigid block's slip path (the energy balance
+# itself closes by construction under the default scheme, whose `algorithmic` term is its
+# rest: asserting it could not fail), the pairs' dissipation at every step, and what an
+# open joint carries; the values reached (the checks bound them too)
 SPECIFIC = {
-    ("V2a", "energy balance / friction work"): 1e-9,
-    ("V2b", "energy balance / friction work"): 1e-9,
-    ("V4", "energy balance / friction work"): 2e-12,
-    ("V8a", "energy balance / largest external work"): 5e-14,
-    ("V8b", "largest tension after opening (Pa)"): 0.0,
+    ("V2a", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 5.2e-5),
+    ("V2b", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 5.3e-5),
+    ("V4", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 2.7e-3),
+    ("V4", "most negative step of the interface dissipation / friction work"): (0.0, 1e-19),
+    ("V8a", "impact energy of the landing step / ½ m v² (rigid)"): (1.0, 1.4e-2),
+    ("V8b", "stress history before opening, max abs(σ + m k t/A) / σ_t"): (0.0, 2.4e-12),
+    ("V8b", "largest tension after opening (Pa)"): (0.0, 0.0),
 }
 
 
 @pytest.mark.parametrize(("name", "quantity"), list(SPECIFIC))
 def test_case_specific_numbers(name: str, quantity: str) -> None:
-    """The energy balances of the sliding cases close to round-off (measured 3e-10 of the
-    friction work in V2, 4e-13 in V4, 6e-15 in V8a) and an open joint carries no tension
-    (exactly 0): the checks exist and hold these bounds."""
+    """The friction work of V2a, V2b and V4 equals μN over the rigid block's slip path
+    (independent: the exact rigid-block integrator) to 5.2e-5, 5.3e-5 and 2.7e-3 (the
+    deformable block's path, as its extreme slip); no step of V4's interface dissipation
+    is negative beyond round-off; V8a's landing takes ½ m v² of the rigid flight's closing
+    velocity to 1.4 %; V8b's joint stress is −m k t/A to 2.4e-12 of σ_t and an open joint
+    carries no tension (exactly 0). Bound: twice the value reached (exactly 0 stays 0)."""
     check = {c.quantity: c for c in case_result(name).checks}[quantity]
-    assert check.value <= SPECIFIC[(name, quantity)]
+    ref, reached = SPECIFIC[(name, quantity)]
+    assert abs(check.value - ref) <= 2 * reached
 
 
 @pytest.mark.slow
@@ -74,7 +83,7 @@ def test_case_specific_numbers(name: str, quantity: str) -> None:
 def test_case_full_run_passes(name: str) -> None:
     """The full run of the case (longer runs, every parameter, the convergence studies):
     every check passes, including the observed convergence rates (V2a ≥ 1.8, second order;
-    V2b, V4 ≥ 0.9, first order; V6 ≥ 0.6, measured 0.68; V7b ≥ 1.8, second order in h;
+    V2b, V4 ≥ 0.9, first order; V6 ≥ 0.6, measured 0.67; V7b ≥ 1.8, second order in h;
     V4m, joint-node accelerations in h, ≥ 1.5, measured 1.84)."""
     res = run(fast=False, names=[name])[0]
     assert not _failures(res), _failures(res)

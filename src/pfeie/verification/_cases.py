@@ -24,7 +24,7 @@ from .. import (
     solve_static,
 )
 from ..errors import SolverError
-from ..interface import OPEN, SLIDE
+from ..interface import OPEN, SLIDE, STICK
 from ..mesh import rectangle
 from ._core import CaseResult, Check, Series, case
 from ._models import block_on_base, slip_x
@@ -63,10 +63,30 @@ def _text(quantity: str, text: str, value: float, unit: str = "", tol: float = 0
                  tol or 0.5 * 10.0**-digits, False, unit)  # fmt: skip
 
 
-def _balance(res) -> float:  # type: ignore[no-untyped-def]
-    """Energy balance at the end over the friction work (interface dissipation)."""
+def _friction_checks(res, static, rigid: RigidBlock, mu: float, t_end: float,  # type: ignore[no-untyped-def]
+                     tol_work: float, tol_alg: float) -> list[Check]:  # fmt: skip
+    """The energy the joint dissipates against its closed form, for a block sliding on a
+    level joint: Coulomb friction μN over the rigid block's slip path ∫|ẋ| dt (N the
+    block's weight, the static normal forces' sum; the path from the exact rigid motion
+    sampled at 0.005 ms). The recorded friction is `interface` plus `impact` (the
+    impulses' share of a stick-slip transition, docs/results.md); every step of
+    `interface` is ≥ 0 (the velocity-level law); the scheme's `algorithmic` term, small
+    against the friction. (The energy balance itself closes by construction under the
+    default scheme, whose `algorithmic` term is the rest of it.)"""
     E = res.energy
-    return float(abs(E["balance"][-1]) / E["interface"][-1])
+    N = float(static.pairs.X[:, -1].sum())
+    tf = np.linspace(0.0, t_end, round(t_end / 5e-6) + 1)
+    work = mu * N * float(np.abs(np.diff(rigid.displacement(tf))).sum())
+    friction = float(E["interface"][-1] + E["impact"][-1])
+    worst = max(-float(np.diff(E["interface"]).min()), 0.0)
+    return [
+        Check("friction work (interface + impact) / μN × rigid slip path", 1.0,
+              friction / work, tol_work),
+        Check("most negative step of the interface dissipation / friction work", 0.0,
+              worst / work, 1e-12, False),
+        Check("|algorithmic| / friction work", 0.0, abs(float(E["algorithmic"][-1])) / work,
+              tol_alg, False),
+    ]  # fmt: skip
 
 
 def _convergence(res: CaseResult, quantity: str, key: str, xs: list[float], errs: list[float],
@@ -179,7 +199,8 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
 
     t, a, gm = _record(fn, 1.0, dt)
     model = block_on_base(joint=Joint(phi=_phi(N)))
-    res = Dynamic(model, dt).run(1.0, start=solve_static(model), ground=[gm])
+    static = solve_static(model)
+    res = Dynamic(model, dt).run(1.0, start=static, ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     t1, t2 = _slide_interval(res)
     rigid = RigidBlock(t, a, N * G, t_end=1.0)
@@ -194,11 +215,12 @@ def _v2(kind: str, dt: float) -> tuple[CaseResult, float]:
     tols = (dt + 1e-9, 1e-9) if kind == "rect" else (0.9 * dt, 0.25 * dt)
     _MODELS[f"V2{'a' if kind == 'rect' else 'b'}"] = model
     out = CaseResult(f"V2{'a' if kind == 'rect' else 'b'}", "", [
-        # measured at Δt = 2 ms: slip 3.5e-5 (V2a), 5.5e-5 (V2b); balance 3.1e-10, 3.8e-10
+        # measured at Δt = 2 ms: slip 1.6e-4 (V2a), 5.2e-5 (V2b); friction work −5.2e-5,
+        # +5.3e-5; interface steps ≥ 0 (V2b: −3e-18, round-off); algorithmic 3.4e-5, 7.2e-6
         Check("permanent slip", u_ref, -float(x[-1]), 2e-4, unit="m"),
         Check("slip start", t_start, t1, tols[0], False, "s"),
         Check("slip stop", t_stop, t2, tols[1], False, "s"),
-        Check("energy balance / friction work", 0.0, _balance(res), 1e-9, False),
+        *_friction_checks(res, static, rigid, N, 1.0, 5e-4, 3e-4),
     ], [Series("pfeie", res.t, -x), Series("rigid block (exact)", res.t, -ref, "--")],
         ylabel="slip of the block relative to the base (m)",
         extra={"case_text": text})  # fmt: skip
@@ -210,8 +232,8 @@ def _v2_case(kind: str, fast: bool) -> CaseResult:
     if not fast:
         dts = [0.004, 0.002, 0.001, 0.0005]
         errs = [_v2(kind, dt)[1] for dt in dts]
-        # V2a: start (t = 0) and stop (0.5 s) fall on steps: Newmark's second order (measured
-        # 1.84, the jump sampled at its mid value); V2b: both events fall inside steps and
+        # V2a: start (t = 0) and stop (0.5 s) fall on steps: second order (measured 1.94, the
+        # jump sampled at its mid value); V2b: both events fall inside steps and
         # cost O(Δt) each: first order (measured 1.46, the errors scattering with where the
         # events fall in the step)
         order, bound = (2, 1.8) if kind == "rect" else (1, 0.9)
@@ -273,12 +295,24 @@ def v3(fast: bool) -> CaseResult:
     text = [_text("κ = cos β + μ sin β", "1.137158", kappa),
             _text("slip after one cycle", "0.0455160", xr[i1], "m", 5e-4 * 0.0455160),
             _text("slip after 5 cycles", "0.227580", xr[-1], "m", 5e-4 * 0.227580),
-            _text("first slip", "0.0363278", ref.starts[0], "s", 2e-5)]  # fmt: skip
+            _text("first slip", "0.0363278", ref.starts[0], "s", 2e-5),
+            _text("first stop", "0.317591", ref.stops[0], "s", 2e-5)]  # fmt: skip
+    # the block slides as a whole where no pair sticks (its elastic heel may lift: the
+    # pair there opens, measured 8.6e-8 m, and pairs slip partly before the start)
+    sliding = ~np.any(res.state == STICK, axis=1) & np.any(res.state == SLIDE, axis=1)
+    k0 = int(np.argmax(sliding))
+    k1 = k0 + int(np.argmin(sliding[k0:]))  # the first row that no longer slides
     out = CaseResult("V3", "Block on an incline under horizontal shaking", [
         # measured 6.3e-4 and 6.4e-4 (nonsmooth generalised-α: first order at each slip
         # start and stop)
         Check("slip after one cycle", float(xr[i1]), float(s[i1]), 2e-3, unit="m"),
         Check("slip after 5 cycles", float(xr[-1]), float(s[-1]), 3e-3, unit="m"),
+        # the first slip episode's start and stop (the first and the last step of sliding
+        # as a whole): measured 0.47 Δt and 0.03 Δt
+        Check("first slip start", float(ref.starts[0]), float(res.t[k0]), 0.6 * dt, False,
+              "s"),
+        Check("first slip stop", float(ref.stops[0]), float(res.t[k1 - 1]), 0.3 * dt, False,
+              "s"),
         # measured 8.6e-8 m: the block's elastic heel under the shaking, no hop
         Check("largest opening (no hop)", 0.0, float(res.opening.max()), 1e-6, False, "m"),
     ], [Series("pfeie", res.t, s), Series("rigid block (exact)", res.t, xr, "--")],
@@ -313,13 +347,16 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
     t, a, gm = _record(lambda t: np.where(t <= 5, 0.5 * G * np.sin(2 * np.pi * t), 0.0), T, dt)
     ref = RigidBlock(t, a, mu * G, t_end=T)
     model = block_on_base(joint=Joint(phi=_phi(mu)))
-    res = Dynamic(model, dt).run(T, start=solve_static(model), ground=[gm])
+    static = solve_static(model)
+    res = Dynamic(model, dt).run(T, start=static, ground=[gm])
     x = slip_x(res) - slip_x(res)[0]
     xr = ref.displacement(res.t)
     i1 = int(np.argmin(np.abs(res.t - ref.stops[0])))
     t1, _ = _slide_interval(res)
     checks = [
-        # measured at Δt = 1 ms: 0.505 Δt; 9.2e-7; 3.8e-3; 0.47 mm; balance 1.2e-15
+        # measured at Δt = 1 ms: 0.505 Δt; 9.2e-7; 3.8e-3; 0.47 mm; friction work 2.7e-3
+        # (the deformable block's path, as its extreme slip); interface steps ≥ −1.2e-20;
+        # algorithmic 1.3e-5
         Check("first slip", float(ref.starts[0]), t1, 0.6 * dt, False, "s"),
         Check("first-episode slip", float(xr[i1]), float(x[i1]), 2e-5, unit="m"),
         Check("extreme slip", float(xr.min()), float(x.min()), 5e-3, unit="m"),
@@ -329,7 +366,7 @@ def _v4(dt: float, T: float = 7.0) -> tuple[CaseResult, float]:
               0.0, False, "m"),
         Check("largest opening (no hop)", 0.0, float(res.s[:, :, -1].max()), 1e-12, False,
               "m"),
-        Check("energy balance / friction work", 0.0, _balance(res), 1e-13, False),
+        *_friction_checks(res, static, ref, mu, T, 1e-2, 1e-4),
     ]  # fmt: skip
     # the case text integrates the continuous sine, the reference here the record sampled at
     # Δt (measured at 1 ms: 3.8e-7 s, 5.7e-7 s; 1.9e-6, 2.9e-6, 3.3e-6 m)
@@ -739,8 +776,10 @@ def v5(fast: bool) -> CaseResult:
     checks, series = [], []
     for ky in [0.10] if fast else [0.05, 0.10, 0.15]:
         res, s, xr = _v5(0.005, ky, True, t, a)
-        # measured 2.6e-3, 1.0e-2, 1.2e-2 (k_y = 0.05, 0.10, 0.15)
-        checks.append(Check(f"one-way slip, k_y = {ky}", float(xr[-1]), float(s[-1]), 2e-2,
+        # measured 5.2e-5, 9.8e-4, 5.2e-3 (k_y = 0.05, 0.10, 0.15; the case text's 2 % is
+        # the bound of the reference cases, these are 4 to 10 × what is reached)
+        tol = {0.05: 5e-4, 0.10: 5e-3, 0.15: 2e-2}[ky]
+        checks.append(Check(f"one-way slip, k_y = {ky}", float(xr[-1]), float(s[-1]), tol,
                             unit="m"))  # fmt: skip
         series += [Series(f"pfeie one-way k_y={ky}", res.t, s),
                    Series(f"exact k_y={ky}", res.t, xr, "--")]  # fmt: skip
@@ -748,8 +787,9 @@ def v5(fast: bool) -> CaseResult:
         res, x, xr = _v5(0.001, mu, False, t, a, every=5)
         peak = float(np.abs(xr).max())
         # measured 2.6e-3, 6.8e-3, 1.9e-2 (μ = 0.05, 0.10, 0.15)
+        tol = {0.05: 1e-2, 0.10: 2e-2, 0.15: 2e-2}[mu]
         checks.append(Check(f"two-way max error / peak, μ = {mu}", 0.0,
-                            float(np.abs(x - xr).max()) / peak, 2e-2, False))  # fmt: skip
+                            float(np.abs(x - xr).max()) / peak, tol, False))  # fmt: skip
     out = CaseResult("V5", "Newmark block under El Centro 1940", checks, series,
                      ylabel="downslope slip (m)")  # fmt: skip
     if not fast:
@@ -810,14 +850,14 @@ def _v6(n: int) -> tuple[CaseResult, dict[str, float]]:
     ke0 = 0.5 * rho * A * L * v0**2
     after = res.energy["kinetic"][-1] + res.energy["strain"][-1] - res.energy["strain"][0]
     checks = [
-        # measured (400 cells): 0.25 Δt; 3.0e-7; 3.8e-3; 4.1e-3; 7.6e-3
-        Check("contact start", gap / v0, t_on, 0.3 * dt, False, "s"),
-        Check("plateau force", rho * c * v0 * A, plateau, 1e-6, unit="N"),
+        # measured (800 cells): 0.5 Δt; 1.2e-10; 3.1e-3; 3.8e-3; the rebound momentum
+        # 7.6e-3 (the contact node lands inelastically, e = 0, and takes its nodal mass's
+        # momentum: 1.2e-2 with 400 cells, above the case's 1 %)
+        Check("contact start", gap / v0, t_on, 0.6 * dt, False, "s"),
+        Check("plateau force", rho * c * v0 * A, plateau, 1e-9, unit="N"),
         Check("contact duration", 2 * L / c, dur, 1e-2, unit="s"),
         Check("impulse", 2 * p0, impulse, 1e-2, unit="N s"),
-        # rebound momentum: 1.2e-2 measured with the nonsmooth generalised-α (the contact
-        # node lands inelastically, e = 0)
-        Check("rebound momentum", p0, float((mass * vf).sum()), 3e-2, unit="N s"),
+        Check("rebound momentum", p0, float((mass * vf).sum()), 1e-2, unit="N s"),
     ]
     _MODELS["V6"] = model
     out = CaseResult("V6", "Elastic bar impact on a rigid wall", checks,
@@ -840,16 +880,16 @@ def _v6(n: int) -> tuple[CaseResult, dict[str, float]]:
       "force plateau, its duration, the impulse and the rebound.",
       "1D wave theory: contact at 5.0e-4 s, force ρ c v₀ A = 1270.83 N for 2L/c = 3.8545e-4 s, "
       "impulse 2 m v₀, rebound at v₀.",
-      "Q4 strip of 400 cells, ν = 0 and lateral rollers (1D), a fixed wall cell; Δt = h/c; "
+      "Q4 strip of 800 cells, ν = 0 and lateral rollers (1D), a fixed wall cell; Δt = h/c; "
       "the joint starts open with the gap.")  # fmt: skip
 def v6(fast: bool) -> CaseResult:
-    res, _ = _v6(400)
+    res, _ = _v6(800)
     if not fast:
-        ns = [50, 100, 200, 400]
+        ns = [100, 200, 400, 800]
         errs = [_v6(n)[1]["momentum"] for n in ns]
         hs = [1.0 / n for n in ns]
         # the inelastic landing of the contact node loses momentum with the nodal mass, but
-        # the measured rate is a steady 0.68 (ratios 1.61, 1.61, 1.58 per halving), below the
+        # the measured rate is a steady 0.67 (ratios 1.61, 1.58, 1.60 per halving), below the
         # first order: the bound asserts what is measured
         _convergence(res, "rebound momentum", "h", hs, errs, 1, 0.6)
     return res
@@ -1190,7 +1230,8 @@ def v8a(fast: bool) -> CaseResult:
     t_off = (np.pi + np.arcsin(2.0 / 3.0)) / (4 * np.pi)
     model = block_on_base(joint=Joint(phi=40.0))
     top = model.nearest_node([0.5, 1.0])
-    res = Dynamic(model, dt).run(0.8, start=solve_static(model), probes=[top], ground=[gm])
+    static = solve_static(model)
+    res = Dynamic(model, dt).run(0.8, start=static, probes=[top], ground=[gm])
     gap = res.opening.mean(axis=1)
     is_open = np.all(res.state == OPEN, axis=1)
     i_open = int(np.argmax(is_open))
@@ -1211,12 +1252,16 @@ def v8a(fast: bool) -> CaseResult:
     land = float(brentq(flight, ts[i_land - 1], ts[i_land]))  # the landing instant
     v_land = -G * (land - t_off) + 1.5 * G / w * (np.cos(w * land) - np.cos(w * t_off))
     E = res.energy
+    assert static.pairs is not None
+    mass = float(static.pairs.X[:, -1].sum()) / G  # the block's, from its weight
     _MODELS["V8a"] = model
     text = [_text("lift-off", "0.308070", t_off, "s"), _text("re-contact", "0.591860", land, "s"),
             _text("maximum opening", "0.0501613", y.max(), "m"),
             _text("closing velocity", "1.43751", -v_land, "m/s")]  # fmt: skip
     return CaseResult("V8a", "Lift-off under vertical shaking", [
-        # measured: 0.77 Δt, 0.26 Δt, 0.013 Δt; 6.6e-4; 4.9e-4; balance 5.9e-15
+        # measured: 0.77 Δt, 0.26 Δt, 0.013 Δt; 6.6e-4; 4.9e-4; the landing's impact
+        # energy +1.4 % (−0.8 % at Δt/2: the block is elastic, its contact nodes stop
+        # first)
         Check("lift-off", float(t_off), float(res.t[i_open]), 0.8 * dt, False, "s"),
         Check("re-contact (first closed step)", float(land), float(res.t[k + 1]), 0.3 * dt,
               False, "s"),
@@ -1224,10 +1269,10 @@ def v8a(fast: bool) -> CaseResult:
         Check("maximum opening", float(y.max()), float(gap.max()), 2e-3, unit="m"),
         Check("closing velocity", float(-v_land), -float(np.polyval(np.polyfit(tt, vv, 2), t_c)),
               2e-3, unit="m/s"),
-        Check("energy dissipated by the landing (J), > 0", 1.0, float(E["impact"][-1] > 0), 0.0,
-              False),
-        Check("energy balance / largest external work", 0.0,
-              float(abs(E["balance"][-1]) / np.abs(E["external_work"]).max()), 5e-14, False),
+        # the rigid block's plastic landing (e = 0) takes its kinetic energy relative to
+        # the base, ½ m v²
+        Check("impact energy of the landing step / ½ m v² (rigid)", 1.0,
+              float(E["impact"][k + 1] - E["impact"][k]) / (0.5 * mass * v_land**2), 3e-2),
     ], [Series("pfeie", res.t, gap), Series("rigid flight", ts, np.maximum(y, 0.0), "--")],
         ylabel="opening (m)", extra={"case_text": text})  # fmt: skip
 
@@ -1248,18 +1293,18 @@ def v8b(fast: bool) -> CaseResult:
     t_break = float(res.t[np.argmax(res.broken.all(axis=1))])
     after = res.t > t_break
     sig = res.normal_stress.mean(axis=1)
-    # before the break: σ = −m k t/A, the pair forces being step averages (they act at
-    # t_{n+1/2}; see pfeie.dynamics)
+    # before the break: σ = −m k t/A at the end of each step (the recorded pair force is
+    # P/h, which is the smooth force λ_{n+1} when the velocity correction adds no impulse)
     before = (res.t > 0.1) & (res.t < t_ref - dt)
-    expected = -2400.0 * k * (res.t[before] - dt / 2)
+    expected = -2400.0 * k * res.t[before]
     hist = float(np.abs(res.normal_stress[before] - expected[:, None]).max() / st_)
     _MODELS["V8b"] = model
     return CaseResult("V8b", "Tensile strength of a bonded joint", [
-        # measured: 0.58 Δt; 1.9e-3 (the smooth pair force λ of the nonsmooth generalised-α,
-        # whose start step carries the block's elastic transient); an open pair carries
-        # exactly nothing
+        # measured: 0.58 Δt; 2.2e-12 (it read 1.9e-3 against −m k (t − Δt/2), a half step
+        # off, under a tolerance a lag of a whole step would have passed); an open pair
+        # carries exactly nothing
         Check("opening time", t_ref, t_break, 0.6 * dt, False, "s"),
-        Check("stress history before opening, max abs(σ + m k t/A) / σ_t", 0.0, hist, 5e-3,
+        Check("stress history before opening, max abs(σ + m k t/A) / σ_t", 0.0, hist, 2e-11,
               False),
         Check("largest tension after opening (Pa)", 0.0,
               float(np.abs(res.normal_stress[after]).max()), 0.0, False, "Pa"),
@@ -1356,7 +1401,7 @@ def v9(fast: bool) -> CaseResult:
     err_f = float(np.abs(f1 / f0 - 1.0).max())
     _MODELS["V9"] = cut
     return CaseResult("V9", "Intact interfaces reproduce the monolithic model", [
-        # measured 7.8e-13, 2.7e-10, 1.6e-15 (the case text's criterion: 1e-9)
+        # measured 6.7e-13, 6.3e-10 (the bound is the case text's criterion, 1e-9), 4e-16
         Check("static displacements, max relative difference", 0.0, err_s, 5e-12, False),
         Check("dynamic top displacement, max relative difference", 0.0, err_d, 1e-9, False),
         Check("8 lowest frequencies, max relative difference", 0.0, err_f, 1e-14, False),
