@@ -133,3 +133,25 @@ def test_moreau_jean_below_one_absolute_form_equals_the_relative_form(
         assert np.abs(u_a - u_r).max() <= 2e-9 * np.abs(u_r).max()
         a_r, a_a = rel.probe_a_abs[:, 0, c], ab.probe_a_abs[:, 0, c]
         assert np.abs(a_a - a_r).max() <= 1e-8 * np.abs(a_r).max()
+
+
+def test_the_default_record_direction_is_x_in_3d_too() -> None:
+    """`read_record` and `GroundMotion` default to the direction (1, 0), x; a 3D model
+    refused it ("direction has 2 components"). x is x in 3D: a run under it equals one
+    under (1, 0, 0) bit for bit; another 2D direction, (0, 1), is ambiguous there (the
+    vertical of 2D, a horizontal of 3D) and stays refused, naming both verticals."""
+    mesh = pf.box(1.0, 1.0, 2.0, 1, 1, 2, cell="hexahedron")
+    model = pf.Model(mesh, [pf.Block("all", pf.Elastic(E=30e9, nu=0.2, rho=2400))])
+    model.fix("zmin")
+    top = int(np.argmax(mesh.points[:, 2] + 1e-3 * mesh.points[:, 0]))
+    values = np.sin(np.linspace(0.0, 6.0, 51))
+    default = pf.GroundMotion.from_samples(values, dt=0.01, units="g")
+    given = pf.GroundMotion.from_samples(values, dt=0.01, units="g", direction=(1, 0, 0))
+    an = pf.Dynamic(model, 0.005)
+    a = an.run(0.5, ground=[default], probes=[top])
+    b = an.run(0.5, ground=[given], probes=[top])
+    assert np.abs(a.probe_u[:, 0, 0]).max() > 0
+    assert np.array_equal(a.probe_u, b.probe_u) and np.array_equal(a.probe_a_abs, b.probe_a_abs)
+    up = pf.GroundMotion.from_samples(values, dt=0.01, units="g", direction=(0, 1))
+    with pytest.raises(pf.ModelError, match=r"\(0, 0, 1\) for the vertical"):
+        an.run(0.5, ground=[up])
