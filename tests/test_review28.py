@@ -155,3 +155,186 @@ def test_the_default_record_direction_is_x_in_3d_too() -> None:
     up = pf.GroundMotion.from_samples(values, dt=0.01, units="g", direction=(0, 1))
     with pytest.raises(pf.ModelError, match=r"\(0, 0, 1\) for the vertical"):
         an.run(0.5, ground=[up])
+
+
+# -- studies (a dam engineer running many records) ----------------------------------------
+def test_a_resumed_study_takes_its_intensity_measures_from_the_current_study(
+    tmp_path: Path,
+) -> None:
+    """A study resumed after its `intensity.period` (or `damping`) changed kept every row
+    (right: the runs do not depend on them) with the old rows' Sa(T1) column, while
+    study.json said the new T1: the Sa of T = 0.5 s under T = 1.0 s. Now a kept row takes
+    its intensity measures from the current study: equal to a fresh study's, which
+    computes them from the record (independent: the record's own spectrum)."""
+    from pfeie.study import Study
+    from test_study import STUDY, setup
+
+    study = STUDY.replace('values = [0.2, 0.5]', 'values = [0.2]\nperiod = 0.5')
+    p = setup(tmp_path, study, n=1)
+    first = Study.from_file(p).run()
+    p.write_text(study.replace("period = 0.5", "period = 1.0\ndamping = 0.2"))
+    st = Study.from_file(p)
+    again = st.run()
+    assert st.kept == 1  # the run itself is kept
+    rec = st.records[0].read(2)
+    f = again.column("scale_factor")[0]
+    expect = rec.intensity_measures(1.0, 0.2)["sa"] * abs(f) / 9.81
+    assert again.column("im.sa_t1_g")[0] == pytest.approx(expect, rel=1e-12)
+    assert abs(first.column("im.sa_t1_g")[0] / expect - 1) > 0.1  # it was T = 0.5 s's
+
+
+def test_a_study_keeps_its_rows_when_the_model_files_unused_record_changes(
+    tmp_path: Path,
+) -> None:
+    """The model file's own [[ground_motion]] is not run by a study (its records are the
+    study's), but the bytes of its file were in the study's key: editing that file threw
+    every row away ("a study of another model"). Now the rows are kept; the runs' results
+    are those of the study's records, the same as before."""
+    from pfeie.study import Study
+    from test_study import MODEL, STUDY, setup
+
+    p = setup(tmp_path, STUDY, n=1)
+    np.savetxt(tmp_path / "unused.csv", np.c_[[0.0, 0.01, 0.02], [0.0, 0.1, 0.0]],
+               delimiter=",")  # fmt: skip
+    (tmp_path / "model.toml").write_text(
+        MODEL + '[[ground_motion]]\nfile = "unused.csv"\nunits = "g"\n')
+    first = Study.from_file(p).run()
+    with (tmp_path / "unused.csv").open("a") as fh:
+        fh.write("0.03,0.5\n")
+    st = Study.from_file(p)
+    again = st.run()
+    assert st.kept == 2
+    np.testing.assert_array_equal(again.column("probe.top.peak_displacement_m"),
+                                  first.column("probe.top.peak_displacement_m"))  # fmt: skip
+
+
+def test_a_run_into_an_interrupted_studys_folder_is_refused(tmp_path: Path) -> None:
+    """A study marks its folder with study.json when it ends; an interrupted study's
+    folder held only its rows, and `pfeie run` into it was accepted: the study could not
+    resume there afterwards. The rows now mark it too."""
+    from pfeie.cli import main
+    from pfeie.study import Study
+    from test_study import STUDY, setup
+
+    p = setup(tmp_path, STUDY, n=1)
+    Study.from_file(p).run()
+    (tmp_path / "study" / "study.json").unlink()  # as a study stopped before its end
+    code = main(["run", str(tmp_path / "model.toml"), "--set", "output.folder='study'",
+                 "--duration", "0.02"])  # fmt: skip
+    assert code == 2
+    assert not (tmp_path / "study" / "results.h5").exists()
+    with pytest.raises(pf.PfeieError, match="the rows of its runs under rows/"):
+        pf.run_to_folder(pf.Dynamic(_block_on_a_joint()[0], 0.01), 0.02, tmp_path / "study")
+    again = Study.from_file(p)
+    again.run()
+    assert again.kept == 2
+
+
+def test_an_implausible_pga_warning_names_the_units_the_at2_header_states(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """An AT2 whose header states CM/SEC/SEC holding values in g (a PGA of 0.3 "cm/s²")
+    was warned about as "read in g (units = 'g')": the units the warning named were
+    the default, not those read. Now it names the header's cm/s2 and the units that would
+    make the PGA plausible (g)."""
+    from pfeie.io import implausible_pga, read_record
+
+    p = tmp_path / "rec.AT2"
+    p.write_text("PEER NGA STRONG MOTION DATABASE RECORD\nSYNTH\n"
+                 "ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC\n"
+                 "NPTS=    6, DT= .0100 SEC\n"
+                 "  .0000000E+00  .1000000E+00 -.3000000E+00  .2000000E+00 -.1000000E+00\n"
+                 "  .0000000E+00\n")  # fmt: skip
+    rec = read_record(p)
+    assert rec.read_units == "cm/s2" and rec.pga == pytest.approx(0.3 * 0.01, rel=1e-15)
+    msg = implausible_pga(p, rec.pga, rec.read_units)
+    assert msg is not None and "read in cm/s2" in msg and "(units = 'cm/s2')" in msg
+    from pfeie.cli import main
+
+    with caplog.at_level("WARNING"):
+        assert main(["spectrum", str(p), "-o", str(tmp_path / "s")]) == 0
+    assert "read in cm/s2" in caplog.text
+
+
+_OVERRIDE = '[analysis]\nset = [{}]\n[output]'
+
+
+@pytest.mark.parametrize("edit, bad, words", [
+    ('folder = "rec"\npattern = "*.csv"\nunits = "g"', 'units = "g"',
+     ["records[0].file", "found neither"]),
+    ('folder = "rec"\npattern = "*.csv"', 'file = ""', ["records[0].file", "empty string"]),
+    ('folder = "rec"\npattern = "*.csv"', 'file = "rec"',
+     ["records[0].file", "is a folder", "folder = ..."]),
+    ("[output]", _OVERRIDE.format('"output.paraview false"'),
+     ["analysis.set[0]", "expected KEY=VALUE"]),
+    ("[output]", _OVERRIDE.format('"ground_motion[0].scale = 2.0"'),
+     ["analysis.set[0]", "[[records]] replace the model's [[ground_motion]]"]),
+    ("[output]", _OVERRIDE.format('"output.folder = \'x\'"'),
+     ["analysis.set[0]", "its own [output] folder"]),
+    ("[output]", '[analysis]\nduration = 1.0\nset = ["analysis.duration = 2.0"]\n[output]',
+     ["analysis.set[0]", "both give the runs' duration"]),
+])  # fmt: skip
+def test_unclear_or_ignored_study_inputs_are_refused_by_name(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str, bad: str, words: list[str]
+) -> None:
+    """A study tester's findings: an empty [[records]] was told "give either file or
+    folder, not both" (neither was given); `file = ""` was "records[0].file: . not
+    found", a folder given as `file` "rec not found"; an override without '=' named no
+    study file nor key; overrides of the model's ground motions and output folder, and
+    a duration given twice (`duration` and `analysis.duration` in `set`), were silently
+    ignored. Each now ends in exit 2 naming the study file and the key."""
+    from pfeie.cli import main
+    from test_study import STUDY, setup
+
+    assert edit in STUDY
+    p = setup(tmp_path, STUDY.replace(edit, bad))
+    assert main(["study", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pfeie: error: ") and str(p) in err
+    for w in words:
+        assert w in err, err
+
+
+def test_study_api_refuses_wrong_arguments_by_name(tmp_path: Path) -> None:
+    """The Python API took an empty record list (it wrote an empty table, then failed on
+    its missing column), and gave bare TypeErrors for `values=0.1` and `records=[3]`;
+    each is now a ModelError naming the argument."""
+    from pfeie.study import Study
+
+    model = tmp_path / "model.toml"
+    with pytest.raises(pf.ModelError, match=r"records: expected at least one record"):
+        Study(model, [], measure="pga", values=[0.1])
+    with pytest.raises(pf.ModelError, match=r"intensity.values: expected a list of numbers"):
+        Study(model, [tmp_path / "r.csv"], values=0.1)  # type: ignore[arg-type]
+    with pytest.raises(pf.ModelError, match=r"records\[0\]: expected a record file's path"):
+        Study(model, [3])  # type: ignore[list-item]
+    assert not (tmp_path / "study").exists()
+
+
+def test_study_table_keeps_integer_and_boolean_columns(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """`StudyTable.column` gave floats for `completed`, `level` and `steps`, so that
+    `~t.column("completed")` failed; read back from the CSV and the Parquet file they are
+    booleans and integers, as in memory. The model file's warnings of a study are logged
+    once (they were logged twice, by the study's check of the model and again by its
+    runs' build, with the file's absolute path)."""
+    from pfeie.study import Study, StudyTable
+    from test_study import MODEL, STUDY, setup
+
+    p = setup(tmp_path, STUDY, n=1)
+    (tmp_path / "model.toml").write_text(MODEL.replace("friction_angle = 20.0",
+                                                       "friction_angle = 2.0"))  # fmt: skip
+    with caplog.at_level("WARNING"):
+        t = Study.from_file(p).run()
+    said = [r.getMessage() for r in caplog.records if "friction_angle = 2" in r.getMessage()]
+    assert len(said) == 1, said
+    for table in (t, StudyTable.read(tmp_path / "study" / "table.csv"),
+                  StudyTable.read(tmp_path / "study" / "table.parquet")):  # fmt: skip
+        assert table.column("completed").dtype == bool
+        assert not (~table.column("completed")).any()
+        assert table.column("level").dtype == np.int64
+        assert table.column("level").tolist() == [0, 1]
+        assert table.column("steps").dtype == np.int64
+    assert StudyTable([{"a": 1}, {"a": 2.5}]).column("a").dtype == float
+    assert np.isnan(StudyTable([{"a": 1}, {"b": 2}]).column("a")[1])

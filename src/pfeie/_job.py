@@ -21,6 +21,7 @@ import contextlib
 import errno
 import json
 import logging
+import re
 import signal
 import sys
 import threading
@@ -232,9 +233,9 @@ def run_job(
     duration). One run at a time writes to an output folder (a lock file with its process
     id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
-    if (out / "study.json").exists():  # a run's summaries would replace the study's report
+    if (why := study_outputs(out)) is not None:  # a run's summaries would replace the study's
         raise InputError(f"{job.path}: output.folder: {out} holds the outputs of a `pfeie "
-                         "study` (study.json); a run writes its own results, summary and "
+                         f"study` ({why}); a run writes its own results, summary and "
                          "report: choose another output.folder")  # fmt: skip
     with FolderLock(out, job.path):
         try:
@@ -254,6 +255,21 @@ def run_job(
                 "written before stays readable (pfeie report, pfeie export), and then "
                 "`pfeie run --resume` continues from the last checkpoint"
             ) from None
+
+
+_ROW_FILE = re.compile(r"[0-9a-f]{64}\.json")
+
+
+def study_outputs(folder: Path) -> str | None:
+    """What shows that ``folder`` holds a study's outputs: its ``study.json`` (written
+    when a study ends), or the rows of its runs (``rows/<key>.json``, written as each run
+    ends: an interrupted study, which ``pfeie study`` resumes); None for another folder."""
+    if (folder / "study.json").exists():
+        return "study.json"
+    rows = folder / "rows"
+    if rows.is_dir() and any(_ROW_FILE.fullmatch(p.name) for p in rows.iterdir()):
+        return "the rows of its runs under rows/"
+    return None
 
 
 class FolderLock:
@@ -662,9 +678,9 @@ def run_to_folder(
                      duration=duration, form=form, static=static is not None, title=title,
                      output=output, system=analysis.system)  # fmt: skip
     out = output_folder(folder, "run_to_folder: folder")
-    if (out / "study.json").exists():
+    if (why := study_outputs(out)) is not None:
         raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "
-                         "(study.json): choose another folder")  # fmt: skip
+                         f"({why}): choose another folder")  # fmt: skip
     path = out / "results.h5"
     opened: list[ResultsWriter] = []
 

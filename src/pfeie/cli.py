@@ -526,7 +526,7 @@ def _spectrum(args: argparse.Namespace) -> int:
         else:
             dt = None if args.dt is None else _number("--dt", args.dt, 0.0)
             records[""] = (read_record(src, units=args.units, dt=dt), t1)
-            odd = implausible_pga(src, records[""][0].pga, args.units or "g")
+            odd = implausible_pga(src, records[""][0].pga, records[""][0].read_units)
             if odd is not None:
                 logging.getLogger("pfeie.cli").warning("%s", odd)
         out = output_folder(args.out, "--out")

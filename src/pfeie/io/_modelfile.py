@@ -979,7 +979,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                              f"expected at most {MAX_PGA_G:g} g: check units (a record in "
                              "cm/s2 read as g is 981 times too strong) and scale")  # fmt: skip
         if gm.pga is None and gm.target_sa is None:  # scaled to a target: units cancel
-            odd = implausible_pga(gm.file, rec.pga, gm.units or "g")
+            odd = implausible_pga(gm.file, rec.pga, rec.read_units)
             if odd is not None:
                 log.warning("%s: ground_motion[%d]: %s", p, i, odd)
         elif gm.pga is not None and gm.pga > PGA_KEY_HIGH_G:

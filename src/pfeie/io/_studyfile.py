@@ -54,8 +54,13 @@ class StudyRecords(RecordReading):
 
     @model_validator(mode="after")
     def _one_source(self) -> StudyRecords:
-        if (self.file is None) == (self.folder is None):
+        if self.file is None and self.folder is None:
+            raise _check("file", "expected a record file (file = ...) or a folder of them "
+                         "(folder = ..., with pattern); found neither")  # fmt: skip
+        if self.file is not None and self.folder is not None:
             raise _check("file", "give either file or folder (with pattern), not both")
+        if self.file is not None and not str(self.file).strip():
+            raise _check("file", "expected the path of a record file, found an empty string")
         return self
 
 

@@ -77,6 +77,9 @@ class GroundMotion:
     scaling: str = ""
     #: how the record was processed, for the summary (e.g. "band-pass 0.1–25 Hz, ...")
     processing: str = ""
+    #: the units its values were read in (:data:`G_UNITS`; the accelerations are stored
+    #: in m/s²): what a warning about an implausible PGA names
+    read_units: str = "m/s2"
 
     def __post_init__(self) -> None:
         """The record's consistency, checked however it is built (the constructor took
@@ -172,7 +175,7 @@ class GroundMotion:
             raise ModelError(f"ground motion {name!r}: scale {scale} × the record overflows; "
                              "expected finite accelerations (m/s²)")  # fmt: skip
         unit = np.asarray(e / np.linalg.norm(e), dtype=float)
-        return cls(np.asarray(t, dtype=float), acc_si, unit, name)
+        return cls(np.asarray(t, dtype=float), acc_si, unit, name, read_units=units)
 
     @classmethod
     def from_function(

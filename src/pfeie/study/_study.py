@@ -286,6 +286,7 @@ class _System:
 
 
 _SYSTEMS: dict[str, _System] = {}
+_CHECKED: set[str] = set()  # the model keys whose model file this process has checked
 _BUILDS = [0]  # the systems this process has built (:func:`builds`)
 
 
@@ -306,7 +307,17 @@ def system(ctx: Context) -> _System:
         from ..solvers import solve_static
 
         t0 = time.perf_counter()
-        job = load_job(ctx.model, [Override(*o) for o in ctx.overrides], records=False)
+        # the study's own process has checked the model file (Study.context) and logged
+        # its warnings: they are not repeated when its runs build the system here
+        quiet = ctx.model_key in _CHECKED
+        previous = logging.root.manager.disable
+        if quiet:
+            logging.disable(logging.WARNING)
+        try:
+            job = load_job(ctx.model, [Override(*o) for o in ctx.overrides], records=False)
+        finally:
+            if quiet:
+                logging.disable(previous)
         static = solve_static(job.model, settings=_solver_settings(job)) \
             if job.analysis.static else None  # fmt: skip
         hit = _System(job, dynamic_analysis(job), static)
@@ -514,11 +525,15 @@ def _as_run(row: dict[str, Any], spec: RunSpec) -> dict[str, Any]:
     """The row of a run found by its key, as a row of ``spec``: the key fixes the
     computation (the model, the record's bytes and options, the scale factor, the
     duration), not the record's name in the study, nor its level or intensity in the
-    ladder, which come from the current study."""
+    ladder, nor its intensity measures (Sa at the study's T1 and damping, which the
+    computation does not depend on), which come from the current study."""
     out = dict(row)
     out.setdefault("stop_reason", "")
     out.update(record=spec.record.name, file=str(spec.record.path), level=spec.level,
                intensity=spec.value)  # fmt: skip
+    for col, k, div in IM_COLUMNS:
+        if k in spec.ims:
+            out[col] = spec.ims[k] / div
     return out
 
 
@@ -615,7 +630,31 @@ class Study:
         file."""
         self.model = Path(self.model)
         self.folder = Path(self.folder)
+        given: dict[str, object] = {
+            "records": self.records,
+            "values": self.values,
+            "set": self.overrides,
+        }  # (what a caller passed)
+        if isinstance(given["records"], (str, os.PathLike)) or not isinstance(
+                given["records"], Sequence):  # fmt: skip
+            raise ModelError(f"records: expected a list of record files (or RecordSource), "
+                             f"found {self.records!r}")  # fmt: skip
         raw: list[Any] = list(self.records)  # RecordSource, or a path read with the defaults
+        if not raw:
+            raise ModelError("records: expected at least one record, found []")
+        for k, r in enumerate(raw):
+            if not isinstance(r, (RecordSource, str, os.PathLike)):
+                raise ModelError(f"records[{k}]: expected a record file's path (or a "
+                                 f"RecordSource), found {type(r).__name__} {r!r}")  # fmt: skip
+        if isinstance(given["values"], (str, bytes)) or not isinstance(
+                given["values"], (Sequence, np.ndarray)):  # fmt: skip
+            raise ModelError(f"intensity.values: expected a list of numbers, found "
+                             f"{self.values!r}")  # fmt: skip
+        self.values = list(self.values)
+        if isinstance(given["set"], str) or not isinstance(given["set"], Sequence):
+            raise ModelError(f"analysis.set: expected a list of 'KEY=VALUE' strings, found "
+                             f"{self.overrides!r}")  # fmt: skip
+        self._check_overrides()
         plain = [k for k, r in enumerate(raw) if not isinstance(r, RecordSource)]
         for k, name in zip(plain, record_names([Path(raw[k]) for k in plain], Path.cwd()),
                            strict=True):  # fmt: skip
@@ -652,6 +691,32 @@ class Study:
         gave it (a folder's records share theirs), or its index in :attr:`records`."""
         k = self.records.index(r)
         return self._where(self._entries[k] if self._entries is not None else f"records[{k}]")
+
+    def _check_overrides(self) -> None:
+        """Each override ``KEY=VALUE`` (the study file's ``analysis.set``): not of a key
+        the study sets itself (the records, the output folder) and, with
+        ``duration``, not ``analysis.duration`` too (two durations, one silently
+        ignored)."""
+        from ..io import parse_override
+
+        for i, text in enumerate(self.overrides):
+            key = f"analysis.set[{i}]"
+            if not isinstance(text, str):
+                raise ModelError(f"{key}: expected a 'KEY=VALUE' string, found {text!r}")
+            try:
+                o = parse_override(text, key)
+            except PfeieError as exc:
+                raise ModelError(str(exc)) from None
+            if o.key.startswith("ground_motion") or o.key == "output.folder":
+                what = ("the study's [[records]] replace the model's [[ground_motion]]"
+                        if o.key.startswith("ground_motion") else
+                        "the study writes to its own [output] folder")  # fmt: skip
+                raise ModelError(f"{key}: {text!r}: a study does not take this key ({what}); "
+                                 "expected a key of the model's analysis, materials, "
+                                 "interfaces or loads")  # fmt: skip
+            if o.key == "analysis.duration" and self.duration is not None:
+                raise ModelError(f"{key}: {text!r} and analysis.duration = {self.duration:g} "
+                                 "both give the runs' duration; expected one of them")  # fmt: skip
 
     def _check_values(self) -> None:
         """The ladder: finite values > 0 (scale factors), or in (0, 20] g (``pga``,
@@ -719,6 +784,10 @@ class Study:
             if r.file is not None:
                 files = [base / r.file]
                 entry = f"records[{i}].file"
+                if files[0].is_dir():
+                    raise InputError(f"{p}: records[{i}].file: {files[0]} is a folder; "
+                                     "expected a record file (for the records of a folder: "
+                                     "folder = ... with pattern = ...)")  # fmt: skip
                 if not files[0].is_file():
                     raise InputError(f"{p}: records[{i}].file: {files[0]} not found")
             else:
@@ -782,7 +851,11 @@ class Study:
             if not job.analysis.dynamic:
                 raise InputError(f"{self.model}: analysis.dynamic = false; a study runs "
                                  "the dynamic analysis")  # fmt: skip
-            key = hashlib.sha256((run_key(job) + __version__).encode()).hexdigest()
+            # the model file's own [[ground_motion]] is not run (records=False): its
+            # files out of the key, so that editing them keeps the study's rows
+            bare = dataclasses.replace(job, spec={**job.spec, "ground_motion": []})
+            key = hashlib.sha256((run_key(bare) + __version__).encode()).hexdigest()
+            _CHECKED.add(key)
             if duration is None and given:  # analysis.set = ["analysis.duration=..."]
                 duration = job.analysis.duration
             self._job = job
@@ -907,7 +980,7 @@ class Study:
         from ..dynamics import shorter_than_a_step
         from ..io import MAX_PGA_G, coarse_sampling, coarse_step, implausible_pga
 
-        where, units = self._entry(r), r.units or "g"
+        where, units = self._entry(r), rec.read_units
         why = shorter_than_a_step(rec, self._job.analysis.dt)
         if why is not None:
             raise InputError(f"{where}: {r.path}: {why}")

@@ -51,12 +51,18 @@ class StudyTable:
         return self.column(name)
 
     def column(self, name: str) -> npt.NDArray[Any]:
-        """A column as an array: floats (NaN where a row lacks it) for numbers and
-        booleans, objects for strings."""
+        """A column as an array: booleans or integers where every row has one (the
+        ``completed``, ``level`` and ``steps`` columns), else floats (NaN where a row
+        lacks it) for numbers, objects for strings."""
         if name not in self.columns:
             raise InputError(f"study table: no column {name!r}; the columns are "
                              f"{', '.join(self.columns)}")  # fmt: skip
         vals = [r.get(name) for r in self.rows]
+        if vals and all(isinstance(v, (bool, np.bool_)) for v in vals):
+            return np.array(vals, dtype=bool)
+        if vals and all(isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+                        for v in vals):  # fmt: skip
+            return np.array(vals, dtype=np.int64)
         if all(v is None or isinstance(v, (int, float, bool, np.number)) for v in vals):
             return np.array([math.nan if v is None else float(v) for v in vals])
         return np.array(["" if v is None else v for v in vals], dtype=object)
