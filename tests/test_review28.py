@@ -72,6 +72,18 @@ def test_absolute_form_summary_measures_motion_from_the_supports_the_run_moved(
         ground = res.ground  # the relative form records the record's exact displacement
         assert ground is not None
         assert ground[:, 0] == pytest.approx([gm.motion(ti)[0] for ti in res.time], abs=1e-15)
+        q_rel = res.f["history/rigid"][...]
+    # the figures (rigid_motion.png showed the base moving with the ground): the motion
+    # they draw, relative to the ground, is the relative form's
+    from pfeie.plot._plots import _ground_of, plot_rigid
+
+    with Results(tmp_path / "absolute" / "results.h5") as res:
+        ground, frame = _ground_of(res)
+        assert ground is not None and frame == "relative to the ground"
+        q = res.f["history/rigid"][...]
+        q[..., :2] -= ground[:, None, :]
+        assert np.abs((q - q[:1]) - (q_rel - q_rel[:1])).max() <= 1e-8 * np.abs(q_rel).max()
+        assert plot_rigid(res, tmp_path / "rigid.png").stat().st_size > 0
 
 
 def _wet_battered_block(wet: bool) -> tuple[pf.Model, int]:
@@ -338,3 +350,120 @@ def test_study_table_keeps_integer_and_boolean_columns(
         assert table.column("steps").dtype == np.int64
     assert StudyTable([{"a": 1}, {"a": 2.5}]).column("a").dtype == float
     assert np.isnan(StudyTable([{"a": 1}, {"b": 2}]).column("a")[1])
+
+
+def test_a_run_recording_every_other_step_ends_off_its_grid_and_resumes(
+    tmp_path: Path,
+) -> None:
+    """`pfeie run` with `output.every = 2` over 5 steps failed at its end ("checkpoint of
+    row 2 with 4 rows on disk": the last step, off the grid of `every`, is recorded in a
+    row of its own after the latest checkpoint), losing the run and leaving an earlier
+    run's summary in the folder. Now it completes, and a resume to a longer duration
+    gives the histories of a run that never stopped (independent: that run), bit for
+    bit."""
+    from pfeie.cli import main
+    from pfeie.io import Results
+    from test_study import MODEL, setup
+
+    setup(tmp_path, n=1)
+    model = MODEL.replace('folder = "out"', 'folder = "out"\nevery = 2') + (
+        '[[ground_motion]]\nfile = "rec/r0.csv"\nunits = "g"\n')
+    (tmp_path / "model.toml").write_text(model)
+    (tmp_path / "whole.toml").write_text(model.replace('folder = "out"', 'folder = "whole"'))
+    assert main(["run", str(tmp_path / "model.toml"), "--duration", "0.05"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert res.completed and res.time[-1] == pytest.approx(0.05, abs=1e-12)
+        assert res.n_times == 4  # rows at steps 0, 2, 4 and the last, 5
+    assert main(["run", str(tmp_path / "model.toml"), "--duration", "0.1", "--resume"]) == 0
+    assert main(["run", str(tmp_path / "whole.toml"), "--duration", "0.1"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as a, \
+            Results(tmp_path / "whole" / "results.h5") as b:  # fmt: skip
+        assert np.array_equal(a.time, b.time)
+        assert np.array_equal(a.probe("top")["u"], b.probe("top")["u"])
+        assert np.array_equal(a.f["history/pairs/X"][...], b.f["history/pairs/X"][...])
+
+
+def _column_3d(tmp: Path) -> None:
+    """A 1 m cube of rock ("base", its bottom face "bottom") under a 1 m cube ("block")
+    across the face "joint" at z = 1 m; "upstream" the block's face at x = 0."""
+    from test_robustness import msh22
+
+    nodes = [(x, y, z) for z in (0.0, 1.0, 2.0) for y in (0.0, 1.0) for x in (0.0, 1.0)]
+    layer = [[1, 2, 4, 3], [5, 6, 8, 7], [9, 10, 12, 11]]  # x fastest, four a layer
+    elements = [(1, 3, 3, layer[0]), (2, 3, 4, layer[1]), (3, 3, 5, [5, 7, 11, 9]),
+                (4, 5, 1, layer[0] + layer[1]), (5, 5, 2, layer[1] + layer[2])]  # fmt: skip
+    names = {1: (3, "base"), 2: (3, "block"), 3: (2, "bottom"), 4: (2, "joint"),
+             5: (2, "upstream")}  # fmt: skip
+    msh22(tmp / "col.msh", nodes, elements, names)
+
+
+COLUMN = """
+[mesh]
+file = "col.msh"
+[materials.rock]
+E = 30e9
+nu = 0.2
+rho = 2400.0
+[blocks]
+base = "rock"
+block = "rock"
+[interfaces.joint]
+friction_angle = 35.0
+[[supports]]
+group = "bottom"
+[loads]
+gravity = 9.81
+LOADS
+[analysis]
+dynamic = false
+[output]
+folder = "out"
+"""
+
+
+@pytest.mark.parametrize("upstream, warned", [("-x", False), ("+y", True), ("-y", True)])
+def test_an_uplift_laid_across_a_3d_valley_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, upstream: str, warned: bool
+) -> None:
+    """In 3D, `loads.uplift.upstream = "+y"` on a dam whose reservoir wets its face at
+    x = 0 laid the uplift across the valley, without the warning that `"+x"` gets: the
+    check compared the wet faces along the axis named only, where they lie mid-joint.
+    Now the other horizontal axis is compared too, and the warning names the side."""
+    from pfeie.io import load_job
+
+    _column_3d(tmp_path)
+    loads = ('hydrostatic = [{groups = ["upstream"], water_level = 1.8}]\n'
+             f'uplift = [{{interface = "joint", headwater = 1.8, upstream = "{upstream}"}}]')
+    p = tmp_path / "col.toml"
+    p.write_text(COLUMN.replace("LOADS", loads))
+    with caplog.at_level("WARNING"):
+        load_job(p)
+    said = f"loads.uplift[0].upstream = '{upstream}' runs the uplift of 'joint' along y"
+    assert (said in caplog.text) == warned, caplog.text
+    if warned:
+        assert "wets faces about x = 0 m" in caplog.text
+        assert "expected upstream = '-x'?" in caplog.text
+
+
+def test_3d_figures_and_report_of_water_in_a_joint(tmp_path: Path) -> None:
+    """A hydrostatic load in a 3D joint (the model file's `loads.hydrostatic` on an
+    interface: the water pushes both faces apart) ran right, but `pfeie plot` and
+    `pfeie report` stopped with "no facet group 'joint'": the 3D load figure looked the
+    group up without the interface's first face, `joint:a`, which the 2D figure took.
+    Now both end with exit 0 and draw the load; the run's normal force is the weight
+    less the water's push, ρ_w g (1.5 − 1) over 1 m² (closed form)."""
+    from pfeie.cli import main
+    from pfeie.io import Results
+
+    _column_3d(tmp_path)
+    (tmp_path / "col.toml").write_text(COLUMN.replace(
+        "LOADS", 'hydrostatic = [{groups = ["joint"], water_level = 1.5}]'))
+    assert main(["run", str(tmp_path / "col.toml")]) == 0
+    out = tmp_path / "out"
+    with Results(out / "results.h5") as res:
+        N = float(res.static_pairs("joint")["X"][:, -1].sum())
+    assert pytest.approx(2400.0 * 9.81 - 1000.0 * 9.81 * 0.5, rel=1e-9) == N
+    assert main(["plot", str(out / "results.h5")]) == 0
+    assert (out / "figures" / "loads.png").stat().st_size > 0
+    assert main(["report", str(out / "results.h5")]) == 0
+    assert (out / "report.html").stat().st_size > 0

@@ -58,9 +58,9 @@ SPECIFIC = {
     ("V2a", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 5.2e-5),
     ("V2b", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 5.3e-5),
     ("V4", "friction work (interface + impact) / μN × rigid slip path"): (1.0, 2.7e-3),
-    ("V4", "most negative step of the interface dissipation / friction work"): (0.0, 1e-19),
+    ("V4", "most negative step of the interface dissipation / friction work"): (0.0, 5e-18),
     ("V8a", "impact energy of the landing step / ½ m v² (rigid)"): (1.0, 1.4e-2),
-    ("V8b", "stress history before opening, max abs(σ + m k t/A) / σ_t"): (0.0, 2.4e-12),
+    ("V8b", "stress history before opening, max abs(σ + m k t/A) / σ_t"): (0.0, 1e-11),
     ("V8b", "largest tension after opening (Pa)"): (0.0, 0.0),
 }
 
@@ -72,7 +72,9 @@ def test_case_specific_numbers(name: str, quantity: str) -> None:
     deformable block's path, as its extreme slip); no step of V4's interface dissipation
     is negative beyond round-off; V8a's landing takes ½ m v² of the rigid flight's closing
     velocity to 1.4 %; V8b's joint stress is −m k t/A to 2.4e-12 of σ_t and an open joint
-    carries no tension (exactly 0). Bound: twice the value reached (exactly 0 stays 0)."""
+    carries no tension (exactly 0). Bound: twice the value reached (exactly 0 stays 0);
+    for the two round-off levels (V4's interface steps, 1.2e-20, and V8b's stress,
+    2.4e-12) twice a bound 4 to 400 × above it, which another BLAS may reach."""
     check = {c.quantity: c for c in case_result(name).checks}[quantity]
     ref, reached = SPECIFIC[(name, quantity)]
     assert abs(check.value - ref) <= 2 * reached

@@ -186,19 +186,24 @@ class CheckpointWriter:
             self.write()
 
     def close(self) -> None:
-        """Write the latest checkpoint, if it is not on disk yet."""
-        self.write()
+        """Write the latest checkpoint, if it is not on disk yet. A run whose last step
+        lies off the grid of ``output.every`` has recorded that step in a row of its
+        own after the latest checkpoint's (not a checkpoint: a run extended from this one
+        continues from the last row on the grid, :meth:`pfeie.Dynamic.run`); the
+        checkpoint is written all the same, and a resumed run drops that row."""
+        self.write(final=True)
 
-    def write(self) -> None:
+    def write(self, final: bool = False) -> None:
         ck = self._pending
         if ck is None:
             return
         w = self.writer
         w.flush()
         f = w.f
-        if f["history/time"].shape[0] != ck.row + 1:
+        on_disk = f["history/time"].shape[0]
+        if on_disk != ck.row + 1 and not (final and on_disk == ck.row + 2):
             raise ResultsError(f"{w.path}: checkpoint of row {ck.row} with "
-                               f"{f['history/time'].shape[0]} rows on disk")  # fmt: skip
+                               f"{on_disk} rows on disk")  # fmt: skip
         if "checkpoint_new" in f:
             del f["checkpoint_new"]
         g = f.create_group("checkpoint_new")
@@ -229,7 +234,7 @@ class CheckpointWriter:
         for name, value in data.items():  # float64 whatever the field precision, compressed
             # as the results file (lossless: the resumed run continues from the same bits)
             w.storage.create(g, name, value, _UNITS[name.split("/")[1]])
-        for name, (value, units) in _tails(f).items():
+        for name, (value, units) in _tails(f, ck.row + 1).items():
             w.storage.create(g, f"tail/{name}", value, units)
         # on disk before the old checkpoint's space is freed (and may be reused)
         f.flush()
@@ -248,9 +253,10 @@ def _grows(obj: Any) -> bool:
     return hasattr(obj, "resize") and bool(obj.maxshape) and obj.maxshape[0] is None
 
 
-def _tails(f: Any) -> dict[str, tuple[Any, str]]:
-    """The rows in the last chunk of every compressed history (and of ``fields/time``),
-    from the chunk's first row to the last row on disk, with their units: a checkpoint
+def _tails(f: Any, rows: int) -> dict[str, tuple[Any, str]]:
+    """The rows in the last chunk of every compressed history up to the checkpoint's
+    ``rows`` (and of ``fields/time``, up to its last row on disk), from the chunk's first
+    row, with their units: a checkpoint
     keeps them. A compressed chunk that gains rows is written elsewhere in the file and
     its old place freed, and HDF5 may reuse that place before the file's index is
     flushed: a run killed then leaves a file whose index points the last chunk at other
@@ -260,8 +266,9 @@ def _tails(f: Any) -> dict[str, tuple[Any, str]]:
 
     def visit(name: str, obj: Any) -> None:
         if _grows(obj) and obj.compression and obj.chunks[0] > 1 and obj.size:
-            start = (obj.shape[0] - 1) // obj.chunks[0] * obj.chunks[0]
-            out[name] = (np.asarray(obj[start:]), str(obj.attrs.get("units", "")))
+            end = obj.shape[0] if name.startswith("fields/") else min(rows, obj.shape[0])
+            start = (end - 1) // obj.chunks[0] * obj.chunks[0]
+            out[name] = (np.asarray(obj[start:end]), str(obj.attrs.get("units", "")))
 
     for top in ("history", "fields"):
         f[top].visititems(lambda n, o, top=top: visit(f"{top}/{n}", o))

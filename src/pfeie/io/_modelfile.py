@@ -548,13 +548,31 @@ def _upstream_side(p: Path, j: int, up: Any, k: int, water: Any, mesh: Mesh) -> 
     groups = [g for g in water.groups if g in mesh.facet_groups]
     if axis >= mesh.dim - 1 or up.interface not in mesh.facet_groups or not groups:
         return  # refused later, or nothing to compare
-    x = mesh.points[mesh.group_nodes(up.interface), axis]
-    wet = mesh.points[np.unique(np.concatenate([mesh.group_nodes(g) for g in groups]))]
-    wet = wet[wet[:, mesh.dim - 1] < water.water_level, axis]
+    joint = mesh.points[mesh.group_nodes(up.interface)]
+    x = joint[:, axis]
+    wet_all = mesh.points[np.unique(np.concatenate([mesh.group_nodes(g) for g in groups]))]
+    wet_all = wet_all[wet_all[:, mesh.dim - 1] < water.water_level]
+    wet = wet_all[:, axis]
     lo, hi = float(x.min()), float(x.max())
     if not wet.size or hi - lo <= 0.0:
         return
     c, mid, span = float(wet.mean()), 0.5 * (lo + hi), hi - lo
+    if mesh.dim == 3 and abs(c - mid) <= 0.25 * span:
+        # the water lies neither end along the axis named: along the other horizontal
+        # axis? (upstream = "+y" on a dam whose reservoir is at x = 0, the uplift laid
+        # across the valley)
+        b = 1 - axis
+        xb = joint[:, b]
+        lo_b, hi_b = float(xb.min()), float(xb.max())
+        cb, mid_b, span_b = float(wet_all[:, b].mean()), 0.5 * (lo_b + hi_b), hi_b - lo_b
+        if span_b > 0.0 and abs(cb - mid_b) > 0.25 * span_b:
+            name, other = "xy"[b], ("+" if cb > mid_b else "-") + "xy"[b]
+            log.warning("%s: loads.uplift[%d].upstream = %r runs the uplift of %r along %s, "
+                        "but the water of loads.hydrostatic[%d] wets faces about %s = %.4g m, "
+                        "at the joint's end along %s (%.4g to %.4g m); expected upstream = "
+                        "%r?", p, j, up.upstream, up.interface, "xy"[axis], k, name, cb,
+                        name, lo_b, hi_b, other)  # fmt: skip
+        return
     if sign * (c - mid) < -0.25 * span:  # the reservoir is at the other end
         name = "xy"[axis]
         heel, far = (lo, hi) if sign < 0 else (hi, lo)

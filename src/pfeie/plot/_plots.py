@@ -58,6 +58,7 @@ from ..errors import PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
 from ..io import PYTHON_RUN, Results, output_folder
 from ..model import ResponseSpectrum
+from ..typing import FloatArray
 
 STATE_COLOURS = ["#8c8c8c", "#2b83ba", "#fdae61", "#d7191c"]  # intact, stick, slide, open
 STATE_LABELS = ["intact", "stick", "slide", "open"]
@@ -239,20 +240,30 @@ def _style(fig: Any, ax: Any, title: str, path: Path) -> Path:
     return _finish(fig, path)
 
 
+def _ground_of(res: Results) -> tuple[FloatArray | None, str]:
+    """The ground displacement (n_t, d) to take off the motions of an absolute-form run
+    (``history/ground``; None in the relative form, whose motions are relative already)
+    and the words for what the motions then are: "relative to the ground", or, for an
+    absolute-form file of format 1.9 or older, which records no ground motion,
+    "absolute"."""
+    if res.meta.get("form") != "absolute":
+        return None, "relative to the ground"
+    ground = res.ground
+    return ground, "relative to the ground" if ground is not None else "absolute"
+
+
 def plot_probe(res: Results, name: str, path: Path, title: str = "") -> Path:
     plt = _plt()
     t = res.time
     p = res.probe(name)
-    u = p["u"]
-    ground = res.ground
-    if ground is not None and res.meta.get("form") == "absolute":
-        u = u - ground  # the absolute form's probes move with the ground
+    ground, frame = _ground_of(res)
+    u = p["u"] if ground is None else p["u"] - ground  # (absolute: the probes move with it)
     u = u - u[:1]
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     for i in range(u.shape[1]):
         ax[0].plot(t, 1e3 * u[:, i], lw=0.9, label=f"u_{AXES[i]}")
         ax[1].plot(t, p["a_abs"][:, i] / 9.81, lw=0.7, label=f"a_{AXES[i]}")
-    ax[0].set_ylabel("displacement (mm)\n(relative to the ground,\nsince the start of the run)")
+    ax[0].set_ylabel(f"displacement (mm)\n({frame},\nsince the start of the run)")
     ax[1].set_ylabel("absolute acceleration (g)")
     return _style(fig, ax, f"{title}\nprobe {name}", path)
 
@@ -394,8 +405,11 @@ def plot_rigid(res: Results, path: Path, title: str = "") -> Path:
     plt = _plt()
     t = res.time
     q = np.asarray(res.f["history/rigid"][...])
-    q = q - q[:1]
     d = int(res.f["mesh/points"].shape[1])
+    ground, frame = _ground_of(res)
+    if ground is not None:  # the absolute form: the bodies' motion relative to the ground
+        q[..., :d] -= ground[:, None, :]
+    q = q - q[:1]
     moving = [b for b in range(q.shape[1]) if np.abs(q[:, b]).max() > 0]
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     styles = ("-", "--", ":")  # one per component; one colour per body in both panels
@@ -414,7 +428,8 @@ def plot_rigid(res: Results, path: Path, title: str = "") -> Path:
     for a in ax:
         a.grid(alpha=0.3)
         _legend(a, fontsize=7)
-    ax[0].set_title(f"{title}\nrigid motion of the bodies (relative to the start)", fontsize=10)
+    ax[0].set_title(f"{title}\nrigid motion of the bodies ({frame}, since the start)",
+                    fontsize=10)  # fmt: skip
     return _finish(fig, path)
 
 
@@ -1036,14 +1051,21 @@ def plot_joint_map(res: Results, path: Path, title: str = "") -> Path:
     return path
 
 
+def _load_group(mesh: Any, group: str) -> str:
+    """The facet group a load on ``group`` is drawn on: the group itself, or an
+    interface's first face (``<group>:a``: water in a joint, a pressure in it), which
+    the cut mesh holds instead of the group."""
+    if group not in mesh.facet_groups and f"{group}:a" in mesh.facet_groups:
+        return f"{group}:a"
+    return group
+
+
 def _facet_polylines(model: Any, group: str) -> list[tuple[np.ndarray, np.ndarray]]:
     """The facets of a 2D group as (points (5, 2) along the facet, outward normal (2,));
     an interface's (a pressure in the joint) drawn on its first face."""
     mesh = model.mesh
     out = []
-    if group not in mesh.facet_groups and f"{group}:a" in mesh.facet_groups:
-        group = f"{group}:a"
-    for ftype, conn in mesh.facet_group(group).items():
+    for ftype, conn in mesh.facet_group(_load_group(mesh, group)).items():
         conn = np.asarray(conn)
         centre = mesh.facet_cell_centres(ftype, conn)[:, :2]
         a, b = mesh.points[conn[:, 0], :2], mesh.points[conn[:, 1], :2]
@@ -1525,9 +1547,10 @@ def plot_loads_3d(res: Results, model: Any, spec: dict[str, Any], path: Path,
     wet = [np.zeros(f.shape[0], dtype=bool) for f in faces]
 
     def group_faces(group: str) -> list[tuple[int, np.ndarray]]:
-        """The boundary faces of a facet group: (index into ``faces``, rows)."""
+        """The boundary faces of a facet group (an interface's first face): (index into
+        ``faces``, rows)."""
         out = []
-        for ftype, conn in model.mesh.facet_group(group).items():
+        for ftype, conn in model.mesh.facet_group(_load_group(model.mesh, group)).items():
             k = reference(reference(ftype).linear).n_nodes
             gk = np.sort(np.asarray(conn)[:, :k], axis=1)
             for i, table in enumerate(keys):

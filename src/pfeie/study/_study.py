@@ -52,7 +52,7 @@ import multiprocessing
 import os
 import re
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -636,7 +636,7 @@ class Study:
             "set": self.overrides,
         }  # (what a caller passed)
         if isinstance(given["records"], (str, os.PathLike)) or not isinstance(
-                given["records"], Sequence):  # fmt: skip
+                given["records"], Iterable):  # fmt: skip
             raise ModelError(f"records: expected a list of record files (or RecordSource), "
                              f"found {self.records!r}")  # fmt: skip
         raw: list[Any] = list(self.records)  # RecordSource, or a path read with the defaults

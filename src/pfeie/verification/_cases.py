@@ -78,7 +78,7 @@ def _friction_checks(res, static, rigid: RigidBlock, mu: float, t_end: float,  #
     tf = np.linspace(0.0, t_end, round(t_end / 5e-6) + 1)
     work = mu * N * float(np.abs(np.diff(rigid.displacement(tf))).sum())
     friction = float(E["interface"][-1] + E["impact"][-1])
-    worst = max(-float(np.diff(E["interface"]).min()), 0.0)
+    worst = max(-float(np.diff(E["interface"]).min()), 0.0) + 0.0  # (+ 0.0: no −0)
     return [
         Check("friction work (interface + impact) / μN × rigid slip path", 1.0,
               friction / work, tol_work),
