@@ -268,45 +268,6 @@ def test_an_implausible_pga_warning_names_the_units_the_at2_header_states(
     assert "read in cm/s2" in caplog.text
 
 
-_OVERRIDE = '[analysis]\nset = [{}]\n[output]'
-
-
-@pytest.mark.parametrize("edit, bad, words", [
-    ('folder = "rec"\npattern = "*.csv"\nunits = "g"', 'units = "g"',
-     ["records[0].file", "found neither"]),
-    ('folder = "rec"\npattern = "*.csv"', 'file = ""', ["records[0].file", "empty string"]),
-    ('folder = "rec"\npattern = "*.csv"', 'file = "rec"',
-     ["records[0].file", "is a folder", "folder = ..."]),
-    ("[output]", _OVERRIDE.format('"output.paraview false"'),
-     ["analysis.set[0]", "expected KEY=VALUE"]),
-    ("[output]", _OVERRIDE.format('"ground_motion[0].scale = 2.0"'),
-     ["analysis.set[0]", "[[records]] replace the model's [[ground_motion]]"]),
-    ("[output]", _OVERRIDE.format('"output.folder = \'x\'"'),
-     ["analysis.set[0]", "its own [output] folder"]),
-    ("[output]", '[analysis]\nduration = 1.0\nset = ["analysis.duration = 2.0"]\n[output]',
-     ["analysis.set[0]", "both give the runs' duration"]),
-])  # fmt: skip
-def test_unclear_or_ignored_study_inputs_are_refused_by_name(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str, bad: str, words: list[str]
-) -> None:
-    """A study tester's findings: an empty [[records]] was told "give either file or
-    folder, not both" (neither was given); `file = ""` was "records[0].file: . not
-    found", a folder given as `file` "rec not found"; an override without '=' named no
-    study file nor key; overrides of the model's ground motions and output folder, and
-    a duration given twice (`duration` and `analysis.duration` in `set`), were silently
-    ignored. Each now ends in exit 2 naming the study file and the key."""
-    from pfeie.cli import main
-    from test_study import STUDY, setup
-
-    assert edit in STUDY
-    p = setup(tmp_path, STUDY.replace(edit, bad))
-    assert main(["study", str(p)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("pfeie: error: ") and str(p) in err
-    for w in words:
-        assert w in err, err
-
-
 def test_study_api_refuses_wrong_arguments_by_name(tmp_path: Path) -> None:
     """The Python API took an empty record list (it wrote an empty table, then failed on
     its missing column), and gave bare TypeErrors for `values=0.1` and `records=[3]`;

@@ -239,30 +239,44 @@ def test_histories_kept_on_request(tmp_path: Path) -> None:
     assert slip == t.column("joint.joint.residual_slip_max_m")[1]
 
 
-@pytest.mark.parametrize("edit, words", [
-    ('model = "model.toml"', ["model", "required"]),
-    ('pattern = "*.csv"', ["no file", "*.txt"]),
-    ("values = [0.2, 0.5]", ["intensity.values", "numbers, each > 0"]),
-    ('measure = "pga"', ["intensity.measure", "one of 'scale', 'pga', 'sa'"]),
-    ('units = "g"', ["records[0]", "rainbow"]),
-    ('folder = "rec"', ["records[0]", "either file or folder"]),
-    ("workers = 0 ", ["run.workers", "expected an integer in [0, 4096] or 'auto'", "'many'"]),
-    ("[run]", ["run.batch", "expected an integer in [1, 64]", "found 0"]),
+_OVERRIDE = '[analysis]\nset = [{}]\n[output]'
+
+
+@pytest.mark.parametrize("edit, bad, words", [
+    ('model = "model.toml"', "", ["model", "required"]),
+    ('pattern = "*.csv"', 'pattern = "*.txt"', ["no file", "*.txt"]),
+    ("values = [0.2, 0.5]", "values = [0.2, -0.5]", ["intensity.values", "numbers, each > 0"]),
+    ('measure = "pga"', 'measure = "pgv"',
+     ["intensity.measure", "one of 'scale', 'pga', 'sa'"]),
+    ('units = "g"', 'units = "g"\nrainbow = 1', ["records[0]", "rainbow"]),
+    ('folder = "rec"', 'folder = "rec"\nfile = "rec/r0.csv"',
+     ["records[0]", "either file or folder"]),
+    ("workers = 0 ", 'workers = "many" ',
+     ["run.workers", "expected an integer in [0, 4096] or 'auto'", "'many'"]),
+    ("[run]", "[run]\nbatch = 0", ["run.batch", "expected an integer in [1, 64]", "found 0"]),
+    # found by a study tester (twenty-eighth review): an empty [[records]] was told "not
+    # both", `file = ""` ". not found", a folder given as `file` "rec not found"; an
+    # override without '=' named no study file nor key; overrides of the model's ground
+    # motions and output folder, and a duration given twice, were silently ignored
+    ('folder = "rec"\npattern = "*.csv"\nunits = "g"', 'units = "g"',
+     ["records[0].file", "found neither"]),
+    ('folder = "rec"\npattern = "*.csv"', 'file = ""', ["records[0].file", "empty string"]),
+    ('folder = "rec"\npattern = "*.csv"', 'file = "rec"',
+     ["records[0].file", "is a folder", "folder = ..."]),
+    ("[output]", _OVERRIDE.format('"output.paraview false"'),
+     ["analysis.set[0]", "expected KEY=VALUE"]),
+    ("[output]", _OVERRIDE.format('"ground_motion[0].scale = 2.0"'),
+     ["analysis.set[0]", "[[records]] replace the model's [[ground_motion]]"]),
+    ("[output]", _OVERRIDE.format('"output.folder = \'x\'"'),
+     ["analysis.set[0]", "its own [output] folder"]),
+    ("[output]", '[analysis]\nduration = 1.0\nset = ["analysis.duration = 2.0"]\n[output]',
+     ["analysis.set[0]", "both give the runs' duration"]),
 ])  # fmt: skip
 def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str,
-                         words: list[str]) -> None:  # fmt: skip
+                         bad: str, words: list[str]) -> None:  # fmt: skip
     """Each wrong study file ends in exit 2 with `pfeie: error` lines that name the file
     and the key."""
-    bad = {
-        'model = "model.toml"': "",
-        'pattern = "*.csv"': 'pattern = "*.txt"',
-        "values = [0.2, 0.5]": "values = [0.2, -0.5]",
-        'measure = "pga"': 'measure = "pgv"',
-        'units = "g"': 'units = "g"\nrainbow = 1',
-        'folder = "rec"': 'folder = "rec"\nfile = "rec/r0.csv"',
-        "workers = 0 ": 'workers = "many" ',
-        "[run]": "[run]\nbatch = 0",
-    }[edit]
+    assert edit in STUDY
     p = setup(tmp_path, STUDY.replace(edit, bad))
     assert main(["study", str(p)]) == 2
     err = capsys.readouterr().err
