@@ -69,6 +69,19 @@ def _histories(path: Path) -> dict[str, np.ndarray]:
     return out
 
 
+def run_then_stop(tmp_path: Path, text: str, duration: float, first: float) -> Path:
+    """``pfeie run`` of the model file ``text`` for ``duration`` in ``tmp_path/ref`` (the
+    reference), and in ``tmp_path/ext`` for ``first`` only (a run to resume): the model
+    file of the latter."""
+    ref_dir, ext_dir = tmp_path / "ref", tmp_path / "ext"
+    ref_dir.mkdir()
+    ext_dir.mkdir()
+    assert main(["run", str(_write(ref_dir, text, duration=duration)), "--quiet"]) == 0
+    p = _write(ext_dir, text, duration=duration)
+    assert main(["run", str(p), "--quiet", "--duration", str(first)]) == 0
+    return p
+
+
 def test_command_line_resume_after_sigint_and_extension(tmp_path: Path) -> None:
     """``pfeie run --resume``: (a) a run stopped by SIGINT continues to its duration; (b) a
     completed run of 1 s extended with ``--duration 3``. Both results files equal, array

@@ -320,18 +320,13 @@ def test_resume_after_output_settings_changed(tmp_path: Path) -> None:
     the histories are the bits of a run that was never stopped."""
     import h5py
 
-    from pfeie.io import load_job, run_key
-    from test_checkpoint import _histories
-    from test_cli import SMALL, _write
-
-    ref_dir, ext_dir = tmp_path / "ref", tmp_path / "ext"
-    ref_dir.mkdir()
-    ext_dir.mkdir()
     from pfeie.cli import main
+    from pfeie.io import load_job, run_key
+    from test_checkpoint import _histories, run_then_stop
+    from test_cli import SMALL
 
-    assert main(["run", str(_write(ref_dir, SMALL, duration=0.3)), "--quiet"]) == 0
-    p = _write(ext_dir, SMALL, duration=0.3)
-    assert main(["run", str(p), "--quiet", "--duration", "0.1"]) == 0
+    p = run_then_stop(tmp_path, SMALL, 0.3, 0.1)
+    ref_dir, ext_dir = tmp_path / "ref", tmp_path / "ext"
     res = ext_dir / "out" / "results.h5"
     with h5py.File(res, "r+") as f:  # as an earlier version wrote it
         f.attrs["run_key"] = run_key(load_job(p), legacy=True)

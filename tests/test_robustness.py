@@ -513,7 +513,7 @@ def test_results_format_version(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert main(["run", str(p), "--quiet"]) == 0
     path = tmp_path / "out" / "results.h5"
     with Results(path) as res:
-        assert res.f.attrs["format_version"] == "1.10"
+        assert res.f.attrs["format_version"] == "1.11"
     with h5py.File(path, "r+") as f:
         f.attrs["format_version"] = "2.0"
     with pytest.raises(ResultsError, match=r"format 2.0, but this pfeie .* reads format 1.x"):

@@ -118,6 +118,10 @@ class Checkpoint:
     #: resumed run must have; None: not checked (a checkpoint read from a results file,
     #: whose run key the command line checks)
     excitation: tuple[str, str] | None = None
+    #: the rows of the supports' grids at the state (absolute form, n_records × 4:
+    #: :meth:`Excitation.grid_rows`), where a resumed run's supports go on from; None:
+    #: none (the relative form; a checkpoint written before it: the grid from its origin)
+    supports: FloatArray | None = None
 
 
 class Dynamic:
@@ -998,10 +1002,11 @@ class Dynamic:
         fine = self.fine()
         k = self.settings.event_substeps
         sub = StepState(cur.kin, cur.pairs, 0, lam=cur.lam, origin=cur.kin.t)
-        for _ in range(k):
-            nxt = fine.step(sub, ex)
-            on_substep(sub, nxt)
-            sub = nxt
+        with ex.refined(cur.kin.t, k):  # the supports' grid too (absolute form)
+            for _ in range(k):
+                nxt = fine.step(sub, ex)
+                on_substep(sub, nxt)
+                sub = nxt
         origin = cur.kin.t - cur.step * self.dt if cur.origin is None else cur.origin
         sub.kin.t = origin + (cur.step + 1) * self.dt  # the grid of dt, not a sum of dt/k
         self.event_steps += 1
@@ -1156,6 +1161,11 @@ class Dynamic:
                 ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now
         self._supports_on_grid(ex, cur.kin.t - cur.step * self.dt if cur.origin is None
                                else cur.origin)  # fmt: skip
+        if resume is not None and resume.supports is not None:
+            try:  # (where event sub-steps moved them off the grid's own recurrence)
+                ex.restart_grid(cur.kin.t, resume.supports)
+            except ValueError as exc:
+                raise ModelError(f"resume: {exc}") from None
         m, d = self.m, self.d
         probes = self._probes(probes)
         # rows: the start, the steps on the grid of `every`, a spare one for a stop

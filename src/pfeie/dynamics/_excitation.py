@@ -35,7 +35,8 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Literal
 
 import numpy as np
@@ -80,10 +81,15 @@ class GridGround:
     generalised-α starts from the acceleration a trial first step finds, which for a body
     the supports carry is a_g(t₁) (the acceleration given at t₀ stays a_g(t₀)).
 
-    :meth:`motion` gives (d_k, v_k, q̈_k) on the grid, and off it (event sub-steps) the
-    exact motion plus the scheme's drift d_k − d_g(t_k) (and v's) interpolated linearly
-    between the neighbouring steps. The rows are computed once, in order, so a run and its
-    resume from a checkpoint read the same bits.
+    :meth:`motion` gives (d_k, v_k, q̈_k) on the grid, and off it the exact motion plus
+    the scheme's drift d_k − d_g(t_k) (and v's) interpolated linearly between the
+    neighbouring steps. The rows are computed once, in order, so a run and its resume
+    from a checkpoint read the same bits. An event step taken in n sub-steps moves the
+    supports by the same recurrence on the finer grid from row k (:meth:`refined`), and
+    the grid goes on from where they end (:meth:`rebase`): the supports then move as the
+    blocks' own scheme carries a body fixed to the ground, sub-steps included, and the
+    absolute form stays the relative one plus that motion. A checkpoint keeps the row of
+    its step (:meth:`row`), from which a resumed run goes on (:meth:`restart`).
 
     >>> from pfeie.model import GroundMotion
     >>> g = GroundMotion.from_samples([0.0, 1.0, 0.0, -1.0, 0.0], dt=0.01, units="m/s2")
@@ -114,14 +120,18 @@ class GridGround:
         if start_ahead:  # the scheme's own start (see the class)
             a = g.motion(self.t0 + self.h)[2]
         self._rows: list[tuple[float, float, float, float]] = [(d, v, a, a)]  # d, v, q̈, a
+        self._k0 = 0  # the step of rows[0]
 
     def _row(self, k: int) -> tuple[float, float, float, float]:
         rows, h, b, gm = self._rows, self.h, self.beta, self.gamma
         am, af = self.alpha_m, self.alpha_f
         th = self.theta
+        if k < self._k0:
+            raise ValueError(f"the grid restarted at step {self._k0} holds no step {k}")
+        k -= self._k0
         while len(rows) <= k:
             d, v, qdd, a = rows[-1]
-            q1 = self.g.motion(self.t0 + len(rows) * h)[2]
+            q1 = self.g.motion(self.t0 + (self._k0 + len(rows)) * h)[2]
             if th is not None:  # Moreau–Jean: a holds a_g(t_k), q̈ the step's average
                 a_th = (1.0 - th) * a + th * q1
                 v1 = v + h * a_th
@@ -132,13 +142,49 @@ class GridGround:
                          v + h * ((1.0 - gm) * a + gm * a1), q1, a1))  # fmt: skip
         return rows[k]
 
+    def step_of(self, t: float) -> int | None:
+        """The step k with t = t₀ + k h (to round-off), None off the grid."""
+        k = round((t - self.t0) / self.h)
+        tol = 8 * np.spacing(max(abs(t), self.h))
+        return k if k >= 0 and abs(t - (self.t0 + k * self.h)) <= tol else None
+
+    def row(self, k: int) -> tuple[float, float, float, float]:
+        """Row k of the recurrence: d_k (m), v_k (m/s), q̈_k and a_k (m/s²; for
+        Moreau–Jean the step average a_θ and a_g(t_k))."""
+        return self._row(k)
+
+    def refined(self, k: int, n: int) -> GridGround:
+        """The same recurrence on the grid of h/n from row k (at t_k): the supports'
+        motion over the n sub-steps of the event step k → k + 1."""
+        tk = self.t0 + k * self.h
+        fine = GridGround(self.g, tk, self.h / n, beta=self.beta, gamma=self.gamma,
+                          alpha_m=self.alpha_m, alpha_f=self.alpha_f,
+                          auxiliary=self.auxiliary, theta=self.theta)  # fmt: skip
+        fine._rows = [self._row(k)]
+        fine._a0 = self.motion(tk)[2]
+        return fine
+
+    def rebase(self, k: int, row: tuple[float, float, float, float]) -> None:
+        """Make ``row`` row k (the end of an event step's sub-steps) and forget the rows
+        after it: the grid goes on from there."""
+        if k <= self._k0:
+            raise ValueError(f"cannot rebase step {k} of a grid from step {self._k0}")
+        self._row(k - 1)
+        del self._rows[k - self._k0 :]
+        self._rows.append(tuple(float(x) for x in row))  # type: ignore[arg-type]
+
+    def restart(self, k: int, row: tuple[float, float, float, float]) -> None:
+        """Go on from ``row`` as row k (a resumed run, from its checkpoint's row)."""
+        if k > 0:
+            self._k0 = k
+            self._rows = [tuple(float(x) for x in row)]  # type: ignore[list-item]
+
     def motion(self, t: float) -> tuple[float, float, float]:
         """Displacement (m), velocity (m/s) and acceleration (m/s²) of the ground at t as
         the scheme moves it (see the class)."""
         x = (t - self.t0) / self.h
-        k = round(x)
-        tol = 8 * np.spacing(max(abs(t), self.h))
-        if k >= 0 and abs(t - (self.t0 + k * self.h)) <= tol:
+        k = self.step_of(t)
+        if k is not None:
             return self._row(k)[:3] if k else (*self._row(0)[:2], self._a0)
         exact = self.g.motion(t)
         if t < self.t0:
@@ -266,6 +312,49 @@ class Excitation:
                                      alpha_f=alpha_f, auxiliary=auxiliary, theta=theta,
                                      start_ahead=start_ahead)
                           for g in self.ground]  # fmt: skip
+
+    def grid_rows(self, t: float) -> FloatArray | None:
+        """The rows of the supports' grids at t (n_records, 4: :meth:`GridGround.row`),
+        what a checkpoint keeps; None where the supports follow no grid or t is off it."""
+        if self._grid is None:
+            return None
+        k = self._grid[0].step_of(t)
+        if k is None:
+            return None
+        return np.array([gg.row(k) for gg in self._grid])
+
+    def restart_grid(self, t: float, rows: FloatArray) -> None:
+        """Go on from the grids' ``rows`` at t (a checkpoint's, :meth:`grid_rows`)."""
+        if self._grid is None:
+            return
+        k = self._grid[0].step_of(t)
+        if k is None or np.shape(rows) != (len(self._grid), 4):
+            raise ValueError(f"the supports' grid rows {np.shape(rows)} at t = {t:g} s do "
+                             f"not fit {len(self._grid)} records on the grid")  # fmt: skip
+        for gg, row in zip(self._grid, rows, strict=True):
+            gg.restart(k, tuple(row))
+
+    @contextmanager
+    def refined(self, t: float, n: int) -> Iterator[None]:
+        """Within it, the supports follow their grids refined to h/n from the step at t
+        (:meth:`GridGround.refined`): an event step's n sub-steps; on leaving without an
+        error, the grids go on from where the sub-steps end (:meth:`GridGround.rebase`),
+        after an error as before."""
+        coarse = self._grid
+        if coarse is None:
+            yield
+            return
+        k = coarse[0].step_of(t)
+        if k is None:
+            raise ValueError(f"an event step from t = {t:g} s, off the supports' grid")
+        fine = [gg.refined(k, n) for gg in coarse]
+        self._grid = fine
+        try:
+            yield
+        finally:
+            self._grid = coarse
+        for gg, ff in zip(coarse, fine, strict=True):
+            gg.rebase(k + 1, ff.row(n))
 
     def _motion(self, i: int, t: float) -> tuple[float, float, float]:
         """Record i's ground motion at t as the supports follow it (see :meth:`on_grid`)."""

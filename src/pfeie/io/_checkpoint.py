@@ -39,7 +39,7 @@ from ._results import ResultsWriter, _h5py, read_envelope
 _KIN = ("u", "v", "a", "f")
 _PAIRS = ("state", "broken", "X", "w", "s", "slip_dir", "path")
 _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "shift": "m",
-          "ground": "m/s^2",
+          "ground": "m/s^2", "supports": "m, m/s, m/s^2, m/s^2",
           "state": "code",
           "broken": "flag", "X": "N", "w": "m", "s": "m", "slip_dir": "1", "path": "m",
           "lam": "N", "node_max": "Pa", "node_min": "Pa", "cell_max": "Pa", "cell_min": "Pa",
@@ -226,6 +226,8 @@ class CheckpointWriter:
             data["kin/shift"] = st.shift
         if st.ground is not None:  # the ground acceleration the step applied (a_abs)
             data["kin/ground"] = st.ground
+        if ck.supports is not None:  # the supports' grid rows (absolute form)
+            data["kin/supports"] = ck.supports
         for k, v in (ck.envelope or {}).items():
             data[f"envelope/{k}"] = v
         if w._last is not None:  # the row's fields, when it is off the field grid
@@ -306,7 +308,9 @@ def read_checkpoint(f: Any) -> Checkpoint:
     o0, o1 = json.loads(g.attrs["origin"])
     env = ({k: np.asarray(v) for k, v in g["envelope"].items()} if "envelope" in g
            else None)  # fmt: skip
-    return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]), env)
+    supports = np.asarray(g["kin/supports"]) if "kin/supports" in g else None
+    return Checkpoint(st, energy, (float(o0), float(o1)), int(g.attrs["row"]), env,
+                      supports=supports)  # fmt: skip
 
 
 #: the energy account's definition, kept in every checkpoint: 2 records the rigid pairs'

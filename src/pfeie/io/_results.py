@@ -77,8 +77,9 @@ UNITS = {
 #: model_spec and model_path; 1.6: history/solver/newton, and history/solver/fallbacks
 #: counts steps, no longer solves, and not those the semismooth Newton finished; 1.7: the
 #: group post_earthquake; 1.8: the attribute part_factors and the checkpoint's kin/shift;
-#: 1.9: history/solver/substeps; files without the attribute are 1.0)
-FORMAT_VERSION = "1.10"
+#: 1.9: history/solver/substeps; 1.10: history/ground; 1.11: the checkpoint's
+#: kin/supports; files without the attribute are 1.0)
+FORMAT_VERSION = "1.11"
 
 #: what makes an HDF5 file a pfeie results file
 REQUIRED = ("mesh/points", "history/time", "history/probes", "history/rigid", "history/energy")
