@@ -33,7 +33,6 @@ of records, one run each.
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -241,18 +240,8 @@ class Excitation:
                 raise ModelError(f"ground[{k}]: expected a pfeie.GroundMotion (a file is "
                                  "read with pfeie.io.read_record), got "
                                  f"{type(g).__name__} {g!r}")  # fmt: skip
-        for k, g in enumerate(self.ground):
-            if g.direction.size == 2 and d == 3 and tuple(g.direction) == (1.0, 0.0):
-                # the default direction of pfeie.io.read_record and GroundMotion, x: the
-                # same axis in 3D (any other 2D direction is ambiguous there: y is
-                # vertical in 2D, horizontal in 3D)
-                self.ground[k] = dataclasses.replace(g, direction=np.array([1.0, 0.0, 0.0]))
-            elif g.direction.size != d:
-                x, up = ((1, 0, 0), (0, 0, 1)) if d == 3 else ((1, 0), (0, 1))
-                raise ModelError(f"ground motion {g.name!r}: direction has {g.direction.size} "
-                                 f"components, the model is {d}D (y is vertical in 2D, z "
-                                 f"in 3D): pass direction={x} for x, {up} for the "
-                                 "vertical")  # fmt: skip
+        # (the default direction (1, 0) is x in 3D too)
+        self.ground = [g.in_dim(d) for g in self.ground]
         if form not in ("relative", "absolute"):
             raise ModelError(f"ground-motion form must be 'relative' or 'absolute', got {form!r}")
         self.form, self.system, self.dim = form, system, d

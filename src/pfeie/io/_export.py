@@ -1,9 +1,10 @@
 """Tidy CSV tables of a results file (one observation per row).
 
-A run with histories gives probes.csv, bodies.csv, energy.csv, joints.csv (per joint and
-time: largest and mean slip, largest opening, the area-mean relative displacement of its
-faces w_t…, w_n since the start, the sliding safety factor, the shares broken, sliding and
-open) and pairs_final.csv
+A run with histories gives probes.csv, bodies.csv, ground.csv (the ground's displacement
+as the run moved it: subtract it from a probe's or a body's motion in the absolute form),
+energy.csv, joints.csv (per joint and time: largest and mean slip, largest opening, the
+area-mean relative displacement of its faces w_t…, w_n since the start, the sliding
+safety factor, the shares broken, sliding and open) and pairs_final.csv
 (per pair, its final relative displacement among others); a static-only run
 (``analysis.dynamic = false``) gives the static state: nodes_static.csv (displacements)
 and pairs_static.csv (the pair state of every joint).
@@ -25,8 +26,9 @@ AXES = "xyz"
 
 
 def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
-    """Write probes.csv, bodies.csv, energy.csv, joints.csv and pairs_final.csv (or, for a
-    static-only run, nodes_static.csv and pairs_static.csv)."""
+    """Write probes.csv, bodies.csv, ground.csv, energy.csv, joints.csv and
+    pairs_final.csv (or, for a static-only run, nodes_static.csv and pairs_static.csv);
+    ground.csv only from a file that records the ground (format 1.10 and later)."""
     with Results(results) as res:
         if res.n_times == 0:
             return _export_static(res, folder)
@@ -58,6 +60,16 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                     for ti, val in zip(t, rig[:, b, k], strict=True):
                         w.writerow([f"{ti:.12g}", name, dn, f"{val:.9g}", unit])
         files.append(path)
+        ground = res.ground
+        if ground is not None:
+            path = out / "ground.csv"
+            with path.open("w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["time_s", "component", "value", "unit"])
+                for i in range(ground.shape[1]):
+                    for ti, val in zip(t, ground[:, i], strict=True):
+                        w.writerow([f"{ti:.12g}", AXES[i], f"{val:.9g}", "m"])
+            files.append(path)
         path = out / "energy.csv"
         with path.open("w", newline="") as fh:
             w = csv.writer(fh)

@@ -224,6 +224,8 @@ class Job:
         spec = {"title": str(title), "analysis": analysis.model_dump(),
                 "output": out.model_dump()}  # fmt: skip
         probes = {} if probes is None else {str(k): int(v) for k, v in probes.items()}
+        # (the default direction (1, 0) is x in 3D, as the run takes it)
+        records = [g.in_dim(model.mesh.dim) for g in records]
         return cls(Path(PYTHON_RUN), spec, model, list(records), probes,
                    _model_digest(model, spec, records, system),
                    [it.group for it in model.interfaces])  # fmt: skip

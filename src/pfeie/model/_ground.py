@@ -303,6 +303,27 @@ class GroundMotion:
                                f"band-pass), found {lowpass:g} Hz")  # fmt: skip
         return None
 
+    def in_dim(self, d: int) -> GroundMotion:
+        """The record with a direction of ``d`` components: itself, or in 3D, for the
+        default direction (1, 0) of :meth:`from_samples` and ``pfeie.io.read_record``,
+        the same record along x = (1, 0, 0). Any other direction of the wrong size is
+        refused (another 2D direction is ambiguous in 3D: y is vertical in 2D,
+        horizontal in 3D).
+
+        >>> g = GroundMotion.from_samples([0.0, 1.0, 0.0], dt=0.01)
+        >>> g.in_dim(3).direction.tolist(), g.in_dim(2) is g
+        ([1.0, 0.0, 0.0], True)
+        """
+        e = self.direction
+        if e.size == d:
+            return self
+        if e.size == 2 and d == 3 and tuple(e) == (1.0, 0.0):
+            return dataclasses.replace(self, direction=np.array([1.0, 0.0, 0.0]))
+        x, up = ((1, 0, 0), (0, 0, 1)) if d == 3 else ((1, 0), (0, 1))
+        raise ModelError(f"ground motion {self.name!r}: direction has {e.size} components, "
+                         f"the model is {d}D (y is vertical in 2D, z in 3D): pass "
+                         f"direction={x} for x, {up} for the vertical")  # fmt: skip
+
     def motion(self, t: float) -> tuple[float, float, float]:
         """Ground displacement (m), velocity (m/s) and acceleration (m/s²) at t, integrated
         exactly from the piecewise-linear record (zero before its start, constant velocity
