@@ -153,3 +153,40 @@ def test_a_3d_run_records_the_direction_it_ran_under(tmp_path: Path) -> None:
         np.testing.assert_array_equal(a.probe("top")["u"], b.probe("top")["u"])
         np.testing.assert_array_equal(a.ground, b.ground)
         assert np.abs(a.ground[:, 0]).max() > 0 and not a.ground[:, 1:].any()
+
+
+# -- studies -------------------------------------------------------------------------------
+
+
+def test_a_worker_does_not_repeat_the_model_files_warnings(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The study's own process checks the model file and logs its warnings once; each
+    Dask worker that built the system logged them again (a fresh process knew nothing of
+    that check). Now the context sent to the workers says the file was checked. A fresh
+    Python process stands for a worker (independent of this process's state): it builds
+    the system from the pickled context and logs nothing of the model file, while the
+    study's process did log the warning (loads.gravity = 98.1: given in dm/s²?)."""
+    import pickle
+    import subprocess
+    import sys
+
+    from pfeie.study import Study
+    from test_study import STUDY, setup
+
+    p = setup(tmp_path, STUDY, n=1)
+    model = tmp_path / "model.toml"
+    model.write_text(model.read_text().replace("gravity = 9.81", "gravity = 98.1"))
+    with caplog.at_level("WARNING", logger="pfeie"):
+        ctx = Study.from_file(p).context()
+    assert "loads.gravity: g = 98.1 m/s²" in caplog.text
+    (tmp_path / "ctx.pkl").write_bytes(pickle.dumps(ctx))
+    script = ("import logging, pickle, sys\n"
+              "logging.basicConfig(stream=sys.stdout, level=logging.WARNING)\n"
+              "from pfeie.study._study import system, builds\n"
+              f"system(pickle.loads(open({str(tmp_path / 'ctx.pkl')!r}, 'rb').read()))\n"
+              "print('built', builds())\n")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         timeout=300, check=True).stdout  # fmt: skip
+    assert "built 1" in out and "loads.gravity" not in out, out
+

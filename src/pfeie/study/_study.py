@@ -261,6 +261,9 @@ class Context:
     histories: bool
     model_key: str  # SHA-256 of the model, its overrides and its mesh
     resume: bool = True  # a run whose row is on disk is not run again (False: --restart)
+    # the study's own process checked the model file and logged its warnings
+    # (:meth:`Study.context`): the processes that build its system do not repeat them
+    checked: bool = False
 
 
 @dataclass
@@ -286,7 +289,6 @@ class _System:
 
 
 _SYSTEMS: dict[str, _System] = {}
-_CHECKED: set[str] = set()  # the model keys whose model file this process has checked
 _BUILDS = [0]  # the systems this process has built (:func:`builds`)
 
 
@@ -308,8 +310,9 @@ def system(ctx: Context) -> _System:
 
         t0 = time.perf_counter()
         # the study's own process has checked the model file (Study.context) and logged
-        # its warnings: they are not repeated when its runs build the system here
-        quiet = ctx.model_key in _CHECKED
+        # its warnings: they are not repeated when its runs build the system here, in
+        # that process or a worker's
+        quiet = ctx.checked
         previous = logging.root.manager.disable
         if quiet:
             logging.disable(logging.WARNING)
@@ -855,14 +858,13 @@ class Study:
             # files out of the key, so that editing them keeps the study's rows
             bare = dataclasses.replace(job, spec={**job.spec, "ground_motion": []})
             key = hashlib.sha256((run_key(bare) + __version__).encode()).hexdigest()
-            _CHECKED.add(key)
             if duration is None and given:  # analysis.set = ["analysis.duration=..."]
                 duration = job.analysis.duration
             self._job = job
             self._context = Context(self.model.resolve(),
                                     tuple((o.key, o.value, o.source) for o in ovs),
                                     duration, self.folder.resolve(), self.histories,
-                                    key)  # fmt: skip
+                                    key, checked=True)  # fmt: skip
         return self._context
 
     def _may_step_together(self) -> bool:
