@@ -190,3 +190,56 @@ def test_a_worker_does_not_repeat_the_model_files_warnings(
                          timeout=300, check=True).stdout  # fmt: skip
     assert "built 1" in out and "loads.gravity" not in out, out
 
+
+
+# -- the yield coefficient (a dam engineer's findings) ------------------------------------
+
+DAM_Q8 = Path(__file__).resolve().parent / "data" / "dam_q8_lift.msh"
+
+
+def test_yield_coefficient_names_the_joint_that_slides(tmp_path: Path) -> None:
+    """A stiff dam block on a friction base (μ = 0.3, no water) under a bonded lift joint
+    (c = 20 MPa): k_y = μ = 0.3 both ways (a rigid block; closed form), sliding on the
+    base. Along −x the last analysis held put the base at its capacity (within the pair
+    solver's tolerance), its margin left out, and the search followed the lift joint's
+    margin (root 48.5): 54 analyses, "no equilibrium found", the lift joint named with
+    FS 156. Now a joint that comes to its capacity has its root there: 8 analyses,
+    "sliding" on 'base' with FS 1 (measured 1 + 1.5e-7 and 1 − 1.5e-7)."""
+    from pfeie.io import load_job
+
+    model = tmp_path / "dam.toml"
+    model.write_text(f"""
+[mesh]
+file = "{DAM_Q8}"
+[materials.concrete]
+E = 2.5e12
+nu = 0.2
+rho = 2400.0
+[materials.rock]
+E = 2.5e12
+nu = 0.25
+rho = 24.0
+[blocks]
+dam_lower = "concrete"
+dam_upper = "concrete"
+rock = "rock"
+[interfaces.base]
+friction_angle = 16.69924423
+[interfaces.lift]
+cohesion = 20.0e6
+friction_angle = 45.0
+tensile_strength = 10.0e6
+initial = "intact"
+[[supports]]
+group = "rock_bottom"
+[analysis]
+dynamic = false
+""")
+    job = load_job(model)
+    iota = pf.solvers.horizontal(job.model, axis=0)[1]
+    for sign in (1.0, -1.0):
+        y = pf.yield_coefficient(job.model, sign * iota)
+        assert y.k_y == pytest.approx(0.3, rel=2e-6)  # μ (tol: the search's 1e-6 bracket)
+        assert (y.limit, y.joint) == ("sliding", "base")
+        assert y.safety_factors["base"] == pytest.approx(1.0, abs=1e-6)
+        assert y.analyses <= 10  # (measured 7 and 8; 54 along −x before)

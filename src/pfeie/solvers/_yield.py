@@ -269,6 +269,7 @@ def yield_coefficient(
     widths: list[float] = []
     targets: list[float] = []  # the predicted roots aimed at (see _creep)
     reopened = 0
+    nudge = tol / 2  # the relative step beyond a k at which a joint is at its capacity
     while True:
         while hi is None or hi - lo > tol * max(hi, 1e-3):
             if count >= max_analyses:
@@ -276,7 +277,14 @@ def yield_coefficient(
                             "static analyses", lo, hi, count)  # fmt: skip
                 break
             target = _root(lo, m_lo, prev)[0]
-            if target is None or not target > lo or (hi is not None and not target < hi):
+            at_capacity = bool((fs_lo <= 1 + SLIDING_FS).any())
+            if hi is None and at_capacity and (target is None or not target > lo):
+                # a joint at its capacity at lo (come to it there, or held at it within
+                # the pair solver's tolerance): the limit lies just above; step out by
+                # steps that double, not by doubling k (then bisecting back down)
+                k_try = min(lo * (1 + nudge), k_max)
+                nudge *= 2
+            elif target is None or not target > lo or (hi is not None and not target < hi):
                 k_try = min(2 * max(lo, 0.025), k_max) if hi is None else 0.5 * (lo + hi)
             else:  # aim just below the predicted root, then, once there, just beyond it
                 below = lo >= target * (1 - tol)
@@ -322,13 +330,20 @@ def yield_coefficient(
         reopened += 1
         prev = (lo, m_lo)
         lo, (st_lo, m_lo, fs_lo) = beyond
-        hi, widths, targets = None, [], []
+        hi, widths, targets, nudge = None, [], [], tol / 2
     estimate, joint = _root(lo, m_lo, prev)
     if hi is None:
         limit = "not bracketed"
     else:
         gov = joint if joint is not None else (
             int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None)  # fmt: skip
+        if gov is None or not fs_lo[gov] <= 1 + SLIDING_FS:
+            # a joint that came to its capacity on the way (not at it at k = 0) governs:
+            # its margin, NaN at its capacity, left the root to another joint's (a bonded
+            # lift joint far from its strength), though it slides at the limit
+            reached = (fs_lo <= 1 + SLIDING_FS) & ~(base[2] <= 1 + SLIDING_FS)
+            if reached.any():
+                gov = int(np.argmin(np.where(reached, fs_lo, np.inf)))
         limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
                  else "no equilibrium found")  # fmt: skip
         joint = gov
@@ -364,12 +379,17 @@ def _root(
     lo: float, m_lo: FloatArray, prev: tuple[float, FloatArray] | None
 ) -> tuple[float | None, int | None]:
     """The least root over the joints of their margins (N) taken affine in k from the
-    held point ``prev`` and ``lo``, and its joint; joints at their capacity already (NaN
-    margins: a joint that slides while the structure holds) or whose margin does not fall
-    are left out. (None, None) without two points or such a joint."""
+    held point ``prev`` and ``lo``, and its joint; a joint that came to its capacity at
+    ``lo`` (its margin NaN there, not at ``prev``) has its root at ``lo``; joints at
+    their capacity at both (a joint that slides while the structure holds) or whose
+    margin does not fall are left out. (None, None) without two points or such a
+    joint."""
     if prev is None:
         return None, None
     k0, m0 = prev
+    came = np.isnan(m_lo) & np.isfinite(m0)
+    if came.any():  # (the search steps out from lo, :func:`yield_coefficient`)
+        return lo, int(np.flatnonzero(came)[0])
     slope = (m_lo - m0) / (lo - k0)
     ok = np.isfinite(m_lo) & np.isfinite(m0) & (slope < 0)
     if not ok.any():
