@@ -197,6 +197,27 @@ def test_a_worker_does_not_repeat_the_model_files_warnings(
 DAM_Q8 = Path(__file__).resolve().parent / "data" / "dam_q8_lift.msh"
 
 
+def dam_q8(E: float) -> str:
+    """The model file's mesh, materials (E in Pa, the rock light) and blocks of the dam
+    of dam_q8_lift.msh."""
+    return f"""
+[mesh]
+file = "{DAM_Q8}"
+[materials.concrete]
+E = {E!r}
+nu = 0.2
+rho = 2400.0
+[materials.rock]
+E = {E!r}
+nu = 0.25
+rho = 24.0
+[blocks]
+dam_lower = "concrete"
+dam_upper = "concrete"
+rock = "rock"
+"""
+
+
 def test_yield_coefficient_names_the_joint_that_slides(tmp_path: Path) -> None:
     """A stiff dam block on a friction base (μ = 0.3, no water) under a bonded lift joint
     (c = 20 MPa): k_y = μ = 0.3 both ways (a rigid block; closed form), sliding on the
@@ -208,21 +229,7 @@ def test_yield_coefficient_names_the_joint_that_slides(tmp_path: Path) -> None:
     from pfeie.io import load_job
 
     model = tmp_path / "dam.toml"
-    model.write_text(f"""
-[mesh]
-file = "{DAM_Q8}"
-[materials.concrete]
-E = 2.5e12
-nu = 0.2
-rho = 2400.0
-[materials.rock]
-E = 2.5e12
-nu = 0.25
-rho = 24.0
-[blocks]
-dam_lower = "concrete"
-dam_upper = "concrete"
-rock = "rock"
+    model.write_text(dam_q8(2.5e12) + """
 [interfaces.base]
 friction_angle = 16.69924423
 [interfaces.lift]
@@ -243,3 +250,45 @@ dynamic = false
         assert (y.limit, y.joint) == ("sliding", "base")
         assert y.safety_factors["base"] == pytest.approx(1.0, abs=1e-6)
         assert y.analyses <= 10  # (measured 7 and 8; 54 along −x before)
+
+
+def test_a_static_mechanism_names_the_joint_that_fails(tmp_path: Path) -> None:
+    """The dam of dam_q8_lift.msh after an earthquake, by hand: base and lift joints
+    broken (φ = 40°), full headwater (55 m) as uplift on the whole base, and a 10 m
+    tailwater. By hand the base cannot hold: its shear 14.35 MN against tan 40° × 12.06 MN
+    = 10.1 MN; the lift joint holds: 3.07 MN against tan 40° × 11.12 MN = 9.33 MN. The
+    error named 'dam_upper' on 'lift' (the rigid-block check's unbalance, which may land
+    on any block of a stack): it now checks each joint alone, the others unbreakable, and
+    names 'base' as the joint that cannot hold and 'lift' as holding. Independent check:
+    with the base at φ = 60° (capacity 20.9 MN) the static analysis holds."""
+    from pfeie.io import load_job
+
+    model = tmp_path / "pe.toml"
+    text = 'plane = "strain"\n' + dam_q8(25e9) + """
+[interfaces.base]
+friction_angle = PHI
+[interfaces.lift]
+friction_angle = 40.0
+[[supports]]
+group = "rock_bottom"
+[[loads.hydrostatic]]
+groups = ["upstream_lower", "upstream_upper", "reservoir_floor"]
+water_level = 55.0
+[[loads.hydrostatic]]
+groups = ["downstream_lower", "tail_floor"]
+water_level = 10.0
+[[loads.pressure]]
+group = "base"
+value = 539550.0
+[analysis]
+dynamic = false
+"""
+    model.write_text(text.replace("PHI", "40.0"))
+    with pytest.raises(pf.MechanismError) as info:
+        pf.solve_static(load_job(model).model)
+    msg = str(info.value)
+    assert "'base' cannot hold the blocks on it with every other joint unbreakable" in msg
+    assert "'lift' holds alone" in msg and "'dam_upper' on 'lift': unbalanced" not in msg
+    model.write_text(text.replace("PHI", "60.0"))
+    st = pf.solve_static(load_job(model).model)
+    assert st.pairs is not None and np.isfinite(st.pairs.X).all()

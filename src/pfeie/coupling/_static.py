@@ -42,6 +42,10 @@ class RigidCheck(NamedTuple):
 
     share: FloatArray
     normal: FloatArray
+    #: joint by joint, the total share of the check with only that joint's strength
+    #: limited and the other joints unbreakable (name → share; empty: not asked): a joint
+    #: that cannot hold alone is where the blocks fail (:func:`pfeie.solve_pairs`'s error)
+    alone: tuple[tuple[str, float], ...] = ()
 
 
 def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
@@ -144,7 +148,10 @@ class StaticInterfaceProblem:
             u_free = u_free + Phi @ q
         return u_free, st
 
-    def rigid_check(self, f_free: FloatArray, damage: PairState | None = None) -> RigidCheck:
+    def rigid_check(
+        self, f_free: FloatArray, damage: PairState | None = None,
+        strong: np.ndarray | None = None,
+    ) -> RigidCheck:  # fmt: skip
         """Limit equilibrium of the floating blocks as rigid bodies: per body (n_bodies,),
         the least share of its load that no pair forces within the joints' strength can
         balance (``share``; 0: a rigid-block equilibrium exists; NaN for a body with a
@@ -167,7 +174,8 @@ class StaticInterfaceProblem:
         that is not broken by ``damage`` or from the start taken intact), so a share above
         zero proves that no static equilibrium exists, elastic or rigid; a share of zero
         leaves open whether the elastic one does (the elastic problem may part a joint
-        that the rigid blocks keep closed).
+        that the rigid blocks keep closed). ``strong`` (n_pairs,): pairs taken unbreakable
+        (no cone, no tensile bound), to test the other joints alone.
 
         >>> import pfeie as pf
         >>> from pfeie.verification._models import block_on_base
@@ -213,6 +221,7 @@ class StaticInterfaceProblem:
             path = damage.path
         c, mu, t = laws.strength(broken, path)
         c, mu, t = c[idx], mu[idx], t[idx]
+        limited = np.ones(idx.size, dtype=bool) if strong is None else ~strong[idx]
         n = idx.size
         if d == 2:
             normals = np.array([[1.0], [-1.0]])
@@ -231,16 +240,20 @@ class StaticInterfaceProblem:
         F = max(float(np.abs(e).max(initial=0.0)), float(c.max(initial=0.0)), 1.0)
         A_ub = sp.csr_matrix((vals, (r_idx, c_idx)), shape=(n * nk, n * d + 2 * k))
         b_ub = np.repeat(c / F, nk)
+        keep = np.repeat(limited, nk)  # (the cone rows of the pairs whose strength counts)
+        A_ub, b_ub = A_ub[keep], b_ub[keep]
         cols = (idx[:, None] * d + np.arange(d)).ravel()
         rows = sp.diags(F / S) @ sp.csr_matrix(E[cols].T)
         A_eq = sp.hstack([rows, -sp.eye(k), sp.eye(k)]).tocsr()
         lo = np.full(n * d, -np.inf)
-        lo[d - 1 :: d] = -t / F
+        lo[d - 1 :: d] = np.where(limited, -t / F, -np.inf)
         bounds = np.column_stack([np.r_[lo, np.zeros(2 * k)], np.full(n * d + 2 * k, np.inf)])
         cost = np.r_[np.zeros(n * d), np.ones(2 * k)]
         for presolve in (True, False):  # HiGHS's presolve took a bounded problem for an
             # unbounded one (a new user's two blocks on 40° and 10° planes): without it
-            res = linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=e / S, bounds=bounds,
+            res = linprog(cost, A_ub=A_ub if keep.any() else None,
+                          b_ub=b_ub if keep.any() else None, A_eq=A_eq, b_eq=e / S,
+                          bounds=bounds,
                           method="highs", options={"presolve": presolve})  # fmt: skip
             if res.status == 0:
                 break

@@ -124,7 +124,22 @@ def solve_pairs(
         if not explain:
             return None
         try:
-            return problem.rigid_check(f, damage)
+            check = problem.rigid_check(f, damage)
+            P = model.pairs
+            assert P is not None
+            touched = [n for n in P.names if np.isfinite(check.normal[P.of(n)]).all()
+                       and _touches_floating(model, n)]  # fmt: skip
+            if len(touched) > 1 and np.nansum(check.share) > RIGID_SHARE_MIN:
+                # where the blocks fail: each joint alone, the others unbreakable (a
+                # stack of floating blocks: the check's unbalance may land on any of them)
+                alone = []
+                for name in touched:
+                    strong = np.ones(P.n, dtype=bool)
+                    strong[P.of(name)] = False
+                    one = problem.rigid_check(f, damage, strong=strong)
+                    alone.append((name, float(np.nansum(one.share))))
+                check = check._replace(alone=tuple(alone))
+            return check
         except (ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
             log.debug("static analysis: the rigid-block check failed: %s", exc)
             return None
@@ -248,6 +263,17 @@ def _lengths(cracks: Sequence[float], model: Model | None = None) -> str:
 RIGID_SHARE_MIN = 1e-6
 
 
+def _touches_floating(model: Model, joint: str) -> bool:
+    """Whether the joint ``joint`` has a floating block on one of its sides."""
+    P = model.pairs
+    assert P is not None
+    body = model.body_of_node
+    idx = P.of(joint)
+    floating = np.isin(np.r_[body[P.node_a[idx]], body[P.node_b[idx]]],
+                       model.floating_bodies())  # fmt: skip
+    return bool(floating.any())
+
+
 def _floating(model: Model, found: bool = True, damaged: bool = False,
               share: RigidCheck | None = None) -> str:  # fmt: skip
     """What a static mechanism means for this model: the floating bodies (no support)
@@ -305,15 +331,35 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                 if via:
                     leaning.append(f"{names[c]!r} on {names[b]!r} through "
                                    f"{', '.join(repr(j) for j in via)}")  # fmt: skip
-        head = (
-            "No static equilibrium holds the floating block(s) ("
-            + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % of "
-                        "its load" for b in unbalanced)
-            + "): not even as rigid blocks can pair forces within their joints' strength "
-            "balance the static loads, so they would slide, open or overturn."
-            + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
-               "theirs together, placed where the check could put it." if leaning else "")
-        )  # fmt: skip
+        assert share is not None
+        fails = [(j, v) for j, v in share.alone if v > RIGID_SHARE_MIN]
+        holds = [j for j, v in share.alone if not v > RIGID_SHARE_MIN]
+        if fails:
+            # the joints that cannot hold even with every other joint unbreakable: where
+            # the blocks fail, with all the blocks on them
+            head = (
+                "No static equilibrium holds the floating block(s) ("
+                + "; ".join(on_joints[b] for b in on_joints)
+                + "): not even as rigid blocks can pair forces within their joints' "
+                "strength balance the static loads, so they would slide, open or overturn. "
+                + "; ".join(f"{j!r} cannot hold the blocks on it with every other joint "
+                            f"unbreakable (unbalanced by about {100 * v:.3g} % of their "
+                            "load)" for j, v in fails)
+                + (f"; {', '.join(repr(j) for j in holds)} "
+                   f"{'holds' if len(holds) == 1 else 'hold'} alone" if holds else "")
+                + "."
+            )  # fmt: skip
+        else:
+            head = (
+                "No static equilibrium holds the floating block(s) ("
+                + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % "
+                            "of its load" for b in unbalanced)
+                + "): not even as rigid blocks can pair forces within their joints' "
+                "strength balance the static loads, so they would slide, open or overturn."
+                + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
+                   "theirs together, placed where the check could put it." if leaning
+                   else "")
+            )  # fmt: skip
     elif any(np.isfinite(v) for v in shares.values()):
         head = (
             "No static equilibrium was found for the floating block(s) (" + which + "), "
