@@ -1333,10 +1333,12 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
         probes[name] = {
             "peak_displacement_m": float(u_mag[ku]),
             "peak_displacement_time_s": _time(res.t[ku]),
-            "peak_displacement_xyz_m": np.abs(u).max(axis=0).round(6).tolist(),
+            # (the components in full, as the magnitudes: a lab-scale model's micrometres
+            # read 0 when rounded to 1 µm)
+            "peak_displacement_xyz_m": np.abs(u).max(axis=0).tolist(),
             "peak_abs_acceleration_g": float(a_mag[ka]),
             "peak_abs_acceleration_time_s": _time(res.t[ka]),
-            "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).round(6).tolist(),
+            "peak_abs_acceleration_xyz_g": np.abs(a).max(axis=0).tolist(),
         }
     s["probes"] = probes
     s["bodies"] = _body_motions(job, res)
@@ -1455,7 +1457,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             "floating": b in floating,
             "peak_displacement_m": float(u[:, b].max()),
             "residual_displacement_m": float(u[-1, b]),
-            "residual_displacement_xyz_m": (q[-1, b, :d].round(6) + 0.0).tolist(),  # no -0.0
+            "residual_displacement_xyz_m": (q[-1, b, :d] + 0.0).tolist(),  # no -0.0
             "residual_rotation_deg": float(turn[-1, b]),
             "peak_rotation_deg": float(turn[:, b].max()),
         }
