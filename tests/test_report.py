@@ -489,8 +489,10 @@ def test_boundary_faces_of_a_box(cell: str) -> None:
 
 def test_joint_plane_of_an_inclined_joint() -> None:
     """An inclined plane joint (normal (sin 30°, 0, cos 30°)): the normal found to
-    round-off, the axes y and ≈x orthonormal, and the map an isometry: the distances
-    between the pairs in the plane are the distances in space (1e-14 m on 10 m)."""
+    round-off, the axes ≈x and y orthonormal, in the order of a level joint's (x, y) (a
+    dip along x read (y, ≈x): the map of a dam's base turned by a slight dip), and the
+    map an isometry: the distances between the pairs in the plane are the distances in
+    space (1e-14 m on 10 m)."""
     from pfeie.plot._plots import joint_plane
 
     n = np.array([np.sin(np.pi / 6), 0.0, np.cos(np.pi / 6)])
@@ -501,7 +503,9 @@ def test_joint_plane_of_an_inclined_joint() -> None:
     uv, basis, labels = joint_plane(x, frame)
     assert np.allclose(basis[-1], n, rtol=0, atol=1e-15)  # reached: 1.7e-16
     assert np.allclose(basis @ basis.T, np.eye(3), rtol=0, atol=1e-16)  # reached: 1.5e-17
-    assert labels == ["y", "≈x"]
+    assert labels == ["≈x", "y"]
+    level = np.broadcast_to(np.eye(3), (30, 3, 3))
+    assert joint_plane(x, level)[2] == ["x", "y"]
     d3 = np.linalg.norm(x[:, None] - x[None], axis=-1)
     d2 = np.linalg.norm(uv[:, None] - uv[None], axis=-1)
     assert np.abs(d2 - d3).max() < 1e-14  # reached: 1.8e-15

@@ -1399,8 +1399,10 @@ def joint_plane(x: np.ndarray, frame: np.ndarray) -> tuple[np.ndarray, np.ndarra
     The plane's normal n is the mean of the pairs' normals (the last row of their frames,
     oriented as the first pair's); if they cancel, the direction of least spread of the
     points (the last right singular vector of the centred points). Its in-plane axes are
-    the global axes least aligned with n, made orthonormal to n (Gram–Schmidt): a
-    horizontal joint is mapped on (x, y), a joint normal to x on (y, z). Returns the
+    the two global axes least aligned with n, in the order x, y, z, made orthonormal to n
+    (Gram–Schmidt): a horizontal joint is mapped on (x, y), a gently dipping one on
+    (≈x, y) or (x, ≈y), the same order (a dip along x swapped the axes to (y, ≈x)), a
+    joint normal to x on (y, z). Returns the
     coordinates (n_pairs, 2) = (x · a₁, x · a₂) in m, the axes (3, 3) = (a₁, a₂, n), and
     the axes' labels ("x" for an axis along x, "≈x" for one only close to it)."""
     nrm = np.asarray(frame)[:, -1, :]
@@ -1412,7 +1414,7 @@ def joint_plane(x: np.ndarray, frame: np.ndarray) -> tuple[np.ndarray, np.ndarra
     n = n / np.linalg.norm(n)
     axes = [n]
     labels = []
-    for i in np.argsort(np.abs(n), kind="stable")[:2]:
+    for i in sorted(np.argsort(np.abs(n), kind="stable")[:2]):
         a = np.eye(3)[i] - sum((np.eye(3)[i] @ b) * b for b in axes)
         a = a / np.linalg.norm(a)
         axes.insert(len(axes) - 1, a)
