@@ -6,7 +6,9 @@ Each test reproduces the defect and checks the fix against an independent number
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -311,3 +313,66 @@ def test_summary_components_are_not_rounded_to_a_micrometre(tmp_path: Path) -> N
     assert 1e-6 < block["residual_displacement_m"] < 2e-5  # micrometres (measured 6.8 µm)
     assert float(np.hypot(*block["residual_displacement_xyz_m"])) == pytest.approx(
         block["residual_displacement_m"], rel=1e-12)
+
+
+# -- the Python API: wrong arguments (a researcher's findings) -----------------------------
+
+
+def _plate() -> pf.Model:
+    mesh = pf.rectangle(1.0, 1.0, 2, 2)
+    mesh.add_facet_group("none", lambda x: x[:, 0] < -5.0, boundary_only=False)
+    return pf.Model(mesh, [pf.Block("all", pf.Elastic(1e9, 0.2, 2000.0))])
+
+
+@pytest.mark.parametrize("call, words", [
+    # a support or load on an empty group was dropped unseen
+    (lambda m: m.fix("none"), "fix: the group 'none' has no nodes"),
+    (lambda m: m.add_pressure("none", 1e3), "pressure on 'none': the facet group has no facets"),
+    (lambda m: m.add_traction("none", [1.0, 0.0]), "traction on 'none': the facet group has no"),
+    (lambda m: m.fix([]), "fix: no nodes given"),
+    (lambda m: m.add_nodal_force(5, [1.0, 0.0]), "add_nodal_force: expected a group's name or"),
+    (lambda m: m.add_pressure("xmax", "1e3"), "expected a finite number or a function"),
+    (lambda m: pf.solve_static(None), "solve_static: expected a pfeie.Model"),
+    (lambda m: pf.solve_static(m, t=float("nan")), "solve_static: t: expected a finite time"),
+    (lambda m: pf.solve_static(m, settings={"tolerance": 1e-8}), "settings: expected a pfeie"),
+    (lambda m: pf.run_to_folder(m, 0.01, "out"), "run_to_folder: analysis: expected a pfeie"),
+    (lambda m: pf.Dynamic(m, settings=3), "Dynamic: settings: expected a pfeie.DynamicSettings"),
+    (lambda m: pf.Dynamic(m, 0.01).run(0.02, callback=3), "callback: expected a function"),
+    (lambda m: pf.Interface("j", None), "interface 'j': joint: expected a joint law"),
+    (lambda m: pf.GroundMotion.from_samples([0.0, 1.0], dt=0.01, direction="x"),
+     "direction: expected the 2 or 3 components"),
+    (lambda m: pf.GroundMotion.from_samples([0.0, 1.0], dt="0.01"), "dt: expected a number"),
+    (lambda m: pf.GroundMotion.from_function(5.0, 1.0, 0.01), "expected a function a(t)"),
+    (lambda m: pf.Rayleigh(0.1, 0.01).ratio(0), "Rayleigh.ratio: expected a frequency > 0"),
+    (lambda m: pf.modal(m, 1, shift=float("nan")), "modal: shift: expected a finite"),
+    (lambda m: pf.factorize("K"), "factorize: expected a sparse matrix"),
+    (lambda m: m.mesh.add_facet_group("g", 5), "where: expected a function of the centroids"),
+    (lambda m: pf.graded(1.0, 3, 2.0, origin="a"), "graded: origin: expected 1 finite"),
+    (lambda m: pf.rectangle("2", 1.0, 2, 2), "rectangle: lx: expected a length > 0"),
+])  # fmt: skip
+def test_wrong_api_arguments_are_refused_by_name(call: Any, words: str) -> None:
+    """Each of these gave a bare AttributeError, TypeError, ValueError or
+    ZeroDivisionError from inside the library, or was accepted silently (a load on an
+    empty group, '1e3' as a pressure); now a pfeie error names the argument."""
+    with pytest.raises(pf.errors.PfeieError, match=re.escape(words)):
+        call(_plate())
+
+
+def test_a_results_reader_names_what_it_has(tmp_path: Path) -> None:
+    """``Results.rigid``, ``joint_resultants``, ``joint_cracks``, ``joint_safety_factor``
+    and ``units`` of an unknown name gave ValueError, IndexError or KeyError; now a
+    ResultsError lists the names the file has."""
+    model, top = _block_on_a_joint()
+    pf.run_to_folder(pf.Dynamic(model, 0.01), 0.05, tmp_path, probes={"top": top},
+                     figures=False, paraview=False)  # fmt: skip
+    with Results(tmp_path / "results.h5") as res:
+        for call, words in ((lambda: res.rigid("nope"), "no body 'nope'; bodies:"),
+                            (lambda: res.rigid(99), "body: expected a name of"),
+                            (lambda: res.joint_resultants("nope"), "no interface 'nope'"),
+                            (lambda: res.joint_cracks("nope"), "no interface 'nope'"),
+                            (lambda: res.joint_safety_factor("nope"), "no interface 'nope'"),
+                            (lambda: res.units("history/nope"), "no dataset 'history/"),
+                            ):  # fmt: skip
+            with pytest.raises(pf.errors.ResultsError, match=re.escape(words)):
+                call()
+        assert res.rigid("block").shape == res.rigid(1).shape  # the names still work

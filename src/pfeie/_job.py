@@ -660,6 +660,9 @@ def run_to_folder(
     ...         print(f.n_times, f.probe_names, f.meta["model_file"])
     6 ['top'] <python>
     """
+    if not isinstance(analysis, Dynamic):
+        raise ModelError(f"run_to_folder: analysis: expected a pfeie.Dynamic (e.g. "
+                         f"pf.Dynamic(model, dt=0.01)), got {type(analysis).__name__}")  # fmt: skip
     static = start if isinstance(start, StaticResult) else None
     if isinstance(start, StepState) and isinstance(start.static, StaticResult):
         static = start.static

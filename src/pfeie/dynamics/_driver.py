@@ -172,6 +172,13 @@ class Dynamic:
             raise ModelError(f"Dynamic: expected a pfeie.Model (that of a model file is "
                              f"pfeie.io.load_job(path).model), got {type(model).__name__} "
                              f"{model!r}")  # fmt: skip
+        given: object = settings
+        if isinstance(given, dict):  # the settings' fields as a mapping
+            settings, options = None, {**given, **options}
+        elif given is not None and not isinstance(given, DynamicSettings):
+            raise ModelError(f"Dynamic: settings: expected a pfeie.DynamicSettings (or its "
+                             f"fields as keywords), got {type(given).__name__} "
+                             f"{given!r}")  # fmt: skip
         base = {} if settings is None else settings.model_dump()
         if settings is None or dt is not None or options:
             given = {**base, **options, **({} if dt is None else {"dt": dt})}
@@ -1123,6 +1130,11 @@ class Dynamic:
             raise ModelError(f"n_steps must be >= 0, got {n}")
         if isinstance(every, bool) or not isinstance(every, int | np.integer) or every < 1:
             raise ModelError(f"every: expected a whole number of steps >= 1, got {every!r}")
+        for arg, fn in (("callback", callback), ("on_record", on_record),
+                        ("on_checkpoint", on_checkpoint)):  # fmt: skip
+            if fn is not None and not callable(fn):
+                raise ModelError(f"{arg}: expected a function (or None), got "
+                                 f"{type(fn).__name__} {fn!r}")  # fmt: skip
         # the pre-earthquake uplift: that of the static result the run starts from (a
         # StepState's own, e.g. Dynamic.initial(static) or a previous run's final state)
         ex = self.excitation(ground, form, start.static if isinstance(start, StepState)

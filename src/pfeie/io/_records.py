@@ -456,6 +456,10 @@ def read_record(
     """
     level = logging.DEBUG if quiet else logging.WARNING
     p = Path(path)
+    if isinstance(scale, bool) or not isinstance(scale, int | float | np.integer | np.floating) \
+            or not (np.isfinite(scale) and scale != 0):  # fmt: skip
+        # (as the model file's ground_motion[].scale: a record scaled to nothing)
+        raise RecordError(f"{p}: scale: expected a finite factor other than 0, got {scale!r}")
     if not p.is_file():
         raise RecordError(f"{p}: record file not found")
     raw = p.read_bytes()

@@ -602,10 +602,15 @@ class Results:
     def _select(self, interface: str | None) -> Any:
         if interface is None:
             return slice(None)
+        return np.flatnonzero(self.f["pairs/interface"][...] == self._joint(interface))
+
+    def _joint(self, interface: str) -> int:
+        """The index of the interface ``interface``; a :class:`ResultsError` naming the
+        file's interfaces if it has none of that name."""
         names = self.interface_names
         if interface not in names:
             raise ResultsError(f"{self.path}: no interface {interface!r}; interfaces: {names}")
-        return np.flatnonzero(self.f["pairs/interface"][...] == names.index(interface))
+        return names.index(interface)
 
     @property
     def completed(self) -> bool:
@@ -613,6 +618,9 @@ class Results:
 
     def units(self, dataset: str) -> str:
         """Units of a dataset, e.g. ``units("history/pairs/X")`` → 'N'."""
+        if dataset not in self.f or "units" not in self.f[dataset].attrs:
+            raise ResultsError(f"{self.path}: no dataset {dataset!r} with units (e.g. "
+                               "'history/pairs/X'; docs/results.md lists them)")  # fmt: skip
         return str(self.f[dataset].attrs["units"])
 
     # -- histories -------------------------------------------------------------------------
@@ -649,7 +657,17 @@ class Results:
 
     def rigid(self, body: str | int) -> FloatArray:
         """Rigid motion (n_t, 3 or 6) of a body: centroid translation (m), rotation (rad)."""
-        idx = self.body_names.index(body) if isinstance(body, str) else int(body)
+        names = self.body_names
+        if isinstance(body, str):
+            if body not in names:
+                raise ResultsError(f"{self.path}: no body {body!r}; bodies: {names}")
+            idx = names.index(body)
+        elif isinstance(body, int | np.integer) and not isinstance(body, bool) and (
+                0 <= body < len(names)):  # fmt: skip
+            idx = int(body)
+        else:
+            raise ResultsError(f"{self.path}: body: expected a name of {names} or an index "
+                               f"in 0..{len(names) - 1}, got {body!r}")  # fmt: skip
         return np.asarray(self.f["history/rigid"][:, idx])
 
     @property
@@ -685,7 +703,7 @@ class Results:
         if "joints/force" not in self.f["history"]:
             raise ResultsError(f"{self.path}: no joint resultants (a results file of "
                                f"format {self.f.attrs.get('format_version', '1.0')})")  # fmt: skip
-        k = self.interface_names.index(interface)
+        k = self._joint(interface)
         g = self.f["history/joints"]
         x, a = np.asarray(self.f["pairs/x"]), np.asarray(self.f["pairs/area"])
         sel = np.asarray(self.f["pairs/interface"]) == k
@@ -700,7 +718,7 @@ class Results:
         if "joints/cracked" not in self.f["history"]:
             raise ResultsError(f"{self.path}: no cracked-length histories (a results file of "
                                f"format {self.f.attrs.get('format_version', '1.0')})")  # fmt: skip
-        k = self.interface_names.index(interface)
+        k = self._joint(interface)
         g = self.f["history/joints"]
         return {key: np.asarray(g[key][:, k]) for key in ("cracked", "open")}
 
@@ -709,7 +727,7 @@ class Results:
         shear; docs/results.md), or None in a results file without it."""
         if "joints/safety_factor" not in self.f["history"]:
             return None
-        k = self.interface_names.index(interface)
+        k = self._joint(interface)
         return np.asarray(self.f["history/joints/safety_factor"][:, k])
 
     @property

@@ -295,6 +295,11 @@ def factorize(A: sp.spmatrix, *, spd: bool = True, backend: str = "auto") -> Fac
     ``spd`` declares A symmetric positive definite (Cholesky backends allowed);
     otherwise SuperLU is used. Raises :class:`MechanismError` when A is singular.
     """
+    if not sp.issparse(A):
+        if not (isinstance(A, np.ndarray) and A.ndim == 2 and A.dtype.kind in "fiu"):
+            raise SolverError(f"factorize: expected a sparse matrix (scipy.sparse), got "
+                              f"{type(A).__name__}")  # fmt: skip
+        A = sp.csc_matrix(A, dtype=float)  # a dense array: its sparse copy
     if A.shape[0] != A.shape[1]:
         raise SolverError(f"factorize needs a square matrix, got {A.shape}")
     choice = os.environ.get("PFEIE_SOLVER", backend) if backend == "auto" else backend

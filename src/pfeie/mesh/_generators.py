@@ -57,7 +57,7 @@ def _size(value: object, what: str) -> float:
         x = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         x = float("nan")
-    if isinstance(value, (bool, np.bool_)) or not (np.isfinite(x) and x > 0):
+    if isinstance(value, (bool, np.bool_, str)) or not (np.isfinite(x) and x > 0):
         raise MeshArgumentError(f"{what}: expected a length > 0 (m), got {value!r}")
     return x
 
@@ -65,6 +65,8 @@ def _size(value: object, what: str) -> float:
 def _origin(origin: object, dim: int, what: str) -> FloatArray:
     try:
         o = np.asarray(origin, dtype=float)
+        if isinstance(origin, str):
+            raise ValueError
     except (TypeError, ValueError):
         o = np.zeros(0)
     if o.shape != (dim,) or not np.all(np.isfinite(o)):
@@ -97,9 +99,12 @@ def graded(length: float, n: int, ratio: float, origin: float = 0.0) -> FloatArr
     length = _size(length, "graded: length")
     if isinstance(ratio, (bool, np.bool_)) or not (np.isfinite(ratio) and ratio > 0):
         raise MeshArgumentError(f"graded: ratio: expected a number > 0, got {ratio!r}")
+    given: object = origin
+    (o,) = _origin(given if isinstance(given, list | tuple | np.ndarray) else [given], 1,
+                   "graded")  # fmt: skip
     q = ratio ** (1.0 / max(n - 1, 1))
     h = q ** np.arange(n)
-    return origin + np.concatenate([[0.0], np.cumsum(h)]) * length / h.sum()
+    return np.asarray(o + np.concatenate([[0.0], np.cumsum(h)]) * length / h.sum())
 
 
 def rectangle(

@@ -30,7 +30,12 @@ log = logging.getLogger(__name__)
 def _mask(where: Callable[[FloatArray], Any], x: FloatArray, what: str) -> BoolArray:
     """``where(x)`` as a boolean mask of one entry per row of ``x`` (centroids (n, dim)):
     a scalar (``lambda x: True``, which would select the first cell alone) or a mask of
-    another length is a :class:`MeshError` naming the group."""
+    another length is a :class:`MeshError` naming the group, as is a ``where`` that is
+    not a function."""
+    if not callable(where):
+        raise MeshError(f"{what}: where: expected a function of the centroids x (n, dim), "
+                        "e.g. lambda x: x[:, 1] > 0, got "
+                        f"{type(where).__name__} {where!r}")  # fmt: skip
     raw = np.asarray(where(x))
     if raw.shape != (x.shape[0],):
         raise MeshError(
@@ -353,6 +358,8 @@ class Mesh:
             grp[ctype] = np.flatnonzero(mask)
         if not any(g.size for g in grp.values()):
             log.warning("cell group %r: where(x) selected no cell", name)
+        if name in self.cell_groups:
+            log.warning("cell group %r: replaced by the new selection", name)
         self.cell_groups[name] = grp
         return grp
 
@@ -370,6 +377,9 @@ class Mesh:
         if not grp:
             log.warning("facet group %r: where(x) selected no %sfacet", name,
                         "boundary " if boundary_only else "")  # fmt: skip
+        if name in self.facet_groups:
+            # (a generator's own 'xmin' redefined: the faces it held are no longer in it)
+            log.warning("facet group %r: replaced by the new selection", name)
         self.facet_groups[name] = grp
         return grp
 

@@ -61,6 +61,18 @@ def _median_step(t: npt.ArrayLike) -> float:
     return float(np.median(np.diff(t)))
 
 
+def _floats(x: object, what: str, expected: str) -> FloatArray:
+    """``x`` as an array of floats; a :class:`ModelError` naming ``what`` and the
+    ``expected`` values where it holds something else (a string, None, objects)."""
+    if isinstance(x, str | bytes):
+        raise ModelError(f"{what}: expected {expected}, got the string {x!r}")
+    try:
+        return np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}: expected {expected}, got {type(x).__name__} "
+                         f"{x!r}"[:300]) from None  # fmt: skip
+
+
 @dataclass(frozen=True)
 class GroundMotion:
     """An acceleration record: times (s), accelerations (m/s²), a unit direction.
@@ -119,7 +131,12 @@ class GroundMotion:
         name: str = "record",
     ) -> GroundMotion:
         """A record from samples with a step ``dt`` (s) or a ``time`` column (s)."""
-        raw = np.asarray(values, dtype=float)
+        raw = _floats(values, f"ground motion {name!r}: values", "accelerations")
+        for key, x in (("dt", dt), ("scale", scale)):
+            if x is not None and (isinstance(x, bool) or not isinstance(
+                    x, int | float | np.integer | np.floating)):  # fmt: skip
+                raise ModelError(f"ground motion {name!r}: {key}: expected a number, got "
+                                 f"{type(x).__name__} {x!r}")  # fmt: skip
         if raw.ndim > 1 and sum(n > 1 for n in raw.shape) > 1:
             raise ModelError(
                 f"ground motion {name!r}: values: expected a 1D array of accelerations, got "
@@ -143,7 +160,7 @@ class GroundMotion:
                                  f"got {dt}")  # fmt: skip
             t = np.arange(acc.size) * float(dt)
         else:
-            t = np.asarray(time, dtype=float).ravel()
+            t = _floats(time, f"ground motion {name!r}: time", "times (s)").ravel()
             if t.shape != acc.shape:
                 raise ModelError(f"ground motion {name!r}: {t.size} times for {acc.size} values")
             if np.any(np.diff(t) <= 0):
@@ -162,7 +179,8 @@ class GroundMotion:
         if not np.all(np.isfinite(t)):
             raise ModelError(f"ground motion {name!r}: times beyond the range of a double "
                              f"(last {t[-1]} s); expected finite times")  # fmt: skip
-        e = np.asarray(direction, dtype=float)
+        e = _floats(direction, f"ground motion {name!r}: direction",
+                    "the 2 or 3 components of a vector, e.g. (1, 0)")  # fmt: skip
         big = float(np.abs(e).max()) if e.size else 0.0
         e = e / big if np.isfinite(big) and big > 0 else e
         norm = np.linalg.norm(e)
@@ -183,6 +201,13 @@ class GroundMotion:
         direction: Sequence[float] = (1.0, 0.0), name: str = "function",
     ) -> GroundMotion:  # fmt: skip
         """Sample a function a(t) (m/s²) at step dt over [0, duration]."""
+        if not callable(fn):
+            raise ModelError(f"ground motion {name!r}: expected a function a(t) (m/s²) of "
+                             f"the time t (s), got {type(fn).__name__} {fn!r}")  # fmt: skip
+        for key, x in (("dt", dt), ("duration", duration)):
+            if isinstance(x, bool) or not isinstance(x, int | float | np.integer | np.floating):
+                raise ModelError(f"ground motion {name!r}: {key}: expected a number (s), got "
+                                 f"{type(x).__name__} {x!r}")  # fmt: skip
         if not (np.isfinite(dt) and dt > 0):
             raise ModelError(f"ground motion {name!r}: dt must be > 0 s, got {dt}")
         if not (np.isfinite(duration) and duration > 0):

@@ -508,16 +508,30 @@ class Model:
         ib = [b.name for b in self.blocks].index(name)
         return np.unique(np.concatenate([s.conn[s.block == ib].ravel() for s in self._cellsets]))
 
-    def _nodes(self, where: str | Iterable[int] | IntArray) -> tuple[IntArray, str]:
+    def _nodes(self, where: str | Iterable[int] | IntArray, what: str) -> tuple[IntArray, str]:
+        """The nodes of a group's name or of node indices, and a label; an empty group
+        or list is refused (``what`` names the call in the message): a selector that
+        matches nothing would otherwise drop the support or load unseen."""
         if isinstance(where, str):
             try:
-                return self.mesh.group_nodes(where), where
+                nodes = self.mesh.group_nodes(where)
             except Exception as exc:
                 raise ModelError(str(exc)) from None
-        seq = where if isinstance(where, np.ndarray) else list(where)
-        nodes = np.unique(np.asarray(seq, dtype=np.int64))
-        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.mesh.n_points):
-            raise ModelError(f"node indices must lie in 0..{self.mesh.n_points - 1}")
+            if not nodes.size:
+                raise ModelError(f"{what}: the group {where!r} has no nodes (its selector "
+                                 "matched nothing); expected a group with nodes")  # fmt: skip
+            return nodes, where
+        try:
+            seq = where if isinstance(where, np.ndarray) else list(where)
+            nodes = np.unique(np.asarray(seq, dtype=np.int64))
+        except (TypeError, ValueError):
+            raise ModelError(f"{what}: expected a group's name or node indices, got "
+                             f"{where!r}") from None  # fmt: skip
+        if not nodes.size:
+            raise ModelError(f"{what}: no nodes given; expected a group's name or node "
+                             "indices")  # fmt: skip
+        if nodes.min() < 0 or nodes.max() >= self.mesh.n_points:
+            raise ModelError(f"{what}: node indices must lie in 0..{self.mesh.n_points - 1}")
         return nodes, f"{nodes.size} node(s)"
 
     def nodes_at(self, where: Callable[[FloatArray], Any]) -> IntArray:
@@ -551,6 +565,10 @@ class Model:
             return
         try:
             arr = np.asarray(value, dtype=float)
+            texts = [value] if isinstance(value, str) else (
+                list(value) if isinstance(value, list | tuple) else [])  # fmt: skip
+            if any(isinstance(v, str) for v in texts):
+                raise ValueError  # '1e3' is a string, not a number (a typo in a script)
         except (TypeError, ValueError):
             arr = np.full(1, np.nan)
         shape = (self.dim,) if vector else ()
@@ -568,7 +586,7 @@ class Model:
     ) -> None:
         """Prescribe displacement ``value`` (m) on ``components`` (default: all) of the
         nodes of a facet or cell group, or of given node indices."""
-        nodes, label = self._nodes(where)
+        nodes, label = self._nodes(where, "fix")
         comps = tuple(range(self.dim)) if components is None else tuple(np.atleast_1d(components))
         if any(isinstance(c, bool) or not isinstance(c, int | np.integer) or not 0 <= c < self.dim
                for c in comps):  # fmt: skip
@@ -794,8 +812,14 @@ class Model:
 
     def _boundary_group(self, group: str, what: str) -> None:
         """Refuse a surface load on facets that are not on the boundary of a block (after
-        the interfaces are split, a joint's faces are on the boundary of its blocks)."""
-        for ftype, conn in self.facets_of(group).items():
+        the interfaces are split, a joint's faces are on the boundary of its blocks), and
+        one on a group without facets (its selector matched nothing: the load would be
+        dropped unseen)."""
+        facets = self.facets_of(group)
+        if not sum(conn.shape[0] for conn in facets.values()):
+            raise ModelError(f"{what} on {group!r}: the facet group has no facets (its "
+                             "selector matched nothing); expected a group with facets")  # fmt: skip
+        for ftype, conn in facets.items():
             inside = np.flatnonzero(self.mesh.facet_multiplicity(ftype, conn) > 1)
             if inside.size:
                 x = self.mesh.points[conn[inside[0]]].mean(axis=0)
@@ -1111,7 +1135,7 @@ class Model:
     ) -> None:
         """A force (N) applied at each of the given nodes: a vector of ``dim`` finite
         components."""
-        idx, _ = self._nodes(nodes)
+        idx, _ = self._nodes(nodes, "add_nodal_force")
         try:
             f = np.asarray(value, dtype=float)
         except (TypeError, ValueError):

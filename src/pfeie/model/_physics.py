@@ -160,7 +160,10 @@ class Rayleigh:
         return cls(2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2), deformation_only)
 
     def ratio(self, f: float) -> float:
-        """Damping ratio at frequency f (Hz)."""
+        """Damping ratio at frequency f (Hz, > 0)."""
+        if isinstance(f, bool) or not isinstance(f, int | float | np.integer | np.floating) or (
+                not (np.isfinite(f) and f > 0)):  # fmt: skip
+            raise ModelError(f"Rayleigh.ratio: expected a frequency > 0 Hz, got {f!r}")
         w = 2 * np.pi * f
         return float(self.alpha / (2 * w) + self.beta * w / 2)
 
@@ -212,3 +215,7 @@ class Interface:
             raise ModelError(f"interface {self.group!r}: joint: expected a joint law, e.g. "
                              f"pf.Joint(phi=30.0), got the class {self.joint.__name__} "
                              "itself")  # fmt: skip
+        if not isinstance(self.joint, JointLaw):  # (None, a material): at once, by name
+            raise ModelError(f"interface {self.group!r}: joint: expected a joint law, e.g. "
+                             f"pf.Joint(phi=30.0) (pfeie.interface.JointLaw), got "
+                             f"{type(self.joint).__name__} {self.joint!r}")  # fmt: skip

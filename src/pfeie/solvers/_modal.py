@@ -131,6 +131,9 @@ def modal(
     scale = float(abs(K.diagonal()).max() / max(abs(M.diagonal()).max(), 1e-300))
     if shift is None:
         shift = -1e-6 * scale
+    elif isinstance(shift, bool) or not isinstance(
+            shift, int | float | np.integer | np.floating) or not np.isfinite(shift):  # fmt: skip
+        raise SolverError(f"modal: shift: expected a finite ω² (rad²/s²) or None, got {shift!r}")
     spd = shift <= 0
     F = factorize((K - shift * M).tocsc(), spd=spd, backend=backend if spd else "superlu")
     op = spla.LinearOperator((n, n), matvec=F.solve, dtype=float)

@@ -69,6 +69,18 @@ def solve_static(
     >>> round(float(r.u[:, 0].max()), 9)  # = σ L / E
     0.002
     """
+    if not isinstance(model, Model):
+        raise ModelError(f"solve_static: expected a pfeie.Model (that of a model file is "
+                         f"pfeie.io.load_job(path).model), got {type(model).__name__}")  # fmt: skip
+    if isinstance(t, bool) or not isinstance(t, int | float | np.integer | np.floating) or (
+            not np.isfinite(t)):  # fmt: skip
+        raise ModelError(f"solve_static: t: expected a finite time (s), got {t!r}")
+    if settings is not None and not isinstance(settings, SolverSettings):
+        raise ModelError(f"solve_static: settings: expected a pfeie.SolverSettings, got "
+                         f"{type(settings).__name__} {settings!r}")  # fmt: skip
+    if damage is not None and not isinstance(damage, PairState):
+        raise ModelError(f"solve_static: damage: expected the pair state a run left "
+                         f"(DynamicResult.final.pairs), got {type(damage).__name__}")  # fmt: skip
     system = model.system()
     f_free = system.load(t)
     d = model.dim

@@ -158,10 +158,16 @@ def horizontal(
     if direction is None:
         iota = np.eye(model.dim)[axis] - up[axis] * up
     else:
-        iota = np.asarray(direction, dtype=float)
+        given: object = direction
+        try:
+            iota = np.asarray(given, dtype=float)
+            if isinstance(given, str):
+                raise ValueError
+        except (TypeError, ValueError):
+            iota = np.full(0, np.nan)
         if iota.shape != (model.dim,) or not np.all(np.isfinite(iota)):
             raise ModelError(f"yield coefficient: expected a direction of {model.dim} finite "
-                             f"components, got {list(direction)}")  # fmt: skip
+                             f"components, got {direction!r}")  # fmt: skip
     norm = float(np.linalg.norm(iota))
     if not norm > 0:
         raise ModelError(f"yield coefficient: the direction is zero (or {'xyz'[axis]} is "
