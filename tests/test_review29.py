@@ -376,3 +376,63 @@ def test_a_results_reader_names_what_it_has(tmp_path: Path) -> None:
             with pytest.raises(pf.errors.ResultsError, match=re.escape(words)):
                 call()
         assert res.rigid("block").shape == res.rigid(1).shape  # the names still work
+
+
+# -- model files (a careless user's findings) ----------------------------------------------
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.mark.parametrize("source, edit", [
+    # MSH 2.2: the element count one short of the lines
+    ("tests/data/two_blocks_v22.msh", lambda t: t.replace("$Elements\n184\n", "$Elements\n183\n")),
+    # MSH 4.1: a block's count one short (koyna.msh's line 4161)
+    ("examples/koyna/koyna.msh", lambda t: t.replace("\n2 3 16 340\n", "\n2 3 16 339\n")),
+])  # fmt: skip
+def test_a_mesh_with_more_elements_than_declared_is_refused(
+    tmp_path: Path, source: str, edit: Any
+) -> None:
+    """The gmsh reader reads the declared number of elements and drops the rest, unseen:
+    a crest pressure applied on half the crest (the static joint force 49.24 kN instead
+    of 59.24 kN), a dam of 582 cells instead of 583. Now the counts are checked against
+    the section's lines and the file is refused, naming the section; the file as gmsh
+    wrote it reads (independent: the same file unedited)."""
+    from pfeie.io import read_mesh
+
+    text = (Path(__file__).resolve().parents[1] / source).read_text()
+    assert edit(text) != text
+    bad = tmp_path / "bad.msh"
+    bad.write_text(edit(text))
+    with pytest.raises(pf.errors.MeshError, match=r"bad\.msh: .*section \$Elements"):
+        read_mesh(bad)
+    good = tmp_path / "good.msh"
+    good.write_text(text)
+    assert read_mesh(good).n_points > 0
+
+
+@pytest.mark.parametrize("edit, words", [
+    # the same record twice: the crest acceleration doubled (0.152 g against 0.076 g)
+    (lambda t: t + '[[ground_motion]]\nfile = "pulse.csv"\nunits = "g"\n',
+     "ground_motion[1]: pulse.csv along [1.0, 0.0] is ground_motion[0] again"),
+    # a pseudo-static load kept on under the record (the static FS 12.85 → 5.00)
+    (lambda t: t.replace("[[supports]]", "[loads]\npseudo_static = { kh = 0.1 }\n[[supports]]"),
+     "loads.pseudo_static with [[ground_motion]] and analysis.dynamic = true"),
+    # a record whose times start after the run's end: a run without ground motion
+    (lambda t: t.replace('file = "pulse.csv"', 'file = "late.csv"'),
+     "late.csv: the record starts at 5 s, at or after the end of the run"),
+])  # fmt: skip
+def test_model_files_that_ran_something_else_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: Any, words: str
+) -> None:
+    """Three model files that `pfeie run` ran to the end, exit 0, without a word, giving
+    another analysis than the file meant: now each is refused at `pfeie check`, naming
+    the key. Independent check: the unedited file checks."""
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL)
+    (tmp_path / "late.csv").write_text("time,acc\n5,0\n5.01,0.1\n5.02,-0.05\n5.03,0\n")
+    assert main(["check", str(p)]) == 0
+    p.write_text(edit(p.read_text()))
+    capsys.readouterr()
+    assert main(["check", str(p)]) == 2
+    assert words in capsys.readouterr().err

@@ -841,6 +841,14 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         if odd is not None:
             log.warning("%s: loads.gravity: %s", p, odd)
     ps = loads.pseudo_static
+    if ps is not None and cfg.analysis.dynamic and cfg.ground_motion:
+        # a seismic coefficient's load is static: in a dynamic run it would stay on under
+        # the record, the earthquake counted twice
+        raise InputError(f"{p}: loads.pseudo_static with [[ground_motion]] and "
+                         "analysis.dynamic = true: the pseudo-static load would stay on "
+                         "throughout the record, the earthquake counted twice; expected "
+                         "one: the pseudo-static analysis with analysis.dynamic = false, "
+                         "or the record without loads.pseudo_static")  # fmt: skip
     if ps is not None:
         if not loads.gravity:
             raise InputError(f"{p}: loads.pseudo_static: the seismic coefficients are "
@@ -941,7 +949,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                             "headwater at the upstream end to the tailwater at the other",
                             p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
                             float(z.max()), ut.headwater, tail)  # fmt: skip
-    records = []
+    records: list[GroundMotion] = []
     # a run ends at analysis.duration: pga and target_sa scale the part of a record up to it
     end = cfg.analysis.duration if cfg.analysis.dynamic else None
     part_factors: dict[int, float] = {}
@@ -1011,6 +1019,21 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
         if cfg.analysis.dynamic:
             _record_against_dt(p, i, rec, cfg.analysis.dt)
+            if end is not None and float(rec.time[0]) >= end:
+                raise InputError(f"{p}: ground_motion[{i}]: {gm.file}: the record starts at "
+                                 f"{float(rec.time[0]):g} s, at or after the end of the run "
+                                 f"(analysis.duration = {end:g} s): nothing of it is "
+                                 "applied; expected a record that starts before "
+                                 "analysis.duration (its times in ms?)")  # fmt: skip
+        for j, other in enumerate(records):
+            same = (base / gm.file).resolve() == (
+                base / cfg.ground_motion[j].file
+            ).resolve() and np.array_equal(other.direction, rec.direction)
+            if same:  # the same record along the same axis, given twice
+                raise InputError(f"{p}: ground_motion[{i}]: {gm.file} along "
+                                 f"{rec.direction.tolist()} is ground_motion[{j}] again: the "
+                                 "records add up, so a copy would count twice; expected "
+                                 "each record once (scale it to double it)")  # fmt: skip
         records.append(rec)
     end = cfg.analysis.duration
     if records and end is not None and cfg.analysis.dynamic:

@@ -854,6 +854,11 @@ class Study:
             if not job.analysis.dynamic:
                 raise InputError(f"{self.model}: analysis.dynamic = false; a study runs "
                                  "the dynamic analysis")  # fmt: skip
+            if (job.spec.get("loads") or {}).get("pseudo_static"):
+                raise InputError(f"{self.model}: loads.pseudo_static: a study runs records, "
+                                 "and the pseudo-static load would stay on throughout each "
+                                 "of them, the earthquake counted twice; expected the model "
+                                 "without loads.pseudo_static")  # fmt: skip
             # the model file's own [[ground_motion]] is not run (records=False): its
             # files out of the key, so that editing them keeps the study's rows
             bare = dataclasses.replace(job, spec={**job.spec, "ground_motion": []})
