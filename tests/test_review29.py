@@ -436,3 +436,17 @@ def test_model_files_that_ran_something_else_are_refused(
     capsys.readouterr()
     assert main(["check", str(p)]) == 2
     assert words in capsys.readouterr().err
+
+
+def test_a_probe_named_with_a_slash_is_drawn(tmp_path: Path) -> None:
+    """`pfeie plot` and `pfeie report` stopped with FileNotFoundError on a probe named
+    "my crest/probe" (its figure's file name made a folder of it); `run` and `export`
+    worked. Now the figure is probe_my crest_probe.png, and both commands end with 0."""
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL.replace("probes = { top", 'probes = { "my crest/probe"'))
+    assert main(["run", str(p), "--quiet"]) == 0
+    res = tmp_path / "out" / "results.h5"
+    assert main(["plot", str(res), "--out", str(tmp_path / "figs")]) == 0
+    assert (tmp_path / "figs" / "probe_my crest_probe.png").is_file()
+    assert main(["report", str(res), "--out", str(tmp_path / "report.html")]) == 0

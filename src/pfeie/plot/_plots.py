@@ -47,6 +47,7 @@ histories nor a static pair state.
 from __future__ import annotations
 
 import json
+import re
 import weakref
 from collections.abc import Sequence
 from pathlib import Path
@@ -96,6 +97,22 @@ def run_title(meta: dict[str, Any]) -> str:
     return Path(meta["model_file"]).stem
 
 
+#: the characters a file name cannot hold on some system (a path separator, control
+#: characters, and Windows' reserved ones)
+_UNSAFE = re.compile(r'[\x00-\x1f/\\:*?"<>|]')
+
+
+def figure_file(prefix: str, name: str) -> str:
+    """The file name of the figure of a probe, joint or block named ``name``: the name
+    with the characters a file name cannot hold (a path separator, ``:*?"<>|``, control
+    characters) as ``_``, so that a probe named "crest/left" is drawn, not lost.
+
+    >>> figure_file("probe", "crest/left")
+    'probe_crest_left.png'
+    """
+    return f"{prefix}_{_UNSAFE.sub('_', name)}.png"
+
+
 def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
     """Every figure of a results file into ``folder``; returns the files written."""
     files: list[Path] = []
@@ -110,7 +127,7 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
                     "a results file of a dynamic run or of a static run with interfaces"
                 )
             out = output_folder(folder)
-            files = [plot_static(res, name, out / f"static_{name}.png", title)
+            files = [plot_static(res, name, out / figure_file("static", name), title)
                      for name in res.interface_names]  # fmt: skip
             files.insert(0, (plot_mesh if two_d else plot_mesh_3d)(res, out / "mesh.png", title))
             return files
@@ -119,10 +136,10 @@ def plot_all(results: str | Path, folder: str | Path) -> list[Path]:
         if "records" in res.f and len(res.f["records"]):
             files.append(plot_input(res, out / "input_motion.png", title))
         for name in res.probe_names:
-            files.append(plot_probe(res, name, out / f"probe_{name}.png", title))
+            files.append(plot_probe(res, name, out / figure_file("probe", name), title))
         for name in res.interface_names:
-            files.append(plot_joint(res, name, out / f"joint_{name}.png", title))
-            files.append(plot_states(res, name, out / f"states_{name}.png", title))
+            files.append(plot_joint(res, name, out / figure_file("joint", name), title))
+            files.append(plot_states(res, name, out / figure_file("states", name), title))
         if res.interface_names:
             joint_map = plot_joint_map if two_d else plot_joint_map_3d
             files.append(joint_map(res, out / "joint_map.png", title))

@@ -24,6 +24,7 @@ from ..errors import InputError, PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
 from ..io import PYTHON_RUN, Results, applied_part, output_file
 from ._plots import (
+    figure_file,
     open_crack,
     plot_all,
     plot_fields,
@@ -806,7 +807,7 @@ def model_figures(
                                "boundary faces"))  # fmt: skip
     if joints:
         for name in res.interface_names if "static/X" in res.f else []:
-            extra[f"static_{name}"] = plot_static(res, name, folder / f"static_{name}.png",
+            extra[f"static_{name}"] = plot_static(res, name, folder / figure_file("static", name),
                                                   title)  # fmt: skip
     return extra
 
