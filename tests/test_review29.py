@@ -450,3 +450,28 @@ def test_a_probe_named_with_a_slash_is_drawn(tmp_path: Path) -> None:
     assert main(["plot", str(res), "--out", str(tmp_path / "figs")]) == 0
     assert (tmp_path / "figs" / "probe_my crest_probe.png").is_file()
     assert main(["report", str(res), "--out", str(tmp_path / "report.html")]) == 0
+
+
+def test_a_model_in_a_folder_whose_name_is_not_utf8(tmp_path: Path) -> None:
+    """A model file in a folder named in Latin-1 (b'lat\\xe9 dir'): `pfeie run` stopped
+    with UnicodeEncodeError writing its path to results.h5 (a 6 KB file left), and a
+    study whose record file is so named could never write its table. Now the path is
+    kept with its byte escaped (\\xe9), and the run equals the same run in a UTF-8
+    folder (independent: that run's histories)."""
+    import os
+
+    from test_cli import SMALL, _write
+
+    odd = tmp_path / os.fsdecode(b"lat\xe9 dir")
+    plain = tmp_path / "plain"
+    for d in (odd, plain):
+        d.mkdir()
+        assert main(["run", str(_write(d, SMALL)), "--quiet"]) == 0
+    with Results(odd / "out" / "results.h5") as a, Results(plain / "out" / "results.h5") as b:
+        assert "lat\\xe9 dir" in a.meta["model_path"]
+        np.testing.assert_array_equal(a.pairs()["X"], b.pairs()["X"])
+    from pfeie.study import StudyTable
+
+    table = StudyTable([{"record": os.fsdecode(b"caf\xe9"), "x": 1.0}])
+    table.to_csv(tmp_path / "table.csv")
+    assert "caf\\xe9" in (tmp_path / "table.csv").read_text()

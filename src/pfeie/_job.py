@@ -68,6 +68,7 @@ from .io import (
     reopen_results,
     resumable,
     run_key,
+    utf8_text,
     write_paraview,
 )  # fmt: skip
 from .model import GroundMotion, Model
@@ -351,7 +352,7 @@ class FolderLock:
     def _text(self) -> str:
         import os
 
-        return f"{os.getpid()}\n{self.model}\n"
+        return f"{os.getpid()}\n{utf8_text(str(self.model))}\n"
 
     def _take_by_pid(self) -> bool:
         """The lock without flock: True when taken; False to try again (a stale lock
@@ -615,7 +616,9 @@ def _write_summaries(out: Path, summary: dict[str, Any]) -> None:
     (out / "summary.json").write_text(
         json.dumps(summary, indent=2, default=str, allow_nan=False) + "\n"
     )
-    (out / "summary.txt").write_text(format_summary(summary) + "\n")
+    # (UTF-8; a path that is not UTF-8 keeps its bytes as \xe9 escapes)
+    (out / "summary.txt").write_text(format_summary(summary) + "\n", encoding="utf-8",
+                                     errors="backslashreplace")  # fmt: skip
 
 
 def run_to_folder(

@@ -10,7 +10,7 @@ from ._checkpoint import (
     same_run,
 )
 from ._export import export_csv
-from ._files import PYTHON_RUN, output_file, output_folder
+from ._files import PYTHON_RUN, output_file, output_folder, utf8_text
 from ._gmsh import from_gmsh, read_mesh
 from ._modelfile import (
     MAX_PGA_G,
@@ -80,6 +80,7 @@ __all__ = [
     "run_key",
     "same_run",
     "time_gaps",
+    "utf8_text",
     "write_at2",
     "write_modes",
     "write_paraview",

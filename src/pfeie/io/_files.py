@@ -12,6 +12,17 @@ from ..errors import InputError
 PYTHON_RUN = "<python>"
 
 
+def utf8_text(text: str) -> str:
+    r"""``text`` as valid UTF-8: a file name that is not UTF-8 (Latin-1 bytes, which
+    Python holds as lone surrogates) keeps its bytes as ``\xe9`` escapes, where
+    writing it to an HDF5 attribute or a UTF-8 table would fail.
+
+    >>> utf8_text("lat\udce9 dir"), utf8_text("Düzce")
+    ('lat\\xe9 dir', 'Düzce')
+    """
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+
+
 def output_folder(path: str | Path, where: str = "") -> Path:
     """Create the folder ``path`` (and its parents) if needed and check that it can be
     written; :class:`InputError` names the folder (after ``where``, e.g. the model file

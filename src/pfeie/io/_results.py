@@ -60,7 +60,7 @@ import numpy as np
 from .._version import __version__
 from ..errors import PfeieError, ResultsError
 from ..typing import FloatArray
-from ._files import PYTHON_RUN
+from ._files import PYTHON_RUN, utf8_text
 
 UNITS = {
     "time": "s", "u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2", "X": "N", "w": "m",
@@ -232,10 +232,10 @@ class ResultsWriter:
         f = self.f
         f.attrs.update(
             pfeie_version=__version__, format_version=FORMAT_VERSION,
-            model_file=str(job.path), model_sha256=job.digest,
+            model_file=utf8_text(str(job.path)), model_sha256=job.digest,
             form=job.analysis.form, completed=False, stop_reason="",
-            model_path=(str(job.path) if str(job.path) == PYTHON_RUN
-                        else str(Path(job.path).resolve())),
+            model_path=utf8_text(str(job.path) if str(job.path) == PYTHON_RUN
+                                 else str(Path(job.path).resolve())),
             **_run_attrs(job),
             units=json.dumps(UNITS), **self.storage.attrs,
         )  # fmt: skip
@@ -260,7 +260,7 @@ class ResultsWriter:
             self._ds(rg, "time", rec.time, "s")
             self._ds(rg, "acceleration", rec.acceleration, "m/s^2")
             self._ds(rg, "direction", rec.direction, UNITS["direction"])
-            rg.attrs["name"] = rec.name
+            rg.attrs["name"] = utf8_text(rec.name)
         k = len(job.probes)
         nb = model.n_bodies
         r = 3 if d == 2 else 6
@@ -466,7 +466,7 @@ class ResultsWriter:
                 self._extend(self.f[f"fields/{key}"], [fl[key]])
             self._last = None
         self.f.attrs["completed"] = bool(completed)
-        self.f.attrs["stop_reason"] = reason or ""
+        self.f.attrs["stop_reason"] = utf8_text(reason or "")
         if summary is not None:
             self.f.attrs["results_summary"] = json.dumps(summary, default=str)
         self.f.close()

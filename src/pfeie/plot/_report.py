@@ -1034,7 +1034,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
             parts += figure(name)
     parts.append("</body></html>")
     try:
-        target.write_text("\n".join(parts))
+        target.write_text("\n".join(parts), encoding="utf-8", errors="backslashreplace")
     except OSError as exc:
         raise InputError(f"{target}: cannot write the report: {exc.strerror or exc}") from None
     return target

@@ -346,7 +346,7 @@ def _write_html(path: Path, study: Study, table: StudyTable, imcol: str, imlabel
         parts.append(f"<h3>{esc(caption)}</h3><img alt='{esc(caption)}' "
                      f"src='data:image/png;base64,{data}'>")  # fmt: skip
     parts.append("</body></html>")
-    path.write_text("\n".join(parts))
+    path.write_text("\n".join(parts), encoding="utf-8", errors="backslashreplace")
     return path
 
 

@@ -61,7 +61,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import InputError, ModelError, PfeieError, RecordError
-from ..io import BATCH, MAX_BATCH, MAX_WORKERS, abrupt_end, applied_part
+from ..io import BATCH, MAX_BATCH, MAX_WORKERS, abrupt_end, applied_part, utf8_text
 from ._table import StudyTable
 
 if TYPE_CHECKING:
@@ -438,7 +438,7 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
         writer = ResultsWriter(folder / "results.h5", run_job,
                                field_every=job.output.field_every)  # fmt: skip
         # the history traced to its row (rows/<key>.json) and its record
-        writer.f.attrs.update({"study_key": spec.key, "study_record": spec.record.name,
+        writer.f.attrs.update({"study_key": spec.key, "study_record": utf8_text(spec.record.name),
                                "study_intensity": spec.value,
                                "study_record_sha256": spec.record.fingerprint()})  # fmt: skip
         if sysm.static is not None:

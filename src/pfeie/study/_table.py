@@ -18,6 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..errors import InputError, ResultsError
+from ..io import utf8_text
 
 #: the text columns that every row has, empty when there is nothing to say (a run that
 #: completed has no stop reason, a reliable one no warnings): an empty cell of the CSV is
@@ -70,7 +71,9 @@ class StudyTable:
     def to_csv(self, path: str | Path) -> None:
         """Write the table as CSV (floats as ``repr``: they read back to the same bits)."""
         cols = self.columns
-        with open(path, "w", newline="") as fh:
+        # (UTF-8; a record named by a file name that is not UTF-8 keeps its bytes as
+        # \xe9 escapes, pfeie.io.utf8_text, where the table could not be written)
+        with open(path, "w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             w.writerow(cols)
             for r in self.rows:
@@ -112,7 +115,7 @@ def _cell(v: Any) -> str:
         return "true" if v else "false"
     if isinstance(v, float):
         return repr(v)
-    return str(v)
+    return utf8_text(str(v))  # (a record named by a file name that is not UTF-8)
 
 
 def _parse(text: str) -> Any:
