@@ -475,3 +475,21 @@ def test_a_model_in_a_folder_whose_name_is_not_utf8(tmp_path: Path) -> None:
     table = StudyTable([{"record": os.fsdecode(b"caf\xe9"), "x": 1.0}])
     table.to_csv(tmp_path / "table.csv")
     assert "caf\\xe9" in (tmp_path / "table.csv").read_text()
+
+
+def test_sizes_beyond_any_need_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A finite-element reservoir refined 100,000 times (447 GiB asked, or 24 GB and
+    minutes at 10,000) and `pfeie spectrum --periods 0.01:4:100000000` (a MemoryError
+    traceback) are refused at once with what to give instead."""
+    mesh = pf.rectangle(1.0, 10.0, 1, 4)
+    m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    with pytest.raises(pf.ModelError, match=r"the water mesh would have .* nodes, more than"):
+        m.add_reservoir("xmin", water_level=10.0, refine=100_000)
+    assert m.add_reservoir("xmin", water_level=10.0, refine=2).depth == 10.0  # (the floor)
+    rec = DATA / "elcentro_1940_ns_chopra.csv"
+    capsys.readouterr()
+    assert main(["spectrum", str(rec), "--units", "g", "--periods", "0.01:4:100000000",
+                 "--out", str(tmp_path)]) == 2  # fmt: skip
+    assert "2 <= N <= 10000" in capsys.readouterr().err

@@ -64,6 +64,12 @@ from ..linalg import Factorization, factorize
 from ..mesh import Mesh
 from ..typing import FloatArray, IntArray
 
+#: the most nodes of the water mesh: its condensation onto the face takes about 25 s at
+#: 480,000 (measured; 2.5 s at 120,000, the time grows as the square), and more is a refine
+#: or a length beyond any need (a reservoir 5 depths long on a face of 1000 pieces holds
+#: about 1e5)
+WATER_NODES_MAX = 500_000
+
 #: growth of the water columns' widths away from the face; their largest width, as a
 #: fraction of H and as a multiple of the first one, by element order: Q9 columns grow to
 #: H/4 (the far field's share of the error is then about 2e-6 of the added mass);
@@ -358,7 +364,9 @@ def _water_mesh(
     h0 = p * size  # the width of the first column: the face pieces' length
     wide = max(min(_WIDEST * H, _SPAN[p] * h0), h0)
     n_grow = int(np.ceil(np.log(wide / h0) / np.log(_GROWTH))) + 1 if wide > h0 else 0
-    widths = np.minimum(h0 * _GROWTH ** np.arange(n_grow + int(np.ceil(D / wide)) + 2), wide)
+    with np.errstate(over="ignore"):  # (the growth beyond `wide` is cut at it)
+        widths = np.minimum(h0 * _GROWTH ** np.arange(n_grow + int(np.ceil(D / wide)) + 2),
+                            wide)  # fmt: skip
     n = int(np.searchsorted(np.cumsum(widths), D)) + 1
     widths = widths[:n]
     xi_v = np.concatenate([[0.0], np.cumsum(widths)]) / widths.sum()
@@ -369,6 +377,13 @@ def _water_mesh(
     else:
         xi = xi_v
     NI, NJ = xi.size, column.shape[0]
+    if NI * NJ > WATER_NODES_MAX:  # (before the arrays that would fill the memory)
+        raise ModelError(
+            f"reservoir: the water mesh would have {NI} × {NJ} = {NI * NJ:.3g} nodes, more "
+            f"than {WATER_NODES_MAX:.0e}: expected a smaller refine (pieces a wet facet) or "
+            f"length ({D:.4g} m from the face; 3 to 5 depths, H = {H:.4g} m, reach the "
+            "far-field)"
+        )
     far_pts = np.column_stack([np.full(NJ, far), column[:, 1]])
     pts = column[None] + xi[:, None, None] * (far_pts - column)[None]
     ids = np.arange(NI * NJ).reshape(NI, NJ)
