@@ -41,7 +41,7 @@ def test_absolute_form_with_event_sub_steps_is_the_relative_form(
     """Over an event step's sub-steps the supports followed the record's exact motion
     plus the coarse grid's drift interpolated, not the scheme's recurrence on the finer
     grid that carries the blocks: a body fixed to the base was strained, and the slip of
-    the block differed between the forms by 1.7 % of its peak (204 sub-steps in 3 s).
+    the block differed between the forms by 1.7 % of its peak (108 sub-steps in 3 s).
     Now the supports take the recurrence of the sub-steps and the grid goes on from
     where they end. Independent computation: the relative form (the slips at the joint
     do not depend on the form); measured 1.8e-9 of the peak slip, as without sub-steps
@@ -52,7 +52,7 @@ def test_absolute_form_with_event_sub_steps_is_the_relative_form(
         an = pf.Dynamic(model, 0.01, event_substeps=4)
         res = an.run(3.0, ground=[gm], start=static, form=form)
         slip[form] = res.s[:, :, 0].mean(axis=1)
-        assert int(res.solver["substeps"].sum()) > 100  # many events (measured 136)
+        assert int(res.solver["substeps"].sum()) > 80  # 27 events in 108 sub-steps (measured)
     peak = np.abs(slip["relative"]).max()
     assert peak > 0.03  # it slides (measured 59 mm)
     assert np.abs(slip["absolute"] - slip["relative"]).max() < 2e-8 * peak
@@ -290,7 +290,7 @@ dynamic = false
     with pytest.raises(pf.MechanismError) as info:
         pf.solve_static(load_job(model).model)
     msg = str(info.value)
-    assert "'base' cannot hold the blocks on it with every other joint unbreakable" in msg
+    assert "'base' cannot hold the blocks on it even with every other joint unbreakable" in msg
     assert "'lift' holds alone" in msg and "'dam_upper' on 'lift': unbalanced" not in msg
     model.write_text(text.replace("PHI", "60.0"))
     st = pf.solve_static(load_job(model).model)
@@ -330,6 +330,9 @@ def _plate() -> pf.Model:
     (lambda m: m.add_pressure("none", 1e3), "pressure on 'none': the facet group has no facets"),
     (lambda m: m.add_traction("none", [1.0, 0.0]), "traction on 'none': the facet group has no"),
     (lambda m: m.fix([]), "fix: no nodes given"),
+    # two supports of one DOF at two values: the last one won, unseen
+    (lambda m: (m.fix("xmin", 0, value=0.01), m.fix("ymin")),
+     "fix ymin: its nodes share component(s) ['x'] with the support on xmin"),
     (lambda m: m.add_nodal_force(5, [1.0, 0.0]), "add_nodal_force: expected a group's name or"),
     (lambda m: m.add_pressure("xmax", "1e3"), "expected a finite number or a function"),
     (lambda m: pf.solve_static(None), "solve_static: expected a pfeie.Model"),
@@ -459,6 +462,8 @@ def test_a_model_in_a_folder_whose_name_is_not_utf8(tmp_path: Path) -> None:
     kept with its byte escaped (\\xe9), and the run equals the same run in a UTF-8
     folder (independent: that run's histories)."""
     import os
+    import subprocess
+    import sys
 
     from test_cli import SMALL, _write
 
@@ -466,7 +471,11 @@ def test_a_model_in_a_folder_whose_name_is_not_utf8(tmp_path: Path) -> None:
     plain = tmp_path / "plain"
     for d in (odd, plain):
         d.mkdir()
-        assert main(["run", str(_write(d, SMALL)), "--quiet"]) == 0
+        # (in a process of its own: its messages name the folder, which this process's
+        # captured logs could not pass on to pytest's workers)
+        run = subprocess.run([sys.executable, "-m", "pfeie", "run", str(_write(d, SMALL)),
+                              "--quiet"], capture_output=True, timeout=300)  # fmt: skip
+        assert run.returncode == 0, run.stderr.decode("utf-8", "replace")
     with Results(odd / "out" / "results.h5") as a, Results(plain / "out" / "results.h5") as b:
         assert "lat\\xe9 dir" in a.meta["model_path"]
         np.testing.assert_array_equal(a.pairs()["X"], b.pairs()["X"])
@@ -493,3 +502,74 @@ def test_sizes_beyond_any_need_are_refused(
     assert main(["spectrum", str(rec), "--units", "g", "--periods", "0.01:4:100000000",
                  "--out", str(tmp_path)]) == 2  # fmt: skip
     assert "2 <= N <= 10000" in capsys.readouterr().err
+
+
+def _block_held_by_a_stop(beta: float, phi: float) -> pf.Model:
+    """A 1.5 m block on a plane dipping β (φ) held by a stop (φ = 40°) of the fixed base:
+    the plane's joint is at its capacity from k = 0 on (β > φ), the stop holds it."""
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    mesh = pf.rectangle(2.0, 1.5, 4, 3)
+    mesh.points[:, 1] -= 0.5
+    mesh.add_cell_group("base", lambda x: (x[:, 1] < 0) | (x[:, 0] > 1.5))
+    mesh.add_cell_group("block", lambda x: (x[:, 1] > 0) & (x[:, 0] < 1.5))
+    mesh.add_facet_group("joint", lambda x: (np.abs(x[:, 1]) < 1e-9) & (x[:, 0] < 1.5),
+                         boundary_only=False)  # fmt: skip
+    mesh.add_facet_group("stop", lambda x: (np.abs(x[:, 0] - 1.5) < 1e-9) & (x[:, 1] > 1e-9),
+                         boundary_only=False)  # fmt: skip
+    th = -np.radians(beta)
+    mesh.points[:] = mesh.points @ np.array([[np.cos(th), np.sin(th)], [-np.sin(th), np.cos(th)]])
+    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+                 interfaces=[pf.Interface("joint", pf.Joint(phi=phi)),
+                             pf.Interface("stop", pf.Joint(phi=40.0))])  # fmt: skip
+    m.fix("base")
+    m.add_gravity()
+    return m
+
+
+def test_the_yield_search_from_a_joint_at_its_capacity_at_rest() -> None:
+    """The diff reviewer's cases against the first fix of the yield search. (a) A block on
+    a 40° plane with φ = 10° held by a stop: the plane's joint slides from k = 0, and the
+    steps out from a joint at its capacity stepped from k = 0 by nothing (k_y = 0, "not
+    bracketed", 60 analyses). Closed form: pushed up the dip, k_y = tan(β + φ) = 1.19175,
+    sliding; pushed down it, the stop holds to k = 2. (b) Two 3 m blocks side by side on
+    a φ = 60° base, their vertical joint (φ = 30°) at its capacity from k = 0.05 on: the
+    limit is rocking (k_y 0.335, the base's FS 5.17), not sliding on that joint."""
+    m = _block_held_by_a_stop(40.0, 10.0)
+    up = pf.yield_coefficient(m, [-1.0, 0.0])
+    assert up.k_y == pytest.approx(np.tan(np.radians(50.0)), rel=2e-6)
+    assert (up.limit, up.joint) == ("sliding", "joint") and up.analyses <= 20  # (15)
+    assert pf.yield_coefficient(m, [1.0, 0.0]).limit == "none"  # held up to k = 2
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    mesh = pf.rectangle(2.0, 3.5, 4, 7)
+    mesh.points[:, 1] -= 0.5
+    mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
+    mesh.add_cell_group("L", lambda x: (x[:, 1] > 0) & (x[:, 0] < 1))
+    mesh.add_cell_group("R", lambda x: (x[:, 1] > 0) & (x[:, 0] > 1))
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 1]) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("vert", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 1e-9),
+                         boundary_only=False)  # fmt: skip
+    two = pf.Model(mesh, [pf.Block(b, mat) for b in ("base", "L", "R")],
+                   interfaces=[pf.Interface("joint", pf.Joint(phi=60.0)),
+                               pf.Interface("vert", pf.Joint(phi=30.0))])  # fmt: skip
+    two.fix("base")
+    two.add_gravity()
+    y = pf.yield_coefficient(two)
+    assert y.limit == "no equilibrium found" and 0.33 < y.k_y < 0.34  # (measured 0.335)
+
+
+def test_absolute_form_continued_from_a_final_state_after_events(
+    sliding_block: tuple[pf.Model, pf.StaticResult, pf.GroundMotion],
+) -> None:
+    """A run continued with ``start=result.final`` rebuilt the supports' grid from its
+    origin, without the sub-steps' rebases: a 0.4 mm jump of the ground at the seam and
+    the slip 0.7 % of its peak off (the diff reviewer's case). The final state now carries
+    the supports' rows (for the same records): the continued run is the uninterrupted
+    one, bit for bit (independent: that run)."""
+    model, static, gm = sliding_block
+    kw: dict[str, Any] = {"ground": [gm], "form": "absolute"}
+    full = pf.Dynamic(model, 0.01, event_substeps=4).run(2.0, start=static, **kw)
+    a = pf.Dynamic(model, 0.01, event_substeps=4).run(1.0, start=static, **kw)
+    assert a.solver["substeps"].sum() > 0  # events before the seam
+    b = pf.Dynamic(model, 0.01, event_substeps=4).run(1.0, start=a.final, **kw)
+    np.testing.assert_array_equal(b.ground, full.ground[100:])
+    np.testing.assert_array_equal(b.s, full.s[100:])

@@ -814,7 +814,10 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             comps = [axes[c] for c in sup.components]
             if max(comps) >= mesh.dim:
                 raise InputError(f"{p}: supports[{i}].components: 'z' in a 2D model")
-        model.fix(g, comps, sup.value)
+        try:
+            model.fix(g, comps, sup.value)
+        except ModelError as exc:
+            raise InputError(f"{p}: supports[{i}]: {exc}") from None
     for a, b, n, x in model.unshared_coincident_nodes():
         where = f"inside the block {a!r}" if a == b else f"between the blocks {a!r} and {b!r}"
         log.warning("%s: %d pair(s) of coincident nodes %s are not shared (the first at "

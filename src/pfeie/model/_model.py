@@ -597,7 +597,17 @@ class Model:
         if isinstance(value, bool) or not number or not np.isfinite(value):
             raise ModelError(f"fix {label}: value: expected a finite displacement (m), got "
                              f"{value!r}")  # fmt: skip
-        self.supports.append(Support(nodes, tuple(int(c) for c in comps), float(value), label))
+        comps_i = tuple(int(c) for c in comps)
+        for other in self.supports:  # the same DOF held at another value: which one?
+            shared = set(comps_i) & set(other.components)
+            if shared and other.value != float(value) and np.intersect1d(
+                    other.nodes, nodes, assume_unique=True).size:  # fmt: skip
+                raise ModelError(
+                    f"fix {label}: its nodes share component(s) "
+                    f"{sorted('xyz'[c] for c in shared)} with the support on {other.label} "
+                    f"at another value ({value!r} m against {other.value!r} m): one "
+                    "displacement per DOF; expected the same value, or groups apart")  # fmt: skip
+        self.supports.append(Support(nodes, comps_i, float(value), label))
         self.__dict__.pop("_dofmap", None)
         self.__dict__.pop("_free_rigid", None)
 

@@ -144,11 +144,14 @@ def solve_pairs(
             if len(touched) > 1 and np.nansum(check.share) > RIGID_SHARE_MIN:
                 # where the blocks fail: each joint alone, the others unbreakable (a
                 # stack of floating blocks: the check's unbalance may land on any of them)
-                alone = []
+                alone: list[tuple[str, float]] = []
                 for name in touched:
                     strong = np.ones(P.n, dtype=bool)
                     strong[P.of(name)] = False
                     one = problem.rigid_check(f, damage, strong=strong)
+                    if not np.isfinite(one.normal).all():  # the check failed: unknown
+                        alone = []
+                        break
                     alone.append((name, float(np.nansum(one.share))))
                 check = check._replace(alone=tuple(alone))
             return check
@@ -327,22 +330,6 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
     shares = {} if share is None else {b: float(share.share[b]) for b in on_joints}
     unbalanced = [b for b, v in shares.items() if np.isfinite(v) and v > RIGID_SHARE_MIN]
     if unbalanced:
-        # the floating blocks that lean on a named one: their loads reach it through the
-        # joint between them (the unbalance lands where the check can put it)
-        leaning = []
-        for b in unbalanced:
-            for c in on_joints:
-                if c in unbalanced:
-                    continue
-                both = ((body[P.node_a] == b) & (body[P.node_b] == c)) | (
-                    (body[P.node_a] == c) & (body[P.node_b] == b))  # fmt: skip
-                # in compression in the check's answer: a joint that parts bears nothing
-                assert share is not None
-                pressed = both & (share.normal > RIGID_SHARE_MIN * np.abs(share.normal).max())
-                via = [n for n in P.names if pressed[P.of(n)].any()]
-                if via:
-                    leaning.append(f"{names[c]!r} on {names[b]!r} through "
-                                   f"{', '.join(repr(j) for j in via)}")  # fmt: skip
         assert share is not None
         fails = [(j, v) for j, v in share.alone if v > RIGID_SHARE_MIN]
         holds = [j for j, v in share.alone if not v > RIGID_SHARE_MIN]
@@ -354,14 +341,29 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                 + "; ".join(on_joints[b] for b in on_joints)
                 + "): not even as rigid blocks can pair forces within their joints' "
                 "strength balance the static loads, so they would slide, open or overturn. "
-                + "; ".join(f"{j!r} cannot hold the blocks on it with every other joint "
-                            f"unbreakable (unbalanced by about {100 * v:.3g} % of their "
-                            "load)" for j, v in fails)
+                + "; ".join(f"{j!r} cannot hold the blocks on it even with every other "
+                            "joint unbreakable" for j, _ in fails)
                 + (f"; {', '.join(repr(j) for j in holds)} "
                    f"{'holds' if len(holds) == 1 else 'hold'} alone" if holds else "")
                 + "."
             )  # fmt: skip
         else:
+            # the floating blocks that lean on a named one: their loads reach it through the
+            # joint between them (the unbalance lands where the check can put it)
+            leaning = []
+            for b in unbalanced:
+                for c in on_joints:
+                    if c in unbalanced:
+                        continue
+                    both = ((body[P.node_a] == b) & (body[P.node_b] == c)) | (
+                        (body[P.node_a] == c) & (body[P.node_b] == b))  # fmt: skip
+                    # in compression in the check's answer: a joint that parts bears nothing
+                    assert share is not None
+                    pressed = both & (share.normal > RIGID_SHARE_MIN * np.abs(share.normal).max())
+                    via = [n for n in P.names if pressed[P.of(n)].any()]
+                    if via:
+                        leaning.append(f"{names[c]!r} on {names[b]!r} through "
+                                       f"{', '.join(repr(j) for j in via)}")  # fmt: skip
             head = (
                 "No static equilibrium holds the floating block(s) ("
                 + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % "

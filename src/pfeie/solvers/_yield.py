@@ -54,7 +54,7 @@ from ..coupling import StaticInterfaceProblem
 from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
-from ..typing import FloatArray
+from ..typing import BoolArray, FloatArray
 from ._static import StaticResult, held, joint_factors, solve_pairs
 
 log = logging.getLogger(__name__)
@@ -69,6 +69,14 @@ SLIDING_FS = 1e-3
 #: a joint whose margin is below this fraction of its capacity slides already (at its capacity, to
 #: the pair solver's tolerance): it does not predict the limit
 AT_CAPACITY = 1e-9
+
+#: the steps out from a k at which a joint came to its capacity (relative 1e-6/2, then
+#: doubling): a limit right there is bracketed by the first; past them the search goes on
+#: as before
+YIELD_NUDGES = 3
+
+#: a joint that came to its capacity within this (relative) below the limit governs it
+YIELD_FRESH = 1e-3
 
 #: the static analyses a search may take (each a pair problem on the factorised blocks)
 YIELD_MAX_ANALYSES = 60
@@ -275,7 +283,11 @@ def yield_coefficient(
     widths: list[float] = []
     targets: list[float] = []  # the predicted roots aimed at (see _creep)
     reopened = 0
-    nudge = tol / 2  # the relative step beyond a k at which a joint is at its capacity
+    # the k at which each joint came to its capacity during the search (NaN: not at it,
+    # or at it from k = 0 on: a joint that slides while the structure holds), and the
+    # relative steps out from a k where one just came to it (see below)
+    k_came = np.full(len(names), np.nan)
+    nudge, nudges = tol / 2, 0
     while True:
         while hi is None or hi - lo > tol * max(hi, 1e-3):
             if count >= max_analyses:
@@ -283,13 +295,14 @@ def yield_coefficient(
                             "static analyses", lo, hi, count)  # fmt: skip
                 break
             target = _root(lo, m_lo, prev)[0]
-            at_capacity = bool((fs_lo <= 1 + SLIDING_FS).any())
-            if hi is None and at_capacity and (target is None or not target > lo):
-                # a joint at its capacity at lo (come to it there, or held at it within
-                # the pair solver's tolerance): the limit lies just above; step out by
-                # steps that double, not by doubling k (then bisecting back down)
+            fresh = _fresh(k_came, lo)
+            if (hi is None and fresh.any() and nudges < YIELD_NUDGES
+                    and (target is None or not target > lo)):  # fmt: skip
+                # a joint came to its capacity at (or just below) lo: the limit may lie
+                # just above; a few steps out that double, not a doubling of k (then
+                # bisected back down: 54 analyses where 8)
                 k_try = min(lo * (1 + nudge), k_max)
-                nudge *= 2
+                nudge, nudges = 2 * nudge, nudges + 1
             elif target is None or not target > lo or (hi is not None and not target < hi):
                 k_try = min(2 * max(lo, 0.025), k_max) if hi is None else 0.5 * (lo + hi)
             else:  # aim just below the predicted root, then, once there, just beyond it
@@ -314,6 +327,8 @@ def yield_coefficient(
             else:
                 prev = (lo, m_lo)
                 lo, (st_lo, m_lo, fs_lo) = k_try, out
+                came = np.isnan(m_lo) & np.isfinite(prev[1]) & np.isnan(k_came)
+                k_came[came] = lo
             if hi is not None:
                 widths.append(hi - lo)
         # the bracket's failure may be the pair solver's: try a little beyond it
@@ -336,26 +351,33 @@ def yield_coefficient(
         reopened += 1
         prev = (lo, m_lo)
         lo, (st_lo, m_lo, fs_lo) = beyond
-        hi, widths, targets, nudge = None, [], [], tol / 2
+        hi, widths, targets, nudge, nudges = None, [], [], tol / 2, 0
     estimate, joint = _root(lo, m_lo, prev)
     if hi is None:
         limit = "not bracketed"
     else:
         gov = joint if joint is not None else (
             int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None)  # fmt: skip
-        if gov is None or not fs_lo[gov] <= 1 + SLIDING_FS:
-            # a joint that came to its capacity on the way (not at it at k = 0) governs:
-            # its margin, NaN at its capacity, left the root to another joint's (a bonded
-            # lift joint far from its strength), though it slides at the limit
-            reached = (fs_lo <= 1 + SLIDING_FS) & ~(base[2] <= 1 + SLIDING_FS)
-            if reached.any():
-                gov = int(np.argmin(np.where(reached, fs_lo, np.inf)))
+        fresh = _fresh(k_came, lo) & (fs_lo <= 1 + SLIDING_FS)
+        if (gov is None or not fs_lo[gov] <= 1 + SLIDING_FS) and fresh.any():
+            # a joint that came to its capacity at the limit governs: its margin, NaN at
+            # its capacity, left the roots to another joint's (a bonded lift joint far
+            # from its strength), though it slides there; not one that came to it long
+            # before, sliding while the structure held (a limit of rocking, say)
+            gov = int(np.argmin(np.where(fresh, fs_lo, np.inf)))
         limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
                  else "no equilibrium found")  # fmt: skip
         joint = gov
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
              _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+
+
+def _fresh(k_came: FloatArray, lo: float) -> BoolArray:
+    """The joints that came to their capacity at ``lo`` or just below it (within
+    :data:`YIELD_FRESH` of it, the steps out included), not at k = 0."""
+    with np.errstate(invalid="ignore"):
+        return np.asarray(np.isfinite(k_came) & (k_came >= lo * (1 - YIELD_FRESH)) & (lo > 0))
 
 
 def _creep(targets: list[float], target: float, tol: float) -> float | None:
