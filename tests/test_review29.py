@@ -539,20 +539,9 @@ def test_the_yield_search_from_a_joint_at_its_capacity_at_rest() -> None:
     assert up.k_y == pytest.approx(np.tan(np.radians(50.0)), rel=2e-6)
     assert (up.limit, up.joint) == ("sliding", "joint") and up.analyses <= 20  # (15)
     assert pf.yield_coefficient(m, [1.0, 0.0]).limit == "none"  # held up to k = 2
-    mat = pf.Elastic(30e9, 0.2, 2400.0)
-    mesh = pf.rectangle(2.0, 3.5, 4, 7)
-    mesh.points[:, 1] -= 0.5
-    mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
-    mesh.add_cell_group("L", lambda x: (x[:, 1] > 0) & (x[:, 0] < 1))
-    mesh.add_cell_group("R", lambda x: (x[:, 1] > 0) & (x[:, 0] > 1))
-    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 1]) < 1e-9, boundary_only=False)
-    mesh.add_facet_group("vert", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 1e-9),
-                         boundary_only=False)  # fmt: skip
-    two = pf.Model(mesh, [pf.Block(b, mat) for b in ("base", "L", "R")],
-                   interfaces=[pf.Interface("joint", pf.Joint(phi=60.0)),
-                               pf.Interface("vert", pf.Joint(phi=30.0))])  # fmt: skip
-    two.fix("base")
-    two.add_gravity()
+    from test_yield import two_blocks
+
+    two = two_blocks(3.0, 60.0, 30.0)
     y = pf.yield_coefficient(two)
     assert y.limit == "no equilibrium found" and 0.33 < y.k_y < 0.34  # (measured 0.335)
 

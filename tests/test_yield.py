@@ -135,13 +135,11 @@ def test_a_cohesive_joint_and_its_heel() -> None:
                                   rel=TOL)  # fmt: skip
 
 
-def test_a_joint_at_its_capacity_does_not_end_the_search() -> None:
-    """Two blocks side by side on a base joint (φ = 30°), cut by a vertical joint: the
-    vertical joint reaches its capacity early (FS 1 at k ≈ 0.07, it slides while the two
-    blocks stay in equilibrium), which is not the structure's limit: k_y = tan 30° along
-    +x and −x, governed by the base joint."""
+def two_blocks(height: float, phi_base: float, phi_vert: float) -> pf.Model:
+    """Two 1 m blocks ``height`` tall side by side on a base joint (φ_base), cut by a
+    vertical joint (φ_vert), on a fixed base 0.5 m thick (Q4 of 0.5 m)."""
     mat = pf.Elastic(30e9, 0.2, 2400.0)
-    mesh = pf.rectangle(2.0, 1.5, 4, 3, cell="quad")
+    mesh = pf.rectangle(2.0, height + 0.5, 4, round(2 * height) + 1, cell="quad")
     mesh.points[:, 1] -= 0.5
     mesh.add_cell_group("base", lambda x: x[:, 1] < 0)
     mesh.add_cell_group("L", lambda x: (x[:, 1] > 0) & (x[:, 0] < 1))
@@ -150,10 +148,19 @@ def test_a_joint_at_its_capacity_does_not_end_the_search() -> None:
     mesh.add_facet_group("vert", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 1e-9),
                          boundary_only=False)  # fmt: skip
     m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("L", mat), pf.Block("R", mat)],
-                 interfaces=[pf.Interface("joint", pf.Joint(phi=30.0)),
-                             pf.Interface("vert", pf.Joint(phi=30.0))])  # fmt: skip
+                 interfaces=[pf.Interface("joint", pf.Joint(phi=phi_base)),
+                             pf.Interface("vert", pf.Joint(phi=phi_vert))])  # fmt: skip
     m.fix("base")
     m.add_gravity()
+    return m
+
+
+def test_a_joint_at_its_capacity_does_not_end_the_search() -> None:
+    """Two blocks side by side on a base joint (φ = 30°), cut by a vertical joint: the
+    vertical joint reaches its capacity early (FS 1 at k ≈ 0.07, it slides while the two
+    blocks stay in equilibrium), which is not the structure's limit: k_y = tan 30° along
+    +x and −x, governed by the base joint."""
+    m = two_blocks(1.0, 30.0, 30.0)
     exact = np.tan(np.radians(30.0))
     for direction in (None, [-1.0, 0.0]):
         y = pf.yield_coefficient(m, direction)
