@@ -562,3 +562,31 @@ def test_absolute_form_continued_from_a_final_state_after_events(
     b = pf.Dynamic(model, 0.01, event_substeps=4).run(1.0, start=a.final, **kw)
     np.testing.assert_array_equal(b.ground, full.ground[100:])
     np.testing.assert_array_equal(b.s, full.s[100:])
+
+
+def test_a_damaged_results_file_and_a_manual_into_a_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`pfeie plot`, `report` and `export` of a results file that lacks a dataset
+    (pairs/area here) stopped with a KeyError traceback; `pfeie verify --manual` into a
+    file failed after running its cases. Both now end with exit 2 and a message naming
+    the file (the verify one before any case runs)."""
+    import h5py
+
+    from test_cli import SMALL, _write
+
+    assert main(["run", str(_write(tmp_path, SMALL)), "--quiet"]) == 0
+    res = tmp_path / "out" / "results.h5"
+    with h5py.File(res, "r+") as f:
+        del f["pairs/area"]
+    capsys.readouterr()
+    for cmd in (["plot", str(res), "--out", str(tmp_path / "figs")],
+                ["export", str(res), "--csv", str(tmp_path / "csv")],
+                ["report", str(res), "--out", str(tmp_path / "r.html")]):  # fmt: skip
+        assert main(cmd) == 2, cmd
+        assert "the results file is incomplete or damaged" in capsys.readouterr().err
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    assert main(["verify", "--case", "V1a", "--manual", str(afile)]) == 2
+    err = capsys.readouterr()
+    assert "--manual" in err.err and "V1a" not in err.out  # refused before the case ran

@@ -271,6 +271,9 @@ _OVERRIDE = '[analysis]\nset = [{}]\n[output]'
      ["analysis.set[0]", "its own [output] folder"]),
     ("[output]", '[analysis]\nduration = 1.0\nset = ["analysis.duration = 2.0"]\n[output]',
      ["analysis.set[0]", "both give the runs' duration"]),
+    # twenty-ninth review: an absolute pattern gave a NotImplementedError traceback
+    ('pattern = "*.csv"', 'pattern = "/etc/*"',
+     ["records[0].pattern", "'/etc/*'", "within records[0].folder"]),
 ])  # fmt: skip
 def test_bad_study_files(tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: str,
                          bad: str, words: list[str]) -> None:  # fmt: skip
@@ -289,6 +292,8 @@ def test_bad_arguments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     p = setup(tmp_path)
     assert main(["study", str(p), "--workers", "two"]) == 2
     assert "--workers" in capsys.readouterr().err
+    assert main(["study", str(p), "--scheduler", "not an address"]) == 2  # (a traceback)
+    assert "cannot reach the Dask scheduler at 'not an address'" in capsys.readouterr().err
     assert main(["study", str(p), "--batch", "0"]) == 2
     assert "--batch: expected a whole number in [1, 64], found '0'" in capsys.readouterr().err
     with pytest.raises(ModelError, match=r"run\.batch: expected an integer in \[1, 64\]"):

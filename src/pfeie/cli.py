@@ -351,9 +351,12 @@ def _schema(args: argparse.Namespace) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
+    from .io import output_folder
     from .verification import run, write_manual
 
     try:
+        if args.manual:  # before the cases run (minutes), not after them
+            output_folder(args.manual, "--manual")
         results = run(fast=args.fast, names=args.case)
     except PfeieError as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
@@ -399,6 +402,13 @@ def _post(args: argparse.Namespace) -> int:
             files = [write_report(args.results, args.out, "--out" if args.out else "")]
     except PfeieError as exc:
         print(f"pfeie: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except (KeyError, IndexError, ValueError, TypeError) as exc:
+        # a results file that opens but lacks a dataset or holds damaged values (a file
+        # edited, or cut by a copy): said, with what is missing, not a traceback
+        print(f"pfeie: error: {args.results}: the results file is incomplete or damaged "
+              f"({type(exc).__name__}: {exc}); expected a results.h5 written by pfeie run "
+              "(run it again, or resume it with pfeie run --resume)", file=sys.stderr)  # fmt: skip
         return EXIT_INPUT
     for f in files:
         print(f)

@@ -172,7 +172,7 @@ def run_parallel(
     if scheduler:
         try:
             client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as exc:
+        except (OSError, TimeoutError, ValueError) as exc:  # (ValueError: no port)
             raise InputError(f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     else:
         import dask

@@ -798,7 +798,15 @@ class Study:
                 entry = f"records[{i}].folder ({r.pattern!r} in {r.folder})"
                 if not folder.is_dir():
                     raise InputError(f"{p}: records[{i}].folder: {folder} is not a folder")
-                files = sorted(q for q in folder.glob(r.pattern) if q.is_file())
+                if Path(r.pattern).is_absolute() or not r.pattern.strip():
+                    raise InputError(f"{p}: records[{i}].pattern: {r.pattern!r}: expected a "
+                                     f"pattern of file names within records[{i}].folder, "
+                                     "e.g. '*.AT2' (the folder goes in folder = ...)")  # fmt: skip
+                try:
+                    files = sorted(q for q in folder.glob(r.pattern) if q.is_file())
+                except (ValueError, NotImplementedError) as exc:
+                    raise InputError(f"{p}: records[{i}].pattern: {r.pattern!r}: {exc}; "
+                                     "expected a pattern such as '*.AT2'") from None  # fmt: skip
                 if not files:
                     raise InputError(f"{p}: records[{i}]: no file in {folder} matches "
                                      f"{r.pattern!r}")  # fmt: skip
