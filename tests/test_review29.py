@@ -590,3 +590,15 @@ def test_a_damaged_results_file_and_a_manual_into_a_file(
     assert main(["verify", "--case", "V1a", "--manual", str(afile)]) == 2
     err = capsys.readouterr()
     assert "--manual" in err.err and "V1a" not in err.out  # refused before the case ran
+
+
+def test_a_mesh_saved_with_a_byte_order_mark(tmp_path: Path) -> None:
+    """A gmsh file that an editor saved with a UTF-8 byte-order mark was called "not a
+    gmsh file: it begins with binary data"; the message now says what it is."""
+    from pfeie.io import read_mesh
+
+    text = (Path(__file__).resolve().parent / "data" / "two_blocks_v22.msh").read_bytes()
+    bom = tmp_path / "bom.msh"
+    bom.write_bytes(b"\xef\xbb\xbf" + text)
+    with pytest.raises(pf.errors.MeshError, match="begins with a UTF-8 byte-order mark"):
+        read_mesh(bom)

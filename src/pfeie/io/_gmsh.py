@@ -105,6 +105,10 @@ def _not_gmsh(path: Path) -> str | None:
     first = head.lstrip().split(b"\n", 1)[0].strip()
     if first in (b"$MeshFormat", b"$Comments"):
         return None
+    if first.removeprefix(b"\xef\xbb\xbf") in (b"$MeshFormat", b"$Comments"):
+        return ("it begins with a UTF-8 byte-order mark (an editor saved it so), which the "
+                "gmsh reader does not take: save it without one (or export it again from "
+                "gmsh)")  # fmt: skip
     try:
         text = first.decode("utf-8")
     except UnicodeDecodeError:
