@@ -333,7 +333,10 @@ def _plate() -> pf.Model:
     # two supports of one DOF at two values: the last one won, unseen
     (lambda m: (m.fix("xmin", 0, value=0.01), m.fix("ymin")),
      "fix ymin: its nodes share component(s) ['x'] with the support on xmin"),
-    (lambda m: m.add_nodal_force(5, [1.0, 0.0]), "add_nodal_force: expected a group's name or"),
+    (lambda m: m.add_nodal_force("none", [1.0, 0.0]), "add_nodal_force: the group 'none' has"),
+    # a mask of the nodes, or fractional indices, were taken as indices (nodes 0 and 1)
+    (lambda m: m.fix(m.mesh.points[:, 0] < 1e-9), "for a mask of the nodes, np.flatnonzero"),
+    (lambda m: m.fix([0.7, 3.2]), "fix: expected a group's name or integer node indices"),
     (lambda m: m.add_pressure("xmax", "1e3"), "expected a finite number or a function"),
     (lambda m: pf.solve_static(None), "solve_static: expected a pfeie.Model"),
     (lambda m: pf.solve_static(m, t=float("nan")), "solve_static: t: expected a finite time"),
@@ -444,14 +447,15 @@ def test_model_files_that_ran_something_else_are_refused(
 def test_a_probe_named_with_a_slash_is_drawn(tmp_path: Path) -> None:
     """`pfeie plot` and `pfeie report` stopped with FileNotFoundError on a probe named
     "my crest/probe" (its figure's file name made a folder of it); `run` and `export`
-    worked. Now the figure is probe_my crest_probe.png, and both commands end with 0."""
+    worked. Now the figure is probe_my crest_probe-5a3301.png (a digest of the name keeps
+    "a/b" and "a_b" apart), and both commands end with 0."""
     from test_cli import SMALL, _write
 
     p = _write(tmp_path, SMALL.replace("probes = { top", 'probes = { "my crest/probe"'))
     assert main(["run", str(p), "--quiet"]) == 0
     res = tmp_path / "out" / "results.h5"
     assert main(["plot", str(res), "--out", str(tmp_path / "figs")]) == 0
-    assert (tmp_path / "figs" / "probe_my crest_probe.png").is_file()
+    assert (tmp_path / "figs" / "probe_my crest_probe-5a3301.png").is_file()
     assert main(["report", str(res), "--out", str(tmp_path / "report.html")]) == 0
 
 
@@ -602,3 +606,40 @@ def test_a_mesh_saved_with_a_byte_order_mark(tmp_path: Path) -> None:
     bom.write_bytes(b"\xef\xbb\xbf" + text)
     with pytest.raises(pf.errors.MeshError, match="begins with a UTF-8 byte-order mark"):
         read_mesh(bom)
+
+
+def test_second_review_of_the_day() -> None:
+    """The second diff reviewer's cases: (a) a run continued from an absolute-form final
+    state with another Δt was refused (the supports' rows are of the first run's grid:
+    now used only under the same Δt); (b) the yield search at tol = 5e-3 read the sliding
+    of two blocks on a φ = 30° base as "no equilibrium found" (a joint just at its
+    capacity is 'fresh' within 8 tol); (c) redefining a group identically warned that it
+    was replaced; (d) one node index given alone is a node."""
+    from test_yield import two_blocks
+
+    model, _ = _block_on_a_joint()
+    gm = read_record(DATA / "elcentro_1940_ns_chopra.csv", units="g", scale=0.05)
+    a = pf.Dynamic(model, 0.01).run(1.0, ground=[gm], form="absolute")
+    b = pf.Dynamic(model, 0.003).run(0.3, start=a.final, ground=[gm], form="absolute")
+    assert b.completed and b.t[-1] == pytest.approx(1.3)
+    y = pf.yield_coefficient(two_blocks(1.0, 30.0, 30.0), tol=5e-3)
+    assert (y.limit, y.joint) == ("sliding", "joint")
+    assert y.k_y == pytest.approx(np.tan(np.radians(30.0)), rel=5e-3)
+    mesh = pf.rectangle(1.0, 1.0, 2, 2)
+    import logging
+
+    logger = logging.getLogger("pfeie.mesh._mesh")
+    seen: list[str] = []
+    handler = logging.Handler()
+    handler.emit = lambda r: seen.append(r.getMessage())  # type: ignore[method-assign]
+    logger.addHandler(handler)
+    try:
+        mesh.add_cell_group("all", lambda x: x[:, 0] > -1.0)  # the same cells
+        assert not seen
+        mesh.add_cell_group("all", lambda x: x[:, 0] > 0.5)  # others
+        assert seen == ["cell group 'all': replaced by the new selection"]
+    finally:
+        logger.removeHandler(handler)
+    m = _plate()
+    m.add_nodal_force(5, [1.0, 0.0])
+    assert m.loads[-1].nodes.tolist() == [5]

@@ -404,6 +404,8 @@ def _post(args: argparse.Namespace) -> int:
         print(f"pfeie: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except (KeyError, IndexError, ValueError, TypeError) as exc:
+        if isinstance(exc, UnicodeError):  # (writing, not the file: its own message)
+            raise
         # a results file that opens but lacks a dataset or holds damaged values (a file
         # edited, or cut by a copy): said, with what is missing, not a traceback
         print(f"pfeie: error: {args.results}: the results file is incomplete or damaged "

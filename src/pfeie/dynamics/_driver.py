@@ -100,11 +100,11 @@ class StepState:
     # nonsmooth generalised-α, whose kin.a is the scheme's over its first step, records the
     # equation's acceleration at t₀ (None: kin.a)
     a_out: FloatArray | None = None
-    # absolute form: the excitation's digest (Excitation.key) and the rows of the supports'
-    # grids at this state (Excitation.grid_rows), for a run continued from it under the
-    # same records (``start=result.final``): event sub-steps moved the supports off the
-    # grid's own recurrence (None: the grid from its origin)
-    supports: tuple[str, FloatArray] | None = None
+    # absolute form: the excitation's digest (Excitation.key), the step and the rows of the
+    # supports' grids at this state (Excitation.grid_rows), for a run continued from it
+    # under the same records and step (``start=result.final``): event sub-steps moved
+    # the supports off the grid's own recurrence (None: the grid from its origin)
+    supports: tuple[str, float, FloatArray] | None = None
 
 
 @dataclass
@@ -1178,9 +1178,10 @@ class Dynamic:
                 ex.follow(cur.pairs.state == OPEN)  # as on resume: the pairs open now
         self._supports_on_grid(ex, cur.kin.t - cur.step * self.dt if cur.origin is None
                                else cur.origin)  # fmt: skip
+        # (from a state: only under the same records and Δt, the grid its rows are of)
         rows = resume.supports if resume is not None else (
-            cur.supports[1] if cur.supports is not None and cur.supports[0] == ex.key[0]
-            else None)  # fmt: skip
+            cur.supports[2] if cur.supports is not None and cur.supports[0] == ex.key[0]
+            and cur.supports[1] == self.dt else None)  # fmt: skip
         if rows is not None:
             try:  # (where event sub-steps moved them off the grid's own recurrence)
                 ex.restart_grid(cur.kin.t, rows)
@@ -1294,7 +1295,7 @@ class Dynamic:
                 rec.record(j, cur, solver=since(n))
         wall = _time.perf_counter() - t_wall
         if ex.moves_supports and (grid := ex.grid_rows(cur.kin.t)) is not None:
-            cur.supports = (ex.key[0], grid)  # (a run continued from it: start=final)
+            cur.supports = (ex.key[0], self.dt, grid)  # (for a run from it: start=final)
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
                                          "residual": resid, "newton": newton,
                                          "substeps": substeps}  # fmt: skip

@@ -36,7 +36,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
         files = []
         t = res.time
         path = out / "probes.csv"
-        with path.open("w", newline="") as fh:
+        with path.open("w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             w.writerow(["time_s", "probe", "quantity", "component", "value", "unit"])
             units = {"u": "m", "v": "m/s", "a": "m/s^2", "a_abs": "m/s^2"}
@@ -51,7 +51,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
         rig = np.asarray(res.f["history/rigid"][...])
         d = int(res.f["mesh/points"].shape[1])
         dof_names = ["ux", "uy", "rz"] if d == 2 else ["ux", "uy", "uz", "rx", "ry", "rz"]
-        with path.open("w", newline="") as fh:
+        with path.open("w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             w.writerow(["time_s", "body", "dof", "value", "unit"])
             for b, name in enumerate(res.body_names):
@@ -63,7 +63,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
         ground = res.ground
         if ground is not None:
             path = out / "ground.csv"
-            with path.open("w", newline="") as fh:
+            with path.open("w", newline="", encoding="utf-8") as fh:
                 w = csv.writer(fh)
                 w.writerow(["time_s", "component", "value", "unit"])
                 for i in range(ground.shape[1]):
@@ -71,7 +71,7 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                         w.writerow([f"{ti:.12g}", AXES[i], f"{val:.9g}", "m"])
             files.append(path)
         path = out / "energy.csv"
-        with path.open("w", newline="") as fh:
+        with path.open("w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             w.writerow(["time_s", "term", "value_J"])
             for term, arr in res.energy().items():
@@ -81,7 +81,10 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
         if res.interface_names:
             path = out / "joints.csv"
             final = out / "pairs_final.csv"
-            with path.open("w", newline="") as fh, final.open("w", newline="") as fh2:
+            with (
+                path.open("w", newline="", encoding="utf-8") as fh,
+                final.open("w", newline="", encoding="utf-8") as fh2,
+            ):
                 w = csv.writer(fh)
                 w.writerow(["time_s", "joint", "quantity", "value", "unit"])
                 w2 = csv.writer(fh2)
@@ -158,7 +161,7 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
     x = np.asarray(res.f["mesh/points"][...])
     d = x.shape[1]
     path = out / "nodes_static.csv"
-    with path.open("w", newline="") as fh:
+    with path.open("w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(["node", *(f"{a}_m" for a in AXES[:d]), *(f"u{a}_m" for a in AXES[:d])])
         for k in range(x.shape[0]):
@@ -167,7 +170,7 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
     if res.interface_names and "static/X" in res.f:
         path = out / "pairs_static.csv"
         names = ["intact", "stick", "slide", "open"]
-        with path.open("w", newline="") as fh:
+        with path.open("w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             # the shear stress in the pair's axes, signed: along t (2D), t1 and t2 (3D)
             tangents = ["shear_stress_Pa"] if d == 2 else ["shear_stress_t1_Pa",

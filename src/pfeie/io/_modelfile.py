@@ -953,6 +953,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                             p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
                             float(z.max()), ut.headwater, tail)  # fmt: skip
     records: list[GroundMotion] = []
+    used: list[int] = []  # the index in [[ground_motion]] of each record read
     # a run ends at analysis.duration: pga and target_sa scale the part of a record up to it
     end = cfg.analysis.duration if cfg.analysis.dynamic else None
     part_factors: dict[int, float] = {}
@@ -1028,7 +1029,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                                  f"(analysis.duration = {end:g} s): nothing of it is "
                                  "applied; expected a record that starts before "
                                  "analysis.duration (its times in ms?)")  # fmt: skip
-        for j, other in enumerate(records):
+        for j, other in zip(used, records, strict=True):
             same = (base / gm.file).resolve() == (
                 base / cfg.ground_motion[j].file
             ).resolve() and np.array_equal(other.direction, rec.direction)
@@ -1038,6 +1039,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                                  "records add up, so a copy would count twice; expected "
                                  "each record once (scale it to double it)")  # fmt: skip
         records.append(rec)
+        used.append(i)
     end = cfg.analysis.duration
     if records and end is not None and cfg.analysis.dynamic:
         longest = max(float(r.time[-1]) for r in records)

@@ -358,7 +358,9 @@ class Mesh:
             grp[ctype] = np.flatnonzero(mask)
         if not any(g.size for g in grp.values()):
             log.warning("cell group %r: where(x) selected no cell", name)
-        if name in self.cell_groups:
+        old = self.cell_groups.get(name)
+        if old is not None and (old.keys() != grp.keys() or any(
+                not np.array_equal(old[t], grp[t]) for t in grp)):  # fmt: skip
             log.warning("cell group %r: replaced by the new selection", name)
         self.cell_groups[name] = grp
         return grp
@@ -377,7 +379,9 @@ class Mesh:
         if not grp:
             log.warning("facet group %r: where(x) selected no %sfacet", name,
                         "boundary " if boundary_only else "")  # fmt: skip
-        if name in self.facet_groups:
+        old_f = self.facet_groups.get(name)
+        if old_f is not None and (old_f.keys() != grp.keys() or any(
+                not np.array_equal(old_f[t], grp[t]) for t in grp)):  # fmt: skip
             # (a generator's own 'xmin' redefined: the faces it held are no longer in it)
             log.warning("facet group %r: replaced by the new selection", name)
         self.facet_groups[name] = grp

@@ -521,12 +521,18 @@ class Model:
                 raise ModelError(f"{what}: the group {where!r} has no nodes (its selector "
                                  "matched nothing); expected a group with nodes")  # fmt: skip
             return nodes, where
+        given: object = where
+        if isinstance(given, int | np.integer) and not isinstance(given, bool):
+            given = [given]  # one node
         try:
-            seq = where if isinstance(where, np.ndarray) else list(where)
-            nodes = np.unique(np.asarray(seq, dtype=np.int64))
+            raw = np.asarray(given if isinstance(given, np.ndarray) else list(given))  # type: ignore[call-overload]
+            if raw.size and raw.dtype.kind not in "iu":  # a mask, or fractional indices
+                raise TypeError
+            nodes = np.unique(raw.astype(np.int64))
         except (TypeError, ValueError):
-            raise ModelError(f"{what}: expected a group's name or node indices, got "
-                             f"{where!r}") from None  # fmt: skip
+            raise ModelError(f"{what}: expected a group's name or integer node indices "
+                             f"(for a mask of the nodes, np.flatnonzero(mask)), got "
+                             f"{str(where)[:200]}") from None  # fmt: skip
         if not nodes.size:
             raise ModelError(f"{what}: no nodes given; expected a group's name or node "
                              "indices")  # fmt: skip

@@ -46,6 +46,7 @@ histories nor a static pair state.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import weakref
@@ -107,10 +108,16 @@ def figure_file(prefix: str, name: str) -> str:
     with the characters a file name cannot hold (a path separator, ``:*?"<>|``, control
     characters) as ``_``, so that a probe named "crest/left" is drawn, not lost.
 
-    >>> figure_file("probe", "crest/left")
-    'probe_crest_left.png'
+    A name so changed takes a short digest of itself, so that "a/b" and "a_b" keep two
+    files.
+
+    >>> figure_file("probe", "crest/left"), figure_file("probe", "crest_left")
+    ('probe_crest_left-ada0a9.png', 'probe_crest_left.png')
     """
-    return f"{prefix}_{_UNSAFE.sub('_', name)}.png"
+    safe = _UNSAFE.sub("_", name)
+    if safe != name:
+        safe += "-" + hashlib.sha256(name.encode("utf-8", "surrogateescape")).hexdigest()[:6]
+    return f"{prefix}_{safe}.png"
 
 
 def plot_all(results: str | Path, folder: str | Path) -> list[Path]:

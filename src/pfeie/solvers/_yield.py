@@ -295,7 +295,7 @@ def yield_coefficient(
                             "static analyses", lo, hi, count)  # fmt: skip
                 break
             target = _root(lo, m_lo, prev)[0]
-            fresh = _fresh(k_came, lo)
+            fresh = _fresh(k_came, lo, tol)
             if (hi is None and fresh.any() and nudges < YIELD_NUDGES
                     and (target is None or not target > lo)):  # fmt: skip
                 # a joint came to its capacity at (or just below) lo: the limit may lie
@@ -358,14 +358,16 @@ def yield_coefficient(
     else:
         gov = joint if joint is not None else (
             int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None)  # fmt: skip
-        fresh = _fresh(k_came, lo) & (fs_lo <= 1 + SLIDING_FS)
-        if (gov is None or not fs_lo[gov] <= 1 + SLIDING_FS) and fresh.any():
+        # (a bracket of a relative tol leaves the factor up to 1 + tol at k_y)
+        at_one = 1 + max(SLIDING_FS, 2 * tol)
+        fresh = _fresh(k_came, lo, tol) & (fs_lo <= at_one)
+        if (gov is None or not fs_lo[gov] <= at_one) and fresh.any():
             # a joint that came to its capacity at the limit governs: its margin, NaN at
             # its capacity, left the roots to another joint's (a bonded lift joint far
             # from its strength), though it slides there; not one that came to it long
             # before, sliding while the structure held (a limit of rocking, say)
             gov = int(np.argmin(np.where(fresh, fs_lo, np.inf)))
-        limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
+        limit = ("sliding" if gov is not None and fs_lo[gov] <= at_one
                  else "no equilibrium found")  # fmt: skip
         joint = gov
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
@@ -373,11 +375,13 @@ def yield_coefficient(
     return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
 
 
-def _fresh(k_came: FloatArray, lo: float) -> BoolArray:
+def _fresh(k_came: FloatArray, lo: float, tol: float) -> BoolArray:
     """The joints that came to their capacity at ``lo`` or just below it (within
-    :data:`YIELD_FRESH` of it, the steps out included), not at k = 0."""
+    :data:`YIELD_FRESH`, or 8 ``tol`` where that is more: the steps out included), not
+    at k = 0."""
+    near = max(YIELD_FRESH, 8 * tol)
     with np.errstate(invalid="ignore"):
-        return np.asarray(np.isfinite(k_came) & (k_came >= lo * (1 - YIELD_FRESH)) & (lo > 0))
+        return np.asarray(np.isfinite(k_came) & (k_came >= lo * (1 - near)) & (lo > 0))
 
 
 def _creep(targets: list[float], target: float, tol: float) -> float | None:

@@ -101,7 +101,7 @@ class StudyTable:
 
             rows = pq.read_table(str(p)).to_pylist()
             return cls([{k: v for k, v in r.items() if v is not None} for r in rows])
-        with open(p, newline="") as fh:
+        with open(p, newline="", encoding="utf-8") as fh:
             rows = [{k: v if k in TEXT_COLUMNS else _parse(v) for k, v in r.items()
                      if v != "" or k in TEXT_COLUMNS}
                     for r in csv.DictReader(fh)]  # fmt: skip
