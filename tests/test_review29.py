@@ -643,3 +643,32 @@ def test_second_review_of_the_day() -> None:
     m = _plate()
     m.add_nodal_force(5, [1.0, 0.0])
     assert m.loads[-1].nodes.tolist() == [5]
+
+
+def test_numbers_given_as_numpy_scalars_and_0d_arrays() -> None:
+    """The day's argument checks refused numbers given as 0-d numpy arrays (the second
+    reviewer); they are numbers (pfeie.typing.is_number), each giving what the float
+    gives."""
+    model = _plate()
+    model.fix("xmin")
+    model.add_gravity()
+    assert np.array_equal(pf.solve_static(model, t=np.array(0.0)).u, pf.solve_static(model).u)
+    r = pf.Rayleigh(0.1, 0.01)
+    assert r.ratio(np.array(2.0)) == r.ratio(2.0)
+    a = pf.GroundMotion.from_samples([0.0, 1.0, 0.0], dt=np.array(0.01), scale=np.float32(2.0))
+    b = pf.GroundMotion.from_samples([0.0, 1.0, 0.0], dt=0.01, scale=2.0)
+    assert np.array_equal(a.acceleration, b.acceleration) and np.array_equal(a.time, b.time)
+    assert np.array_equal(pf.graded(1.0, 3, 2.0, origin=np.array(3.0)),
+                          pf.graded(1.0, 3, 2.0, origin=3.0))  # fmt: skip
+
+
+def test_a_mesh_with_a_latin1_group_name(tmp_path: Path) -> None:
+    """A physical name written in Latin-1 ("dém") was reported as a truncated or corrupt
+    file; the message now names the text that is not UTF-8."""
+    from pfeie.io import read_mesh
+
+    raw = (Path(__file__).resolve().parent / "data" / "two_blocks_v22.msh").read_bytes()
+    p = tmp_path / "latin1.msh"
+    p.write_bytes(raw.replace(b'"dam"', b'"d\xe9m"'))
+    with pytest.raises(pf.errors.MeshError, match="holds text that is not UTF-8"):
+        read_mesh(p)

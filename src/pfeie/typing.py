@@ -26,4 +26,17 @@ class Unit:
     text: str
 
 
-__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit"]
+def is_number(v: object) -> bool:
+    """A real number given to the API: an int or a float, NumPy's scalars and 0-d
+    numeric arrays included; not a bool, a string or None.
+
+    >>> is_number(2), is_number(np.float32(2.0)), is_number(np.array(2.0)), is_number("2")
+    (True, True, True, False)
+    """
+    if isinstance(v, np.ndarray):
+        return v.ndim == 0 and v.dtype.kind in "iuf"
+    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(
+        v, bool | np.bool_)  # fmt: skip
+
+
+__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit", "is_number"]

@@ -148,6 +148,10 @@ def _unsupported(path: Path, exc: Exception) -> str | None:
         return (f"the file is in gmsh's format {version}, which pfeie does not read (set "
                 "Mesh.MshFileVersion = 2.2 or 4.1 in gmsh and save it again)")  # fmt: skip
     said = str(exc)
+    if isinstance(exc, UnicodeDecodeError):
+        return ("the file holds text that is not UTF-8 (a physical group's name in Latin-1, "
+                "say), which the gmsh reader does not take: name the groups in ASCII or "
+                "UTF-8 and export the mesh again")  # fmt: skip
     if "parametric" in said.lower():
         return (
             "the file holds parametric node coordinates (gmsh's Mesh.SaveParametric = "

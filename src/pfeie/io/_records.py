@@ -41,7 +41,7 @@ import numpy as np
 
 from ..errors import ModelError, RecordError
 from ..model import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion
-from ..typing import FloatArray
+from ..typing import FloatArray, is_number
 
 log = logging.getLogger(__name__)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
@@ -456,8 +456,7 @@ def read_record(
     """
     level = logging.DEBUG if quiet else logging.WARNING
     p = Path(path)
-    if isinstance(scale, bool) or not isinstance(scale, int | float | np.integer | np.floating) \
-            or not (np.isfinite(scale) and scale != 0):  # fmt: skip
+    if not is_number(scale) or not (np.isfinite(scale) and scale != 0):
         # (as the model file's ground_motion[].scale: a record scaled to nothing)
         raise RecordError(f"{p}: scale: expected a finite factor other than 0, got {scale!r}")
     if not p.is_file():

@@ -100,8 +100,8 @@ def graded(length: float, n: int, ratio: float, origin: float = 0.0) -> FloatArr
     if isinstance(ratio, (bool, np.bool_)) or not (np.isfinite(ratio) and ratio > 0):
         raise MeshArgumentError(f"graded: ratio: expected a number > 0, got {ratio!r}")
     given: object = origin
-    (o,) = _origin(given if isinstance(given, list | tuple | np.ndarray) else [given], 1,
-                   "graded")  # fmt: skip
+    one = isinstance(given, list | tuple) or (isinstance(given, np.ndarray) and given.ndim)
+    (o,) = _origin(given if one else [given], 1, "graded")
     q = ratio ** (1.0 / max(n - 1, 1))
     h = q ** np.arange(n)
     return np.asarray(o + np.concatenate([[0.0], np.cumsum(h)]) * length / h.sum())

@@ -34,7 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..errors import ModelError
-from ..typing import FloatArray
+from ..typing import FloatArray, is_number
 
 if TYPE_CHECKING:
     from ._spectrum import ResponseSpectrum
@@ -133,8 +133,7 @@ class GroundMotion:
         """A record from samples with a step ``dt`` (s) or a ``time`` column (s)."""
         raw = _floats(values, f"ground motion {name!r}: values", "accelerations")
         for key, x in (("dt", dt), ("scale", scale)):
-            if x is not None and (isinstance(x, bool) or not isinstance(
-                    x, int | float | np.integer | np.floating)):  # fmt: skip
+            if x is not None and not is_number(x):
                 raise ModelError(f"ground motion {name!r}: {key}: expected a number, got "
                                  f"{type(x).__name__} {x!r}")  # fmt: skip
         if raw.ndim > 1 and sum(n > 1 for n in raw.shape) > 1:
@@ -205,7 +204,7 @@ class GroundMotion:
             raise ModelError(f"ground motion {name!r}: expected a function a(t) (m/s²) of "
                              f"the time t (s), got {type(fn).__name__} {fn!r}")  # fmt: skip
         for key, x in (("dt", dt), ("duration", duration)):
-            if isinstance(x, bool) or not isinstance(x, int | float | np.integer | np.floating):
+            if not is_number(x):
                 raise ModelError(f"ground motion {name!r}: {key}: expected a number (s), got "
                                  f"{type(x).__name__} {x!r}")  # fmt: skip
         if not (np.isfinite(dt) and dt > 0):

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..interface import JointLaw
-from ..typing import FloatArray, IntArray
+from ..typing import FloatArray, IntArray, is_number
 
 Amplitude = Callable[[float], float]
 VectorField = FloatArray | Sequence[float] | Callable[[FloatArray], FloatArray]
@@ -73,9 +73,7 @@ class Elastic:
         return float(np.sqrt((lam + 2 * mu) / self.rho)), float(np.sqrt(mu / self.rho))
 
 
-def _is_number(v: object) -> bool:
-    """A real number (int or float, NumPy's included; not a bool or a string)."""
-    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool)
+_is_number = is_number  # (the API's rule: pfeie.typing.is_number)
 
 
 @dataclass(frozen=True)
@@ -161,8 +159,7 @@ class Rayleigh:
 
     def ratio(self, f: float) -> float:
         """Damping ratio at frequency f (Hz, > 0)."""
-        if isinstance(f, bool) or not isinstance(f, int | float | np.integer | np.floating) or (
-                not (np.isfinite(f) and f > 0)):  # fmt: skip
+        if not is_number(f) or not (np.isfinite(f) and f > 0):
             raise ModelError(f"Rayleigh.ratio: expected a frequency > 0 Hz, got {f!r}")
         w = 2 * np.pi * f
         return float(self.alpha / (2 * w) + self.beta * w / 2)

@@ -28,7 +28,7 @@ from ..coupling import relative_operator
 from ..errors import SolverError
 from ..linalg import factorize
 from ..model import Model
-from ..typing import BoolArray, FloatArray
+from ..typing import BoolArray, FloatArray, is_number
 
 #: ω² of a rigid-body mode, relative to the reference of :attr:`ModalResult.rigid`: the
 #: zero eigenvalue of a floating block comes out of the solve as round-off, of order
@@ -131,8 +131,7 @@ def modal(
     scale = float(abs(K.diagonal()).max() / max(abs(M.diagonal()).max(), 1e-300))
     if shift is None:
         shift = -1e-6 * scale
-    elif isinstance(shift, bool) or not isinstance(
-            shift, int | float | np.integer | np.floating) or not np.isfinite(shift):  # fmt: skip
+    elif not is_number(shift) or not np.isfinite(shift):
         raise SolverError(f"modal: shift: expected a finite ω² (rad²/s²) or None, got {shift!r}")
     spd = shift <= 0
     F = factorize((K - shift * M).tocsc(), spd=spd, backend=backend if spd else "superlu")

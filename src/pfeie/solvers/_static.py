@@ -18,7 +18,7 @@ from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
-from ..typing import FloatArray
+from ..typing import FloatArray, is_number
 
 log = logging.getLogger(__name__)
 
@@ -72,8 +72,7 @@ def solve_static(
     if not isinstance(model, Model):
         raise ModelError(f"solve_static: expected a pfeie.Model (that of a model file is "
                          f"pfeie.io.load_job(path).model), got {type(model).__name__}")  # fmt: skip
-    if isinstance(t, bool) or not isinstance(t, int | float | np.integer | np.floating) or (
-            not np.isfinite(t)):  # fmt: skip
+    if not is_number(t) or not np.isfinite(t):
         raise ModelError(f"solve_static: t: expected a finite time (s), got {t!r}")
     if settings is not None and not isinstance(settings, SolverSettings):
         raise ModelError(f"solve_static: settings: expected a pfeie.SolverSettings, got "
