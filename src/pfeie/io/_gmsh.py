@@ -79,16 +79,13 @@ def read_mesh(path: str | Path) -> Mesh:
         raise MeshError(f"{p}: cannot read the gmsh file: {why}; {EXPECTED_MSH}") from None
     finally:
         _log_reader_warnings(p, said.getvalue())
-    try:
-        fault = _element_counts(p)
-    except (OSError, ValueError, IndexError):  # (what the reader took is then kept)
-        fault = None
+    blocks, fault = _element_blocks(p)
     if fault is not None:
         raise MeshError(f"{p}: cannot read the gmsh file: {fault}; {EXPECTED_MSH}")
-    try:
-        ids = element_ids(p, len(m.cells), [len(b.data) for b in m.cells])
-    except Exception:  # the ids only name cells in messages
-        ids = None
+    # the ids only name cells in messages: none where the blocks are not meshio's
+    ids = None
+    if blocks is not None and [len(b) for b in blocks] == [len(b.data) for b in m.cells]:
+        ids = [np.asarray(b, dtype=np.int64) for b in blocks]
     return from_gmsh(m, p, ids)
 
 
@@ -226,55 +223,6 @@ def _diagnose(path: Path) -> str | None:
     return None
 
 
-def _element_counts(path: Path) -> str | None:
-    """Where the ``$Elements`` section of an ASCII .msh file holds more or fewer element
-    lines than its counts declare (MSH 2: the count; MSH 4.1: each block's count and the
-    total), which the gmsh reader does not check: it reads the declared number and drops
-    the rest (a crest's pressure on half its faces, unseen). ``None`` where they agree,
-    or for a binary file."""
-    version, rows, inside = b"", [], False
-    with path.open("rb") as fh:
-        lines = iter(fh)
-        for raw in lines:
-            line = raw.strip()
-            if line == b"$MeshFormat":
-                head = next(lines).split()
-                if len(head) > 1 and head[1] != b"0":
-                    return None
-                version = head[0]
-            elif line == b"$Elements":
-                inside = True
-            elif line == b"$EndElements":
-                break
-            elif inside and line:
-                rows.append(line.split())
-    if not rows:
-        return None
-    if version.startswith(b"2"):
-        declared = int(float(rows[0][0]))
-        if declared != len(rows) - 1:
-            return (f"the section $Elements declares {declared} elements but holds "
-                    f"{len(rows) - 1} lines: the file is corrupt (an element count edited "
-                    "by hand?)")  # fmt: skip
-        return None
-    n_blocks, n_elements = int(rows[0][0]), int(rows[0][1])
-    i, total = 1, 0
-    for b in range(n_blocks):
-        if i >= len(rows) or len(rows[i]) != 4:
-            return (f"the section $Elements: block {b + 1} of {n_blocks} does not start "
-                    "where the counts of the blocks before it end: the file is corrupt (an "
-                    "element count edited by hand?)")  # fmt: skip
-        k = int(rows[i][3])
-        i += 1 + k
-        total += k
-    if i != len(rows) or total != n_elements:
-        return (f"the section $Elements: the element counts of its {n_blocks} blocks "
-                f"({total} in all; {n_elements} declared) do not match its lines "
-                f"({len(rows) - 1 - n_blocks} element lines): the file is corrupt (an "
-                "element count edited by hand?)")  # fmt: skip
-    return None
-
-
 def _check_msh2_section(section: str, start: int, rows: list[list[bytes]],
                         nodes: set[int]) -> str | None:  # fmt: skip
     """A fault of an MSH 2 ASCII ``$Nodes`` or ``$Elements`` section (its rows after the
@@ -303,43 +251,67 @@ def _check_msh2_section(section: str, start: int, rows: list[list[bytes]],
     return None
 
 
-def element_ids(path: Path, n_blocks: int, sizes: list[int]) -> list[np.ndarray] | None:
-    """The gmsh element ids of an ASCII .msh file (2.2 or 4.x), one array per meshio cell
-    block (meshio drops them); ``None`` for a binary file or when the blocks do not match
-    meshio's."""
-    with path.open("rb") as fh:
-        lines = iter(fh)
-        for raw in lines:
-            if raw.strip() == b"$MeshFormat":
-                version, ftype = next(lines).split()[:2]
-                if ftype != b"0":
-                    return None
-                break
-        else:
-            return None
-        for raw in lines:
-            if raw.strip() == b"$Elements":
-                break
-        else:
-            return None
-        blocks: list[list[int]] = []
-        if version.startswith(b"2"):
-            n = int(next(lines))
-            last = None
-            for _ in range(n):
-                fields = next(lines).split()
-                if fields[1] != last:
-                    blocks.append([])
-                    last = fields[1]
-                blocks[-1].append(int(fields[0]))
-        else:
-            n_entity = int(next(lines).split()[0])
-            for _ in range(n_entity):
-                n = int(next(lines).split()[3])
-                blocks.append([int(next(lines).split()[0]) for _ in range(n)])
-    if len(blocks) != n_blocks or [len(b) for b in blocks] != sizes:
-        return None
-    return [np.asarray(b, dtype=np.int64) for b in blocks]
+class _Mismatch(Exception):
+    """The ``$Elements`` section ended (or went on) where its counts say otherwise."""
+
+
+#: the message of a ``$Elements`` section whose counts do not match its lines
+_COUNTS = ("the section $Elements does not hold the element lines its counts declare: the "
+           "file is corrupt (an element count edited by hand?)")  # fmt: skip
+
+
+def _element_blocks(path: Path) -> tuple[list[list[int]] | None, str | None]:
+    """One pass over the ``$Elements`` section of an ASCII .msh file (2.2 or 4.x), read
+    as its counts declare it: the gmsh element ids by block (meshio drops them; in MSH 2
+    a block is a run of one element type), and the fault where the section holds more or
+    fewer lines than its counts (MSH 2: the count; 4.1: each block's and the total),
+    which the gmsh reader does not check: it reads the declared number and drops the
+    rest (a crest's pressure on half its faces, unseen). ``(None, None)`` for a binary
+    file or a section this pass cannot follow (the reader's answer stands)."""
+
+    def element(lines: Any) -> list[bytes]:
+        line = next(lines)
+        if line.startswith(b"$"):  # the section's end before its counts are read
+            raise _Mismatch
+        return list(line.split())
+
+    try:
+        with path.open("rb") as fh:
+            lines = (raw.strip() for raw in fh)
+            for line in lines:
+                if line == b"$MeshFormat":
+                    version, ftype = next(lines).split()[:2]
+                    if ftype != b"0":
+                        return None, None
+                    break
+            else:
+                return None, None
+            if b"$Elements" not in lines:  # (consumes the lines up to the section)
+                return None, None
+            blocks: list[list[int]] = []
+            if version.startswith(b"2"):
+                last = None
+                for _ in range(int(next(lines))):
+                    fields = element(lines)
+                    if fields[1] != last:
+                        blocks.append([])
+                        last = fields[1]
+                    blocks[-1].append(int(fields[0]))
+            else:
+                n_blocks, n_elements = (int(x) for x in next(lines).split()[:2])
+                for _ in range(n_blocks):
+                    k = int(element(lines)[3])
+                    blocks.append([int(element(lines)[0]) for _ in range(k)])
+                if sum(len(b) for b in blocks) != n_elements:
+                    raise _Mismatch
+            # (the file may end here: a missing $EndElements is the reader's warning)
+            if next((x for x in lines if x), b"$EndElements") != b"$EndElements":
+                raise _Mismatch
+    except _Mismatch:
+        return None, _COUNTS
+    except (OSError, ValueError, IndexError, StopIteration):
+        return None, None
+    return blocks, None
 
 
 def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None = None) -> Mesh:

@@ -277,6 +277,13 @@ def _lengths(cracks: Sequence[float], model: Model | None = None) -> str:
 RIGID_SHARE_MIN = 1e-6
 
 
+#: what an unbalance in the rigid-block check means, in the mechanism's message
+_NOT_RIGID = (
+    "not even as rigid blocks can pair forces within their joints' strength "
+    "balance the static loads, so they would slide, open or overturn."
+)
+
+
 def _touches_floating(model: Model, joint: str) -> bool:
     """Whether the joint ``joint`` has a floating block on one of its sides."""
     P = model.pairs
@@ -338,8 +345,7 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             head = (
                 "No static equilibrium holds the floating block(s) ("
                 + "; ".join(on_joints[b] for b in on_joints)
-                + "): not even as rigid blocks can pair forces within their joints' "
-                "strength balance the static loads, so they would slide, open or overturn. "
+                + f"): {_NOT_RIGID} "
                 + "; ".join(f"{j!r} cannot hold the blocks on it even with every other "
                             "joint unbreakable" for j, _ in fails)
                 + (f"; {', '.join(repr(j) for j in holds)} "
@@ -357,7 +363,6 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                     both = ((body[P.node_a] == b) & (body[P.node_b] == c)) | (
                         (body[P.node_a] == c) & (body[P.node_b] == b))  # fmt: skip
                     # in compression in the check's answer: a joint that parts bears nothing
-                    assert share is not None
                     pressed = both & (share.normal > RIGID_SHARE_MIN * np.abs(share.normal).max())
                     via = [n for n in P.names if pressed[P.of(n)].any()]
                     if via:
@@ -367,8 +372,7 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                 "No static equilibrium holds the floating block(s) ("
                 + "; ".join(f"{on_joints[b]}: unbalanced by about {100 * shares[b]:.3g} % "
                             "of its load" for b in unbalanced)
-                + "): not even as rigid blocks can pair forces within their joints' "
-                "strength balance the static loads, so they would slide, open or overturn."
+                + f"): {_NOT_RIGID}"
                 + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
                    "theirs together, placed where the check could put it." if leaning
                    else "")
