@@ -1067,6 +1067,18 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
     "not converged" beyond :data:`CORRECTION_UNRESOLVED`). ``pfeie run``'s summary and a
     study's ``warnings`` column are both written from it."""
     out = []
+    for what in s.get("static_far_moved", []):
+        out.append(
+            RunWarning(
+                "static",
+                f"the static state: {what}, beyond the small displacements that the analysis "
+                f"takes (a rotation up to {POST_EQ_ROTATION_MAX_DEG:g}°, a displacement up to "
+                f"{100 * POST_EQ_MOVE_MAX:g} % of the block's size): a joint stiffness or a "
+                "modulus in the wrong unit? (normal_stiffness and shear_stiffness in Pa/m, E in "
+                "Pa); the results are not reliable",
+                f"static: {what}: beyond small displacements, check the stiffness units",
+            )
+        )
     # a summary written before the key (before version 0.3.12) is read as undamped
     beta = float((s.get("damping") or {}).get("beta_s", 0.0))
     for name, b in s.get("bodies", {}).items():
@@ -1237,6 +1249,15 @@ def _total_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             for b, name in enumerate(model.body_names())}  # fmt: skip
 
 
+def _static_motions(model: Model, static: StaticResult) -> dict[str, dict[str, Any]]:
+    """Per body, its rigid motion in the static state, as :func:`_body_motions`' residual
+    keys (for :func:`_far_moved`)."""
+    q, d = static.rigid_motion(), model.dim
+    return {name: {"residual_displacement_m": float(np.linalg.norm(q[b, :d])),
+                   "residual_rotation_deg": float(np.degrees(np.linalg.norm(q[b, d:])))}
+            for b, name in enumerate(model.body_names())}  # fmt: skip
+
+
 def _far_moved(model: Model, motions: dict[str, dict[str, Any]]) -> list[str]:
     """The floating blocks whose residual rigid motion (``motions``: the summary's, of
     :func:`_body_motions`) passes :data:`POST_EQ_ROTATION_MAX_DEG` or
@@ -1318,6 +1339,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     model = job.model
     if static is not None and static.pairs is not None:
         s["static_joints"] = _static_joints(model, static)
+        far = _far_moved(model, _static_motions(model, static))
+        if far:  # (a joint stiffness or a modulus in the wrong unit: km of settlement)
+            s["static_far_moved"] = far
     if res is None:
         if static is not None and static.pairs is not None:
             s["static_pairs"] = static.pairs.counts()
@@ -1610,6 +1634,7 @@ def format_summary(s: dict[str, Any]) -> str:
                 else ""
             )
         )
+    lines += _warning_lines(reliability(s), "static")
     for label, y in s.get("yield_coefficient", {}).items():
         k, fs = y["k_y"], y["safety_factor"]
         if k is None:

@@ -304,7 +304,7 @@ CASES: list[Case] = [
     C("joint-tension-1e300", M, "interfaces.joint.tensile_strength: expected a number in "
       "[0, 1e+10] Pa", edit=sub("cohesion = 1e5", "cohesion = 1e5\ntensile_strength = 1e300")),
     C("joint-stiffness-1e300", M, "interfaces.joint.normal_stiffness: expected a number in "
-      "(0, 1e+20] Pa/m", edit=sub("cohesion = 1e5", "cohesion = 1e5\nnormal_stiffness = 1e300")),
+      "[1, 1e+20] Pa/m", edit=sub("cohesion = 1e5", "cohesion = 1e5\nnormal_stiffness = 1e300")),
     C("support-value-1e300", M, "supports[0].value: expected a number in [-1000, 1000] m",
       edit=into("[[supports]]", "value = 1e300")),
     C("thickness-1e300", M, "thickness: expected a number in [1e-06, 1e+06] m, found 1e+300",
@@ -367,7 +367,7 @@ CASES: list[Case] = [
     C("joint-weakening-without-law", M, "interfaces.joint.weakening_distance: only with law",
       edit=into("[interfaces.joint]", "weakening_distance = 0.01")),
     C("joint-stiffness-zero", M, "interfaces.joint.normal_stiffness: "
-      "expected a number in (0, 1e+20] Pa/m",
+      "expected a number in [1, 1e+20] Pa/m",
       edit=into("[interfaces.joint]", "normal_stiffness = 0.0")),
     C("joint-unknown-key", M, "interfaces.joint.friction: unknown key",
       edit=into("[interfaces.joint]", "friction = 0.6")),

@@ -20,6 +20,7 @@ from ._fclib import coulomb_laws, load_fclib, natural_map_residual
 from ._laws import (
     COHESION_RAMP,
     FS_ROUNDOFF,
+    JOINT_STIFFNESS_MIN,
     MODEL_FILE_KEYS,
     OPEN_CRACK_MIN_M,
     Joint,
@@ -47,8 +48,8 @@ from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
     "COHESION_RAMP", "FACTOR_CACHE_BYTES", "FACTOR_CACHE_COUNT", "FS_ROUNDOFF", "INTACT",
-    "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "PROXIMAL_FIRST_3D", "SECOND_STAGE_PROXIMAL",
-    "SLIDE", "STATE_NAMES", "STICK",
+    "JOINT_STIFFNESS_MIN", "MODEL_FILE_KEYS", "OPEN", "OPEN_CRACK_MIN_M", "PROXIMAL_FIRST_3D",
+    "SECOND_STAGE_PROXIMAL", "SLIDE", "STATE_NAMES", "STICK",
     "FactorCache", "InterfaceSolver", "Joint", "JointLaw", "MohrCoulomb", "PairGeometry",
     "PairLaws", "PairState", "Reduced", "SlipWeakening", "SolveInfo", "SolverSettings", "SplitMesh",
     "Strength", "cohesion_ramp", "cohesion_ramp_tangent", "coulomb_laws", "load_fclib",

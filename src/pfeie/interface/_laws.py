@@ -93,6 +93,10 @@ class JointLaw(Protocol):
 OPEN_CRACK_MIN_M = 1e-5
 
 
+#: Pa/m, the least normal or shear stiffness of a weak layer: 1 m of closure under 1 Pa.
+#: No joint is that soft; below it the compliance 1/k overflows the pair operators.
+JOINT_STIFFNESS_MIN = 1.0
+
 FS_ROUNDOFF = 1e-10
 """A joint's shear force counts for its safety factor above FS_ROUNDOFF times the sum of
 the magnitudes of its own pair forces (smooth and step forces, static ones): below, it
@@ -293,8 +297,11 @@ class MohrCoulomb:
             raise ModelError(f"joint initial must be 'intact' or 'broken', got {self.initial!r}")
         for key in ("kn", "ks"):
             val = getattr(self, key)
-            if val is not None and not val > 0:
-                raise ModelError(f"joint {key} must be > 0 Pa/m or None, got {val}")
+            if val is not None and not val >= JOINT_STIFFNESS_MIN:
+                raise ModelError(
+                    f"joint {key} must be >= {JOINT_STIFFNESS_MIN:g} Pa/m "
+                    f"(1 m of closure under 1 Pa) or None, got {val}"
+                )
         if not self.gap >= 0:
             raise ModelError(f"joint gap must be >= 0 m, got {self.gap}")
         if self.gap > 0 and self.initial == "intact":
@@ -659,6 +666,6 @@ class PairLaws:
         return PairState.initial(self.initially_broken, self.gap, dim)
 
 
-__all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "MODEL_FILE_KEYS", "OPEN_CRACK_MIN_M", "Joint",
-           "JointLaw", "MohrCoulomb", "PairLaws", "Reduced", "SlipWeakening", "Strength",
-           "cohesion_ramp", "cone"]  # fmt: skip
+__all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "JOINT_STIFFNESS_MIN", "MODEL_FILE_KEYS",
+           "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws", "Reduced",
+           "SlipWeakening", "Strength", "cohesion_ramp", "cone"]  # fmt: skip

@@ -39,6 +39,7 @@ from pydantic.json_schema import GenerateJsonSchema, JsonSchemaValue
 from pydantic_core import PydanticCustomError, core_schema
 
 from ..dynamics import DynamicSettings
+from ..interface import JOINT_STIFFNESS_MIN
 from ..model import DAMPING_RATIO_MAX, STRENGTH_MIN
 from ..typing import Unit
 
@@ -88,7 +89,7 @@ Displacement = Annotated[float, Field(ge=-1e3, le=1e3), Unit("m")]
 Stress = Annotated[float, Field(ge=-1e10, le=1e10), Unit("Pa")]
 Strength = Annotated[float, Field(ge=0.0, le=1e10), Unit("Pa")]
 PositiveStrength = Annotated[float, Field(gt=0.0, le=1e10), Unit("Pa")]
-JointStiffness = Annotated[float, Field(gt=0.0, le=1e20), Unit("Pa/m")]
+JointStiffness = Annotated[float, Field(ge=JOINT_STIFFNESS_MIN, le=1e20), Unit("Pa/m")]
 UnitWeight = Annotated[float, Field(gt=0.0, le=1e6), Unit("N/m³")]
 #: N/m³, the least submerged unit weight of a silt (a value in kN/m³ falls below)
 SILT_UNIT_WEIGHT_MIN = 1000.0
@@ -837,6 +838,28 @@ class ModelFile(_Table):
     ] = []
     analysis: Analysis = Analysis()
     output: Output = Output()
+
+    @model_validator(mode="after")
+    def _post_earthquake_asked(self) -> ModelFile:
+        # post_earthquake is on by default and then skipped where it has no meaning; asked
+        # for in the file itself (not a default filled in), it must be able to run
+        a = self.analysis
+        if "post_earthquake" in a.model_fields_set and a.post_earthquake:
+            if not a.static:
+                raise _check(
+                    "analysis.post_earthquake",
+                    "the post-earthquake state is "
+                    "the static loads on the joints as the record left them; "
+                    "expected analysis.static = true (or post_earthquake = false)",
+                )
+            if not a.dynamic:
+                raise _check(
+                    "analysis.post_earthquake",
+                    "the post-earthquake state "
+                    "follows a record; expected analysis.dynamic = true (or "
+                    "post_earthquake = false)",
+                )
+        return self
 
 
 # -- the annotations, walked ---------------------------------------------------------------
