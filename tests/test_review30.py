@@ -79,3 +79,20 @@ def test_post_earthquake_asked_where_it_cannot_run_is_refused(
         load_job(_write(tmp_path, text))
     quiet = text.replace("post_earthquake = true", "")
     assert load_job(_write(tmp_path, quiet)).analysis.post_earthquake  # the default
+
+
+def test_solve_static_takes_its_settings_as_a_dict() -> None:
+    """``pfeie.Dynamic(settings={...})`` takes the settings' fields as a dict, and
+    ``solve_static(settings={...})`` refused them. Now both do; the result is that of
+    the typed settings, bit for bit, and a wrong field is named."""
+    m = pf.Model(pf.rectangle(2.0, 1.0, 4, 2), [pf.Block("all", pf.Elastic(1e6, 0.0))])
+    m.fix("xmin", 0)
+    m.fix("ymin", 1)
+    m.add_traction("xmax", [1e3, 0.0])
+    u = pf.solve_static(m, settings={"tolerance": 1e-10}).u
+    assert (u == pf.solve_static(m, settings=pf.SolverSettings(tolerance=1e-10)).u).all()
+    assert abs(u[:, 0].max() - 2e-3) < 1e-15  # σ L / E
+    with pytest.raises(ModelError, match="solve_static: settings: tol: Extra inputs"):
+        pf.solve_static(m, settings={"tol": 1e-10})
+    with pytest.raises(ModelError, match="tolerance: Input should be a valid number"):
+        pf.solve_static(m, settings={"tolerance": "1e-10"})

@@ -9,9 +9,13 @@ Axis convention: element data are indexed ``(cell, quadrature point, node, compo
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from pydantic import ValidationError
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -39,4 +43,16 @@ def is_number(v: object) -> bool:
         v, bool | np.bool_)  # fmt: skip
 
 
-__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit", "is_number"]
+def settings_message(exc: ValidationError) -> str:
+    """A one-line message of a settings error: each field, what was expected, what was
+    given."""
+    parts = []
+    for err in exc.errors():
+        where = ".".join(str(x) for x in err["loc"]) or "settings"
+        given = f", got {err['input']!r}" if err["type"] != "missing" else ""
+        msg = err["msg"].removeprefix("Value error, ")
+        parts.append(f"{where}: {msg}{given}")
+    return "; ".join(parts)
+
+
+__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit", "is_number", "settings_message"]

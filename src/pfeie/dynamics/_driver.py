@@ -51,14 +51,14 @@ from ..errors import InterfaceError, ModelError
 from ..interface import INTACT, OPEN, SLIDE, STICK, PairState
 from ..linalg import Factorization, factorize
 from ..model import GroundMotion, Model
-from ..typing import BoolArray, FloatArray, IntArray
+from ..typing import BoolArray, FloatArray, IntArray, settings_message
 from ._corotation import Corotation
 from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean, impulse_laws
 from ._newmark import Newmark, State, damping_product
 from ._nsga import NonsmoothAlpha
 from ._recorder import DynamicResult, Recorder
-from ._settings import DynamicSettings, settings_message
+from ._settings import DynamicSettings
 
 log = logging.getLogger(__name__)
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ..interface import SolverSettings
 from ..typing import Unit
@@ -172,16 +172,4 @@ class DynamicSettings(BaseModel):
         return round(n)
 
 
-def settings_message(exc: ValidationError) -> str:
-    """A one-line message of a settings error: each field, what was expected, what was
-    given."""
-    parts = []
-    for err in exc.errors():
-        where = ".".join(str(x) for x in err["loc"]) or "settings"
-        given = f", got {err['input']!r}" if err["type"] != "missing" else ""
-        msg = err["msg"].removeprefix("Value error, ")
-        parts.append(f"{where}: {msg}{given}")
-    return "; ".join(parts)
-
-
-__all__ = ["DynamicSettings", "settings_message"]
+__all__ = ["DynamicSettings"]

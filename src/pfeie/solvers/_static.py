@@ -10,15 +10,17 @@ from __future__ import annotations
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from pydantic import ValidationError
 
 from ..coupling import RigidCheck, StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import Model
-from ..typing import FloatArray, is_number
+from ..typing import FloatArray, is_number, settings_message
 
 log = logging.getLogger(__name__)
 
@@ -45,13 +47,16 @@ class StaticResult:
 
 
 def solve_static(
-    model: Model, *, t: float = 0.0, backend: str = "auto", settings: SolverSettings | None = None,
-    damage: PairState | None = None,
+    model: Model, *, t: float = 0.0, backend: str = "auto",
+    settings: SolverSettings | dict[str, Any] | None = None, damage: PairState | None = None,
 ) -> StaticResult:  # fmt: skip
     """Solve the static problem under the loads at time ``t``.
 
     The reactions are r = K u − f − Gᵀ X on the prescribed DOFs (zero elsewhere); their
     sum balances the applied loads.
+
+    ``settings``: the interface solver's :class:`~pfeie.SolverSettings`, or its fields as
+    a dict (``{"tolerance": 1e-10}``), as :class:`pfeie.Dynamic` takes its own.
 
     ``damage``: the pair state an earthquake left (``DynamicResult.final.pairs``), for the
     **post-earthquake** static state (USACE EM 1110-2-6053, §7; FERC Engineering
@@ -74,9 +79,15 @@ def solve_static(
                          f"pfeie.io.load_job(path).model), got {type(model).__name__}")  # fmt: skip
     if not is_number(t) or not np.isfinite(t):
         raise ModelError(f"solve_static: t: expected a finite time (s), got {t!r}")
+    if isinstance(settings, dict):  # its fields as a mapping, as pfeie.Dynamic takes them
+        try:
+            settings = SolverSettings.model_validate(settings, strict=True)
+        except ValidationError as exc:
+            raise ModelError(f"solve_static: settings: {settings_message(exc)}") from None
     if settings is not None and not isinstance(settings, SolverSettings):
-        raise ModelError(f"solve_static: settings: expected a pfeie.SolverSettings, got "
-                         f"{type(settings).__name__} {settings!r}")  # fmt: skip
+        raise ModelError(f"solve_static: settings: expected a pfeie.SolverSettings (or its "
+                         f"fields as a dict), got {type(settings).__name__} "
+                         f"{settings!r}")  # fmt: skip
     if damage is not None and not isinstance(damage, PairState):
         raise ModelError(f"solve_static: damage: expected the pair state a run left "
                          f"(DynamicResult.final.pairs), got {type(damage).__name__}")  # fmt: skip
