@@ -341,7 +341,7 @@ def _plate() -> pf.Model:
     (lambda m: m.add_pressure("xmax", "1e3"), "expected a finite number or a function"),
     (lambda m: pf.solve_static(None), "solve_static: expected a pfeie.Model"),
     (lambda m: pf.solve_static(m, t=float("nan")), "solve_static: t: expected a finite time"),
-    (lambda m: pf.solve_static(m, settings={"tolerance": 1e-8}), "settings: expected a pfeie"),
+    (lambda m: pf.solve_static(m, settings=[1e-8]), "settings: expected a pfeie"),
     (lambda m: pf.run_to_folder(m, 0.01, "out"), "run_to_folder: analysis: expected a pfeie"),
     (lambda m: pf.Dynamic(m, settings=3), "Dynamic: settings: expected a pfeie.DynamicSettings"),
     (lambda m: pf.Dynamic(m, 0.01).run(0.02, callback=3), "callback: expected a function"),
