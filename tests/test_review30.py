@@ -6,15 +6,23 @@ Each test reproduces the defect and checks the fix against an independent number
 from __future__ import annotations
 
 import json
+import logging
+import re
+import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import pfeie as pf
 from pfeie.cli import main
-from pfeie.errors import InputError, ModelError
-from pfeie.io import load_job
+from pfeie.errors import InputError, ModelError, PfeieError
+from pfeie.io import Results, load_job
+from pfeie.plot._report import model_of_run
+from pfeie.study import StudyTable
 from test_cli import SMALL, _write
+from test_review28 import _block_on_a_joint
+from test_study import STUDY, setup
 
 # -- joint stiffness and the static state's displacements ----------------------------------
 
@@ -96,3 +104,94 @@ def test_solve_static_takes_its_settings_as_a_dict() -> None:
         pf.solve_static(m, settings={"tol": 1e-10})
     with pytest.raises(ModelError, match="tolerance: Input should be a valid number"):
         pf.solve_static(m, settings={"tolerance": "1e-10"})
+
+
+# -- from a reader of the docs ---------------------------------------------------------------
+
+
+def test_the_model_of_a_run_with_analysis_overrides_rebuilds(tmp_path: Path) -> None:
+    """A static run with a pseudo-static load (``--set analysis.dynamic=false --set
+    loads.pseudo_static=...``): ``plot`` and ``report`` said the model "does not build"
+    (the run's loads against the file's [analysis], dynamic with a record), and left out
+    the loads and the static stresses. The run's analysis table is applied with its
+    structure now. Independent check: the rebuilt model's pseudo-static coefficient and
+    static flag are the run's."""
+    p = _write(tmp_path, SMALL)
+    assert main(["run", str(p), "--quiet", "--set", "analysis.dynamic=false", "--set",
+                 "loads.pseudo_static={kh=0.2, kv=0.1}"]) == 0  # fmt: skip
+    with Results(tmp_path / "out" / "results.h5") as res:
+        job, why = model_of_run(res)
+    assert job is not None, why
+    assert not job.analysis.dynamic
+    assert job.spec["loads"]["pseudo_static"]["kh"] == 0.2
+
+
+def test_a_study_without_pyarrow_writes_its_csv_table_and_report(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    """``output.parquet`` is on by default and pyarrow is an extra: without it every run
+    of a study finished, then the study stopped with exit 2, no report and no study.json,
+    and an earlier study's table.parquet stayed beside the new table.csv. Now a WARNING
+    before the runs, the CSV table, the report, and no stale Parquet file."""
+    p = setup(tmp_path, STUDY.replace("[0.2, 0.5]", "[0.2]") + "[analysis]\nduration = 0.3\n",
+              n=1)  # fmt: skip
+    assert main(["study", str(p), "--quiet"]) == 0
+    folder = tmp_path / "study"
+    first = StudyTable.read(folder / "table.parquet")
+    (folder / "report.html").unlink()
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # (import pyarrow: ImportError)
+    with caplog.at_level(logging.WARNING):
+        assert main(["study", str(p), "--quiet", "--restart"]) == 0
+    assert "output.parquet: pyarrow is not installed" in caplog.text
+    assert not (folder / "table.parquet").exists()
+    assert (folder / "report.html").exists() and (folder / "study.json").exists()
+    again = StudyTable.read(folder / "table.csv")
+    column = "joint.joint.residual_slip_max_m"
+    assert column in again.columns
+    np.testing.assert_array_equal(again.column(column), first.column(column))
+
+
+def test_run_to_folder_without_h5py_keeps_the_former_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Without h5py, ``run_to_folder`` removed a former run's summaries, ParaView files and
+    figures before it failed on the results file, and the former results.h5 stood alone.
+    Now it fails before it touches the folder."""
+    model, _ = _block_on_a_joint()
+    gm = pf.io.read_record(Path(__file__).resolve().parents[1] / "examples" / "data"
+                           / "elcentro_1940_ns_chopra.csv", units="g")  # fmt: skip
+    an = pf.Dynamic(model, 0.01)
+    pf.run_to_folder(an, 0.05, tmp_path, ground=gm, start=pf.solve_static(model))
+    before = sorted(f.name for f in tmp_path.iterdir())
+    assert "summary.json" in before
+    monkeypatch.setitem(sys.modules, "h5py", None)
+    with pytest.raises(PfeieError, match="results files need h5py"):
+        pf.run_to_folder(an, 0.05, tmp_path, ground=gm, start=pf.solve_static(model))
+    assert sorted(f.name for f in tmp_path.iterdir()) == before
+
+
+def test_a_path_for_the_records_is_refused_by_name() -> None:
+    """``Dynamic.run(ground="x.csv")`` iterated the string: "ground[0]: … got str 'x'",
+    and ``run_to_folder`` listed ['str', 'str', …]. Both name the argument now."""
+    model, _ = _block_on_a_joint()
+    an = pf.Dynamic(model, 0.01)
+    with pytest.raises(ModelError, match=r"ground: expected a pfeie.GroundMotion or a list "
+                       r"of them .* got str 'x.csv'"):  # fmt: skip
+        an.run(0.02, ground="x.csv")
+    with pytest.raises(ModelError, match=r"ground: expected .* got str 'x.csv'"):
+        pf.run_to_folder(an, 0.02, "out", ground="x.csv")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("key", "found"), [("mesh.file", '""'), ("mesh.file", '" "'),
+                                            ("ground_motion[0].file", '""')])  # fmt: skip
+def test_an_empty_path_is_refused_by_name(tmp_path: Path, key: str, found: str) -> None:
+    """``mesh.file = ""`` read as the folder ".": ".: mesh file not found"."""
+    with pytest.raises(InputError, match=re.escape(key) + r" \(from test\): expected a "
+                       "path, found an? (empty|blank) string"):  # fmt: skip
+        load_job(_write(tmp_path, SMALL), [pf.io.Override(key, json.loads(found), "test")])
+
+
+def test_help_names_every_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
+    """The help's exit codes left out 141 (docs/errors.md lists it)."""
+    assert main(["--help"]) == 0
+    assert "141 the reader of the output closed it" in capsys.readouterr().out

@@ -21,12 +21,13 @@ import contextlib
 import errno
 import json
 import logging
+import os
 import re
 import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO
@@ -482,6 +483,7 @@ def _run(
     if ck is None:
         # a new run: the summaries and the report of a former run in this folder go (after a
         # failure they would stand beside the new results as if they were theirs)
+        ResultsWriter.require()
         for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
         _keep_stopped_run(out / "results.h5", job)
@@ -673,6 +675,10 @@ def run_to_folder(
         ground = ()
     elif isinstance(ground, GroundMotion):
         ground = [ground]
+    elif isinstance(ground, str | bytes | os.PathLike) or not isinstance(ground, Iterable):
+        raise ModelError("ground: expected a pfeie.GroundMotion or a list of them (a file "
+                         f"is read with pfeie.io.read_record), got {type(ground).__name__} "
+                         f"{ground!r}")  # fmt: skip
     elif not all(isinstance(g, GroundMotion) for g in ground):
         raise ModelError("ground: expected a list of pfeie.GroundMotion records (e.g. "
                          "pfeie.io.read_record), got "
@@ -688,6 +694,7 @@ def run_to_folder(
         raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "
                          f"({why}): choose another folder")  # fmt: skip
     path = out / "results.h5"
+    ResultsWriter.require()  # before the folder is touched
     opened: list[ResultsWriter] = []
 
     def on_record(row: dict[str, Any]) -> None:

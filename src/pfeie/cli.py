@@ -55,7 +55,7 @@ def _parser() -> argparse.ArgumentParser:
         prog="pfeie",
         description="Dynamic analysis of jointed structures by the PFE/IE method.",
         epilog="Exit codes: 0 success, 1 analysis failed, 2 invalid input (or results file), "
-        "130 interrupted.",
+        "130 interrupted, 141 the reader of the output closed it (| head).",
     )
     ap.add_argument("--version", action="version", version=f"pfeie {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress details")
@@ -661,7 +661,7 @@ def _study(args: argparse.Namespace) -> int:
     from .study import median_lines, run_label, warning_line
 
     stopped = [run_label(r) for r in table.rows if not r["completed"]]
-    if st.kept and not args.quiet:
+    if st.kept:  # (a result, not progress: --quiet keeps it)
         print(f"study: {st.kept} of {len({s.key for s in specs})} runs kept from before "
               f"({st.folder / 'rows'}); --restart runs them again", file=sys.stderr)  # fmt: skip
     for line in median_lines(table, extra=[str(ls["demand"]) for ls in st.limit_states]):

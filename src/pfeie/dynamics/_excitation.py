@@ -34,8 +34,9 @@ of records, one run each.
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
+from os import PathLike
 from typing import Literal
 
 import numpy as np
@@ -234,6 +235,10 @@ class Excitation:
             ground = ()
         elif isinstance(ground, GroundMotion):  # one record given alone
             ground = [ground]
+        elif isinstance(ground, str | bytes | PathLike) or not isinstance(ground, Iterable):
+            raise ModelError(f"ground: expected a pfeie.GroundMotion or a list of them (a "
+                             "file is read with pfeie.io.read_record), got "
+                             f"{type(ground).__name__} {ground!r}")  # fmt: skip
         self.ground = list(ground)
         for k, g in enumerate(self.ground):
             if not isinstance(g, GroundMotion):

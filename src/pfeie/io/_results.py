@@ -206,6 +206,13 @@ def _run_attrs(job: Any) -> dict[str, str]:
 class ResultsWriter:
     """Streams a run into an HDF5 results file (see the module doc)."""
 
+    @staticmethod
+    def require() -> None:
+        """A :class:`PfeieError` naming the extra to install where h5py is missing:
+        checked before a run touches its output folder (it removes a former run's
+        summaries and figures, which a run that cannot write its results must keep)."""
+        _h5py()
+
     def __init__(
         self, path: str | Path, job: Any, *, field_every: int = 10, flush_s: float = 2.0,
         storage: Storage | None = None,

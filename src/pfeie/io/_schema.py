@@ -96,12 +96,15 @@ SILT_UNIT_WEIGHT_MIN = 1000.0
 
 
 def _path_text(v: str) -> str:
+    if not v.strip():
+        raise ValueError(f"expected a path, found {'an empty' if not v else 'a blank'} string")
     if "\x00" in v:
         raise ValueError(f"expected a path, found a string with a NUL character {v!r}")
     return v
 
 
-#: a file or folder name: any string but one with a NUL character (no OS takes it)
+#: a file or folder name: any string but a blank one or one with a NUL character (no OS
+#: takes it)
 PathText = Annotated[str, AfterValidator(_path_text)]
 
 
@@ -111,7 +114,7 @@ def _folder_text(v: str) -> str:
             "expected a folder path, found an empty string (the default: "
             '"results" beside the model file)'
         )
-    return v
+    return _path_text(v)
 
 
 def _check(key: str, text: str) -> PydanticCustomError:
@@ -743,9 +746,9 @@ _PROBE_JSON: dict[str, Any] = {"anyOf": [
 class Output(_Table):
     """``[output]``: where and what to write."""
 
-    folder: Annotated[
-        PathText, AfterValidator(_folder_text), Field(description="output folder")
-    ] = "results"
+    folder: Annotated[str, AfterValidator(_folder_text), Field(description="output folder")] = (
+        "results"
+    )
     every: Annotated[
         int,
         Field(

@@ -1110,9 +1110,24 @@ class Study:
             raise InputError(f"{self._where('output.folder')}: {exc}") from None
         try:
             self._check_folder(folder)
+            if self.parquet:
+                self._parquet_possible()  # (said before the runs, not only after them)
             return self._run(specs, folder, workers, scheduler, resume, progress)
         finally:
             lock.__exit__()
+
+    def _parquet_possible(self) -> bool:
+        """Whether ``table.parquet`` can be written: pyarrow is the ``study`` extra, and
+        without it the table is the CSV alone (a WARNING says so, before the runs and
+        again when the table is written), not a failed study after every run."""
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            log.warning("%s: pyarrow is not installed (pip install 'pfeie[study]'): the "
+                        "table is written as table.csv only, not table.parquet",
+                        self._where("output.parquet"))  # fmt: skip
+            return False
+        return True
 
     def _check_folder(self, folder: Path) -> None:
         """The output folder holds no single run's results (``results.h5`` of ``pfeie
@@ -1201,15 +1216,18 @@ class Study:
                             raise r
         table = StudyTable([_as_run(done[s.key], s) for s in specs])
         table.to_csv(ctx.folder / "table.csv")
-        if self.parquet:
+        parquet = self.parquet and self._parquet_possible()
+        if parquet:
             table.to_parquet(ctx.folder / "table.parquet")
+        else:  # an earlier study's table must not stand beside this one's
+            (ctx.folder / "table.parquet").unlink(missing_ok=True)
         meta = {"title": self.title, "model": str(self.model), "model_key": ctx.model_key,
                 "measure": self.measure, "values": self.values, "period_s": self.period,
                 "damping": self.damping, "records": [r.name for r in self.records],
                 "runs": len(specs), "pfeie_version": __version__}  # fmt: skip
         (ctx.folder / "study.json").write_text(json.dumps(meta, indent=2) + "\n")
         self._outputs = [ctx.folder / "table.csv"] + (
-            [ctx.folder / "table.parquet"] if self.parquet else [])  # fmt: skip
+            [ctx.folder / "table.parquet"] if parquet else [])  # fmt: skip
         from ._report import write_study_outputs
 
         try:
