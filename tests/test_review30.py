@@ -9,6 +9,7 @@ import json
 import logging
 import re
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -195,3 +196,98 @@ def test_help_names_every_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
     """The help's exit codes left out 141 (docs/errors.md lists it)."""
     assert main(["--help"]) == 0
     assert "141 the reader of the output closed it" in capsys.readouterr().out
+
+
+# -- from a tester of long runs ----------------------------------------------------------------
+
+
+def _stopped(tmp_path: Path, wait: float = 0.0, duration: float = 3.0) -> tuple[Path, float]:
+    """A model file and its run stopped by SIGINT (``duration`` asked) once it has stepped
+    for ``wait`` seconds, and the time it reached."""
+    import signal
+
+    from test_cli import start_run
+
+    p = _write(tmp_path, SMALL, duration=duration)
+    proc = start_run(p, wait=0.0)
+    time.sleep(wait)  # stepping
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=120)
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert not res.completed
+        return p, float(res.time[-1])
+
+
+def test_a_stopped_run_of_other_inputs_is_kept(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A stopped run whose resume was refused for a changed input (here output.every),
+    then run again without --resume as the message says: the stopped run was overwritten
+    without a word (only one of the same inputs was kept). It is moved aside now."""
+    p, t = _stopped(tmp_path)
+    assert main(["run", str(p), "--quiet", "--resume", "--set", "output.every=2"]) == 2
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        assert main(["run", str(p), "--quiet", "--duration", "0.05",
+                     "--set", "output.every=2"]) == 0  # fmt: skip
+    assert "held a stopped run of other inputs" in caplog.text
+    with Results(tmp_path / "out" / "results.stopped.h5") as res:
+        assert not res.completed and float(res.time[-1]) == t
+    # and its own inputs resume it, moved back
+    (tmp_path / "out" / "results.stopped.h5").replace(tmp_path / "out" / "results.h5")
+    assert main(["run", str(p), "--quiet", "--resume"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert res.completed and float(res.time[-1]) == pytest.approx(3.0)
+
+
+def test_a_resume_short_of_where_the_run_stopped_leaves_the_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--resume --duration`` below the time a stopped run reached marked the file
+    ``completed`` (its histories at that time, its spec at the run's own duration). Now
+    refused before the file is touched."""
+    p, t = _stopped(tmp_path, wait=0.3, duration=20.0)  # (about 3 s of 20 reached)
+    assert t > 0.02  # (the run stepped before the signal)
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.01"]) == 2
+    assert "beyond the duration asked (0.01 s): nothing to continue" in capsys.readouterr().err
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert not res.completed and float(res.time[-1]) == t
+
+
+def test_a_study_runs_again_a_history_written_in_part(tmp_path: Path) -> None:
+    """A study restarted (``--restart``) and stopped while it wrote a history again left
+    a part of it (no results summary, the rows so far), and the next run of the study
+    kept it for good beside a row that says the run completed. A history counts only
+    once its run wrote the summary it ends with."""
+    import h5py
+
+    p = setup(tmp_path, STUDY.replace("[0.2, 0.5]", "[0.2]").replace(
+        'folder = "study"', 'folder = "study"\nhistories = true') + "[analysis]\nduration = 0.3\n",
+        n=1)  # fmt: skip
+    assert main(["study", str(p), "--quiet"]) == 0
+    (h,) = (tmp_path / "study" / "runs").glob("*/results.h5")
+    with h5py.File(h, "r") as f:
+        rows = f["history/time"].shape[0]
+    with h5py.File(h, "r+") as f:  # as a run stopped while it wrote leaves it
+        del f.attrs["results_summary"]
+        for name in ("history/time",):
+            f[name].resize(rows // 2, axis=0)
+    assert main(["study", str(p), "--quiet"]) == 0
+    with h5py.File(h, "r") as f:
+        assert "results_summary" in f.attrs and f["history/time"].shape[0] == rows
+
+
+def test_a_read_error_of_a_results_file_is_named(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """HDF5's read errors (a file that a run still writes, opened with file locking off,
+    as the locked file's message offers) came out as a bare OSError traceback."""
+    import pfeie.io
+
+    def fails(*_: object) -> None:
+        raise OSError("Can't synchronously read data (addr overflow, addr = 9, size = 8)")
+
+    monkeypatch.setattr(pfeie.io, "export_csv", fails)
+    assert main(["export", str(tmp_path / "results.h5"), "--csv", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err
+    assert "reading the results file failed (Can't synchronously read data" in err
+    assert "read reliably only when the run ends" in err

@@ -458,6 +458,24 @@ def _alive(pid: str) -> bool:
     return True
 
 
+def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
+    """A stopped run in ``path`` whose checkpoint lies beyond the duration asked is not
+    resumed: an :class:`InputError` before the file is touched (resumed, its file read
+    ``completed`` for a run stopped short of its own duration)."""
+    t = resumable(path, job)
+    if t is None:
+        return
+    try:
+        n = job.analysis.steps(job.duration if duration is None else duration)
+    except ValueError:
+        return  # (said by the run itself)
+    if round(t / job.analysis.dt) > n:
+        raise InputError(f"{path}: the stopped run reached t = {t:.6g} s, beyond the "
+                         f"duration asked ({n * job.analysis.dt:.6g} s): nothing to "
+                         f"continue; expected --duration of at least {t:.6g} s, or the "
+                         "model file's (the file is left as it is)")  # fmt: skip
+
+
 def _run(
     job: Job, out: Path, progress: bool, duration: float | None, stream: TextIO | None,
     resume: bool, checkpoint_s: float | None,
@@ -475,6 +493,7 @@ def _run(
     yields: dict[str, dict[str, Any]] = {}
     reduction: dict[str, Any] = {}
     if resume:
+        _beyond_duration(job, out / "results.h5", duration)
         try:
             writer, ck = reopen_results(out / "results.h5", job)
         except NothingToResume as exc:
@@ -586,6 +605,11 @@ def _run(
         why = str(exc) or "SIGINT"
         if writer.f.id.valid:  # (not closed yet)
             writer.close(False, f"interrupted ({why}) after the time stepping")
+        if stopped is not None and result is not None:  # a second signal after the first
+            raise KeyboardInterrupt(
+                f"{why}; the run had stopped at t = {float(result.t[-1]):.6g} s ({stopped}) "
+                "and results.h5 holds it to there; `pfeie run --resume` continues it"
+            ) from None
         raise KeyboardInterrupt(
             f"{why}; the time stepping had finished and results.h5 holds the run; "
             "`pfeie run --resume` writes the summary and the ParaView files"
@@ -817,16 +841,23 @@ def _move_aside(path: Path) -> Path:
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:
-    """A stopped run of the same inputs in ``path`` that ``--resume`` would continue is
-    not overwritten by a run from the start: it is moved beside it, to
+    """A stopped run in ``path`` that ``--resume`` would continue, of these inputs or of
+    others (a resume refused for a changed key, then a run without ``--resume``), is not
+    overwritten by a run from the start: it is moved beside it, to
     ``results.stopped.h5`` (``.1``, ``.2``, … if taken), with a warning saying so."""
     t = resumable(path, job)
-    if t is None:
-        return
-    keep = _move_aside(path)
-    log.warning("%s held this model's run, stopped at t = %.6g s, which `pfeie run --resume` "
-                "continues; this run starts again from t = 0, and that one is kept as %s "
-                "(move it back to results.h5 to resume it)", path, t, keep.name)  # fmt: skip
+    if t is not None:
+        keep = _move_aside(path)
+        log.warning("%s held this model's run, stopped at t = %.6g s, which `pfeie run "
+                    "--resume` continues; this run starts again from t = 0, and that one is "
+                    "kept as %s (move it back to results.h5 to resume it)", path, t,
+                    keep.name)  # fmt: skip
+    elif (t := resumable(path, job, same_inputs=False)) is not None:
+        keep = _move_aside(path)
+        log.warning("%s held a stopped run of other inputs (stopped at t = %.6g s), which "
+                    "`pfeie run --resume` with its own inputs continues; it is kept as %s "
+                    "(move it back to results.h5 to resume it)", path, t,
+                    keep.name)  # fmt: skip
 
 
 def dynamic_analysis(job: Job) -> Dynamic:

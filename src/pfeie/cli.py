@@ -412,6 +412,17 @@ def _post(args: argparse.Namespace) -> int:
               f"({type(exc).__name__}: {exc}); expected a results.h5 written by pfeie run "
               "(run it again, or resume it with pfeie run --resume)", file=sys.stderr)  # fmt: skip
         return EXIT_INPUT
+    except OSError as exc:
+        if exc.filename is not None:  # a file written (a figure, a table): the system's word
+            print(f"pfeie: error: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)
+            return EXIT_INPUT
+        # HDF5's read errors: a file that a run still writes (opened with file locking
+        # off), or one damaged past its header
+        print(f"pfeie: error: {args.results}: reading the results file failed ({exc}); a "
+              "file that a run is still writing is read reliably only when the run ends "
+              "(HDF5_USE_FILE_LOCKING=FALSE opens it, but the rows being appended may not "
+              "read), and a damaged one not at all", file=sys.stderr)  # fmt: skip
+        return EXIT_INPUT
     for f in files:
         print(f)
     return EXIT_OK

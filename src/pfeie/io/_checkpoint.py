@@ -325,19 +325,19 @@ class NothingToResume(ResultsError):
     start (the run is deterministic), which :func:`pfeie.run_job` then does."""
 
 
-def resumable(path: str | Path, job: Any) -> float | None:
+def resumable(path: str | Path, job: Any, *, same_inputs: bool = True) -> float | None:
     """The time (s) of the checkpoint of a stopped run of ``job``'s inputs (the same run
     key) in the results file ``path``, which ``pfeie run --resume`` would continue; None
     for a completed run, a run of other inputs, a file without a checkpoint or one that
-    does not open."""
+    does not open. ``same_inputs=False``: of any inputs (its own resume continues it)."""
     p = Path(path)
     if not p.is_file():
         return None
     try:
         with _h5py().File(p, "r") as f:
             name = next((g for g in ("checkpoint", "checkpoint_new") if g in f), None)
-            if (name is None or bool(f.attrs.get("completed", False))
-                    or not same_run(f.attrs.get("run_key", ""), job)):  # fmt: skip
+            other = same_inputs and not same_run(f.attrs.get("run_key", ""), job)
+            if name is None or bool(f.attrs.get("completed", False)) or other:
                 return None
             return float(f[name].attrs["t"])
     except (OSError, KeyError, ValueError):
@@ -359,7 +359,15 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
         if "checkpoint" not in f and "checkpoint_new" in f and "compression" in f.attrs:
             # killed while the new checkpoint replaced the old: it was on disk, complete,
             # before the old one was deleted (format 1.3 on)
-            f.move("checkpoint_new", "checkpoint")
+            try:
+                f.move("checkpoint_new", "checkpoint")
+            except (OSError, ValueError, KeyError) as exc:  # not on disk whole after all
+                raise ResultsError(
+                    f"{p}: cannot resume: its last checkpoint was not written whole (a disk "
+                    f"that was full, or a file damaged while the run wrote it: {exc}); run "
+                    "without --resume (the rows written before are read by plot, export "
+                    "and report)"
+                ) from None
         same = same_run(f.attrs.get("run_key", ""), job)
         if "checkpoint" not in f:
             if same:  # the same run, stopped before a checkpoint

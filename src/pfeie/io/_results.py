@@ -508,7 +508,8 @@ def _locked(path: Path) -> str:
         f"{path}: being written by {who}, which locks it: read it when the run ends "
         "(Ctrl-C stops a run and keeps what it computed; `pfeie run --resume` continues "
         "it), or now with HDF5_USE_FILE_LOCKING=FALSE in the environment (the rows "
-        "written so far; the last one may be incomplete)"
+        "written so far, as far as they read: those being appended may fail to read, and "
+        "the last one may be incomplete)"
     )
 
 

@@ -350,17 +350,18 @@ def kept_row(ctx: Context, spec: RunSpec) -> dict[str, Any] | None:
 
 
 def _history_of(path: Path, key: str) -> bool:
-    """Whether ``path`` is the history of the run of ``key`` (its attribute
-    ``study_key``): a folder is named by the record and the intensity, so a study of
-    another model (or a changed record) into the same folder leaves another run's file
-    there."""
+    """Whether ``path`` is the whole history of the run of ``key``: its attribute
+    ``study_key`` (a folder is named by the record and the intensity, so a study of
+    another model, or a changed record, into the same folder leaves another run's file
+    there), and the results summary its run writes as it ends (a run interrupted while
+    it wrote the history again, ``--restart``, left a part of it)."""
     if not path.is_file():
         return False
     import h5py
 
     try:
         with h5py.File(path, "r") as f:
-            return bool(f.attrs.get("study_key", "") == key)
+            return bool(f.attrs.get("study_key", "") == key and "results_summary" in f.attrs)
     except OSError:  # damaged, or not HDF5
         return False
 
@@ -1181,7 +1182,8 @@ class Study:
         if missing:
             log.warning("%s: %d run(s) done before have no history of theirs under runs/ "
                         "(output.histories was off, or their folder holds another run's "
-                        "file or has a new name): run again to write it", ctx.folder,
+                        "file, a part of one that was stopped, or has a new name): run "
+                        "again to write it", ctx.folder,
                         missing)  # fmt: skip
         # one run per key: two records with the same bytes and options share their runs
         todo = list({s.key: s for s in specs if s.key not in done}.values())
