@@ -291,3 +291,36 @@ def test_a_read_error_of_a_results_file_is_named(
     err = capsys.readouterr().err
     assert "reading the results file failed (Can't synchronously read data" in err
     assert "read reliably only when the run ends" in err
+
+
+def test_a_resumed_run_killed_leaves_no_summary_of_the_stop(tmp_path: Path) -> None:
+    """A stopped run resumed, then killed (SIGKILL, no handler): the summaries, the
+    ParaView files, the stress envelope and the results summary of the first stop stayed
+    beside the resumed run's longer histories, and the report mixed the two (steps to
+    the first stop, histories to the kill). They go when the resume starts now; the run's
+    end writes them anew."""
+    import os
+    import signal
+    import subprocess
+
+    import h5py
+
+    p, t = _stopped(tmp_path, wait=0.3, duration=20.0)
+    out = tmp_path / "out"
+    assert (out / "summary.txt").exists()
+    with h5py.File(out / "results.h5", "r") as f:
+        assert "envelope" in f and "results_summary" in f.attrs
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(p), "--resume"],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)  # fmt: skip
+    assert proc.stderr is not None
+    for line in proc.stderr:  # stepping again
+        if line.startswith("step"):
+            break
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate(timeout=60)
+    assert not (out / "summary.txt").exists() and not (out / "summary.json").exists()
+    with h5py.File(out / "results.h5", "r") as f:
+        assert "envelope" not in f and "results_summary" not in f.attrs
+        assert not f.attrs["completed"] and f["history/time"][-1] >= t

@@ -496,6 +496,10 @@ def _run(
         _beyond_duration(job, out / "results.h5", duration)
         try:
             writer, ck = reopen_results(out / "results.h5", job)
+            # the stop's summaries and ParaView files are written again at the end: a
+            # resumed run killed before then must not leave them beside its longer rows
+            for stale in STALE_OUTPUTS:
+                (out / stale).unlink(missing_ok=True)
         except NothingToResume as exc:
             log.warning("%s; running from the start", exc)
             resume = False

@@ -409,6 +409,14 @@ def reopen_results(path: str | Path, job: Any) -> tuple[ResultsWriter, Checkpoin
             f[top].visititems(lambda n, o, top=top: cut(f"{top}/{n}", o))
         f.attrs["completed"] = False
         f.attrs["stop_reason"] = ""
+        # the envelope, the summary and the post-earthquake state of the stop are the
+        # run's up to there: a resumed run killed before it writes its own must not leave
+        # them as if they were its
+        for group in ("envelope", "post_earthquake"):
+            if group in f:
+                del f[group]
+        if "results_summary" in f.attrs:
+            del f.attrs["results_summary"]
         f.flush()
     except BaseException:
         f.close()
