@@ -23,6 +23,7 @@ import json
 import logging
 import os
 import re
+import shutil
 import signal
 import sys
 import threading
@@ -458,6 +459,44 @@ def _alive(pid: str) -> bool:
     return True
 
 
+#: bytes kept free on the output folder's disk besides the checkpoint's own: the
+#: summaries, the envelope and the file's metadata as a stopped run is closed
+DISK_FREE_MIN = 64 * 2**20
+#: seconds between two looks at the free space (a statvfs call)
+DISK_CHECK_S = 1.0
+
+
+class DiskGuard:
+    """Stops a run cleanly (:class:`RunStopped`, its checkpoint and rows kept, ``pfeie
+    run --resume`` continues it) when the disk of its output folder runs short: HDF5 does
+    not always say when a write fails for want of space (the chunks it caches are written
+    later, and an error there is lost), and a run that goes on writing leaves rows never
+    written, a checkpoint half written, or no file at all. The margin: :data:`DISK_FREE_MIN`
+    plus four checkpoints of ``n_dof`` (u, v, a, f, the auxiliary acceleration: five
+    float64 vectors each), looked at every :data:`DISK_CHECK_S` seconds."""
+
+    def __init__(self, folder: Path, n_dof: int) -> None:
+        self.folder = folder
+        self.need = DISK_FREE_MIN + 4 * 5 * 8 * int(n_dof)
+        self._next = 0.0
+
+    def check(self) -> None:
+        now = time.perf_counter()
+        if now < self._next:
+            return
+        self._next = now + DISK_CHECK_S
+        try:
+            free = shutil.disk_usage(self.folder).free
+        except OSError:  # (a file system that does not say: nothing to guard)
+            return
+        if free < self.need:
+            raise RunStopped(
+                f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
+                f"less than the {self.need / 2**20:.0f} MiB a checkpoint and the summaries "
+                "need: free some space, then `pfeie run --resume` continues the run"
+            )
+
+
 def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
     """A stopped run in ``path`` whose checkpoint lies beyond the duration asked is not
     resumed: an :class:`InputError` before the file is touched (resumed, its file read
@@ -565,11 +604,14 @@ def _run(
         old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
         bar = Progress(first + n, a.dt, stream, first) if progress else None
 
+        disk = DiskGuard(out, model.n_dof)
+
         def callback(st: StepState) -> None:
             if bar is not None:
                 bar(st)
             if flag:
                 raise RunStopped(flag["why"])
+            disk.check()
 
         try:
             # a resumed run starts from its checkpoint; the static state only gives it the
