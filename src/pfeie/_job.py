@@ -749,7 +749,9 @@ def run_to_folder(
         raise ModelError("ground: expected a pfeie.GroundMotion or a list of them (a file "
                          f"is read with pfeie.io.read_record), got {type(ground).__name__} "
                          f"{ground!r}")  # fmt: skip
-    elif not all(isinstance(g, GroundMotion) for g in ground):
+    else:  # (a generator is read once: listed first, or the check would use it up)
+        ground = list(ground)
+    if not all(isinstance(g, GroundMotion) for g in ground):
         raise ModelError("ground: expected a list of pfeie.GroundMotion records (e.g. "
                          "pfeie.io.read_record), got "
                          f"{[type(g).__name__ for g in ground]}")  # fmt: skip
@@ -759,12 +761,12 @@ def run_to_folder(
     job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
                      duration=duration, form=form, static=static is not None, title=title,
                      output=output, system=analysis.system)  # fmt: skip
+    ResultsWriter.require()  # before the folder is touched (or made)
     out = output_folder(folder, "run_to_folder: folder")
     if (why := study_outputs(out)) is not None:
         raise InputError(f"run_to_folder: folder: {out} holds the outputs of a study "
                          f"({why}): choose another folder")  # fmt: skip
     path = out / "results.h5"
-    ResultsWriter.require()  # before the folder is touched
     opened: list[ResultsWriter] = []
 
     def on_record(row: dict[str, Any]) -> None:
@@ -1156,10 +1158,9 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
             RunWarning(
                 "static",
                 f"the static state: {what}, beyond the small displacements that the analysis "
-                f"takes (a rotation up to {POST_EQ_ROTATION_MAX_DEG:g}°, a displacement up to "
-                f"{100 * POST_EQ_MOVE_MAX:g} % of the block's size): a joint stiffness or a "
-                "modulus in the wrong unit? (normal_stiffness and shear_stiffness in Pa/m, E in "
-                "Pa); the results are not reliable",
+                f"takes (up to {100 * STATIC_MOVE_MAX:g} % of the joint's length): a joint "
+                "stiffness in the wrong unit? (normal_stiffness and shear_stiffness in Pa/m); "
+                "the results are not reliable",
                 f"static: {what}: beyond small displacements, check the stiffness units",
             )
         )
@@ -1333,13 +1334,31 @@ def _total_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             for b, name in enumerate(model.body_names())}  # fmt: skip
 
 
-def _static_motions(model: Model, static: StaticResult) -> dict[str, dict[str, Any]]:
-    """Per body, its rigid motion in the static state, as :func:`_body_motions`' residual
-    keys (for :func:`_far_moved`)."""
-    q, d = static.rigid_motion(), model.dim
-    return {name: {"residual_displacement_m": float(np.linalg.norm(q[b, :d])),
-                   "residual_rotation_deg": float(np.degrees(np.linalg.norm(q[b, d:])))}
-            for b, name in enumerate(model.body_names())}  # fmt: skip
+#: the static state's relative displacement across a joint judged beyond small
+#: displacements: this share of the joint's length (its pairs' extent)
+STATIC_MOVE_MAX = 0.1
+
+
+def _static_far_moved(model: Model, static: StaticResult) -> list[str]:
+    """The joints whose faces moved apart, into each other or along each other by more
+    than :data:`STATIC_MOVE_MAX` of the joint's length in the static state, each as
+    "joint 'name': its faces moved … m against each other (… m long)": the pairs'
+    relative displacement w, so that a block carried by its foundation's settlement is
+    not counted (a joint stiffness in kPa/m read as Pa/m closes a joint by metres)."""
+    P, st = model.pairs, static.pairs
+    if P is None or st is None or not P.n:
+        return []
+    out = []
+    for name in P.names:
+        idx = P.of(name)
+        if not idx.size:
+            continue
+        length = float(np.ptp(P.x[idx], axis=0).max())
+        move = float(np.linalg.norm(st.w[idx], axis=1).max())
+        if length > 0 and move > STATIC_MOVE_MAX * length:
+            out.append(f"joint {name!r}: its faces moved {move:.3g} m against each other "
+                       f"({length:.3g} m long)")  # fmt: skip
+    return out
 
 
 def _far_moved(model: Model, motions: dict[str, dict[str, Any]]) -> list[str]:
@@ -1423,8 +1442,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     model = job.model
     if static is not None and static.pairs is not None:
         s["static_joints"] = _static_joints(model, static)
-        far = _far_moved(model, _static_motions(model, static))
-        if far:  # (a joint stiffness or a modulus in the wrong unit: km of settlement)
+        far = _static_far_moved(model, static)
+        if far:  # (a joint stiffness in the wrong unit: metres of closure)
             s["static_far_moved"] = far
     if res is None:
         if static is not None and static.pairs is not None:

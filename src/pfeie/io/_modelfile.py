@@ -665,6 +665,22 @@ def read_model_file(path: str | Path, overrides: Sequence[Override] = ()) -> Mod
     return _validate(p, p.read_bytes(), overrides)
 
 
+def _post_earthquake_asked(p: Path, a: Analysis) -> None:
+    """A WARNING where ``analysis.post_earthquake = true`` is written (not a default filled
+    in) and cannot run: without the static state, or without a dynamic analysis. On by
+    default, the key is skipped quietly there; written, the user expects it. Not refused:
+    files that ran with it before must still resume and report."""
+    if "post_earthquake" not in a.model_fields_set or not a.post_earthquake:
+        return
+    why = ("analysis.static = false" if not a.static else
+           "analysis.dynamic = false" if not a.dynamic else None)  # fmt: skip
+    if why is not None:
+        log.warning("%s: analysis.post_earthquake = true is not computed with %s: the "
+                    "post-earthquake state is the static loads on the joints as a record "
+                    "left them; delete the key (on by default, skipped where it has no "
+                    "meaning)", p, why)  # fmt: skip
+
+
 def _not_found(p: Path) -> str:
     """The message of a model file that is not a file."""
     if p.is_dir():
@@ -734,6 +750,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         raise InputError(_not_found(p))
     raw = p.read_bytes()
     cfg = _validate(p, raw, overrides)
+    _post_earthquake_asked(p, cfg.analysis)
     digest = hashlib.sha256(raw).hexdigest()
     base = p.parent
     try:  # a mesh that cannot be read: the model file and its key too
@@ -1153,9 +1170,10 @@ def _undamped_sliding(p: Path, a: Analysis, damping: Any) -> None:
                     "vibration of its own modes when nothing damps them, which grows as Δt "
                     "falls, and its slip with it (a 30 m rock block on a 35° plane: 102 mm at "
                     "Δt = 2.5 ms, 160 mm at 1.25 ms; docs/results.md); give the rock's or "
-                    "concrete's damping, which settles it (from 1.7 %% of critical at the "
-                    "first mode: 94 mm at 2.5, 1.25 and 0.625 ms): [damping] ratio and "
-                    "frequencies, or beta = ζ/(π f₁)", p)  # fmt: skip
+                    "concrete's damping, which settles it (there from 1.7 %% of critical at "
+                    "the first mode: 94 mm at 2.5, 1.25 and 0.625 ms; a stiff block may need "
+                    "more, so compare two Δt): [damping] ratio and frequencies, or beta = "
+                    "ζ/(π f₁)", p)  # fmt: skip
 
 
 #: the lowest frequency (Hz) up to which the steps must apply a record, 1/(2Δt): an

@@ -842,28 +842,6 @@ class ModelFile(_Table):
     analysis: Analysis = Analysis()
     output: Output = Output()
 
-    @model_validator(mode="after")
-    def _post_earthquake_asked(self) -> ModelFile:
-        # post_earthquake is on by default and then skipped where it has no meaning; asked
-        # for in the file itself (not a default filled in), it must be able to run
-        a = self.analysis
-        if "post_earthquake" in a.model_fields_set and a.post_earthquake:
-            if not a.static:
-                raise _check(
-                    "analysis.post_earthquake",
-                    "the post-earthquake state is "
-                    "the static loads on the joints as the record left them; "
-                    "expected analysis.static = true (or post_earthquake = false)",
-                )
-            if not a.dynamic:
-                raise _check(
-                    "analysis.post_earthquake",
-                    "the post-earthquake state "
-                    "follows a record; expected analysis.dynamic = true (or "
-                    "post_earthquake = false)",
-                )
-        return self
-
 
 # -- the annotations, walked ---------------------------------------------------------------
 class _Node(NamedTuple):

@@ -351,7 +351,8 @@ def _quiet() -> Iterator[None]:
 def _asked(key: str, table: Any) -> Any:
     """The run's table ``key`` as an override: the analysis table without the keys at
     their defaults (the validated table lists every key, and a key written in a file
-    may be checked as asked for: ``post_earthquake = true`` without a record)."""
+    is judged as asked for: ``post_earthquake = true`` with ``dynamic = false`` draws a
+    warning that a default filled in must not)."""
     if key != "analysis" or not isinstance(table, dict):
         return table
     from ..io import ModelFile
