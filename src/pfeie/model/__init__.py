@@ -7,6 +7,7 @@ from ._ground import G_UNITS, RECORD_DT_COARSE, RECORD_DT_MAX, GroundMotion, dir
 from ._model import LinearSystem, Model
 from ._physics import DAMPING_RATIO_MAX, Block, Elastic, Interface, Load, Rayleigh, Support
 from ._plausible import (
+    STIFFNESS_MIN,
     STRENGTH_MIN,
     implausible_gravity,
     implausible_joints,
@@ -27,7 +28,7 @@ from ._uplift import SHAKING, Uplift, uplift_force
 
 __all__ = [
     "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "RECORD_DT_COARSE", "RECORD_DT_MAX",
-    "SHAKING", "STRENGTH_MIN", "Block",
+    "SHAKING", "STIFFNESS_MIN", "STRENGTH_MIN", "Block",
     "BodyFrames",
     "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
     "Reservoir", "ResponseSpectrum", "Support",

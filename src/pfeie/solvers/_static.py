@@ -19,7 +19,7 @@ from ..coupling import RigidCheck, StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
-from ..model import Model
+from ..model import STIFFNESS_MIN, Model
 from ..typing import FloatArray, is_number, settings_message
 
 log = logging.getLogger(__name__)
@@ -411,11 +411,22 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             "under the static loads leaves the structure unstable after the earthquake "
             "(a post-earthquake sliding safety factor below 1)"
         )  # fmt: skip
+    soft = [f"{i.group!r}: {key} {float(v):g} Pa/m" for i in model.interfaces
+            for key, v in (("normal_stiffness", i.joint.kn), ("shear_stiffness", i.joint.ks))
+            if v is not None and float(v) < STIFFNESS_MIN]  # fmt: skip
     return (
         head + " Check the friction angles and cohesions (a joint that starts broken, "
         'initial = "broken", the default, has only its residual strength: '
         'initial = "intact" for a bonded joint), the loads, and the blocks\' shape (a '
         "block whose weight falls outside its base overturns whatever the friction)"
+        + (
+            f"; and the joint stiffnesses ({'; '.join(soft)}), far below rock and concrete "
+            "joints' 1e9 to 1e12 Pa/m: a layer that soft carries the blocks only after "
+            "closing by metres, beyond the small displacements the analysis takes (given in "
+            "MPa/m or GPa/m?)"
+            if soft
+            else ""
+        )
     )
 
 
