@@ -109,7 +109,7 @@ def test_a_peer_record_refuses_another_dt(tmp_path: Path) -> None:
 
 # -- results files ----------------------------------------------------------------------------
 def test_a_resumed_run_extended_says_its_duration(
-    tmp_path: Path, caplog: pytest.LogCaptureFixture
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """`--resume --duration` extends a run: the file's settings, summary and spec give the
     new duration (the report's record line reads it); a shorter duration than the run
@@ -128,11 +128,16 @@ def test_a_resumed_run_extended_says_its_duration(
         # the summary's balance is the file's, to the bit (one order of summation; before,
         # a run's own histories summed it in another order)
         assert s["energy_J"]["balance"] == f["history/energy/balance"][-1]
-    with caplog.at_level(logging.WARNING):
-        assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.05"]) == 0
-    assert "the run reached t = 0.2 s (step 40), beyond the duration 0.05 s" in caplog.text
+    summary = (tmp_path / "out" / "summary.json").read_bytes()
+    # shorter than the run reached: refused, the file and the summaries left as they are
+    # (they were written again for the shorter duration, a second reviewer's finding)
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.05"]) == 2
+    assert "the run reached t = 0.2 s, beyond the duration asked (0.05 s): nothing to " \
+           "continue; expected --duration of at least 0.2 s" in capsys.readouterr().err
     with h5py.File(tmp_path / "out" / "results.h5") as f:  # the file's own, still
         assert json.loads(f.attrs["analysis"])["duration"] == 0.2
+        assert f.attrs["completed"] and "results_summary" in f.attrs
+    assert (tmp_path / "out" / "summary.json").read_bytes() == summary
 
 
 def test_a_truncated_results_file_is_not_called_locked(tmp_path: Path) -> None:

@@ -409,3 +409,37 @@ def test_a_mechanism_of_a_joint_far_too_soft_names_its_stiffness() -> None:
     with pytest.raises(pf.MechanismError, match=r"and the joint stiffnesses \('joint': "
                        r"normal_stiffness 10 Pa/m; 'joint': shear_stiffness 10 Pa/m\)"):
         pf.solve_static(model)
+
+
+def test_a_stopped_extension_names_its_own_duration(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A completed run extended by ``--resume --duration 1.0`` and stopped on the way:
+    a plain ``--resume`` (the model file's 0.6 s) is refused, and the message named "the
+    model file's" duration, the one it refused (a second reviewer's finding). It names
+    the run's own now, and that resume finishes it."""
+    import shutil
+    from collections import namedtuple
+
+    import pfeie._job as job_module
+
+    p = _write(tmp_path, SMALL, duration=0.6)
+    assert main(["run", str(p), "--quiet"]) == 0
+    usage = namedtuple("usage", "total used free")
+    calls = {"n": 0}
+    real = shutil.disk_usage
+
+    def short(path: object) -> object:
+        calls["n"] += 1
+        return usage(1, 1, 10 * 2**20) if calls["n"] > 30 else real(path)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(job_module, "DISK_CHECK_S", 0.0)
+    monkeypatch.setattr(job_module.shutil, "disk_usage", short)
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "1.0"]) == 130
+    monkeypatch.setattr(job_module.shutil, "disk_usage", real)
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet", "--resume"]) == 2
+    assert "(the run's own: --duration 1)" in capsys.readouterr().err
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "1.0"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert res.completed and float(res.time[-1]) == pytest.approx(1.0)

@@ -498,10 +498,11 @@ class DiskGuard:
 
 
 def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
-    """A stopped run in ``path`` whose checkpoint lies beyond the duration asked is not
-    resumed: an :class:`InputError` before the file is touched (resumed, its file read
-    ``completed`` for a run stopped short of its own duration)."""
-    t = resumable(path, job)
+    """A run in ``path`` whose checkpoint lies beyond the duration asked is not resumed:
+    an :class:`InputError` before the file is touched (resumed, a stopped run's file read
+    ``completed`` short of its own duration, and a completed run's summaries were
+    written again for a duration its histories pass)."""
+    t = resumable(path, job, completed=True)
     if t is None:
         return
     try:
@@ -509,10 +510,16 @@ def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
     except ValueError:
         return  # (said by the run itself)
     if round(t / job.analysis.dt) > n:
-        raise InputError(f"{path}: the stopped run reached t = {t:.6g} s, beyond the "
-                         f"duration asked ({n * job.analysis.dt:.6g} s): nothing to "
-                         f"continue; expected --duration of at least {t:.6g} s, or the "
-                         "model file's (the file is left as it is)")  # fmt: skip
+        try:  # the duration the run was asked for (a run extended by --duration)
+            with Results(path) as res:
+                asked = json.loads(res.meta.get("model_spec", "{}"))["analysis"]["duration"]
+        except (PfeieError, OSError, KeyError, TypeError, ValueError):
+            asked = None
+        own = f" (the run's own: --duration {asked:g})" if asked and asked > t else ""
+        raise InputError(f"{path}: the run reached t = {t:.6g} s, beyond the duration "
+                         f"asked ({n * job.analysis.dt:.6g} s): nothing to continue; "
+                         f"expected --duration of at least {t:.6g} s{own} (the file is "
+                         "left as it is)")  # fmt: skip
 
 
 def _run(

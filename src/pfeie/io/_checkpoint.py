@@ -325,11 +325,13 @@ class NothingToResume(ResultsError):
     start (the run is deterministic), which :func:`pfeie.run_job` then does."""
 
 
-def resumable(path: str | Path, job: Any, *, same_inputs: bool = True) -> float | None:
+def resumable(path: str | Path, job: Any, *, same_inputs: bool = True,
+              completed: bool = False) -> float | None:  # fmt: skip
     """The time (s) of the checkpoint of a stopped run of ``job``'s inputs (the same run
     key) in the results file ``path``, which ``pfeie run --resume`` would continue; None
     for a completed run, a run of other inputs, a file without a checkpoint or one that
-    does not open. ``same_inputs=False``: of any inputs (its own resume continues it)."""
+    does not open. ``same_inputs=False``: of any inputs (its own resume continues it);
+    ``completed=True``: of a completed run too (``--resume --duration`` extends it)."""
     p = Path(path)
     if not p.is_file():
         return None
@@ -337,7 +339,8 @@ def resumable(path: str | Path, job: Any, *, same_inputs: bool = True) -> float 
         with _h5py().File(p, "r") as f:
             name = next((g for g in ("checkpoint", "checkpoint_new") if g in f), None)
             other = same_inputs and not same_run(f.attrs.get("run_key", ""), job)
-            if name is None or bool(f.attrs.get("completed", False)) or other:
+            done = not completed and bool(f.attrs.get("completed", False))
+            if name is None or done or other:
                 return None
             return float(f[name].attrs["t"])
     except (OSError, KeyError, ValueError):
