@@ -10,6 +10,7 @@ import logging
 import re
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -338,6 +339,27 @@ def test_a_resumed_run_killed_leaves_no_summary_of_the_stop(tmp_path: Path) -> N
         assert not f.attrs["completed"] and f["history/time"][-1] >= t
 
 
+def _disk_short_after(monkeypatch: pytest.MonkeyPatch, looks: int) -> Callable[[], None]:
+    """The output disk looks nearly full (10 MiB free) to the run's guard after ``looks``
+    looks at it, each step; returns the function that gives the disk back."""
+    import shutil
+    from collections import namedtuple
+
+    import pfeie._job as job_module
+
+    usage = namedtuple("usage", "total used free")
+    calls = {"n": 0}
+    real = shutil.disk_usage
+
+    def short(path: object) -> object:
+        calls["n"] += 1
+        return usage(1, 1, 10 * 2**20) if calls["n"] > looks else real(path)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(job_module, "DISK_CHECK_S", 0.0)
+    monkeypatch.setattr(job_module.shutil, "disk_usage", short)
+    return lambda: monkeypatch.setattr(job_module.shutil, "disk_usage", real)
+
+
 def test_a_run_stops_cleanly_when_its_disk_runs_short(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -347,29 +369,15 @@ def test_a_run_stops_cleanly_when_its_disk_runs_short(
     and stops as Ctrl-C stops it, checkpoint and rows kept, when less than a checkpoint
     and the summaries would need is left; ``--resume`` then continues it to the bits of a
     run never stopped. (The disk is made short here by shutil.disk_usage's answer.)"""
-    import shutil
-    from collections import namedtuple
-
-    import pfeie._job as job_module
-
     p = _write(tmp_path, SMALL, duration=0.5)
     ref = tmp_path / "ref"
     assert main(["run", str(p), "--quiet", "--set", f"output.folder={str(ref)!r}"]) == 0
-    usage = namedtuple("usage", "total used free")
-    calls = {"n": 0}
-    real = shutil.disk_usage
-
-    def short(path: object) -> object:
-        calls["n"] += 1
-        return usage(1, 1, 10 * 2**20) if calls["n"] > 1 else real(path)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(job_module, "DISK_CHECK_S", 0.0)
-    monkeypatch.setattr(job_module.shutil, "disk_usage", short)
+    give_back = _disk_short_after(monkeypatch, 1)
     assert main(["run", str(p), "--quiet"]) == 130
     assert "MiB free, less than the" in capsys.readouterr().out
     with Results(tmp_path / "out" / "results.h5") as res:
         assert not res.completed and 0 < float(res.time[-1]) < 0.5
-    monkeypatch.setattr(job_module.shutil, "disk_usage", real)
+    give_back()
     assert main(["run", str(p), "--quiet", "--resume"]) == 0
     with Results(tmp_path / "out" / "results.h5") as a, Results(ref / "results.h5") as b:
         assert a.completed
@@ -418,25 +426,11 @@ def test_a_stopped_extension_names_its_own_duration(
     a plain ``--resume`` (the model file's 0.6 s) is refused, and the message named "the
     model file's" duration, the one it refused (a second reviewer's finding). It names
     the run's own now, and that resume finishes it."""
-    import shutil
-    from collections import namedtuple
-
-    import pfeie._job as job_module
-
     p = _write(tmp_path, SMALL, duration=0.6)
     assert main(["run", str(p), "--quiet"]) == 0
-    usage = namedtuple("usage", "total used free")
-    calls = {"n": 0}
-    real = shutil.disk_usage
-
-    def short(path: object) -> object:
-        calls["n"] += 1
-        return usage(1, 1, 10 * 2**20) if calls["n"] > 30 else real(path)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(job_module, "DISK_CHECK_S", 0.0)
-    monkeypatch.setattr(job_module.shutil, "disk_usage", short)
+    give_back = _disk_short_after(monkeypatch, 30)  # (0.15 s into the extension)
     assert main(["run", str(p), "--quiet", "--resume", "--duration", "1.0"]) == 130
-    monkeypatch.setattr(job_module.shutil, "disk_usage", real)
+    give_back()
     capsys.readouterr()
     assert main(["run", str(p), "--quiet", "--resume"]) == 2
     assert "(the run's own: --duration 1)" in capsys.readouterr().err
