@@ -475,9 +475,10 @@ class DiskGuard:
     plus four checkpoints of ``n_dof`` (u, v, a, f, the auxiliary acceleration: five
     float64 vectors each), looked at every :data:`DISK_CHECK_S` seconds."""
 
-    def __init__(self, folder: Path, n_dof: int) -> None:
+    def __init__(self, folder: Path, n_dof: int, duration: float) -> None:
         self.folder = folder
         self.need = DISK_FREE_MIN + 4 * 5 * 8 * int(n_dof)
+        self.duration = float(duration)  # (named in the resume: an extension's own)
         self._next = 0.0
 
     def check(self) -> None:
@@ -493,7 +494,8 @@ class DiskGuard:
             raise RunStopped(
                 f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
                 f"less than the {self.need / 2**20:.0f} MiB a checkpoint and the summaries "
-                "need: free some space, then `pfeie run --resume` continues the run"
+                f"need: free some space, then `pfeie run --resume --duration "
+                f"{self.duration:g}` continues the run"
             )
 
 
@@ -611,7 +613,7 @@ def _run(
         old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
         bar = Progress(first + n, a.dt, stream, first) if progress else None
 
-        disk = DiskGuard(out, model.n_dof)
+        disk = DiskGuard(out, model.n_dof, job.duration if duration is None else duration)
 
         def callback(st: StepState) -> None:
             if bar is not None:
