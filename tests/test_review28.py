@@ -17,15 +17,17 @@ from pfeie.io import Results, read_record
 DATA = Path(__file__).resolve().parents[1] / "examples" / "data"
 
 
-def _block_on_a_joint() -> tuple[pf.Model, int]:
-    """The README's block (1 m, μ = 0.2) on its fixed base; the node at its top right."""
+def _block_on_a_joint(joint: pf.JointLaw | None = None) -> tuple[pf.Model, int]:
+    """The README's block (1 m, μ = 0.2, or the law ``joint``) on its fixed base; the
+    node at its top right."""
     mesh = pf.rectangle(1.0, 1.5, nx=2, ny=3)
     mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
     mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
     mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
     concrete = pf.Elastic(E=30e9, nu=0.2, rho=2400)
+    law = joint if joint is not None else pf.Joint(phi=np.degrees(np.arctan(0.2)))
     model = pf.Model(mesh, [pf.Block("base", concrete), pf.Block("block", concrete)],
-                     interfaces=[pf.Interface("joint", pf.Joint(phi=np.degrees(np.arctan(0.2))))])
+                     interfaces=[pf.Interface("joint", law)])
     model.fix("base")
     model.add_gravity()
     return model, int(np.argmax(mesh.points[:, 1] + 1e-3 * mesh.points[:, 0]))

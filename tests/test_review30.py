@@ -405,15 +405,7 @@ def test_a_mechanism_of_a_joint_far_too_soft_names_its_stiffness() -> None:
     """A joint stiffness written in GPa/m as Pa/m (10): the static solve finds no
     equilibrium and its message sent the user to the friction angles and cohesions only
     (a reviewer's finding). It names the stiffness now."""
-    mesh = pf.rectangle(1.0, 1.5, nx=2, ny=3)
-    mesh.add_cell_group("base", lambda x: x[:, 1] < 0.5)
-    mesh.add_cell_group("block", lambda x: x[:, 1] > 0.5)
-    mesh.add_facet_group("joint", lambda x: abs(x[:, 1] - 0.5) < 1e-9, boundary_only=False)
-    concrete = pf.Elastic(E=30e9, nu=0.2, rho=2400)
-    model = pf.Model(mesh, [pf.Block("base", concrete), pf.Block("block", concrete)],
-                     interfaces=[pf.Interface("joint", pf.Joint(phi=30.0, kn=10.0, ks=10.0))])
-    model.fix("base")
-    model.add_gravity()
+    model, _ = _block_on_a_joint(pf.Joint(phi=30.0, kn=10.0, ks=10.0))
     with pytest.raises(pf.MechanismError, match=r"and the joint stiffnesses \('joint': "
                        r"normal_stiffness 10 Pa/m; 'joint': shear_stiffness 10 Pa/m\)"):
         pf.solve_static(model)

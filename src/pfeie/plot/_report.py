@@ -348,19 +348,6 @@ def _quiet() -> Iterator[None]:
         logging.disable(before)
 
 
-def _asked(key: str, table: Any) -> Any:
-    """The run's table ``key`` as an override: the analysis table without the keys at
-    their defaults (the validated table lists every key, and a key written in a file
-    is judged as asked for: ``post_earthquake = true`` with ``dynamic = false`` draws a
-    warning that a default filled in must not)."""
-    if key != "analysis" or not isinstance(table, dict):
-        return table
-    from ..io import ModelFile
-
-    default = json.loads(ModelFile.model_fields["analysis"].default.model_dump_json())
-    return {k: v for k, v in table.items() if k not in default or v != default[k]}
-
-
 def model_of_run(res: Results) -> tuple[Job | None, str]:
     """The model of a run rebuilt from its model file, or None and why not.
 
@@ -419,7 +406,7 @@ def model_of_run(res: Results) -> tuple[Job | None, str]:
                     changed.append("analysis")
                 if changed:
                     with _quiet():
-                        job = load_job(path, [Override(k, _asked(k, spec[k]), "the results file")
+                        job = load_job(path, [Override(k, spec[k], "the results file")
                                               for k in changed if k in spec])  # fmt: skip
                     plain = json.loads(json.dumps(job.spec, default=str))
                     still = [d for k in STRUCTURE for d in _differs(plain.get(k), spec.get(k), k)]

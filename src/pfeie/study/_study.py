@@ -1111,16 +1111,16 @@ class Study:
             raise InputError(f"{self._where('output.folder')}: {exc}") from None
         try:
             self._check_folder(folder)
-            if self.parquet:
-                self._parquet_possible()  # (said before the runs, not only after them)
-            return self._run(specs, folder, workers, scheduler, resume, progress)
+            # (said before the runs, not after them)
+            parquet = self.parquet and self._parquet_possible()
+            return self._run(specs, folder, workers, scheduler, resume, progress, parquet)
         finally:
             lock.__exit__()
 
     def _parquet_possible(self) -> bool:
         """Whether ``table.parquet`` can be written: pyarrow is the ``study`` extra, and
-        without it the table is the CSV alone (a WARNING says so, before the runs and
-        again when the table is written), not a failed study after every run."""
+        without it the table is the CSV alone (a WARNING says so before the runs), not a
+        failed study after every run."""
         try:
             import pyarrow  # noqa: F401
         except ImportError:
@@ -1163,8 +1163,9 @@ class Study:
         scheduler: str | None,
         resume: bool,
         progress: Callable[[int, int, dict[str, Any]], None] | None,
+        parquet: bool,
     ) -> StudyTable:
-        """:meth:`run` with the folder locked."""
+        """:meth:`run` with the folder locked; ``parquet``: ``table.parquet`` written."""
         # the output options as they are now (they may be changed after the set-up)
         ctx = dataclasses.replace(self.context(), folder=folder, histories=self.histories,
                                   resume=resume)  # fmt: skip
@@ -1218,7 +1219,6 @@ class Study:
                             raise r
         table = StudyTable([_as_run(done[s.key], s) for s in specs])
         table.to_csv(ctx.folder / "table.csv")
-        parquet = self.parquet and self._parquet_possible()
         if parquet:
             table.to_parquet(ctx.folder / "table.parquet")
         else:  # an earlier study's table must not stand beside this one's
