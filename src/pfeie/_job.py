@@ -473,30 +473,39 @@ class DiskGuard:
     later, and an error there is lost), and a run that goes on writing leaves rows never
     written, a checkpoint half written, or no file at all. The margin: :data:`DISK_FREE_MIN`
     plus four checkpoints of ``n_dof`` (u, v, a, f, the auxiliary acceleration: five
-    float64 vectors each), looked at every :data:`DISK_CHECK_S` seconds."""
+    float64 vectors each), looked at every :data:`DISK_CHECK_S` seconds. ``then`` ends
+    the message: what continues the run (by default ``pfeie run --resume --duration``
+    with ``duration``, an extension's own)."""
 
-    def __init__(self, folder: Path, n_dof: int, duration: float) -> None:
+    def __init__(self, folder: Path, n_dof: int, duration: float, then: str | None = None) -> None:
         self.folder = folder
         self.need = DISK_FREE_MIN + 4 * 5 * 8 * int(n_dof)
-        self.duration = float(duration)  # (named in the resume: an extension's own)
+        self.then = then or f"`pfeie run --resume --duration {duration:g}` continues the run"
+        self.tripped: str | None = None  # the message of the stop, once it stopped the run
         self._next = 0.0
 
+    def short(self) -> str | None:
+        """The message of a disk short of the margin now, or None."""
+        try:
+            free = shutil.disk_usage(self.folder).free
+        except OSError:  # (a file system that does not say: nothing to guard)
+            return None
+        if free >= self.need:
+            return None
+        return (f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
+                f"less than the {self.need / 2**20:.0f} MiB a checkpoint and the summaries "
+                f"need: free some space, then {self.then}")  # fmt: skip
+
     def check(self) -> None:
+        """Raise :class:`RunStopped` when the disk is short (a look every
+        :data:`DISK_CHECK_S` s at most)."""
         now = time.perf_counter()
         if now < self._next:
             return
         self._next = now + DISK_CHECK_S
-        try:
-            free = shutil.disk_usage(self.folder).free
-        except OSError:  # (a file system that does not say: nothing to guard)
-            return
-        if free < self.need:
-            raise RunStopped(
-                f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
-                f"less than the {self.need / 2**20:.0f} MiB a checkpoint and the summaries "
-                f"need: free some space, then `pfeie run --resume --duration "
-                f"{self.duration:g}` continues the run"
-            )
+        if (why := self.short()) is not None:
+            self.tripped = why
+            raise RunStopped(why)
 
 
 def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
@@ -529,8 +538,6 @@ def _run(
     resume: bool, checkpoint_s: float | None,
 ) -> dict[str, Any]:  # fmt: skip
     a = job.analysis
-    model = job.model
-    static: StaticResult | None = None
     t0 = time.perf_counter()
     # the dynamic analysis first: a setting it refuses is an input error, found before work
     dyn = dynamic_analysis(job) if a.dynamic else None
@@ -538,8 +545,7 @@ def _run(
         raise InputError(f"{job.path}: analysis: --resume continues a dynamic run; this "
                          "model file has none (analysis.dynamic = false)")  # fmt: skip
     ck: Checkpoint | None = None
-    yields: dict[str, dict[str, Any]] = {}
-    reduction: dict[str, Any] = {}
+    previous: Path | None = None  # a completed run replaced by this one, kept until its end
     if resume:
         _beyond_duration(job, out / "results.h5", duration)
         try:
@@ -558,7 +564,35 @@ def _run(
         for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
         _keep_stopped_run(out / "results.h5", job)
+        previous = _keep_completed_run(out / "results.h5")
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
+    if previous is None and (out / PREVIOUS_RUN).is_file():
+        previous = out / PREVIOUS_RUN  # kept by a re-run that did not complete (or resumed)
+    try:
+        summary = _steps(job, dyn, out, writer, ck, progress, duration, stream, checkpoint_s,
+                         t0)  # fmt: skip
+    except BaseException:
+        _previous_kept(previous)
+        raise
+    if previous is not None and summary["stopped"] is None:  # replaced now
+        previous.unlink(missing_ok=True)
+    else:
+        _previous_kept(previous)
+    return summary
+
+
+def _steps(
+    job: Job, dyn: Dynamic | None, out: Path, writer: ResultsWriter, ck: Checkpoint | None,
+    progress: bool, duration: float | None, stream: TextIO | None,
+    checkpoint_s: float | None, t0: float,
+) -> dict[str, Any]:  # fmt: skip
+    """The run of :func:`_run` once its results file is open: the static state, the
+    searches, the time stepping and the summaries."""
+    a = job.analysis
+    model = job.model
+    static: StaticResult | None = None
+    yields: dict[str, dict[str, Any]] = {}
+    reduction: dict[str, Any] = {}
     every_s = job.output.checkpoint_seconds if checkpoint_s is None else checkpoint_s
     ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps,
                            job.part_factors)  # fmt: skip
@@ -796,9 +830,13 @@ def run_to_folder(
     def on_signal(signum: int, _frame: Any) -> None:
         flag["why"] = signal.Signals(signum).name
 
+    disk = DiskGuard(out, analysis.model.n_dof, duration,
+                     then="run it again (results.h5 holds it to where it stopped)")  # fmt: skip
+
     def callback(_st: StepState) -> None:
         if flag:
             raise RunStopped(flag["why"])
+        disk.check()
 
     main = threading.current_thread() is threading.main_thread()
     with FolderLock(out, job.path):
@@ -842,6 +880,9 @@ def run_to_folder(
     if flag:
         raise KeyboardInterrupt(f"{flag['why']}: the run stopped at t = {result.t[-1]:.6g} s; "
                                 f"{path} holds it to there")  # fmt: skip
+    if disk.tripped is not None:
+        log.warning("%s: the run stopped at t = %.6g s: %s", path, float(result.t[-1]),
+                    disk.tripped)  # fmt: skip
     return result
 
 
@@ -895,6 +936,37 @@ def _move_aside(path: Path) -> Path:
         keep = path.with_name(f"results.stopped.{k}.h5")
     path.rename(keep)
     return keep
+
+
+PREVIOUS_RUN = "results.previous.h5"
+
+
+def _keep_completed_run(path: Path) -> Path | None:
+    """A completed run in ``path`` is moved to ``results.previous.h5`` beside it (an older
+    one there goes) while a new run starts in its folder; the new run deletes it once it
+    completes, so that a re-run stopped or failed before its end loses nothing computed.
+    Returns the kept file, or None (no completed run there)."""
+    keep = path.with_name(PREVIOUS_RUN)
+    if not path.is_file():
+        return None
+    try:
+        with Results(path) as res:
+            if not res.completed:
+                return None
+    except (PfeieError, OSError):
+        return None  # not a results file, or one that does not open: overwritten
+    path.replace(keep)
+    log.info("%s: the completed run there is kept as %s until this run completes", path,
+             keep.name)  # fmt: skip
+    return keep
+
+
+def _previous_kept(previous: Path | None) -> None:
+    """Say where the completed run that a run which did not complete was to replace is."""
+    if previous is not None and previous.is_file():
+        log.warning("%s holds the completed run that this run was to replace; move it back "
+                    "to results.h5 to keep it (`pfeie plot`, `report` and `export` read it "
+                    "where it is)", previous)  # fmt: skip
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:

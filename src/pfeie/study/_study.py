@@ -60,7 +60,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from .._version import __version__
-from ..errors import InputError, ModelError, PfeieError, RecordError
+from ..errors import InputError, ModelError, PfeieError, RecordError, ResultsError
 from ..io import BATCH, MAX_BATCH, MAX_WORKERS, abrupt_end, applied_part, utf8_text
 from ._table import StudyTable
 
@@ -412,7 +412,7 @@ def _run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | 
 
 def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[str, Any]:
     """Run one record at one intensity with the analysis ``dyn`` of ``sysm``."""
-    from .._job import summarize
+    from .._job import DiskGuard, summarize
 
     job = sysm.job
     rec = spec.record.read(job.model.dim, quiet=True)  # (the plan warned about it)
@@ -425,6 +425,12 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
     rec = dataclasses.replace(rec, acceleration=rec.acceleration * spec.factor, scaling=how)
     run_job = _job_of_run(job, spec, rec)
     t0 = time.perf_counter()
+    # a disk short of space stops the study before a run (its rows are small) or, with
+    # histories kept, within one (as `pfeie run` stops); the study run again goes on
+    disk = DiskGuard(ctx.folder, job.model.n_dof if ctx.histories else 0, duration,
+                     then="run the study again: it goes on with the runs left")  # fmt: skip
+    if (why := disk.short()) is not None:
+        raise ResultsError(f"{spec.record.name}, {spec.value:g}: not run: {why}")
     writer = None
     if ctx.histories:
         from ..io import ResultsWriter
@@ -447,7 +453,12 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
     res = dyn.run(duration, ground=[rec], form=job.analysis.form, start=sysm.static,
                   probes=list(job.probes.values()), every=job.output.every,
                   on_record=None if writer is None else writer.append,
+                  callback=None if writer is None else lambda _st: disk.check(),
                   envelope=True)  # fmt: skip
+    if disk.tripped is not None and writer is not None:  # no row: the run is not done
+        writer.close(False, disk.tripped)
+        raise ResultsError(f"{spec.record.name}, {spec.value:g}: stopped at t = "
+                           f"{float(res.t[-1]):.6g} s: {disk.tripped}")  # fmt: skip
     summary = summarize(run_job, sysm.static, res)
     summary["stopped"] = res.stop_reason
     if writer is not None:

@@ -1,0 +1,139 @@
+"""Findings of the thirty-first review.
+
+Each test reproduces the defect and checks the fix against an independent number.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import signal
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pfeie as pf
+from pfeie.cli import main
+from pfeie.io import Results
+from pfeie.study import StudyTable
+from test_cli import SMALL, _write, start_run
+
+# -- a re-run into the folder of a completed run -------------------------------------------
+
+
+def _final_u(path: Path) -> tuple[bool, float, np.ndarray]:
+    with Results(path) as res:
+        return res.completed, float(res.time[-1]), res.probe("top")["a"].copy()
+
+
+def test_a_rerun_stopped_before_its_end_keeps_the_completed_run(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``pfeie run`` into a folder holding a completed run overwrote its results file at
+    once: a re-run stopped (Ctrl-C) or failed before its end lost what the first run had
+    computed. The completed run is now kept as ``results.previous.h5`` until the re-run
+    completes; the test compares its histories with those read before the re-run."""
+    out = tmp_path / "out"
+    p = _write(tmp_path, SMALL, duration=0.1)
+    assert main(["run", str(p), "--quiet"]) == 0
+    before = _final_u(out / "results.h5")
+    assert before[0] and before[1] == pytest.approx(0.1)
+    # a re-run stopped by SIGINT while it steps
+    p = _write(tmp_path, SMALL, duration=30.0)
+    proc = start_run(p, wait=0.0)
+    time.sleep(0.5)  # stepping (about 3 s of the 30 s a second)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err[-3000:]
+    assert "results.previous.h5 holds the completed run that this run was to replace" in err
+    kept = _final_u(out / "results.previous.h5")
+    assert kept[:2] == before[:2]
+    np.testing.assert_array_equal(kept[2], before[2])
+    stopped = _final_u(out / "results.h5")
+    assert not stopped[0] and stopped[1] < 30.0
+    # a re-run whose static state fails keeps it too (the stopped run goes aside as before)
+    def fail(*_a: object, **_k: object) -> None:
+        raise pf.SolverError("planted failure of the static state")
+
+    monkeypatch.setattr("pfeie._job.solve_static", fail)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        assert main(["run", str(p), "--quiet"]) == 1  # (a solver failure)
+    assert "holds the completed run that this run was to replace" in caplog.text
+    assert (out / "results.stopped.h5").is_file()
+    np.testing.assert_array_equal(_final_u(out / "results.previous.h5")[2], before[2])
+    monkeypatch.undo()
+    # the re-run that completes replaces it
+    p = _write(tmp_path, SMALL, duration=0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    assert not (out / "results.previous.h5").exists()
+    done = _final_u(out / "results.h5")
+    assert done[0] and done[1] == pytest.approx(0.05)
+
+
+# -- a disk short of space under run_to_folder and a study ---------------------------------
+
+
+def test_run_to_folder_stops_cleanly_when_its_disk_runs_short(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    """``pfeie run`` stopped on a disk short of space (a tester's full tmpfs: HDF5 lost
+    its write errors and the run crashed), ``pf.run_to_folder`` went on writing. It now
+    stops as ``pfeie run`` does: the file closed, not completed, its rows those of the
+    run never stopped (bit for bit), and a warning names the disk."""
+    from test_review30 import _disk_short_after
+
+    model = pf.Model(pf.rectangle(2.0, 1.0, nx=4, ny=2),
+                     [pf.Block("all", pf.Elastic(E=1e9, nu=0.2, rho=2000))])  # fmt: skip
+    model.fix("ymin")
+    g = pf.GroundMotion.from_function(lambda t: np.sin(20 * t), duration=0.5, dt=0.005)
+    ref = pf.run_to_folder(pf.Dynamic(model, dt=0.005), 0.5, tmp_path / "ref", ground=[g],
+                           probes={"top": 14}, paraview=False, figures=False)  # fmt: skip
+    _disk_short_after(monkeypatch, 20)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        res = pf.run_to_folder(pf.Dynamic(model, dt=0.005), 0.5, tmp_path / "out", ground=[g],
+                               probes={"top": 14}, paraview=False, figures=False)  # fmt: skip
+    assert not res.completed and "MiB free, less than the" in str(res.stop_reason)
+    assert "run it again (results.h5 holds it to where it stopped)" in caplog.text
+    with Results(tmp_path / "out" / "results.h5") as f:
+        assert not f.completed
+        n = f.n_times
+        assert 1 < n < ref.t.size
+        np.testing.assert_array_equal(f.probe("top")["a"], ref.probe_a[:n, 0])
+
+
+def test_a_study_stops_cleanly_when_its_disk_runs_short(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A study had no guard of its disk: with histories kept it wrote on into a full
+    disk, and a run stopped there would have left a row as if it were done. Now a run is
+    not started on a disk short of space, a run with histories stops as ``pfeie run``
+    does, without a row, and the study exits 2 naming the disk; the study run again
+    goes on with the runs left and its table equals that of a study never stopped."""
+    from test_review30 import _disk_short_after
+    from test_study import STUDY, setup
+
+    text = STUDY.replace('folder = "study"', 'folder = "study"\nhistories = true')
+    for d in ("ref", "s"):
+        (tmp_path / d).mkdir()
+    ref = setup(tmp_path / "ref", text, n=2, seconds=0.5)
+    assert main(["study", str(ref), "--quiet"]) == 0
+    p = setup(tmp_path / "s", text, n=2, seconds=0.5)
+    _disk_short_after(monkeypatch, 5)  # (a look before each run, then one each step)
+    assert main(["study", str(p), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "MiB free, less than the" in err and "run the study again" in err
+    rows = [json.loads(r.read_text()) for r in (tmp_path / "s" / "study" / "rows").glob("*.json")]
+    assert len(rows) < 4 and all(r["completed"] for r in rows)  # none for a stopped run
+    monkeypatch.undo()
+    assert main(["study", str(p), "--quiet"]) == 0
+    a = StudyTable.read(tmp_path / "s" / "study" / "table.csv")
+    b = StudyTable.read(tmp_path / "ref" / "study" / "table.csv")
+    assert a.columns == b.columns
+    for c in set(a.columns) - {"file", "wall_s"}:  # (the records' folders differ)
+        x, y = a.column(c), b.column(c)
+        if x.dtype == object:
+            assert list(x) == list(y), c
+        else:
+            np.testing.assert_array_equal(x, y, err_msg=c)
