@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 import signal
 import time
 from pathlib import Path
@@ -137,3 +138,40 @@ def test_a_study_stops_cleanly_when_its_disk_runs_short(
             assert list(x) == list(y), c
         else:
             np.testing.assert_array_equal(x, y, err_msg=c)
+
+
+# -- the command that resumes a stopped run ------------------------------------------------
+
+
+def test_a_stopped_run_names_the_command_that_resumes_it(tmp_path: Path) -> None:
+    """A run stopped by Ctrl-C said "STOPPED" and nothing of how to go on; a plain
+    ``--resume`` is refused for a run with ``--set`` options or an extension's own
+    ``--duration`` (another run key, or a duration short of where it stopped). The stop
+    now gives the whole command, and that command, run as given, completes the run."""
+    import os
+    import shlex
+    import subprocess
+    import sys
+
+    p = _write(tmp_path, SMALL, duration=0.2)
+    assert main(["run", str(p), "--quiet", "--set", "output.every=2"]) == 0
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen([sys.executable, "-m", "pfeie", "run", str(p), "--resume",
+                             "--duration", "30", "--set", "output.every=2"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    assert proc.stderr is not None
+    for line in proc.stderr:  # stepping
+        if line.startswith("step"):
+            break
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130
+    said = re.search(r"the run stopped at t = ([\d.]+) s; `([^`]+)` continues it", err)
+    assert said is not None, err[-2000:]
+    words = shlex.split(said[2])
+    assert words[:2] == ["pfeie", "run"] and words[2:] == [
+        str(p), "--resume", "--duration", "30", "--set", "output.every=2"]
+    assert main(["run", "--quiet", *words[2:]]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert res.completed and float(res.time[-1]) == pytest.approx(30.0)

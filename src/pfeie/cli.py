@@ -313,11 +313,27 @@ def _main(argv: Sequence[str] | None) -> int:
     print(f"results in {job.folder}")
     stopped = summary.get("stopped")
     if stopped and stopped.startswith("stopped"):
+        print(f"pfeie: the run stopped at t = {summary.get('time_reached_s', 0.0):.6g} s; "
+              f"{_resume_command(args)} continues it", file=sys.stderr)  # fmt: skip
         return EXIT_INTERRUPTED
     if stopped:
         print(f"pfeie: analysis failed: {stopped}", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_OK
+
+
+def _resume_command(args: argparse.Namespace) -> str:
+    """The command that resumes the run of ``args``: its model file and its options
+    (the same settings give the same run key; an extension's own ``--duration``)."""
+    import shlex
+
+    words = ["pfeie", "run", args.model, "--resume"]
+    for opt in ("duration", "dt"):
+        if (text := getattr(args, opt)) is not None:
+            words += [f"--{opt}", text]
+    for text in args.settings:
+        words += ["--set", text]
+    return "`" + shlex.join(words) + "`"
 
 
 def _overrides(args: argparse.Namespace) -> list[Override]:
