@@ -175,3 +175,111 @@ def test_a_stopped_run_names_the_command_that_resumes_it(tmp_path: Path) -> None
     assert main(["run", "--quiet", *words[2:]]) == 0
     with Results(tmp_path / "out" / "results.h5") as res:
         assert res.completed and float(res.time[-1]) == pytest.approx(30.0)
+
+
+# -- overlapping cells ---------------------------------------------------------------------
+
+_SQUARES = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0),
+            (2.0, 0.0, 0.0), (2.0, 1.0, 0.0)]  # fmt: skip
+
+
+@pytest.mark.parametrize("case", ["meshed twice, own nodes", "meshed twice, shared nodes"])
+def test_a_region_meshed_twice_is_refused(tmp_path: Path, case: str) -> None:
+    """A surface defined twice on one curve loop (a copy-paste slip in a .geo file) gave
+    a block of twice its mass without an error: 28,800 kg for 19,200 (a tester's mesh;
+    the only word was a warning of coincident nodes). The left unit square is meshed
+    twice here: its mass would be 2 × 2000 kg + 2000 kg for the right one; the mesh is
+    refused, naming the cells that overlap, or the facet that three cells share."""
+    from pfeie.errors import MeshError
+    from pfeie.io import read_mesh
+    from test_robustness import msh22
+
+    names = {1: (2, "all")}
+    right = [(3, 2, 1, [2, 5, 6]), (4, 2, 1, [2, 6, 3])]
+    if case == "meshed twice, own nodes":  # a centre node of each copy, at (0.5, 0.5)
+        nodes = [*_SQUARES, (0.5, 0.5, 0.0), (0.5, 0.5, 0.0)]
+        fan = [[1, 2], [2, 3], [3, 4], [4, 1]]
+        cells = [(10 + k, 2, 1, [a, b, 7]) for k, (a, b) in enumerate(fan)]
+        cells += [(20 + k, 2, 1, [a, b, 8]) for k, (a, b) in enumerate(fan)]
+        words = r"4 cell\(s\) at the same place as others, on coincident nodes: gmsh element 10"
+    else:  # the two diagonals of the same square, on its own four nodes
+        nodes = _SQUARES
+        cells = [(1, 2, 1, [1, 2, 3]), (2, 2, 1, [1, 3, 4]),
+                 (5, 2, 1, [1, 2, 4]), (6, 2, 1, [2, 3, 4])]  # fmt: skip
+        words = (r"1 facet\(s\) shared by three or more cells, the first at \[1.0, 0.5\] "
+                 r"\(3 cells\): cells overlap")  # fmt: skip
+    path = msh22(tmp_path / "twice.msh", nodes, cells + right, names)
+    with pytest.raises(MeshError, match=words):
+        read_mesh(path)
+    # the squares meshed once read, with the mass of 2 m² (the check's reference)
+    once = msh22(tmp_path / "once.msh", _SQUARES,
+                 [(1, 2, 1, [1, 2, 3]), (2, 2, 1, [1, 3, 4]), *right], names)  # fmt: skip
+    model = pf.Model(read_mesh(once), [pf.Block("all", pf.Elastic(E=1e9, nu=0.2, rho=2000))])
+    assert model.total_mass() == pytest.approx(4000.0, rel=1e-12)
+
+
+def test_a_mesh_group_named_as_a_joint_face_is_refused() -> None:
+    """A mesh group that a user named ``joint:a`` (the block's left face here) took the
+    place of the joint's face a after the split: water in the joint
+    (``[[loads.pressure]] group = "joint"``) then pushed on the left face and on face b
+    only, a net 20 kN where a pressure inside a joint balances itself (a tester's
+    mesh). The name is now refused, naming the group and the joint."""
+    mesh = pf.rectangle(2.0, 2.0, 2, 2)
+    mesh.add_facet_group("mid", lambda x: abs(x[:, 1] - 1.0) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("mid:a", lambda x: x[:, 0] < 1e-9)
+    with pytest.raises(pf.ModelError, match=r"physical group 'mid:a' of the mesh has the name of "
+                       r"a face of the interface 'mid'"):  # fmt: skip
+        pf.Model(mesh, [pf.Block("all", pf.Elastic(E=1e9, nu=0.2, rho=2000))],
+                 interfaces=[pf.Interface("mid", pf.Joint(phi=30.0))])  # fmt: skip
+
+
+# -- gmsh files: what a message names ------------------------------------------------------
+
+
+def test_msh22_saved_with_save_all_is_named(tmp_path: Path) -> None:
+    """An MSH 2.2 file saved with Mesh.SaveAll = 1 (gmsh 4.x: physical tag 0 on every
+    element) was refused as "'dam' ... holds no elements: add its entities to it before
+    meshing", advice that does not apply. It now gets the MSH 4.1 file's own advice."""
+    from test_robustness import msh22
+
+    nodes = _SQUARES[:4]
+    cells = [(1, 2, 0, [1, 2, 3]), (2, 2, 0, [1, 3, 4])]
+    path = msh22(tmp_path / "all.msh", nodes, cells, {1: (2, "all")})
+    with pytest.raises(pf.MeshError, match=r"physical tag 0 on every element: gmsh's "
+                       r"Mesh.SaveAll = 1 in MSH 2.2\); save it again with Mesh.SaveAll = 0"):
+        pf.read_mesh(path)
+
+
+def test_a_third_order_mesh_names_its_block_and_the_order(tmp_path: Path) -> None:
+    """A mesh of the third order (Mesh.ElementOrder = 3) was refused on its first line4
+    cells: the message named a curve's group (or a point's, of the same tag), counted
+    every line4 of the file, and advised tetrahedra for a 2D mesh. It now names the
+    block's cells and the setting to change."""
+    from test_robustness import msh22
+
+    nodes = [(x, y, 0.0) for y in (0.0, 1 / 3, 2 / 3, 1.0) for x in (0.0, 1 / 3, 2 / 3, 1.0)]
+    # a triangle10 (corners, two nodes an edge, the centre) and two line4 of its edges
+    tri = [1, 4, 13, 2, 3, 7, 10, 9, 5, 6]
+    cells = [(1, 26, 2, [1, 4, 2, 3]), (2, 26, 3, [4, 13, 7, 10]), (3, 21, 1, tri)]
+    names = {1: (2, "all"), 2: (1, "bottom"), 3: (1, "side")}
+    with pytest.raises(pf.MeshError, match=r"physical group 'all': 1 triangle10 cell\(s\) "
+                       r"\(gmsh element 3\); the mesh is of the third order \(gmsh's "
+                       r"Mesh.ElementOrder = 3\)"):  # fmt: skip
+        pf.read_mesh(msh22(tmp_path / "o3.msh", nodes, cells, names))
+
+
+def test_cells_in_no_block_are_named_with_their_place(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Cells of physical tag 0 inside a block's region (a surface left out of its
+    physical group) were a warning with a count only, and the run went on with a hole
+    (17,971 kg for 19,200, a tester's mesh). The warning now names the cells and where
+    the first lies: here gmsh element 11, the right square, centred at (1.5, 0.5)."""
+    from pfeie.io import load_job
+    from test_robustness import ELEMENTS, model
+
+    cells = [e if e[0] != 11 else (11, 3, 0, e[3]) for e in ELEMENTS]
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        load_job(model(tmp_path, elements=cells))
+    assert ("1 cell(s) of the mesh belong to no block and are left out of the model "
+            "(gmsh element 11; the first at [1.5, 0.5]): cells in no physical group") in caplog.text

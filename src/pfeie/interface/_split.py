@@ -290,6 +290,17 @@ def split(mesh: Mesh, names: list[str] | tuple[str, ...], thickness: float = 1.0
     >>> s.mesh.n_points - mesh.n_points, s.pairs.n, s.n_bodies
     (3, 3, 2)
     """
+    taken = [
+        f"{n}:{side}"
+        for n in names
+        for side in "ab"
+        if f"{n}:{side}" in mesh.facet_groups or f"{n}:{side}" in mesh.cell_groups
+    ]
+    if taken:  # the split would replace it with the joint's face, silently
+        raise MeshError(f"physical group {taken[0]!r} of the mesh has the name of a face of "
+                        f"the interface {taken[0][:-2]!r} ('<joint>:a' and '<joint>:b' name "
+                        "its two faces after the split); expected another name for the "
+                        "group")  # fmt: skip
     dim = mesh.dim
     n0 = mesh.n_points
     table = mesh._facet_table()

@@ -39,7 +39,9 @@ log = logging.getLogger(__name__)
 #: the physical group that holds them: gmsh numbers groups per dimension)
 _UNSUPPORTED_DIM = {"wedge": 3, "wedge15": 3, "wedge18": 3, "pyramid": 3, "pyramid13": 3,
                     "pyramid14": 3, "hexahedron20": 3, "hexahedron24": 3, "hexahedron27": 3,
-                    "tetra20": 3, "triangle10": 2, "quad16": 2}  # fmt: skip
+                    "tetra20": 3, "triangle10": 2, "quad16": 2, "line4": 1}  # fmt: skip
+#: the cell types of gmsh's third order (Mesh.ElementOrder = 3)
+_ORDER_3 = {"line4", "triangle10", "quad16", "tetra20", "hexahedron64", "wedge40", "pyramid30"}
 
 
 def read_mesh(path: str | Path) -> Mesh:
@@ -351,25 +353,43 @@ def from_gmsh(m: Any, path: Path | str = "<mesh>", ids: list[np.ndarray] | None 
         )
     if len(phys) != len(m.cells):  # MSH 4 with entities in no physical group: see cell_sets
         phys = [np.zeros(len(b.data), dtype=np.int64) for b in m.cells]
+    elif not any(np.asarray(t).any() for t in phys) and not getattr(m, "cell_sets", None):
+        # MSH 2.2 saved with Mesh.SaveAll = 1 (gmsh 4.x): every element in group 0
+        raise MeshError(
+            f"{path}: the file names physical groups ($PhysicalNames) but puts no element "
+            "in any of them (physical tag 0 on every element: gmsh's Mesh.SaveAll = 1 in "
+            "MSH 2.2); save it again with Mesh.SaveAll = 0: the blocks and the joints in "
+            "named physical groups"
+        )  # fmt: skip
     dims = [cell_dimension(b.type) if _known(b.type) else -1 for b in m.cells]
-    for k, (block, tags) in enumerate(zip(m.cells, phys, strict=True)):
-        # a cell type pfeie has no element for, in a physical group, would drop part of
-        # a block or a face without a word
-        tagged = np.asarray(tags) != 0
-        if dims[k] < 0 and tagged.any() and block.type not in ("vertex", "line", "line3"):
-            first = f" (gmsh element {int(ids[k][np.argmax(tagged)])})" if ids is not None else ""
-            tag0 = int(np.asarray(tags)[tagged][0])
-            # gmsh numbers physical groups per dimension: the group of the cells' own
-            # dimension first (a volume and a surface may both be group 2)
-            dim = _UNSUPPORTED_DIM.get(block.type)
-            group = names.get((dim, tag0)) if dim is not None else None
-            if group is None:
-                group = next((n for (_, t), n in names.items() if t == tag0), "?")
-            known = ", ".join(t for t in SUPPORTED if cell_dimension(t) >= 2)
-            raise MeshError(f"{path}: physical group {group!r}: {int(tagged.sum())} "
-                            f"{block.type} cell(s){first}; pfeie has elements for {known} "
-                            "only: mesh this group with those (e.g. tetrahedra, or "
-                            "hexahedra by recombination, in gmsh)")  # fmt: skip
+    # a cell type pfeie has no element for, in a physical group, would drop part of a
+    # block or a face without a word: the highest dimension's named (a block's cells)
+    foreign = [k for k, (block, tags) in enumerate(zip(m.cells, phys, strict=True))
+               if dims[k] < 0 and (np.asarray(tags) != 0).any()
+               and block.type not in ("vertex", "line", "line3")]  # fmt: skip
+    if foreign:
+        k = max(foreign, key=lambda i: _UNSUPPORTED_DIM.get(m.cells[i].type, 0))
+        block, tags = m.cells[k], np.asarray(phys[k])
+        tagged = tags != 0
+        first = f" (gmsh element {int(ids[k][np.argmax(tagged)])})" if ids is not None else ""
+        tag0 = int(tags[tagged][0])
+        # gmsh numbers physical groups per dimension: the group of the cells' own
+        # dimension first (a volume and a surface may both be group 2)
+        dim = _UNSUPPORTED_DIM.get(block.type)
+        group = names.get((dim, tag0)) if dim is not None else None
+        if group is None:
+            group = next((n for (_, t), n in names.items() if t == tag0), "?")
+        known = ", ".join(t for t in SUPPORTED if cell_dimension(t) >= 2)
+        if block.type in _ORDER_3:
+            fix = ("the mesh is of the third order (gmsh's Mesh.ElementOrder = 3); pfeie's "
+                   "elements are of the first and second orders: set Mesh.ElementOrder = 1 "
+                   "or 2 and mesh again")  # fmt: skip
+        else:
+            fix = (f"pfeie has elements for {known} only: mesh this group with those ("
+                   + ("triangles or quadrilaterals" if dim == 2 else
+                      "tetrahedra, or hexahedra by recombination") + ", in gmsh)")  # fmt: skip
+        raise MeshError(f"{path}: physical group {group!r}: {int((tags == tag0).sum())} "
+                        f"{block.type} cell(s){first}; {fix}")  # fmt: skip
     top = max(dims, default=-1)
     if top not in (2, 3):
         raise MeshError(f"{path}: no 2D or 3D cells (found dimensions {sorted(set(dims))})")

@@ -420,6 +420,22 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
+def _stray_cells(cfg: Any, mesh: Mesh, show: int = 5) -> str:
+    """The first cells in no block, named (gmsh element ids where the mesh was read from
+    gmsh), and where the first of them lies."""
+    names: list[str] = []
+    where = None
+    for t, conn in mesh.cells.items():
+        inside = np.zeros(len(conn), dtype=bool)
+        for b in cfg.blocks:
+            inside[mesh.cell_groups.get(b, {}).get(t, np.zeros(0, dtype=np.int64))] = True
+        for i in np.flatnonzero(~inside)[: show - len(names)]:
+            names.append(mesh.cell_label(t, int(i)))
+            if where is None:
+                where = np.round(mesh.points[conn[i]].mean(axis=0), 6).tolist()
+    return f"{', '.join(names)}; the first at {where}"
+
+
 def _left_out(cfg: Any, mesh: Mesh) -> tuple[list[tuple[str, int]], int]:
     """The mesh's cell groups (2D surfaces, 3D volumes) in no block, with their cells
     that no block holds, and the count of all cells left out."""
@@ -451,7 +467,9 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
                     ", ".join(f"{g!r} ({n} cells)" for g, n in left))  # fmt: skip
     elif total:
         log.warning("%s: %d cell(s) of the mesh belong to no block and are left out of the "
-                    "model", p, total)  # fmt: skip
+                    "model (%s): cells in no physical group, holes in the model; expected "
+                    "every cell in a block's group (gmsh: add its surface or volume to the "
+                    "block's physical group)", p, total, _stray_cells(cfg, mesh))  # fmt: skip
     # the checks of a model built in Python (pfeie.model.warn_implausible), naming the
     # file and the keys: the model is built with check_units=False
     for text in [

@@ -11,6 +11,9 @@ some of them and a negative one at others):
 - *duplicated*: two cells on the same corner nodes (a cell written twice in one physical
   group; a cell in two groups, which MSH 2 writes once per group, is merged by the gmsh
   reader);
+- *overlapping*: two cells on coincident corner nodes (a region meshed twice, each time
+  with its own nodes), or a facet shared by three or more cells (a region meshed twice on
+  shared boundary nodes);
 - node coordinates that are not finite.
 
 and warns (``logging``, the run goes on) about *poorly shaped* cells, whose shape quality
@@ -172,8 +175,77 @@ def check_cells(mesh: Mesh, where: str = "") -> None:
                 f"{dup.size} duplicated cell(s) on the same nodes (written twice in one "
                 f"physical group, or in none?): {'; '.join(pairs)}{more}"
             )
+    if not problems:
+        problems += _overlaps(mesh)
     if problems:
         raise MeshError("\n".join(head + p for p in problems))
+
+
+def _overlaps(mesh: Mesh) -> list[str]:
+    """Cells that overlap: two cells at the same place on coincident nodes (a region
+    meshed twice with its own nodes: two surfaces on one curve loop, two identical
+    volumes), or a facet shared by three or more cells (no facet of a mesh that fills the
+    plane or the space once has more than two). Coincident nodes count as one here, so
+    that the nodes doubled along a joint (blocks meshed apart) give no false alarm."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    pairs = mesh.coincident_nodes()
+    n = mesh.n_points
+    canon = np.arange(n)
+    if pairs.size:  # each node to the first of its group of coincident nodes
+        g = coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        _, label = connected_components(g, directed=False)
+        first = np.full(label.max() + 1, n, dtype=np.int64)
+        np.minimum.at(first, label, np.arange(n))
+        canon = first[label]
+    out: list[str] = []
+    cells: dict[int, list[tuple[np.ndarray, str, np.ndarray]]] = {}
+    facets: dict[int, list[tuple[np.ndarray, np.ndarray]]] = {}
+    for ctype, conn in mesh.cells.items():
+        if conn.shape[0] == 0:
+            continue
+        ref = reference(ctype)
+        key = np.sort(canon[conn[:, : ref.n_corners]], axis=1)
+        cells.setdefault(key.shape[1], []).append((key, ctype, np.arange(conn.shape[0])))
+        fref = reference(reference(ref.facet_type).linear)
+        f = canon[conn[:, np.asarray(ref.facets)][..., : fref.n_nodes]].reshape(-1, fref.n_nodes)
+        facets.setdefault(f.shape[1], []).append((np.sort(f, axis=1), f))
+    if pairs.size:
+        for same in cells.values():
+            pool = np.concatenate([k for k, _, _ in same])
+            who = [(t, int(i)) for _, t, idx in same for i in idx]
+            _, first, inv, counts = np.unique(pool, axis=0, return_index=True,
+                                              return_inverse=True, return_counts=True)  # fmt: skip
+            inv = inv.ravel()
+            dup = np.flatnonzero(counts[inv] > 1)
+            dup = dup[dup != first[inv[dup]]]
+            if dup.size:
+                shown = "; ".join(f"{mesh.cell_label(*who[int(first[inv[j]])])} and "
+                                  f"{mesh.cell_label(*who[int(j)])}"
+                                  for j in dup[:_SHOW])  # fmt: skip
+                more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
+                out.append(
+                    f"{dup.size} cell(s) at the same place as others, on coincident nodes: "
+                    f"{shown}{more}; a region meshed twice (two surfaces on one curve "
+                    "loop, two identical volumes)? expected each region meshed once"
+                )  # fmt: skip
+    if out:
+        return out
+    for same_f in facets.values():
+        keys = np.concatenate([k for k, _ in same_f])
+        corners = np.concatenate([f for _, f in same_f])
+        _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+        over = np.flatnonzero(counts > 2)
+        if over.size:
+            at = np.round(mesh.points[corners[first[over[0]]]].mean(axis=0), 6).tolist()
+            out.append(
+                f"{over.size} facet(s) shared by three or more cells, the first at {at} "
+                f"({int(counts[over[0]])} cells): cells overlap there (a region meshed "
+                "twice, or overlapping surfaces or volumes not fragmented); expected at most "
+                "two cells on a facet"
+            )  # fmt: skip
+    return out
 
 
 def _measure(dim: int) -> str:
