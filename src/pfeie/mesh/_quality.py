@@ -160,25 +160,33 @@ def check_cells(mesh: Mesh, where: str = "") -> None:
                         _names(mesh, ctype, worst))  # fmt: skip
     for width in {k.shape[1] for k in keys}:
         same = [(k, o) for k, o in zip(keys, owners, strict=True) if k.shape[1] == width]
-        pool = np.concatenate([k for k, _ in same])
-        who = [w for _, o in same for w in o]
-        _, first, inv, counts = np.unique(pool, axis=0, return_index=True,
-                                          return_inverse=True, return_counts=True)  # fmt: skip
-        inv = inv.ravel()
-        dup = np.flatnonzero(counts[inv] > 1)
-        dup = dup[dup != first[inv[dup]]]
-        if dup.size:
-            pairs = [f"{mesh.cell_label(*who[int(first[inv[j]])])} and "
-                     f"{mesh.cell_label(*who[int(j)])}" for j in dup[:_SHOW]]  # fmt: skip
-            more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
+        twins = _twins(mesh, np.concatenate([k for k, _ in same]),
+                       [w for _, o in same for w in o])  # fmt: skip
+        if twins is not None:
             problems.append(
-                f"{dup.size} duplicated cell(s) on the same nodes (written twice in one "
-                f"physical group, or in none?): {'; '.join(pairs)}{more}"
+                f"{twins[0]} duplicated cell(s) on the same nodes (written twice in one "
+                f"physical group, or in none?): {twins[1]}"
             )
     if not problems:
         problems += _overlaps(mesh)
     if problems:
         raise MeshError("\n".join(head + p for p in problems))
+
+
+def _twins(mesh: Mesh, keys: np.ndarray, who: list[tuple[str, int]]) -> tuple[int, str] | None:
+    """The cells whose sorted corner keys (rows of ``keys``; cell ``who[i]`` for row i)
+    repeat an earlier cell's: their count and the first pairs named; None if none."""
+    _, first, inv, counts = np.unique(keys, axis=0, return_index=True, return_inverse=True,
+                                      return_counts=True)  # fmt: skip
+    inv = inv.ravel()
+    dup = np.flatnonzero(counts[inv] > 1)
+    dup = dup[dup != first[inv[dup]]]
+    if not dup.size:
+        return None
+    pairs = [f"{mesh.cell_label(*who[int(first[inv[j]])])} and {mesh.cell_label(*who[int(j)])}"
+             for j in dup[:_SHOW]]  # fmt: skip
+    more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
+    return int(dup.size), "; ".join(pairs) + more
 
 
 def _overlaps(mesh: Mesh) -> list[str]:
@@ -213,22 +221,13 @@ def _overlaps(mesh: Mesh) -> list[str]:
         facets.setdefault(f.shape[1], []).append((np.sort(f, axis=1), f))
     if pairs.size:
         for same in cells.values():
-            pool = np.concatenate([k for k, _, _ in same])
-            who = [(t, int(i)) for _, t, idx in same for i in idx]
-            _, first, inv, counts = np.unique(pool, axis=0, return_index=True,
-                                              return_inverse=True, return_counts=True)  # fmt: skip
-            inv = inv.ravel()
-            dup = np.flatnonzero(counts[inv] > 1)
-            dup = dup[dup != first[inv[dup]]]
-            if dup.size:
-                shown = "; ".join(f"{mesh.cell_label(*who[int(first[inv[j]])])} and "
-                                  f"{mesh.cell_label(*who[int(j)])}"
-                                  for j in dup[:_SHOW])  # fmt: skip
-                more = f" and {dup.size - _SHOW} more" if dup.size > _SHOW else ""
+            twins = _twins(mesh, np.concatenate([k for k, _, _ in same]),
+                           [(t, int(i)) for _, t, idx in same for i in idx])  # fmt: skip
+            if twins is not None:
                 out.append(
-                    f"{dup.size} cell(s) at the same place as others, on coincident nodes: "
-                    f"{shown}{more}; a region meshed twice (two surfaces on one curve "
-                    "loop, two identical volumes)? expected each region meshed once"
+                    f"{twins[0]} cell(s) at the same place as others, on coincident nodes: "
+                    f"{twins[1]}; a region meshed twice (two surfaces on one curve loop, "
+                    "two identical volumes)? expected each region meshed once"
                 )  # fmt: skip
     if out:
         return out
