@@ -283,3 +283,80 @@ def test_cells_in_no_block_are_named_with_their_place(
         load_job(model(tmp_path, elements=cells))
     assert ("1 cell(s) of the mesh belong to no block and are left out of the model "
             "(gmsh element 11; the first at [1.5, 0.5]): cells in no physical group") in caplog.text
+
+
+# -- outputs that disagreed ----------------------------------------------------------------
+
+
+def test_the_joint_figure_counts_the_open_share_as_the_csv(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The joint figure's "open" curve counted every pair in the open state, where the
+    CSV export, the summary and the report count those open by more than 0.01 mm (the
+    corner pairs of quadratic facets part by microns in compression): 20.8 % against
+    4.2 % at the demo's neck (a tester's reading). Planted here: of the joint's pairs
+    at the last row, one open by 1 mm and one by 0.1 µm; the figure's and the CSV's
+    open share are both the first pair's area share."""
+    import csv
+
+    import h5py
+    from matplotlib.figure import Figure
+
+    from pfeie.plot import plot_all
+
+    p = _write(tmp_path, SMALL, duration=0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    path = tmp_path / "out" / "results.h5"
+    with h5py.File(path, "r+") as f:
+        f["history/pairs/state"][-1, :2] = 3
+        s = f["history/pairs/s"]
+        last = s[-1]
+        last[0, -1], last[1, -1] = 1e-3, 1e-7
+        s[-1] = last
+        area = f["pairs/area"][()]
+    want = area[0] / area.sum()
+    drawn: list[Figure] = []
+    monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: drawn.append(self))
+    plot_all(path, tmp_path / "fig")
+    fig = next(f for f in drawn if any("open (>" in (ln.get_label() or "")
+                                       for ax in f.axes for ln in ax.lines))  # fmt: skip
+    line = next(ln for ax in fig.axes for ln in ax.lines if "open (>" in str(ln.get_label()))
+    assert line.get_ydata()[-1] == pytest.approx(100 * want, rel=1e-12)
+    monkeypatch.undo()
+    assert main(["export", str(path), "--csv", str(tmp_path / "csv")]) == 0
+    with (tmp_path / "csv" / "joints.csv").open() as fh:
+        rows = [r for r in csv.DictReader(fh) if r["quantity"] == "open_share"]
+    assert float(rows[-1]["value"]) == pytest.approx(want, rel=1e-12)
+
+
+def test_the_report_of_a_stopped_run_and_of_a_run_without_its_model_file(
+    tmp_path: Path,
+) -> None:
+    """The report of a stopped run showed raw HTML in its table ("<b>stopped</b>:
+    stopped: SIGINT"); a report without the model file dropped the joints' strengths,
+    which the results file's model summary holds; a static factor of safety without
+    shear read "inf" where the text summary reads ∞ (a tester's findings)."""
+    import h5py
+
+    p = _write(tmp_path, SMALL, duration=0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    path = tmp_path / "out" / "results.h5"
+    with h5py.File(path, "r+") as f:  # as a run stopped by Ctrl-C leaves it
+        f.attrs["completed"], f.attrs["stop_reason"] = False, "stopped: SIGINT"
+    assert main(["report", str(path), "--out", str(tmp_path / "with.html")]) == 0
+
+    def laws(page: str) -> str:
+        part = page[page.index("<h3>Joints</h3>"):]
+        return part[: part.index("</table>")]
+
+    p.rename(tmp_path / "elsewhere.toml")  # the model file is gone
+    assert main(["report", str(path), "--out", str(tmp_path / "r.html")]) == 0
+    page = (tmp_path / "r.html").read_text()
+    # the joint's law from the summary as from the model file: φ = 26.565°, no
+    # cohesion, rigid springs (the residual φ given as the intact one's value)
+    row = "<td>joint</td><td>mohr-coulomb</td><td>broken</td><td>0</td><td>26.57</td><td>0</td>"
+    assert row in laws(page) and row in laws((tmp_path / "with.html").read_text())
+    assert laws(page).endswith("<td>26.57</td><td>rigid</td><td>rigid</td></tr>\n")
+    assert "<th>run</th><td>stopped: SIGINT at t = 0.050 s</td>" in page
+    assert "&lt;b&gt;" not in page and "run <b>stopped</b>: SIGINT at t = 0.050 s" in page
+    assert "<td>∞</td>" in page and ">inf<" not in page

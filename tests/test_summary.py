@@ -58,7 +58,7 @@ def test_peak_displacement_is_the_magnitude_on_an_incline() -> None:
     assert blk["floating"] and not base["floating"]
     assert blk["residual_displacement_m"] == pytest.approx(exact, rel=1e-6)
     assert blk["peak_displacement_m"] == pytest.approx(exact, rel=1e-6)
-    assert blk["residual_rotation_deg"] < 5e-8  # measured 4.4e-9 (E = 1e14 Pa)
+    assert abs(blk["residual_rotation_deg"]) < 5e-8  # measured 4.4e-9 (E = 1e14 Pa)
     assert base["peak_displacement_m"] == 0.0  # fixed at its base, rigid
     assert (f"block block      residual displacement {1e3 * exact:.1f} mm (x "
             f"{1e3 * blk['residual_displacement_xyz_m'][0]:.1f}") in format_summary(s)  # fmt: skip
@@ -477,6 +477,10 @@ def test_a_toppling_column_is_warned() -> None:
     b = s["bodies"]["block"]
     turn = np.degrees(np.abs(res.rigid[:, 1, 2] - res.rigid[0, 1, 2]))
     assert b["peak_rotation_deg"] == pytest.approx(turn.max(), rel=1e-12) and turn.max() > 90
+    # the residual rotation signed in 2D, counter-clockwise + as history/rigid (it was
+    # the magnitude: a tester's dam block read +0.0156° where the history gave −0.0156°)
+    signed = np.degrees(res.rigid[-1, 1, 2] - res.rigid[0, 1, 2])
+    assert b["residual_rotation_deg"] == pytest.approx(signed, rel=1e-12) and abs(signed) > 90
     assert b["beyond_pairs_s"] == res.t[np.argmax(turn > LARGE_TURN_DEG)]
     line = next(w for w in reliability(s) if w.label == "large motion")
     assert line.text.startswith(f"block block turned by up to {turn.max():.3g}°")

@@ -1651,8 +1651,9 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
     """Per body (its blocks' names), the rigid motion of its centroid relative to the
     start of the run (and to the ground in the absolute form): the peak and the residual
     displacement magnitude (m), the residual per axis, and the residual rotation (degrees;
-    in 3D the magnitude of the rotation vector). The permanent displacement of a block
-    that slides on its joints, the result a Newmark sliding-block analysis estimates."""
+    in 2D signed, counter-clockwise +; in 3D the magnitude of the rotation vector). The
+    permanent displacement of a block that slides on its joints, the result a Newmark
+    sliding-block analysis estimates."""
     model, d = job.model, job.model.dim
     if not res.rigid.size:
         return {}
@@ -1661,7 +1662,9 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
         base = _ground_displacement(job, res)
         q[..., :d] -= (base - base[:1])[:, None, :]
     u = np.linalg.norm(q[..., :d], axis=-1)  # (n_t, bodies)
-    turn = np.degrees(np.linalg.norm(q[..., d:], axis=-1))  # (n_t, bodies)
+    # the rotation: in 2D signed (counter-clockwise +, as history/rigid), in 3D the
+    # rotation vector's magnitude
+    turn = np.degrees(q[..., d] if d == 2 else np.linalg.norm(q[..., d:], axis=-1))
     out = {}
     floating = set(model.floating_bodies().tolist())
     flying = _airborne(model, res)
@@ -1672,8 +1675,8 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             "peak_displacement_m": float(u[:, b].max()),
             "residual_displacement_m": float(u[-1, b]),
             "residual_displacement_xyz_m": (q[-1, b, :d] + 0.0).tolist(),  # no -0.0
-            "residual_rotation_deg": float(turn[-1, b]),
-            "peak_rotation_deg": float(turn[:, b].max()),
+            "residual_rotation_deg": float(turn[-1, b]) + 0.0,  # (no -0.0)
+            "peak_rotation_deg": float(np.abs(turn[:, b]).max()),
         }
         if b in flying:  # rows at which every pair of the body was open, and the first
             out[name]["airborne_rows"], out[name]["first_airborne_s"] = flying[b]
@@ -1681,7 +1684,7 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             continue
         pts = model.mesh.points[body == b]
         size = float(np.ptp(pts, axis=0).max()) if pts.size else 0.0
-        far = (turn[:, b] > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
+        far = (np.abs(turn[:, b]) > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
         if far.any():  # beyond what node-to-node pairs can follow
             out[name]["size_m"] = size
             out[name]["beyond_pairs_s"] = _time(res.t[int(np.argmax(far))])

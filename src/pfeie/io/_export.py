@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ResultsError
-from ..interface import OPEN_CRACK_MIN_M
 from ._files import output_folder
 from ._results import Results
 
@@ -97,17 +96,14 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                     pr = res.pairs(name)
                     A = pr["area"]
                     slip = np.linalg.norm(pr["slip"], axis=-1)
-                    opened = (pr["state"] == 3) & (pr["opening"] > OPEN_CRACK_MIN_M)
+                    share = res.joint_shares(name)
                     series = {
                         ("slip_max", "m"): slip.max(axis=1),
                         ("slip_mean", "m"): (slip * A).sum(axis=1) / A.sum(),
                         ("opening_max", "m"): pr["opening"].max(axis=1),
-                        ("broken_share", "-"): (pr["broken"] * A).sum(axis=1) / A.sum(),
-                        ("sliding_share", "-"): ((pr["state"] == 2) * A).sum(axis=1) / A.sum(),
-                        # open by more than OPEN_CRACK_MIN_M, as the summary and the
-                        # report count them (a corner pair of a quadratic facet parts by
-                        # microns under compression)
-                        ("open_share", "-"): (opened * A).sum(axis=1) / A.sum(),
+                        ("broken_share", "-"): share["broken"],
+                        ("sliding_share", "-"): share["sliding"],
+                        ("open_share", "-"): share["open"],  # (Results.joint_shares)
                     }
                     # the relative displacement of the joint's faces (side b minus side a,
                     # local axes t…, n; n + opening), area mean, since the start of the run

@@ -699,6 +699,20 @@ class Results:
         out["slip"] = out["s"][..., :-1] - out["s"][:1, :, :-1]
         return out
 
+    def joint_shares(self, interface: str) -> dict[str, FloatArray]:
+        """The area shares (n_t,) of a joint's pairs that are ``broken``, ``sliding`` and
+        ``open``, the last by more than :data:`pfeie.interface.OPEN_CRACK_MIN_M` (a
+        corner pair of a quadratic facet parts by microns in compression): the shares of
+        the joint figure, the CSV export and the summary."""
+        from ..interface import OPEN, OPEN_CRACK_MIN_M, SLIDE
+
+        pr = self.pairs(interface)
+        A = pr["area"] / pr["area"].sum()
+        opened = (pr["state"] == OPEN) & (pr["opening"] > OPEN_CRACK_MIN_M)
+        return {"broken": (pr["broken"] * A).sum(axis=1),
+                "sliding": ((pr["state"] == SLIDE) * A).sum(axis=1),
+                "open": (opened * A).sum(axis=1)}  # fmt: skip
+
     def energy(self) -> dict[str, FloatArray]:
         """Energy terms (n_t,) in J."""
         return {k: np.asarray(v[...]) for k, v in self.f["history/energy"].items()}

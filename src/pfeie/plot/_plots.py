@@ -8,8 +8,9 @@
 - ``probe_<name>.png``: displacement (relative to the ground) and absolute acceleration
   histories of each probe;
 - ``joint_<name>.png``: slip (largest and area-mean over the pairs) and opening (largest;
-  below :data:`OPENING_FLOOR_M` drawn as 0) histories of each interface, with the broken
-  share, and its cracked length (2D; area in 3D: the broken pairs), the broken pairs in
+  below :data:`OPENING_FLOOR_M` drawn as 0) histories of each interface, with the broken,
+  sliding and open shares (open by more than :data:`OPEN_CRACK_MIN_M`, as the summary
+  counts them), and its cracked length (2D; area in 3D: the broken pairs), the broken pairs in
   the open state and the open crack (those open by more than the summary's threshold,
   :data:`OPEN_CRACK_MIN_M`) over time, and the sliding safety factor FS(t) (drawn up to
   :data:`FS_SHOWN_MAX`);
@@ -308,11 +309,11 @@ def plot_joint(res: Results, name: str, path: Path, title: str = "") -> Path:
     ax[1].plot(t, 1e3 * _shown_opening(pr["opening"].max(axis=1)), lw=1.0, color="C3",
                label="largest")  # fmt: skip
     ax[1].set_ylabel(f"opening (mm)\n(below {1e3 * OPENING_FLOOR_M:g} mm: 0)")
-    ax[2].plot(t, 100 * (pr["broken"] * A).sum(axis=1) / A.sum(), lw=1.0, color="k",
-               label="broken")  # fmt: skip
-    for k, lab in ((2, "slide"), (3, "open")):
-        ax[2].plot(t, 100 * ((pr["state"] == k) * A).sum(axis=1) / A.sum(), lw=0.8,
-                   color=STATE_COLOURS[k], label=lab)  # fmt: skip
+    share = res.joint_shares(name)  # (open: by more than OPEN_CRACK_MIN_M, as the CSV)
+    ax[2].plot(t, 100 * share["broken"], lw=1.0, color="k", label="broken")
+    for k, key, lab in ((2, "sliding", "slide"),
+                        (3, "open", f"open (> {1e3 * OPEN_CRACK_MIN_M:g} mm)")):  # fmt: skip
+        ax[2].plot(t, 100 * share[key], lw=0.8, color=STATE_COLOURS[k], label=lab)
     ax[2].set_ylabel("share of the joint (%)")
     if cracks:  # the cracked extent over time
         cr = res.joint_cracks(name)

@@ -12,6 +12,7 @@ import hashlib
 import html
 import json
 import logging
+import math
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -488,12 +489,28 @@ def material_rows(res: Results, job: Job | None) -> list[dict[str, Any]]:
     return rows
 
 
-def joint_property_rows(job: Job | None) -> list[dict[str, Any]]:
-    """The joints' laws: strengths intact and residual, initial state, stiffnesses."""
-    if job is None:
-        return []
+def joint_property_rows(res: Results, job: Job | None) -> list[dict[str, Any]]:
+    """The joints' laws: strengths intact and residual, initial state, stiffnesses (from
+    the recorded model summary, its ``joint_laws``, when the model file is not
+    available; a key it lacks is a strength or stiffness the law does not have)."""
+    if job is not None:
+        laws = job.spec["interfaces"]
+    else:
+        laws = res.meta.get("model_summary", {}).get("joint_laws", {})
     rows = []
-    for name, js in job.spec["interfaces"].items():
+    for name, given in laws.items():
+        js = {k: given.get(k) for k in ("cohesion", "tensile_strength", "residual_cohesion",
+                                        "residual_friction_angle", "normal_stiffness",
+                                        "shear_stiffness")}  # fmt: skip
+        js |= {k: given.get(k, "") for k in ("law", "initial", "friction_angle")}
+        # (the summary names the law's class: the model file's name for it)
+        js["law"] = {"MohrCoulomb": "mohr-coulomb", "SlipWeakening": "slip-weakening"}.get(
+            str(js["law"]), js["law"])  # fmt: skip
+        if js["friction_angle"] == "":  # (a law without Mohr-Coulomb's keys: its name)
+            rows.append({"joint": name, "law": str(js["law"]), "initial": "—", "c (MPa)": "—",
+                         "φ (°)": "—", "f_t (MPa)": "—", "residual c (MPa)": "—",
+                         "residual φ (°)": "—", "k_n (Pa/m)": "—", "k_s (Pa/m)": "—"})  # fmt: skip
+            continue
 
         def mpa(v: Any) -> str:
             return "none" if v is None else f"{1e-6 * v:.4g}"
@@ -684,15 +701,20 @@ def static_stress(res: Results, job: Job) -> list[tuple[str, np.ndarray]]:
 
 
 def _table(rows: list[dict[str, Any]]) -> list[str]:
-    """An HTML table of rows of equal keys (floats with 3 significant digits)."""
+    """An HTML table of rows of equal keys (floats with 4 significant digits; an
+    infinite one, a safety factor without shear, as ∞, as the text summary gives it)."""
     esc = html.escape
     if not rows:
         return []
+
+    def number(x: float) -> str:
+        return ("∞" if x > 0 else "−∞") if math.isinf(x) else f"{x:.4g}"
+
     keys = list(dict.fromkeys(k for r in rows for k in r))
     out = ["<table><tr>" + "".join(f"<th>{esc(k)}</th>" for k in keys) + "</tr>"]
     for row in rows:
         cells = "".join(
-            f"<td>{row[k]:.4g}</td>" if isinstance(row.get(k), float)
+            f"<td>{number(row[k])}</td>" if isinstance(row.get(k), float)
             else f"<td>{esc(str(row.get(k, '')))}</td>" for k in keys
         )  # fmt: skip
         out.append(f"<tr>{cells}</tr>")
@@ -871,7 +893,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         static_only = res.n_times == 0
         mesh_rows = model_rows(res, job)
         materials = material_rows(res, job)
-        joint_laws = joint_property_rows(job)
+        joint_laws = joint_property_rows(res, job)
         loads = load_rows(res, job) if job is not None else []
         modes, why = modal_tables(job) if job is not None else ([], "")
         title = run_title(meta)
@@ -886,12 +908,15 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
             images = {f.stem: base64.b64encode(f.read_bytes()).decode()
                       for f in [*extra.values(), *figs]}  # fmt: skip
     esc = html.escape
-    status = ("completed" if meta["completed"] else
-              f"<b>stopped</b>: {esc(str(meta.get('stop_reason', '')))}")  # fmt: skip
+    # the reason as the file gives it ("stopped: SIGINT", or the failure's own words)
+    reason = str(meta.get("stop_reason", "")).removeprefix("stopped: ")
+    status = "completed" if meta["completed"] else f"stopped: {reason}"
     if static_only:  # a static analysis that failed says so, not "static state only"
         run = "static state only" if meta["completed"] else status
     else:
         run = f"{status} at t = {t_end:.3f} s"
+    # (bold in the line under the title; plain text in the table, which escapes it)
+    run_html = esc(run).replace("stopped:", "<b>stopped</b>:", 1)
     used: set[str] = set()
 
     def figure(name: str, caption: str = "") -> list[str]:
@@ -912,7 +937,7 @@ def write_report(results: str | Path, out: str | Path | None = None, where: str 
         "figure{margin:1em 0}figcaption{font-size:90%;color:#555}.note{color:#a33}"
         "h2{border-bottom:1px solid #ccc;margin-top:2em}</style></head><body>",
         f"<h1>{esc(title or 'a run of the Python API')}</h1>",
-        f"<p>pfeie {esc(str(meta['pfeie_version']))}; run {run}; Δt = "
+        f"<p>pfeie {esc(str(meta['pfeie_version']))}; run {run_html}; Δt = "
         f"{esc(str(summ['dt']))} s; model file {esc(str(meta['model_file']))}.</p>",
         *_warnings(meta),
         "<nav><ol>",
