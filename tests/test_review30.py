@@ -422,7 +422,8 @@ def test_a_stopped_extension_names_its_own_duration(
     assert main(["run", str(p), "--quiet"]) == 0
     give_back = _disk_short_after(monkeypatch, 30)  # (0.15 s into the extension)
     assert main(["run", str(p), "--quiet", "--resume", "--duration", "1.0"]) == 130
-    assert "`pfeie run --resume --duration 1` continues the run" in capsys.readouterr().out
+    # (the command line's own command: its model file and options)
+    assert f"`pfeie run {p} --resume --duration 1.0` continues the run" in capsys.readouterr().out
     give_back()
     capsys.readouterr()
     assert main(["run", str(p), "--quiet", "--resume"]) == 2

@@ -10,6 +10,7 @@ import logging
 import re
 import signal
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -360,3 +361,84 @@ def test_the_report_of_a_stopped_run_and_of_a_run_without_its_model_file(
     assert "<th>run</th><td>stopped: SIGINT at t = 0.050 s</td>" in page
     assert "&lt;b&gt;" not in page and "run <b>stopped</b>: SIGINT at t = 0.050 s" in page
     assert "<td>∞</td>" in page and ">inf<" not in page
+
+
+# -- the disk guard and the kept run (a reviewer's findings) -------------------------------
+
+
+def _disk_free(monkeypatch: pytest.MonkeyPatch, free: Callable[[], int]) -> None:
+    """The output disk has ``free()`` bytes free, as the guard sees it (each look)."""
+    import shutil
+    from collections import namedtuple
+
+    import pfeie._job as job_module
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(job_module, "DISK_CHECK_S", 0.0)
+    monkeypatch.setattr(job_module.shutil, "disk_usage",
+                        lambda _p: usage(1 << 40, 0, free()))  # fmt: skip
+    assert shutil.disk_usage is job_module.shutil.disk_usage
+
+
+def test_a_rerun_short_of_disk_gives_up_the_kept_run_first(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Keeping the completed run while its re-run goes needs room for both, and a re-run
+    that completed before stopped for want of space (a reviewer's tmpfs). The guard now
+    deletes the kept run, with a warning, before it stops a run; a re-run that would not
+    start for want of space is refused before anything in the folder changes; a folder
+    in the kept file's place is not an error; and every stop names the command that
+    resumes the run, with its options."""
+    out = tmp_path / "out"
+    p = _write(tmp_path, SMALL, duration=0.05)
+    assert main(["run", str(p), "--quiet"]) == 0
+    ref = _final_u(out / "results.h5")
+    # the disk is short while the kept run is there: it goes, the re-run completes
+    _disk_free(monkeypatch, lambda: (10 if (out / "results.previous.h5").exists() else 900) << 20)
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        assert main(["run", str(p), "--quiet"]) == 0
+    assert "results.previous.h5 deleted: the disk of" in caplog.text
+    assert not (out / "results.previous.h5").exists()
+    done = _final_u(out / "results.h5")
+    assert done[:2] == ref[:2]
+    np.testing.assert_array_equal(done[2], ref[2])
+    # 1 MiB free: refused, the former run and its summaries as they were
+    _disk_free(monkeypatch, lambda: 1 << 20)
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet"]) == 2
+    assert "the run is not started: the disk of" in capsys.readouterr().err
+    assert (out / "summary.json").is_file() and _final_u(out / "results.h5")[0]
+    # a folder where the kept file goes: the re-run overwrites, with a warning
+    monkeypatch.undo()
+    (out / "results.previous.h5").mkdir()
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        assert main(["run", str(p), "--quiet"]) == 0
+    assert "cannot be kept as results.previous.h5" in caplog.text
+    # a disk stop of a run with options names the command with them
+    from test_review30 import _disk_short_after
+
+    _disk_short_after(monkeypatch, 1)
+    capsys.readouterr()
+    assert main(["run", str(p), "--set", "output.every=2"]) == 130
+    said = capsys.readouterr()
+    command = f"`pfeie run {p} --resume --set output.every=2`"
+    assert f"then {command} continues the run" in said.out + said.err
+    assert "`pfeie run --resume" not in said.out + said.err
+
+
+def test_a_study_without_histories_needs_little_room(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A study that keeps no histories writes a row of a few kB a run, and it was refused
+    on a disk with 30 MiB free for want of "the 64 MiB a checkpoint and the summaries
+    need" (a reviewer's tmpfs). Its margin is 1 MiB now."""
+    from test_study import STUDY, setup
+
+    p = setup(tmp_path, STUDY, n=1, seconds=0.3)
+    _disk_free(monkeypatch, lambda: 30 << 20)
+    assert main(["study", str(p), "--quiet"]) == 0
+    _disk_free(monkeypatch, lambda: 1 << 19)
+    capsys.readouterr()
+    assert main(["study", str(p), "--quiet", "--restart"]) == 2
+    assert "less than the 1 MiB the study's rows and tables need" in capsys.readouterr().err

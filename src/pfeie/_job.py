@@ -227,14 +227,16 @@ STALE_OUTPUTS = ("summary.json", "summary.txt", "report.html", "blocks.xdmf", "b
 def run_job(
     job: Job, *, progress: bool = True, duration: float | None = None,
     stream: TextIO | None = None, resume: bool = False, checkpoint_s: float | None = None,
+    resume_with: str | None = None,
 ) -> dict[str, Any]:  # fmt: skip
     """Run a validated model file; returns the results summary (also written to disk).
 
     A checkpoint is written to the results file every ``checkpoint_s`` seconds (default
     ``output.checkpoint_seconds``) and at the end (:mod:`pfeie.io._checkpoint`);
     ``resume`` continues a stopped run from it (or extends a completed one to a longer
-    duration). One run at a time writes to an output folder (a lock file with its process
-    id; another run gets a clear error)."""
+    duration); ``resume_with``, the command that does so (the command line's own, with
+    its options), is what the messages of a stop give. One run at a time writes to an
+    output folder (a lock file with its process id; another run gets a clear error)."""
     out = output_folder(job.folder, f"{job.path}: output.folder")
     if (why := study_outputs(out)) is not None:  # a run's summaries would replace the study's
         raise InputError(f"{job.path}: output.folder: {out} holds the outputs of a `pfeie "
@@ -242,7 +244,8 @@ def run_job(
                          "report: choose another output.folder")  # fmt: skip
     with FolderLock(out, job.path):
         try:
-            return _run(job, out, progress, duration, stream, resume, checkpoint_s)
+            return _run(job, out, progress, duration, stream, resume, checkpoint_s,
+                        resume_with or "`pfeie run --resume`")  # fmt: skip
         except OSError as exc:  # a full disk, a quota, a folder removed under the run
             import gc
 
@@ -256,7 +259,7 @@ def run_job(
             raise ResultsError(
                 f"{where}: cannot write the results ({exc.strerror or exc}): {fix}; what was "
                 "written before stays readable (pfeie report, pfeie export), and then "
-                "`pfeie run --resume` continues from the last checkpoint"
+                f"{resume_with or '`pfeie run --resume`'} continues from the last checkpoint"
             ) from None
 
 
@@ -471,41 +474,70 @@ class DiskGuard:
     run --resume`` continues it) when the disk of its output folder runs short: HDF5 does
     not always say when a write fails for want of space (the chunks it caches are written
     later, and an error there is lost), and a run that goes on writing leaves rows never
-    written, a checkpoint half written, or no file at all. The margin: :data:`DISK_FREE_MIN`
-    plus four checkpoints of ``n_dof`` (u, v, a, f, the auxiliary acceleration: five
-    float64 vectors each), looked at every :data:`DISK_CHECK_S` seconds. ``then`` ends
-    the message: what continues the run (by default ``pfeie run --resume --duration``
-    with ``duration``, an extension's own)."""
+    written, a checkpoint half written, or no file at all. The margin: ``free_min``
+    (default :data:`DISK_FREE_MIN`) plus four checkpoints of ``n_dof`` (u, v, a, f, the
+    auxiliary acceleration: five float64 vectors each), looked at every
+    :data:`DISK_CHECK_S` seconds. ``then`` ends the message: what continues the run (by
+    default ``pfeie run --resume --duration`` with ``duration``); ``what`` names what
+    the margin is for. A ``spare`` file (the completed run that a re-run replaces, kept
+    until the re-run completes) is deleted, with a warning, before the run is stopped
+    for want of the space it holds."""
 
-    def __init__(self, folder: Path, n_dof: int, duration: float, then: str | None = None) -> None:
+    def __init__(self, folder: Path, n_dof: int, duration: float, then: str | None = None,
+                 free_min: int = DISK_FREE_MIN,
+                 what: str = "a checkpoint and the summaries") -> None:  # fmt: skip
         self.folder = folder
-        self.need = DISK_FREE_MIN + 4 * 5 * 8 * int(n_dof)
+        self.need = free_min + 4 * 5 * 8 * int(n_dof)
         self.then = then or f"`pfeie run --resume --duration {duration:g}` continues the run"
+        self.what = what
+        self.spare: Path | None = None
         self.tripped: str | None = None  # the message of the stop, once it stopped the run
         self._next = 0.0
 
-    def short(self) -> str | None:
-        """The message of a disk short of the margin now, or None."""
+    def short(self, replaced: Path | None = None) -> str | None:
+        """The message of a disk short of the margin now, or None; the file ``replaced``
+        (one the run overwrites) counts as free space."""
         try:
             free = shutil.disk_usage(self.folder).free
         except OSError:  # (a file system that does not say: nothing to guard)
             return None
+        with contextlib.suppress(OSError):
+            free += replaced.stat().st_size if replaced is not None and replaced.is_file() else 0
         if free >= self.need:
             return None
         return (f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
-                f"less than the {self.need / 2**20:.0f} MiB a checkpoint and the summaries "
-                f"need: free some space, then {self.then}")  # fmt: skip
+                f"less than the {self.need / 2**20:.0f} MiB {self.what} need")  # fmt: skip
+
+    def free_spare(self, why: str) -> bool:
+        """Delete the spare file, if there is one, saying ``why``; whether it was."""
+        spare, self.spare = self.spare, None
+        if spare is None or not spare.is_file():
+            return False
+        try:
+            spare.unlink()
+        except OSError:
+            return False
+        log.warning("%s deleted: %s; it held the completed run that this run replaces", spare,
+                    why)  # fmt: skip
+        return True
+
+    def stop_text(self, why: str) -> str:
+        """The message of a stop for ``why`` (:meth:`short`'s), with what continues."""
+        return f"{why}: free some space, then {self.then}"
 
     def check(self) -> None:
         """Raise :class:`RunStopped` when the disk is short (a look every
-        :data:`DISK_CHECK_S` s at most)."""
+        :data:`DISK_CHECK_S` s at most), after deleting the spare file if there is one."""
         now = time.perf_counter()
         if now < self._next:
             return
         self._next = now + DISK_CHECK_S
-        if (why := self.short()) is not None:
-            self.tripped = why
-            raise RunStopped(why)
+        if (why := self.short()) is None:
+            return
+        if self.free_spare(why) and (why := self.short()) is None:
+            return
+        self.tripped = self.stop_text(why)
+        raise RunStopped(self.tripped)
 
 
 def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
@@ -535,7 +567,7 @@ def _beyond_duration(job: Job, path: Path, duration: float | None) -> None:
 
 def _run(
     job: Job, out: Path, progress: bool, duration: float | None, stream: TextIO | None,
-    resume: bool, checkpoint_s: float | None,
+    resume: bool, checkpoint_s: float | None, resume_with: str,
 ) -> dict[str, Any]:  # fmt: skip
     a = job.analysis
     t0 = time.perf_counter()
@@ -557,20 +589,31 @@ def _run(
         except NothingToResume as exc:
             log.warning("%s; running from the start", exc)
             resume = False
+    disk = DiskGuard(out, job.model.n_dof, job.duration if duration is None else duration,
+                     then=f"{resume_with} continues the run")  # fmt: skip
     if ck is None:
         # a new run: the summaries and the report of a former run in this folder go (after a
         # failure they would stand beside the new results as if they were theirs)
         ResultsWriter.require()
+        _keep_stopped_run(out / "results.h5", job)
+        keep = True  # the completed run there, until this one completes, if there is room
+        if disk.short() is not None:
+            disk.spare = out / PREVIOUS_RUN  # (one a former re-run kept goes first)
+            disk.free_spare("the disk is short")
+            if (why := disk.short(out / "results.h5")) is not None:  # (a run overwrites it)
+                raise ResultsError(f"{job.path}: the run is not started: {why}: free some "
+                                   "space")  # fmt: skip
+            keep = disk.short() is None
         for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
-        _keep_stopped_run(out / "results.h5", job)
-        previous = _keep_completed_run(out / "results.h5")
+        previous = _keep_completed_run(out / "results.h5") if keep else None
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     if previous is None and (out / PREVIOUS_RUN).is_file():
         previous = out / PREVIOUS_RUN  # kept by a re-run that did not complete (or resumed)
+    disk.spare = previous
     try:
         summary = _steps(job, dyn, out, writer, ck, progress, duration, stream, checkpoint_s,
-                         t0)  # fmt: skip
+                         t0, disk, resume_with)  # fmt: skip
     except BaseException:
         _previous_kept(previous)
         raise
@@ -584,7 +627,7 @@ def _run(
 def _steps(
     job: Job, dyn: Dynamic | None, out: Path, writer: ResultsWriter, ck: Checkpoint | None,
     progress: bool, duration: float | None, stream: TextIO | None,
-    checkpoint_s: float | None, t0: float,
+    checkpoint_s: float | None, t0: float, disk: DiskGuard, resume_with: str,
 ) -> dict[str, Any]:  # fmt: skip
     """The run of :func:`_run` once its results file is open: the static state, the
     searches, the time stepping and the summaries."""
@@ -647,8 +690,6 @@ def _steps(
         old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
         bar = Progress(first + n, a.dt, stream, first) if progress else None
 
-        disk = DiskGuard(out, model.n_dof, job.duration if duration is None else duration)
-
         def callback(st: StepState) -> None:
             if bar is not None:
                 bar(st)
@@ -697,11 +738,11 @@ def _steps(
         if stopped is not None and result is not None:  # a second signal after the first
             raise KeyboardInterrupt(
                 f"{why}; the run had stopped at t = {float(result.t[-1]):.6g} s ({stopped}) "
-                "and results.h5 holds it to there; `pfeie run --resume` continues it"
+                f"and results.h5 holds it to there; {resume_with} continues it"
             ) from None
         raise KeyboardInterrupt(
             f"{why}; the time stepping had finished and results.h5 holds the run; "
-            "`pfeie run --resume` writes the summary and the ParaView files"
+            f"{resume_with} writes the summary and the ParaView files"
         ) from None
     return summary
 
@@ -955,7 +996,12 @@ def _keep_completed_run(path: Path) -> Path | None:
                 return None
     except (PfeieError, OSError):
         return None  # not a results file, or one that does not open: overwritten
-    path.replace(keep)
+    try:
+        path.replace(keep)
+    except OSError as exc:  # (a folder of that name, a file not writable)
+        log.warning("%s: the completed run there cannot be kept as %s (%s): this run "
+                    "overwrites it", path, keep.name, exc.strerror or exc)  # fmt: skip
+        return None
     log.info("%s: the completed run there is kept as %s until this run completes", path,
              keep.name)  # fmt: skip
     return keep
@@ -966,7 +1012,7 @@ def _previous_kept(previous: Path | None) -> None:
     if previous is not None and previous.is_file():
         log.warning("%s holds the completed run that this run was to replace; move it back "
                     "to results.h5 to keep it (`pfeie plot`, `report` and `export` read it "
-                    "where it is)", previous)  # fmt: skip
+                    "where it is, with --out or --csv in another folder)", previous)  # fmt: skip
 
 
 def _keep_stopped_run(path: Path, job: Job) -> None:

@@ -296,7 +296,8 @@ def _main(argv: Sequence[str] | None) -> int:
     for line in job.record_lines():
         print(f"record: {line}", file=sys.stderr)
     try:
-        summary = run_job(job, progress=not args.quiet, resume=args.resume)
+        summary = run_job(job, progress=not args.quiet, resume=args.resume,
+                          resume_with=_resume_command(args))  # fmt: skip
     except (InputError, MeshError, RecordError, ResultsError) as exc:
         # a mesh error met while building the operators names the model file it came from
         where = f"{args.model}: " if isinstance(exc, MeshError) and not str(exc).startswith(

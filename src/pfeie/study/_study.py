@@ -412,7 +412,7 @@ def _run_batch(ctx: Context, specs: Sequence[RunSpec]) -> list[dict[str, Any] | 
 
 def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[str, Any]:
     """Run one record at one intensity with the analysis ``dyn`` of ``sysm``."""
-    from .._job import DiskGuard, summarize
+    from .._job import DISK_FREE_MIN, DiskGuard, summarize
 
     job = sysm.job
     rec = spec.record.read(job.model.dim, quiet=True)  # (the plan warned about it)
@@ -427,10 +427,15 @@ def _run_on(ctx: Context, spec: RunSpec, sysm: _System, dyn: Dynamic) -> dict[st
     t0 = time.perf_counter()
     # a disk short of space stops the study before a run (its rows are small) or, with
     # histories kept, within one (as `pfeie run` stops); the study run again goes on
+    # (without histories a run writes its row, a few kB: a margin of 1 MiB)
     disk = DiskGuard(ctx.folder, job.model.n_dof if ctx.histories else 0, duration,
-                     then="run the study again: it goes on with the runs left")  # fmt: skip
+                     then="run the study again: it goes on with the runs left",
+                     free_min=DISK_FREE_MIN if ctx.histories else 2**20,
+                     what=("a history's rows and its summaries" if ctx.histories else
+                           "the study's rows and tables"))  # fmt: skip
     if (why := disk.short()) is not None:
-        raise ResultsError(f"{spec.record.name}, {spec.value:g}: not run: {why}")
+        raise ResultsError(f"{spec.record.name}, {spec.value:g}: not run: "
+                           f"{disk.stop_text(why)}")  # fmt: skip
     writer = None
     if ctx.histories:
         from ..io import ResultsWriter
