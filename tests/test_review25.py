@@ -329,7 +329,7 @@ def test_resume_after_output_settings_changed(tmp_path: Path) -> None:
     ref_dir, ext_dir = tmp_path / "ref", tmp_path / "ext"
     res = ext_dir / "out" / "results.h5"
     with h5py.File(res, "r+") as f:  # as an earlier version wrote it
-        f.attrs["run_key"] = run_key(load_job(p), legacy=True)
+        f.attrs["run_key"] = run_key(load_job(p), legacy=True, stack=False)
     assert main(["run", str(p), "--quiet", "--duration", "0.2", "--resume"]) == 0
     assert (
         main(

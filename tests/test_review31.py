@@ -442,3 +442,144 @@ def test_a_study_without_histories_needs_little_room(
     capsys.readouterr()
     assert main(["study", str(p), "--quiet", "--restart"]) == 2
     assert "less than the 1 MiB the study's rows and tables need" in capsys.readouterr().err
+
+
+# -- provenance (a determinism tester's findings) ------------------------------------------
+
+
+def test_the_sparse_solver_is_recorded_and_never_mixed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The sparse solver changes the last bits of a run (CHOLMOD against SuperLU: 38 of
+    70 datasets of the demo, 1e-13 relative), and nothing recorded it: a resume under
+    another solver wrote one file with two, and a study gathered from machines with
+    different installs mixed their rows (22 cells of a table differed from the one
+    machine's). The solver is now in the results file and in the run key: the resume is
+    refused naming it, a study's rows of another solver are run again, and a study
+    worker with another solver refuses to run."""
+    import dataclasses
+
+    from pfeie.linalg import solver_stack
+    from pfeie.study import Study
+    from pfeie.study._study import system
+    from test_study import STUDY, setup
+
+    here = solver_stack()
+    if here == "superlu":
+        pytest.skip("needs CHOLMOD (pfeie[fast]) besides SuperLU")
+    p = _write(tmp_path, SMALL, duration=0.05)
+    monkeypatch.setenv("PFEIE_SOLVER", "superlu")
+    assert main(["run", str(p), "--quiet"]) == 0
+    with Results(tmp_path / "out" / "results.h5") as res:
+        assert res.f.attrs["solver_stack"] == "superlu"
+    monkeypatch.delenv("PFEIE_SOLVER")
+    capsys.readouterr()
+    assert main(["run", str(p), "--quiet", "--resume", "--duration", "0.1"]) == 2
+    assert (f"cannot resume: the sparse solver differs: 'superlu' for the run in the file, "
+            f"{here!r} here") in capsys.readouterr().err  # fmt: skip
+    # a study's rows of SuperLU are not kept by a study on CHOLMOD
+    (tmp_path / "st").mkdir()
+    s = setup(tmp_path / "st", STUDY, n=1, seconds=0.3)
+    monkeypatch.setenv("PFEIE_SOLVER", "superlu")
+    assert main(["study", str(s), "--quiet"]) == 0
+    monkeypatch.delenv("PFEIE_SOLVER")
+    assert main(["study", str(s), "--quiet"]) == 0
+    rows = list((tmp_path / "st" / "study" / "rows").glob("*.json"))
+    assert len(rows) == 4  # two keys a run: SuperLU's and CHOLMOD's
+    # a worker whose solver is not the study's refuses
+    ctx = Study.from_file(s).context()
+    assert ctx.solver == here
+    with pytest.raises(pf.PfeieError, match=r"this worker's sparse solver is .*, the "
+                       r"study's 'superlu'"):  # fmt: skip
+        system(dataclasses.replace(ctx, solver="superlu", model_key="other"))
+
+
+def test_the_digest_of_a_python_run_holds_its_start_state(tmp_path: Path) -> None:
+    """``run_to_folder(start=...)`` recorded the same ``model_sha256`` for two runs from
+    different start states (the ends of runs under 1 g and 3 g), whose histories differ
+    (a tester's finding): the digest, "of what determines the run", now holds the start
+    state's arrays. The same start gives the same digest, bit for bit."""
+    from pfeie.io import Job
+    from test_checkpoint import block_on_base
+
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    dyn = pf.Dynamic(model, 0.005)
+    g = [pf.GroundMotion.from_function(lambda t, k=k: k * 9.81, duration=0.1, dt=0.005)
+         for k in (1.0, 3.0)]  # fmt: skip
+    st = pf.solve_static(model)
+    ends = [dyn.run(0.05, ground=[gk], start=st).final for gk in g]
+
+    def digest(start: object) -> str:
+        return Job.of_run(model, dyn.settings, records=g[:1], duration=0.1, start=start,
+                          system=dyn.system).digest  # fmt: skip
+
+    assert digest(ends[0]) != digest(ends[1])
+    assert digest(ends[0]) == digest(dyn.run(0.05, ground=g[:1], start=st).final)
+    assert len({digest(ends[0]), digest(st), digest(None)}) == 3
+    # the results files of run_to_folder from the two ends, and from the first again
+    shas = []
+    for k, start in enumerate([ends[0], ends[1], dyn.run(0.05, ground=g[:1], start=st).final]):
+        pf.run_to_folder(dyn, 0.05, tmp_path / str(k), ground=g[:1], start=start,
+                         paraview=False, figures=False)  # fmt: skip
+        with Results(tmp_path / str(k) / "results.h5") as f:
+            shas.append(f.meta["model_sha256"])
+    assert shas[0] != shas[1] and shas[0] == shas[2]
+
+
+def test_the_summary_gives_the_run_key(tmp_path: Path) -> None:
+    """``model_sha256``, the only digest of the summaries, is of the model file's own
+    bytes: a changed mesh, record or ``--set`` left it as it was (documented, but the
+    summaries carried nothing else). They now give the run key, which holds them."""
+    import json
+
+    p = _write(tmp_path, SMALL, duration=0.05)
+    keys = []
+    for extra in ([], ["--set", "materials.concrete.E=2e9"]):
+        assert main(["run", str(p), "--quiet", *extra]) == 0
+        s = json.loads((tmp_path / "out" / "summary.json").read_text())
+        with Results(tmp_path / "out" / "results.h5") as res:
+            assert s["model"]["run_key"] == res.f.attrs["run_key"]
+        keys.append((s["model"]["sha256"], s["model"]["run_key"]))
+        text = (tmp_path / "out" / "summary.txt").read_text()
+        assert f"run key {s['model']['run_key'][:12]}" in text
+    assert keys[0][0] == keys[1][0] and keys[0][1] != keys[1][1]
+
+
+# -- water loads (a hydraulic-loads reviewer's findings) -----------------------------------
+
+
+def test_westergaard_puts_no_mass_below_the_reservoir_bottom() -> None:
+    """A wet face that reaches below the reservoir's ``bottom`` (into the foundation or
+    the silt) took Westergaard's mass there too, with depths beyond H: 65.4 t of 202.1 t
+    on a reviewer's dam with its bottom 5 m up the face. The mass now stops at the
+    bottom: the total is the closed form 7/12 ρ_w H² with H = h − z_b, and the nodes
+    below the bottom carry none."""
+    mesh = pf.rectangle(1.0, 20.0, 1, 8)  # nodes every 2.5 m: one at the bottom, 5 m
+    model = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    model.add_westergaard("xmin", water_level=20.0, bottom=5.0)
+    m = model.added_mass().reshape(-1, 2)[:, 0]
+    assert m.sum() == pytest.approx(7 / 12 * 1000.0 * 15.0**2, rel=1e-12)  # measured 0
+    assert m[mesh.points[:, 1] < 5.0 - 1e-9].sum() == 0.0
+    whole = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
+    whole.add_westergaard("xmin", water_level=20.0)  # the bottom at the face's foot
+    assert whole.added_mass().sum() == pytest.approx(7 / 12 * 1000.0 * 20.0**2, rel=1e-12)
+
+
+def test_water_loads_under_a_tilted_gravity_are_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Hydrostatic, uplift and Westergaard loads take the mesh's y (z in 3D) as the
+    vertical; under a tilted ``gravity_direction`` (a mesh drawn in a slope's own axes)
+    their heads were those of the untilted model without a word (a reviewer's 20° tilt:
+    the heel's head 12.0 m where cos 20° × 12.0 = 11.3 m lies along gravity). Warned
+    now, naming the loads and the tilt."""
+    from pfeie.io import load_job
+    from test_robustness import MODEL, model
+
+    text = MODEL.replace("[analysis]", "[loads]\ngravity = 9.81\ngravity_direction = "
+                         "[0.3420201433, -0.9396926208]\n[[loads.hydrostatic]]\n"
+                         'groups = ["top"]\nwater_level = 3.0\n[analysis]')  # fmt: skip
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        load_job(model(tmp_path, text=text))
+    assert ("loads.gravity_direction is tilted 20° from −y, and the water loads "
+            "(hydrostatic) take y as the vertical") in caplog.text

@@ -844,7 +844,7 @@ def run_to_folder(
               "paraview": paraview, "folder": "."}  # fmt: skip
     job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
                      duration=duration, form=form, static=static is not None, title=title,
-                     output=output, system=analysis.system)  # fmt: skip
+                     output=output, system=analysis.system, start=start)  # fmt: skip
     ResultsWriter.require()  # before the folder is touched (or made)
     out = output_folder(folder, "run_to_folder: folder")
     if (why := study_outputs(out)) is not None:
@@ -1566,6 +1566,8 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     (1e-5 m), and when.
     """
     s: dict[str, Any] = {"model": job.summary(), "version": __version__}
+    if "mesh" in job.spec:  # a model file's: its digest covers its own bytes only
+        s["model"]["run_key"] = run_key(job)
     model = job.model
     if static is not None and static.pairs is not None:
         s["static_joints"] = _static_joints(model, static)
@@ -1817,7 +1819,8 @@ def format_summary(s: dict[str, Any]) -> str:
     """The results summary as aligned text lines."""
     mdl = s["model"]
     lines = [f"{mdl['title'] or Path(mdl['file']).stem}  (pfeie {s['version']})"]
-    lines.append(f"  model file   {mdl['file']}  sha256 {mdl['sha256'][:12]}")
+    key = f", run key {mdl['run_key'][:12]}" if "run_key" in mdl else ""
+    lines.append(f"  model file   {mdl['file']}  sha256 {mdl['sha256'][:12]}{key}")
     for ov in mdl.get("overrides", []):  # the run's settings over the file's
         lines.append(f"  override     {ov}")
     lines.append(f"  blocks {len(mdl['blocks'])}, bodies {mdl['bodies']}, DOF {mdl['dof']}, "

@@ -48,7 +48,7 @@ _UNITS = {"u": "m", "v": "m/s", "a": "m/s^2", "aux": "m/s^2", "f": "N", "shift":
           "cid_last_time": "s"}  # fmt: skip
 
 
-def run_key(job: Any, legacy: bool = False) -> str:
+def run_key(job: Any, legacy: bool = False, stack: bool = True) -> str:
     """The SHA-256 of what a run's results depend on, except its duration: the validated
     model file with its overrides, and the bytes of the mesh and record files. The keys
     of the storage that change no value are left out: ``output.compression`` and
@@ -63,7 +63,10 @@ def run_key(job: Any, legacy: bool = False) -> str:
     results file are left out too: ``output.checkpoint_seconds``, ``paraview`` (the
     series is written from the file at the end) and ``folder`` (a results folder may be
     moved, then resumed); ``legacy``: the key with them, as results files written before
-    version 0.3.15 hold it (:func:`same_run` takes either)."""
+    version 0.3.15 hold it (:func:`same_run` takes either). The sparse solver in use,
+    :func:`pfeie.linalg.solver_stack`, is in it (the last bits of the results depend on
+    it; ``stack=False``: the key without it, as files written before version 0.3.20
+    hold it)."""
     spec = _keyed(job.spec, legacy)
     h = hashlib.sha256(json.dumps(spec, sort_keys=True).encode())
     part = getattr(job, "part_factors", None)
@@ -74,13 +77,18 @@ def run_key(job: Any, legacy: bool = False) -> str:
     files += [base / g["file"] for g in spec.get("ground_motion", []) if g.get("file")]
     for p in files:
         h.update(p.read_bytes() if p.is_file() else str(p).encode())
+    if stack:
+        from ..linalg import solver_stack
+
+        h.update(f"solver {solver_stack()}".encode())
     return h.hexdigest()
 
 
 def same_run(key: str, job: Any) -> bool:
     """Whether the run key ``key`` of a results file is that of ``job``'s inputs: the
     present key, or the key of a file written before version 0.3.15 (:func:`run_key`)."""
-    return key in (run_key(job), run_key(job, legacy=True))
+    return key in (run_key(job), run_key(job, stack=False),
+                   run_key(job, legacy=True, stack=False))  # fmt: skip
 
 
 def _keyed(spec: Any, legacy: bool = False) -> dict[str, Any]:
@@ -132,6 +140,15 @@ def _differs(f: Any, job: Any) -> str:
             f"ground_motion[{i}]'s pga or target_sa is met by the record up to "
             f"analysis.duration, so its scale factor depends on the duration: {old} for "
             f"the run in the file, {new} for this one (another motion from the start)"
+        )
+    from ..linalg import solver_stack
+
+    was_stack = str(f.attrs.get("solver_stack", solver_stack()))
+    if was_stack != solver_stack():
+        return (
+            f"the sparse solver differs: {was_stack!r} for the run in the file, "
+            f"{solver_stack()!r} here (the last bits of the results depend on it: "
+            "install the same extras, pfeie[fast], or set PFEIE_SOLVER as the run had it)"
         )
     if "model_spec" in f.attrs:  # the keys that differ (the file's spec as run)
         was_spec = _flat(_keyed(json.loads(f.attrs["model_spec"])))

@@ -200,7 +200,7 @@ class Job:
         cls, model: Model, settings: Any, *, records: Sequence[GroundMotion] = (),
         probes: dict[str, int] | None = None, duration: float | None = None,
         form: str = "relative", static: bool = False, title: str = "",
-        output: dict[str, Any] | None = None, system: Any = None,
+        output: dict[str, Any] | None = None, system: Any = None, start: Any = None,
     ) -> Job:  # fmt: skip
         """The job of a run made through the Python API (no model file): what a results
         file records of a run, from the ``model``, the dynamic ``settings`` (a
@@ -209,8 +209,8 @@ class Job:
         ``system``: the run's assembled operators (``Dynamic.system``; default: assembled
         here). Its path reads ``<python>``; its digest is the SHA-256 of what determines the
         run (the mesh, the assembled matrices and loads, the pairs and their laws, the
-        settings and the records), so that the same model built again gives the same
-        digest."""
+        settings, the records and the ``start`` state, a static result or a step state,
+        with its arrays), so that the same model built again gives the same digest."""
         try:
             analysis = Analysis.model_validate({
                 **settings.model_dump(), "static": bool(static), "dynamic": True,
@@ -227,7 +227,7 @@ class Job:
         # (the default direction (1, 0) is x in 3D, as the run takes it)
         records = [g.in_dim(model.mesh.dim) for g in records]
         return cls(Path(PYTHON_RUN), spec, model, list(records), probes,
-                   _model_digest(model, spec, records, system),
+                   _model_digest(model, spec, records, system, start),
                    [it.group for it in model.interfaces])  # fmt: skip
 
     @property
@@ -326,14 +326,19 @@ def _origin(source: str) -> str:
 
 
 def _model_digest(
-    model: Model, spec: dict[str, Any], records: Sequence[GroundMotion], system: Any = None
+    model: Model,
+    spec: dict[str, Any],
+    records: Sequence[GroundMotion],
+    system: Any = None,
+    start: Any = None,
 ) -> str:
     """SHA-256 of what determines a run made through the Python API (:meth:`Job.of_run`):
     the mesh's points and cells, the assembled stiffness, mass and damping, the loads'
     patterns and prescribed values (and, for loads with a time amplitude, the load
     vector at 33 times over the run), the pairs' geometry, every parameter of their laws,
-    the damping and the uplift, the settings and the records' samples. Deterministic: the
-    same model built again hashes the same."""
+    the damping and the uplift, the settings, the records' samples and the state the run
+    starts from (its arrays and numbers, field by field). Deterministic: the same model
+    built again hashes the same."""
     h = hashlib.sha256()
 
     def add(a: Any) -> None:
@@ -372,7 +377,35 @@ def _model_digest(
         for arr in (g.time, g.acceleration, g.direction):
             add(arr)
         h.update(g.name.encode())
+    if start is not None:
+        h.update(b"start")
+        _add_state(h, start)
     return h.hexdigest()
+
+
+def _add_state(h: Any, obj: Any, depth: int = 0) -> None:
+    """Hash a start state into ``h``: its arrays (dtype, shape, bytes) and plain values,
+    field by field, its nested states (a step state's kinematic and pair states, the
+    static result it carries) to a few levels; the model it refers to is hashed apart."""
+    if isinstance(obj, np.ndarray):
+        arr = np.ascontiguousarray(obj)
+        h.update(f"{arr.dtype.str}{arr.shape}".encode())
+        h.update(arr.tobytes())
+    elif obj is None or isinstance(obj, bool | int | float | str | np.generic):
+        h.update(repr(obj).encode())
+    elif isinstance(obj, list | tuple):
+        for x in obj:
+            _add_state(h, x, depth + 1)
+    elif isinstance(obj, dict):
+        for k in sorted(obj, key=str):
+            h.update(str(k).encode())
+            _add_state(h, obj[k], depth + 1)
+    elif hasattr(obj, "__dict__") and depth < 4 and not isinstance(obj, Model):
+        h.update(type(obj).__name__.encode())
+        for k, v in sorted(vars(obj).items()):
+            if not k.startswith("_") and not callable(v):
+                h.update(k.encode())
+                _add_state(h, v, depth + 1)
 
 
 def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:
@@ -878,6 +911,18 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         odd = implausible_gravity(loads.gravity)
         if odd is not None:
             log.warning("%s: loads.gravity: %s", p, odd)
+        water = [k for k in ("hydrostatic", "silt", "westergaard", "uplift")
+                 if getattr(loads, k, None)]  # fmt: skip
+        if direction is not None and water:
+            gv = np.asarray(direction, dtype=float)
+            tilt = float(np.degrees(np.arccos(min(1.0, -gv[-1] / np.linalg.norm(gv)))))
+            if tilt > 0.1:
+                axis = "yz"[mesh.dim - 2]
+                log.warning("%s: loads.gravity_direction is tilted %.3g° from −%s, and the "
+                            "water loads (%s) take %s as the vertical: their depths and "
+                            "heads are measured along %s, not along gravity; expected a "
+                            "mesh drawn with %s up for a model with water", p, tilt, axis,
+                            ", ".join(water), axis, axis, axis)  # fmt: skip
     ps = loads.pseudo_static
     if ps is not None and cfg.analysis.dynamic and cfg.ground_motion:
         # a seismic coefficient's load is static: in a dynamic run it would stay on under

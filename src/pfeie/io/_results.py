@@ -59,6 +59,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import PfeieError, ResultsError
+from ..linalg import solver_stack
 from ..typing import FloatArray
 from ._files import PYTHON_RUN, utf8_text
 
@@ -239,6 +240,7 @@ class ResultsWriter:
         f = self.f
         f.attrs.update(
             pfeie_version=__version__, format_version=FORMAT_VERSION,
+            solver_stack=solver_stack(),
             model_file=utf8_text(str(job.path)), model_sha256=job.digest,
             form=job.analysis.form, completed=False, stop_reason="",
             model_path=utf8_text(str(job.path) if str(job.path) == PYTHON_RUN

@@ -383,7 +383,8 @@ class Westergaard(_Table):
     bottom: Annotated[
         Elevation | None,
         Field(description="elevation of the reservoir bottom (m); default the lowest point "
-              "of the wet faces (model = 'westergaard' only: the finite-element reservoir's "
+              "of the wet faces; the faces below it (in the foundation or the silt) get no "
+              "added mass (model = 'westergaard' only: the finite-element reservoir's "
               "bottom is the lowest point of its wet faces)"),
     ] = None  # fmt: skip
     density: Annotated[FluidDensity, Field(description="water density (kg/m³)")] = 1000.0

@@ -28,6 +28,7 @@ from ._factor import (
     factorize,
     nested_dissection,
     shares_block_solves,
+    solver_stack,
 )
 from ._lockstep import LockstepStats, run_lockstep
 from ._lowrank import LowRankTerm, UpdatedFactorization
@@ -47,6 +48,7 @@ __all__ = [
     "null_space",
     "run_lockstep",
     "shares_block_solves",
+    "solver_stack",
     "symmetric_columns",
     "symmetric_product",
 ]

@@ -289,6 +289,29 @@ def available_backends() -> list[str]:
     return out
 
 
+def solver_stack() -> str:
+    """The sparse solver that ``factorize`` (backend "auto") uses here for a symmetric
+    positive definite matrix, and its ordering: ``"cholmod+metis"``, ``"cholmod+amd"``
+    (without pymetis) or ``"superlu"`` (without cvxopt, or ``PFEIE_SOLVER=superlu``).
+    The results of a run depend on it in their last bits: a run's key holds it, so that
+    a resume or a study does not mix two.
+
+    >>> solver_stack() in ("cholmod+metis", "cholmod+amd", "superlu")
+    True
+    """
+    choice = os.environ.get("PFEIE_SOLVER", "auto")
+    avail = available_backends()
+    if choice == "auto":
+        choice = avail[0]
+    if choice != "cholmod":
+        return choice
+    try:
+        import pymetis  # noqa: F401
+    except ImportError:
+        return "cholmod+amd"
+    return "cholmod+metis"
+
+
 def factorize(A: sp.spmatrix, *, spd: bool = True, backend: str = "auto") -> Factorization:
     """Factorise a sparse matrix once; solve many times.
 

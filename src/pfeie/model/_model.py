@@ -863,7 +863,8 @@ class Model:
 
         (ρ_w the water ``density``, kg/m³, h the ``water_level``, z_b the reservoir
         ``bottom``, default the lowest point of the wet faces, m; z the vertical axis, y
-        in 2D), and it acts on the face along −n: the force −∫ C (a·n) n dA. The added
+        in 2D; C = 0 below the bottom, where a face reaches into the foundation or the
+        silt), and it acts on the face along −n: the force −∫ C (a·n) n dA. The added
         mass of a face is ∫ C N_a N_b n nᵀ dA (the normal-direction form, for inclined
         faces too; Kuo 1982), lumped by row sums into a d × d block per wet node (kg),
 
@@ -1950,7 +1951,10 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
     kept). Each node's block is its scalar mass times n nᵀ (n the facet's unit normal;
     on a curved facet ∫ C N_a n nᵀ dA with the normal of each point, see below)."""
     d = x.shape[-1]
-    depth = np.maximum(level - x[..., d - 1], 0.0)
+    # the depth below the surface, above the bottom z_b = h − H only (a face that reaches
+    # below the reservoir's bottom, into the foundation or the silt, has no water there)
+    z = x[..., d - 1]
+    depth = np.where(z >= level - H * (1.0 + 1e-12), np.maximum(level - z, 0.0), 0.0)
     c = 0.875 * rho_w * np.sqrt(H * depth) * dA  # (f, q)
     me = np.einsum("fqa,fqb,fq->fab", N, N, c)
     rows = me.sum(axis=2)  # (f, n)

@@ -51,6 +51,7 @@ import math
 import multiprocessing
 import os
 import re
+import socket
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -62,6 +63,7 @@ import numpy as np
 from .._version import __version__
 from ..errors import InputError, ModelError, PfeieError, RecordError, ResultsError
 from ..io import BATCH, MAX_BATCH, MAX_WORKERS, abrupt_end, applied_part, utf8_text
+from ..linalg import solver_stack
 from ._table import StudyTable
 
 if TYPE_CHECKING:
@@ -264,6 +266,9 @@ class Context:
     # the study's own process checked the model file and logged its warnings
     # (:meth:`Study.context`): the processes that build its system do not repeat them
     checked: bool = False
+    # the sparse solver of the study's own process (pfeie.linalg.solver_stack, in the
+    # model key): a worker with another one would give rows of other bits; it refuses
+    solver: str = ""
 
 
 @dataclass
@@ -302,6 +307,12 @@ def builds() -> int:
 def system(ctx: Context) -> _System:
     """The model, its static state and its dynamic analysis, built once per process for
     a model key (and kept: a worker builds them for its first run only)."""
+    here = solver_stack()
+    if ctx.solver and here != ctx.solver:
+        raise ResultsError(f"{socket.gethostname()} (pid {os.getpid()}): this worker's sparse "
+                           f"solver is {here!r}, the study's {ctx.solver!r}: the last bits of "
+                           "its rows would differ from the others'; expected the same "
+                           "install on every worker (pfeie[fast], PFEIE_SOLVER)")  # fmt: skip
     hit = _SYSTEMS.get(ctx.model_key)
     if hit is None:
         from .._job import dynamic_analysis
@@ -894,7 +905,7 @@ class Study:
             self._context = Context(self.model.resolve(),
                                     tuple((o.key, o.value, o.source) for o in ovs),
                                     duration, self.folder.resolve(), self.histories,
-                                    key, checked=True)  # fmt: skip
+                                    key, checked=True, solver=solver_stack())  # fmt: skip
         return self._context
 
     def _may_step_together(self) -> bool:
