@@ -390,6 +390,8 @@ def test_a_rerun_short_of_disk_gives_up_the_kept_run_first(
     start for want of space is refused before anything in the folder changes; a folder
     in the kept file's place is not an error; and every stop names the command that
     resumes the run, with its options."""
+    import h5py
+
     out = tmp_path / "out"
     p = _write(tmp_path, SMALL, duration=0.05)
     assert main(["run", str(p), "--quiet"]) == 0
@@ -409,6 +411,14 @@ def test_a_rerun_short_of_disk_gives_up_the_kept_run_first(
     assert main(["run", str(p), "--quiet"]) == 2
     assert "the run is not started: the disk of" in capsys.readouterr().err
     assert (out / "summary.json").is_file() and _final_u(out / "results.h5")[0]
+    # a stopped run there is not moved aside by a re-run refused for want of space
+    _disk_free(monkeypatch, lambda: 1 << 20)
+    with h5py.File(out / "results.h5", "r+") as f:  # (as a stop leaves it, checkpoint kept)
+        f.attrs["completed"] = False
+    assert main(["run", str(p), "--quiet"]) == 2
+    assert (out / "results.h5").is_file() and not (out / "results.stopped.h5").exists()
+    with h5py.File(out / "results.h5", "r+") as f:
+        f.attrs["completed"] = True
     # a folder where the kept file goes: the re-run overwrites, with a warning
     monkeypatch.undo()
     (out / "results.previous.h5").mkdir()
@@ -448,7 +458,8 @@ def test_a_study_without_histories_needs_little_room(
 
 
 def test_the_sparse_solver_is_recorded_and_never_mixed(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
+    caplog: pytest.LogCaptureFixture,
 ) -> None:
     """The sparse solver changes the last bits of a run (CHOLMOD against SuperLU: 38 of
     70 datasets of the demo, 1e-13 relative), and nothing recorded it: a resume under
@@ -483,9 +494,19 @@ def test_the_sparse_solver_is_recorded_and_never_mixed(
     monkeypatch.setenv("PFEIE_SOLVER", "superlu")
     assert main(["study", str(s), "--quiet"]) == 0
     monkeypatch.delenv("PFEIE_SOLVER")
-    assert main(["study", str(s), "--quiet"]) == 0
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        assert main(["study", str(s), "--quiet"]) == 0
+    assert f"a study of another sparse solver ('superlu', here {here!r})" in caplog.text
     rows = list((tmp_path / "st" / "study" / "rows").glob("*.json"))
     assert len(rows) == 4  # two keys a run: SuperLU's and CHOLMOD's
+    # the time steps' own backend (analysis.backend) is named beside the static state's
+    steps = tmp_path / "steps"
+    steps.mkdir()
+    p = _write(steps, SMALL.replace("[analysis]", '[analysis]\nbackend = "superlu"'),
+               duration=0.05)  # fmt: skip
+    assert main(["run", str(p), "--quiet"]) == 0
+    with Results(steps / "out" / "results.h5") as res:
+        assert res.f.attrs["solver_stack"] == f"{here}; steps superlu"
     # a worker whose solver is not the study's refuses
     ctx = Study.from_file(s).context()
     assert ctx.solver == here

@@ -494,15 +494,16 @@ class DiskGuard:
         self.tripped: str | None = None  # the message of the stop, once it stopped the run
         self._next = 0.0
 
-    def short(self, replaced: Path | None = None) -> str | None:
-        """The message of a disk short of the margin now, or None; the file ``replaced``
-        (one the run overwrites) counts as free space."""
+    def short(self, *replaced: Path | None) -> str | None:
+        """The message of a disk short of the margin now, or None; the files ``replaced``
+        (those the run overwrites or may delete) count as free space."""
         try:
             free = shutil.disk_usage(self.folder).free
         except OSError:  # (a file system that does not say: nothing to guard)
             return None
-        with contextlib.suppress(OSError):
-            free += replaced.stat().st_size if replaced is not None and replaced.is_file() else 0
+        for p in replaced:
+            with contextlib.suppress(OSError):
+                free += p.stat().st_size if p is not None and p.is_file() else 0
         if free >= self.need:
             return None
         return (f"the disk of {utf8_text(str(self.folder))} has {free / 2**20:.0f} MiB free, "
@@ -595,15 +596,17 @@ def _run(
         # a new run: the summaries and the report of a former run in this folder go (after a
         # failure they would stand beside the new results as if they were theirs)
         ResultsWriter.require()
-        _keep_stopped_run(out / "results.h5", job)
+        path = out / "results.h5"
         keep = True  # the completed run there, until this one completes, if there is room
-        if disk.short() is not None:
-            disk.spare = out / PREVIOUS_RUN  # (one a former re-run kept goes first)
-            disk.free_spare("the disk is short")
-            if (why := disk.short(out / "results.h5")) is not None:  # (a run overwrites it)
+        if disk.short() is not None:  # before anything in the folder changes
+            stopped = resumable(path, job, same_inputs=False) is not None  # (moved aside)
+            if (why := disk.short(None if stopped else path, out / PREVIOUS_RUN)) is not None:
                 raise ResultsError(f"{job.path}: the run is not started: {why}: free some "
                                    "space")  # fmt: skip
+            disk.spare = out / PREVIOUS_RUN  # (one a former re-run kept goes first)
+            disk.free_spare("the disk is short")
             keep = disk.short() is None
+        _keep_stopped_run(path, job)
         for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
         previous = _keep_completed_run(out / "results.h5") if keep else None

@@ -78,10 +78,20 @@ def run_key(job: Any, legacy: bool = False, stack: bool = True) -> str:
     for p in files:
         h.update(p.read_bytes() if p.is_file() else str(p).encode())
     if stack:
-        from ..linalg import solver_stack
-
-        h.update(f"solver {solver_stack()}".encode())
+        h.update(f"solver {job_solvers(job)}".encode())
     return h.hexdigest()
+
+
+def job_solvers(job: Any) -> str:
+    """The sparse solvers of a run (:func:`pfeie.linalg.solver_stack`): that of the
+    static state and the other operators (backend "auto"), and, where
+    ``analysis.backend`` names another for the time steps, ``"<auto>; steps <that>"``."""
+    from ..linalg import solver_stack
+
+    auto = solver_stack()
+    backend = str(job.spec.get("analysis", {}).get("backend", "auto") or "auto")
+    steps = solver_stack(backend) if backend != "auto" else auto
+    return auto if steps == auto else f"{auto}; steps {steps}"
 
 
 def same_run(key: str, job: Any) -> bool:
@@ -141,14 +151,13 @@ def _differs(f: Any, job: Any) -> str:
             f"analysis.duration, so its scale factor depends on the duration: {old} for "
             f"the run in the file, {new} for this one (another motion from the start)"
         )
-    from ..linalg import solver_stack
-
-    was_stack = str(f.attrs.get("solver_stack", solver_stack()))
-    if was_stack != solver_stack():
+    here = job_solvers(job)
+    was_stack = str(f.attrs.get("solver_stack", here))
+    if was_stack != here:
         return (
-            f"the sparse solver differs: {was_stack!r} for the run in the file, "
-            f"{solver_stack()!r} here (the last bits of the results depend on it: "
-            "install the same extras, pfeie[fast], or set PFEIE_SOLVER as the run had it)"
+            f"the sparse solver differs: {was_stack!r} for the run in the file, {here!r} "
+            "here (the last bits of the results depend on it: install the same extras, "
+            "pfeie[fast], or set PFEIE_SOLVER and analysis.backend as the run had them)"
         )
     if "model_spec" in f.attrs:  # the keys that differ (the file's spec as run)
         was_spec = _flat(_keyed(json.loads(f.attrs["model_spec"])))

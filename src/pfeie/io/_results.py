@@ -59,7 +59,6 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import PfeieError, ResultsError
-from ..linalg import solver_stack
 from ..typing import FloatArray
 from ._files import PYTHON_RUN, utf8_text
 
@@ -235,12 +234,14 @@ class ResultsWriter:
         self._buf: list[dict[str, Any]] = []
         self._last: tuple[float, dict[str, Any]] | None = None
         self._last_flush = time.perf_counter()
+        from ._checkpoint import job_solvers
+
         model = job.model
         d = model.dim
         f = self.f
         f.attrs.update(
             pfeie_version=__version__, format_version=FORMAT_VERSION,
-            solver_stack=solver_stack(),
+            solver_stack=job_solvers(job),
             model_file=utf8_text(str(job.path)), model_sha256=job.digest,
             form=job.analysis.form, completed=False, stop_reason="",
             model_path=utf8_text(str(job.path) if str(job.path) == PYTHON_RUN

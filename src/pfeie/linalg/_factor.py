@@ -289,17 +289,21 @@ def available_backends() -> list[str]:
     return out
 
 
-def solver_stack() -> str:
-    """The sparse solver that ``factorize`` (backend "auto") uses here for a symmetric
-    positive definite matrix, and its ordering: ``"cholmod+metis"``, ``"cholmod+amd"``
-    (without pymetis) or ``"superlu"`` (without cvxopt, or ``PFEIE_SOLVER=superlu``).
-    The results of a run depend on it in their last bits: a run's key holds it, so that
-    a resume or a study does not mix two.
+def solver_stack(backend: str = "auto") -> str:
+    """The sparse solver that ``factorize(A, backend=backend)`` uses here for a
+    symmetric positive definite matrix, and its ordering: ``"cholmod+metis"``,
+    ``"cholmod+amd"`` (without pymetis; CHOLMOD also orders by AMD a matrix below 64 rows
+    or whose graph METIS cannot split, the same way on every install) or ``"superlu"``
+    (without cvxopt, ``PFEIE_SOLVER=superlu`` or ``backend="superlu"``). The results of
+    a run depend on it in their last bits: a run's key holds it, so that a resume or a
+    study does not mix two.
 
     >>> solver_stack() in ("cholmod+metis", "cholmod+amd", "superlu")
     True
+    >>> solver_stack("superlu")
+    'superlu'
     """
-    choice = os.environ.get("PFEIE_SOLVER", "auto")
+    choice = os.environ.get("PFEIE_SOLVER", backend) if backend == "auto" else backend
     avail = available_backends()
     if choice == "auto":
         choice = avail[0]

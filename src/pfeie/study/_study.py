@@ -1173,13 +1173,17 @@ class Study:
         except (OSError, ValueError):
             return
         key = old.get("model_key") if isinstance(old, dict) else None
-        if key is not None and key != self.context().model_key:
-            log.warning("%s: %s holds the outputs of a study of another model, other "
-                        "settings or another pfeie version (study.json: %r, pfeie %s); its "
-                        "rows are not reused, and its "
-                        "histories under runs/ that this study does not write again stay "
-                        "there: choose another output.folder to keep the two apart", where,
-                        folder, old.get("title") or old.get("model"),
+        ctx = self.context()
+        if key is not None and key != ctx.model_key:
+            solver = old.get("solver_stack")
+            why = (f"another sparse solver ({solver!r}, here {ctx.solver!r})"
+                   if solver is not None and solver != ctx.solver else
+                   "another model, other settings or another pfeie version")  # fmt: skip
+            log.warning("%s: %s holds the outputs of a study of %s (study.json: %r, pfeie "
+                        "%s); its rows are not reused, and its histories under runs/ that "
+                        "this study does not write again stay there: choose another "
+                        "output.folder to keep the two apart", where, folder, why,
+                        old.get("title") or old.get("model"),
                         old.get("pfeie_version", "?"))  # fmt: skip
 
     def _run(
@@ -1253,7 +1257,8 @@ class Study:
         meta = {"title": self.title, "model": str(self.model), "model_key": ctx.model_key,
                 "measure": self.measure, "values": self.values, "period_s": self.period,
                 "damping": self.damping, "records": [r.name for r in self.records],
-                "runs": len(specs), "pfeie_version": __version__}  # fmt: skip
+                "runs": len(specs), "pfeie_version": __version__,
+                "solver_stack": ctx.solver}  # fmt: skip
         (ctx.folder / "study.json").write_text(json.dumps(meta, indent=2) + "\n")
         self._outputs = [ctx.folder / "table.csv"] + (
             [ctx.folder / "table.parquet"] if parquet else [])  # fmt: skip
