@@ -609,7 +609,7 @@ def _run(
         _keep_stopped_run(path, job)
         for stale in STALE_OUTPUTS:
             (out / stale).unlink(missing_ok=True)
-        previous = _keep_completed_run(out / "results.h5") if keep else None
+        previous = _keep_completed_run(path) if keep else None
         writer = ResultsWriter(out / "results.h5", job, field_every=job.output.field_every)
     if previous is None and (out / PREVIOUS_RUN).is_file():
         previous = out / PREVIOUS_RUN  # kept by a re-run that did not complete (or resumed)

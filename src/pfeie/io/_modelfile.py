@@ -342,9 +342,7 @@ def _model_digest(
     h = hashlib.sha256()
 
     def add(a: Any) -> None:
-        arr = np.ascontiguousarray(a)
-        h.update(f"{arr.dtype.str}{arr.shape}".encode())
-        h.update(arr.tobytes())
+        _add_state(h, np.asarray(a))
 
     mesh = model.mesh
     add(mesh.points)
@@ -390,7 +388,7 @@ def _add_state(h: Any, obj: Any, depth: int = 0) -> None:
     if isinstance(obj, np.ndarray):
         arr = np.ascontiguousarray(obj)
         h.update(f"{arr.dtype.str}{arr.shape}".encode())
-        h.update(arr.tobytes())
+        h.update(arr.view(np.uint8) if arr.ndim else arr.tobytes())  # (no copy)
     elif obj is None or isinstance(obj, bool | int | float | str | np.generic):
         h.update(repr(obj).encode())
     elif isinstance(obj, list | tuple):
@@ -453,29 +451,32 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
+def _covered(cfg: Any, mesh: Mesh) -> dict[str, np.ndarray]:
+    """Per cell type, which cells a block holds (bool masks)."""
+    covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
+    for b in cfg.blocks:
+        for t, idx in mesh.cell_groups.get(b, {}).items():
+            covered[t][idx] = True
+    return covered
+
+
 def _stray_cells(cfg: Any, mesh: Mesh, show: int = 5) -> str:
     """The first cells in no block, named (gmsh element ids where the mesh was read from
     gmsh), and where the first of them lies."""
     names: list[str] = []
     where = None
-    for t, conn in mesh.cells.items():
-        inside = np.zeros(len(conn), dtype=bool)
-        for b in cfg.blocks:
-            inside[mesh.cell_groups.get(b, {}).get(t, np.zeros(0, dtype=np.int64))] = True
+    for t, inside in _covered(cfg, mesh).items():
         for i in np.flatnonzero(~inside)[: show - len(names)]:
             names.append(mesh.cell_label(t, int(i)))
             if where is None:
-                where = np.round(mesh.points[conn[i]].mean(axis=0), 6).tolist()
+                where = np.round(mesh.points[mesh.cells[t][i]].mean(axis=0), 6).tolist()
     return f"{', '.join(names)}; the first at {where}"
 
 
 def _left_out(cfg: Any, mesh: Mesh) -> tuple[list[tuple[str, int]], int]:
     """The mesh's cell groups (2D surfaces, 3D volumes) in no block, with their cells
     that no block holds, and the count of all cells left out."""
-    covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
-    for b in cfg.blocks:
-        for t, idx in mesh.cell_groups.get(b, {}).items():
-            covered[t][idx] = True
+    covered = _covered(cfg, mesh)
     left = []
     for g, parts in sorted(mesh.cell_groups.items()):
         n = sum(int((~covered[t][idx]).sum()) for t, idx in parts.items())

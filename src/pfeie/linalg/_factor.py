@@ -289,6 +289,18 @@ def available_backends() -> list[str]:
     return out
 
 
+def _backend(backend: str, spd: bool) -> str:
+    """The backend that ``factorize`` takes: ``backend``, or for "auto" ``PFEIE_SOLVER``
+    or the best available; SuperLU for a matrix that is not SPD."""
+    choice = os.environ.get("PFEIE_SOLVER", backend) if backend == "auto" else backend
+    avail = available_backends()
+    if choice == "auto":
+        choice = avail[0] if spd else "superlu"
+    if choice not in avail:
+        raise SolverError(f"solver backend {choice!r} is not available; available: {avail}")
+    return "superlu" if choice == "cholmod" and not spd else choice
+
+
 def solver_stack(backend: str = "auto") -> str:
     """The sparse solver that ``factorize(A, backend=backend)`` uses here for a
     symmetric positive definite matrix, and its ordering: ``"cholmod+metis"``,
@@ -303,10 +315,7 @@ def solver_stack(backend: str = "auto") -> str:
     >>> solver_stack("superlu")
     'superlu'
     """
-    choice = os.environ.get("PFEIE_SOLVER", backend) if backend == "auto" else backend
-    avail = available_backends()
-    if choice == "auto":
-        choice = avail[0]
+    choice = _backend(backend, spd=True)
     if choice != "cholmod":
         return choice
     try:
@@ -329,14 +338,7 @@ def factorize(A: sp.spmatrix, *, spd: bool = True, backend: str = "auto") -> Fac
         A = sp.csc_matrix(A, dtype=float)  # a dense array: its sparse copy
     if A.shape[0] != A.shape[1]:
         raise SolverError(f"factorize needs a square matrix, got {A.shape}")
-    choice = os.environ.get("PFEIE_SOLVER", backend) if backend == "auto" else backend
-    avail = available_backends()
-    if choice == "auto":
-        choice = avail[0] if spd else "superlu"
-    if choice not in avail:
-        raise SolverError(f"solver backend {choice!r} is not available; available: {avail}")
-    if choice == "cholmod" and not spd:
-        choice = "superlu"
+    choice = _backend(backend, spd)
     log.debug("factorising %d x %d (nnz %d) with %s", A.shape[0], A.shape[1], A.nnz, choice)
     if A.shape[0] == 0:
         raise MechanismError("there are no free degrees of freedom")
