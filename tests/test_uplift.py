@@ -163,9 +163,13 @@ def test_cracked_base_gets_full_headwater() -> None:
 
 
 def test_policies_follow_the_opening_pairs() -> None:
-    """The excitation's uplift load: 'keep' stays pre-earthquake; 'full' gives a pair
-    that opens during the shaking ρ g (H_w − z), 'zero' none; the crack open before the
-    shaking keeps its uplift; a closed pair its pre-earthquake value."""
+    """The excitation's uplift load: 'keep' stays pre-earthquake; 'full' gives the pairs
+    that open during the shaking in the crack from the heel ρ g (H_w − z) (here the
+    static crack of 7 m grows to 8 m: the pairs at 7.5 and 8 m), and leaves the toe that
+    lifts apart from it at its pre-earthquake pressure (the reservoir's water does not
+    reach it; before version 0.3.21 it got ρ g (H_w − z) too); 'zero' takes the pressure
+    of every pair that opens; the crack open before the shaking keeps its uplift; a closed
+    pair its pre-earthquake value."""
     from pfeie.dynamics import Excitation
 
     for policy in ("keep", "full", "zero"):
@@ -173,21 +177,28 @@ def test_policies_follow_the_opening_pairs() -> None:
         st = pf.solve_static(model)
         P = model.pairs
         assert P is not None and st.pairs is not None and st.uplift is not None
+        assert st.cracks == (7.0,)
         system = model.system(lumped_mass=True)
         ex = Excitation(model, system, uplift=st.uplift, open0=st.pairs.state == OPEN)
         base = ex.load(0.0)
         now = st.pairs.state == OPEN
-        new = np.zeros_like(now)
         idx = P.of("base")
-        k = idx[np.argsort(P.x[idx, 0])][-1]  # the toe opens
-        new[k] = True
-        ex.follow(now | new)
-        p = st.uplift.copy()
-        if policy != "keep":
-            p[k] = RHO_W * G * (level - P.x[k, 1]) if policy == "full" else 0.0
-        want = base - model.uplift_load(st.uplift)[system.free] + \
-            model.uplift_load(p)[system.free]  # fmt: skip
-        np.testing.assert_allclose(ex.load(0.0), want, rtol=0, atol=1e-9 * np.abs(base).max())
+        s = P.x[idx, 0]
+        toe, grow = idx[s == s.max()], idx[(s > 7.0) & (s < 8.0 + 1e-9)]
+        assert toe.size == 1 and grow.size == 2
+        for opened in (toe, np.concatenate([toe, grow])):
+            new = np.zeros_like(now)
+            new[opened] = True
+            ex.follow(now | new)
+            p = st.uplift.copy()
+            if policy == "full":
+                full = grow if opened.size > 1 else opened[:0]
+                p[full] = RHO_W * G * (level - P.x[full, 1])
+            elif policy == "zero":
+                p[opened] = 0.0
+            want = base - model.uplift_load(st.uplift)[system.free] + \
+                model.uplift_load(p)[system.free]  # fmt: skip
+            np.testing.assert_allclose(ex.load(0.0), want, rtol=0, atol=1e-9 * np.abs(base).max())
 
 
 def test_dynamic_keep_holds_the_static_state() -> None:

@@ -276,9 +276,12 @@ class Excitation:
 
     def follow(self, open_: BoolArray) -> None:
         """Set the uplift of the ``"full"`` and ``"zero"`` policies from the pairs open
-        now: full headwater pressure ρ_w g (H_w − z), or none, where a pair of the joint
-        has opened during the shaking; the pre-earthquake pressure elsewhere (closed pairs,
-        and the crack open before the shaking)."""
+        now: under ``"full"``, full headwater pressure ρ_w g (H_w − z) where a pair of the
+        joint has opened during the shaking in the crack from the heel (the pairs that the
+        static rule reaches from the heel through open pairs, :meth:`Uplift.crack`: water
+        from the reservoir reaches no other opening); under ``"zero"``, none where a pair
+        has opened; the pre-earthquake pressure elsewhere (closed pairs, openings apart
+        from the heel's crack under ``"full"``, and the crack open before the shaking)."""
         key = np.packbits(open_).tobytes()
         if key == self._open or self._f_up is None:
             return
@@ -290,9 +293,13 @@ class Excitation:
             if up.shaking == "keep":
                 continue
             idx = P.of(up.interface)
-            o = idx[open_[idx] & ~self._open0[idx]]
-            p[o] = (up.density * up.g * np.maximum(up.headwater - P.x[o, -1], 0.0)
-                    if up.shaking == "full" else 0.0)  # fmt: skip
+            new = open_[idx] & ~self._open0[idx]
+            if up.shaking == "zero":
+                p[idx[new]] = 0.0
+                continue
+            s, _ = up.abscissa(P, idx)
+            o = idx[new & (s <= up.crack(P, idx, open_))]
+            p[o] = up.density * up.g * np.maximum(up.headwater - P.x[o, -1], 0.0)
         self._f_up = self.model.uplift_load(p)[self.system.free]
 
     def on_grid(self, t0: float, h: float, *, beta: float = 0.25, gamma: float = 0.5,

@@ -423,7 +423,8 @@ class UpliftTable(_Table):
         Distance | None,
         Field(
             description="distance of the line of drains from the heel (m), short of the "
-            "joint's far end; default none"
+            "joint's far end, measured along the upstream axis (horizontally: on an inclined "
+            "joint its horizontal projection); default none"
         ),
     ] = None
     drain_efficiency: Annotated[
@@ -437,7 +438,8 @@ class UpliftTable(_Table):
     shaking: Annotated[
         Literal["keep", "full", "zero"],
         Field(description="uplift during the shaking: 'keep' the pre-earthquake uplift; "
-              "'full' headwater pressure where a pair opens; 'zero' where it opens"),
+              "'full' headwater pressure where a pair opens in the crack from the heel; 'zero' "
+              "none where a pair opens"),
     ] = "keep"  # fmt: skip
     density: Annotated[FluidDensity, Field(description="water density ρ_w (kg/m³)")] = 1000.0
 

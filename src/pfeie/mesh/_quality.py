@@ -12,8 +12,10 @@ some of them and a negative one at others):
   group; a cell in two groups, which MSH 2 writes once per group, is merged by the gmsh
   reader);
 - *overlapping*: two cells on coincident corner nodes (a region meshed twice, each time
-  with its own nodes), or a facet shared by three or more cells (a region meshed twice on
-  shared boundary nodes);
+  with its own nodes), a facet shared by three or more cells, or by two on the same side
+  of it (a region meshed twice on shared boundary nodes), or a boundary facet reaching
+  inside another cell (regions that overlap with no node in common: volumes not
+  fragmented);
 - node coordinates that are not finite.
 
 and warns (``logging``, the run goes on) about *poorly shaped* cells, whose shape quality
@@ -190,11 +192,21 @@ def _twins(mesh: Mesh, keys: np.ndarray, who: list[tuple[str, int]]) -> tuple[in
 
 
 def _overlaps(mesh: Mesh) -> list[str]:
-    """Cells that overlap: two cells at the same place on coincident nodes (a region
-    meshed twice with its own nodes: two surfaces on one curve loop, two identical
-    volumes), or a facet shared by three or more cells (no facet of a mesh that fills the
-    plane or the space once has more than two). Coincident nodes count as one here, so
-    that the nodes doubled along a joint (blocks meshed apart) give no false alarm."""
+    """Cells that overlap (the module doc), in four tests, coincident nodes counting as one
+    (so that the nodes doubled along a joint, blocks meshed apart, give no false alarm):
+
+    - two cells at the same place on coincident nodes (a region meshed twice with its own
+      nodes: two surfaces on one curve loop, two identical volumes);
+    - a facet shared by three or more cells (no facet of a mesh that fills the plane or
+      the space once has more than two);
+    - a facet shared by two cells on the same side of it (two regions meshed on the same
+      boundary nodes, their interiors apart: the cells of a joint lie on either side);
+    - a boundary facet (of one cell) whose centre, or a point halfway from it to a
+      corner, lies inside another cell, deeper than :data:`INSIDE` of that cell's size
+      (regions that overlap with no node in common: volumes not fragmented).
+
+    The last two judge a cell by the polygon or polyhedron of its corners (each face by
+    the plane through its corners' centre, normal to its diagonals)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -209,16 +221,16 @@ def _overlaps(mesh: Mesh) -> list[str]:
         canon = first[label]
     out: list[str] = []
     cells: dict[int, list[tuple[np.ndarray, str, np.ndarray]]] = {}
-    facets: dict[int, list[tuple[np.ndarray, np.ndarray]]] = {}
-    for ctype, conn in mesh.cells.items():
+    facets: dict[int, list[_Facets]] = {}
+    for t, (ctype, conn) in enumerate(mesh.cells.items()):
         if conn.shape[0] == 0:
             continue
         ref = reference(ctype)
         key = np.sort(canon[conn[:, : ref.n_corners]], axis=1)
         cells.setdefault(key.shape[1], []).append((key, ctype, np.arange(conn.shape[0])))
-        fref = reference(reference(ref.facet_type).linear)
-        f = canon[conn[:, np.asarray(ref.facets)][..., : fref.n_nodes]].reshape(-1, fref.n_nodes)
-        facets.setdefault(f.shape[1], []).append((np.sort(f, axis=1), f))
+        nf = reference(reference(ref.facet_type).linear).n_nodes
+        local = np.asarray(ref.facets)[:, :nf]  # (faces, corners of a face)
+        facets.setdefault(nf, []).append(_Facets(t, conn[:, local], canon))
     if pairs.size:
         for same in cells.values():
             twins = _twins(mesh, np.concatenate([k for k, _, _ in same]),
@@ -231,10 +243,15 @@ def _overlaps(mesh: Mesh) -> list[str]:
                 )  # fmt: skip
     if out:
         return out
+    boundary: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # points, cells, facets
+    offset = 0  # of the facets of each width, numbering the boundary facets
     for same_f in facets.values():
-        keys = np.concatenate([k for k, _ in same_f])
-        corners = np.concatenate([f for _, f in same_f])
-        _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+        keys = np.sort(np.concatenate([f.canon for f in same_f]), axis=1)
+        corners = np.concatenate([f.corners for f in same_f])
+        owner = np.concatenate([f.owner for f in same_f])  # (type, cell) a row
+        _, first, inv, counts = np.unique(keys, axis=0, return_index=True,
+                                          return_inverse=True, return_counts=True)  # fmt: skip
+        inv = inv.ravel()
         over = np.flatnonzero(counts > 2)
         if over.size:
             at = np.round(mesh.points[corners[first[over[0]]]].mean(axis=0), 6).tolist()
@@ -244,7 +261,154 @@ def _overlaps(mesh: Mesh) -> list[str]:
                 "twice, or overlapping surfaces or volumes not fragmented); expected at most "
                 "two cells on a facet"
             )  # fmt: skip
+            continue
+        order = np.argsort(inv, kind="stable")
+        two = order[counts[inv[order]] == 2]  # the rows of each such facet next to each other
+        a, b = two[0::2], two[1::2]
+        centre, normal = _planes(mesh.points[corners[a]])  # (facets, dim) each
+        mid = _centroids(mesh, owner[two])  # the sides of both cells against a's plane
+        side = np.einsum("rd,rd->r", mid - np.repeat(centre, 2, axis=0),
+                         np.repeat(normal, 2, axis=0))  # fmt: skip
+        same_side = np.flatnonzero(side[0::2] * side[1::2] > 0.0)
+        if same_side.size:
+            ia, ib = a[same_side[0]], b[same_side[0]]
+            at = np.round(centre[same_side[0]], 6).tolist()
+            out.append(
+                f"{same_side.size} facet(s) shared by two cells on the same side of it, the "
+                f"first at {at} ({_cell_of(mesh, owner[ia])} and {_cell_of(mesh, owner[ib])}):"
+                " two regions meshed over one another on the same boundary nodes? expected "
+                "the cells of a facet on either side of it"
+            )  # fmt: skip
+            continue
+        one = np.flatnonzero(counts[inv] == 1)  # boundary facets: their centres and the
+        X = mesh.points[corners[one]]  # points halfway to their corners (a point alone can
+        mid_one = X.mean(axis=1)[:, None]
+        samples = np.concatenate([mid_one, (X + mid_one) / 2], axis=1)
+        boundary.append((samples.reshape(-1, mesh.dim),  # fall on another mesh's edges)
+                         np.repeat(owner[one], samples.shape[1], axis=0),
+                         np.repeat(one + offset, samples.shape[1])))  # fmt: skip
+        offset += keys.shape[0]
+    if out or not boundary:
+        return out
+    facet = np.concatenate([f for _, _, f in boundary])
+    inside = _inside_other_cells(mesh, np.concatenate([p for p, _, _ in boundary]),
+                                 np.concatenate([o for _, o, _ in boundary]))  # fmt: skip
+    if inside is not None:
+        hits, host, own = inside
+        count = np.unique(facet[hits]).size
+        at = np.concatenate([p for p, _, _ in boundary])[hits[0]]
+        out.append(
+            f"{count} boundary facet(s) reach inside cells of another region, the first at "
+            f"{np.round(at, 6).tolist()} (a facet of {_cell_of(mesh, own)} inside "
+            f"{_cell_of(mesh, host)}): regions overlap with no node in common (surfaces or "
+            "volumes not fragmented: gmsh's BooleanFragments, or Coherence in a .geo file)? "
+            "expected regions that meet on shared or coincident facets"
+        )  # fmt: skip
     return out
+
+
+#: how deep, as a share of the cell's largest extent, a point of a boundary facet must lie
+#: inside another cell to count as an overlap (a conforming mesh puts it on a face: 0)
+INSIDE = 1e-3
+
+
+class _Facets:
+    """The corner facets of the cells of one type (the ``t``-th of ``mesh.cells``):
+    ``corners`` (cells × faces, k) node indices, ``canon`` the same with coincident nodes
+    merged, ``owner`` (cells × faces, 2): ``t`` and the cell of each facet."""
+
+    def __init__(self, t: int, corners: np.ndarray, canon: np.ndarray) -> None:
+        c, f, k = corners.shape
+        self.corners = corners.reshape(c * f, k)
+        self.canon = canon[self.corners]
+        self.owner = np.stack([np.full(c * f, t, dtype=np.int64), np.repeat(np.arange(c), f)],
+                              axis=1)  # fmt: skip
+
+
+def _planes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The centre and unit normal (either sign) of each facet of corners X (rows, k,
+    dim): an edge's perpendicular in 2D; in 3D the normal to a triangle, or to a quad's
+    diagonals."""
+    centre = X.mean(axis=1)
+    if X.shape[2] == 2:
+        t = X[:, 1] - X[:, 0]
+        nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    elif X.shape[1] == 3:
+        nrm = np.cross(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0])
+    else:
+        nrm = np.cross(X[:, 2] - X[:, 0], X[:, 3] - X[:, 1])
+    size = np.linalg.norm(nrm, axis=1)
+    return centre, nrm / np.where(size > 0, size, 1.0)[:, None]
+
+
+def _centroids(mesh: Mesh, owner: np.ndarray) -> np.ndarray:
+    """The centre of the corners of each cell ``owner`` (rows of type position, cell)."""
+    out = np.empty((owner.shape[0], mesh.dim))
+    for t, (ctype, conn) in enumerate(mesh.cells.items()):
+        rows = np.flatnonzero(owner[:, 0] == t)
+        if rows.size:
+            corners = conn[owner[rows, 1], : reference(ctype).n_corners]
+            out[rows] = mesh.points[corners].mean(axis=1)
+    return out
+
+
+def _cell_of(mesh: Mesh, row: np.ndarray) -> str:
+    """A cell (type position, cell) for messages: its label and its groups."""
+    ctype = list(mesh.cells)[int(row[0])]
+    i = int(row[1])
+    groups = [name for name, grp in mesh.cell_groups.items()
+              if ctype in grp and np.any(grp[ctype] == i)]  # fmt: skip
+    where = f" of {', '.join(repr(g) for g in groups)}" if groups else ""
+    return mesh.cell_label(ctype, i) + where
+
+
+def _inside_other_cells(
+    mesh: Mesh, points: np.ndarray, own: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The points of boundary facets ``points`` (m, dim) that lie inside a cell other
+    than their own (``own``, rows of type position, cell) by more than :data:`INSIDE` of
+    its size: their indices, the first one's host cell and own cell; None if none.
+    Candidates by a KD-tree of the centres within each cell's circumradius."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(points)
+    deep_of = np.full(points.shape[0], -1, dtype=np.int64)  # the type position of a host
+    host_of = np.zeros(points.shape[0], dtype=np.int64)
+    for t, (ctype, conn) in enumerate(mesh.cells.items()):
+        if conn.shape[0] == 0:
+            continue
+        ref = reference(ctype)
+        X = mesh.points[conn[:, : ref.n_corners]]  # (cells, corners, dim)
+        C = X.mean(axis=1)
+        R = np.linalg.norm(X - C[:, None], axis=2).max(axis=1) * (1.0 + 1e-9)
+        counts = np.asarray(tree.query_ball_point(C, R, return_length=True), dtype=np.int64)
+        cand = np.flatnonzero(counts)
+        if not cand.size:
+            continue
+        hits = tree.query_ball_point(C[cand], R[cand])
+        ci = np.repeat(cand, counts[cand])
+        pj = np.concatenate([np.asarray(h, dtype=np.int64) for h in hits])
+        nf = reference(reference(ref.facet_type).linear).n_nodes
+        local = np.asarray(ref.facets)[:, :nf]  # (faces, corners of a face)
+        F = mesh.points[conn[ci][:, local]]  # (pairs, faces, corners, dim)
+        centre, normal = _planes(F.reshape(-1, nf, mesh.dim))
+        centre = centre.reshape(F.shape[0], F.shape[1], -1)
+        normal = normal.reshape(F.shape[0], F.shape[1], -1)
+        inward = np.sign(np.einsum("pfd,pfd->pf", C[ci][:, None] - centre, normal))
+        depth = (inward * np.einsum("pfd,pfd->pf", points[pj][:, None] - centre, normal)).min(
+            axis=1
+        )
+        size = np.ptp(X[ci], axis=1).max(axis=1)
+        mine = (own[pj, 0] == t) & (own[pj, 1] == ci)
+        deep = np.flatnonzero((depth > INSIDE * size) & ~mine)
+        new = deep[deep_of[pj[deep]] < 0]
+        deep_of[pj[new]] = t
+        host_of[pj[new]] = ci[new]
+    flagged = np.flatnonzero(deep_of >= 0)
+    if not flagged.size:
+        return None
+    j = flagged[0]
+    return flagged, np.array([deep_of[j], host_of[j]]), own[j]
 
 
 def _measure(dim: int) -> str:

@@ -24,8 +24,10 @@ H_t at the toe). The pressure is p = ρ_w g max(h − z, 0) at the pair's elevat
 
 During shaking (``shaking``), as the guidelines name it: ``"keep"``, the pre-earthquake
 uplift stays (the usual assumption: water cannot follow a crack opening and closing in
-a fraction of a second; EM 1110-2-6051); ``"full"``, the parts that open get full
-headwater pressure; ``"zero"``, the parts that open lose their pressure. The last two
+a fraction of a second; EM 1110-2-6051); ``"full"``, the parts that open in the crack
+from the heel (as above: the pairs reached from the heel through open pairs) get full
+headwater pressure, the reservoir's water reaching no other opening (a toe that lifts
+keeps its pressure); ``"zero"``, the parts that open lose their pressure. The last two
 follow the open or closed state of each pair, lagged by one step.
 """
 
@@ -55,7 +57,9 @@ class Uplift:
     interface: the interface (its pairs).
     headwater: headwater level H_w (m, on the vertical axis: y in 2D, z in 3D).
     tailwater: tailwater level H_t (m); None: no tailwater (the level of the toe).
-    drains: distance s_d (m) of the line of drains from the heel, along the flow; None:
+    drains: distance s_d (m) of the line of drains from the heel, along the flow as the
+        joint's abscissa measures it (:meth:`abscissa`: along the upstream axis, the
+        horizontal projection on an inclined joint); None:
         no drains.
     efficiency: drain efficiency E in [0, 1].
     upstream: where the reservoir is: ``"-x"`` (default: upstream is towards −x, the heel
@@ -100,7 +104,11 @@ class Uplift:
                              f"headwater level {self.headwater} m")  # fmt: skip
 
     def abscissa(self, pairs: PairGeometry, idx: np.ndarray) -> tuple[FloatArray, float]:
-        """The distance s (m) of each pair ``idx`` from the heel along the flow, and L."""
+        """The distance s (m) of each pair ``idx`` from the heel along the flow, and L:
+        measured along the upstream axis (``upstream``), so on an inclined or stepped
+        joint the horizontal projection (on a planar joint proportional to the distance
+        along it, so that the linear profiles are the same; the drains' ``s_d`` is in the
+        same measure)."""
         axis, sign = _AXES[self.upstream]
         if axis >= pairs.dim - 1:
             raise ModelError(f"uplift in {self.interface!r}: upstream {self.upstream!r} in a "
