@@ -92,3 +92,195 @@ def test_a_region_meshed_twice_on_its_own_boundary_is_refused(cell: str) -> None
              r"at .*'dam'.*: two regions meshed over one another")  # fmt: skip
     with pytest.raises(MeshError, match=words):
         check_cells(mesh)
+
+
+# -- joint laws of one's own -----------------------------------------------------------------
+
+
+class _Frozen:
+    """Mohr-Coulomb (c, μ, no tension) written as a user would, with its areas frozen at
+    the model's pairs: it ignores the ``area`` argument, so it is right only if the scheme
+    asks at the true areas and scales the forces itself."""
+
+    def __init__(self, c: float, c_r: float, mu: float, area: np.ndarray) -> None:
+        self.c, self.c_r, self.mu, self.area = c, c_r, mu, area
+        self.initial, self.kn, self.ks, self.gap = "intact", None, None, 0.0
+
+    def strength(self, area: np.ndarray, broken: np.ndarray, path: np.ndarray) -> pf.Strength:
+        c = np.where(broken, self.c_r, self.c) * self.area
+        return pf.Strength(c, np.full(area.shape, self.mu), np.zeros(area.shape))
+
+
+@pytest.mark.parametrize("scheme", ["nonsmooth-alpha", "moreau-jean"])
+def test_a_law_is_asked_at_the_areas_in_square_metres(scheme: str) -> None:
+    """The default scheme asked a law at the velocity level for its strength at the
+    areas times Δt (a law whose cohesion force is not c × area, a capped cohesion, was
+    25 times too strong there), where Moreau-Jean asked at the areas and scaled the
+    forces. Both now ask at the areas in m² and multiply the forces by Δt themselves: a
+    bonded block with a residual cohesion that breaks and slides under a base acceleration
+    above its strength gives, with a law that ignores its area argument, the bits of
+    pf.Joint."""
+    from pfeie.verification._models import block_on_base
+
+    c, c_r, phi = 2e3, 1e3, 30.0
+    ref = block_on_base(joint=pf.Joint(c=c, c_r=c_r, phi=phi, initial="intact"), n=4)
+    assert ref.pairs is not None
+    area = ref.pairs.area.copy()
+    own = block_on_base(joint=_Frozen(c, c_r, np.tan(np.radians(phi)), area), n=4)  # type: ignore[arg-type]
+    gm = pf.GroundMotion.from_function(lambda t: 0.9 * 9.81 * np.sin(4 * np.pi * t), 0.5, 1e-3)
+    runs = []
+    for model in (ref, own):
+        an = pf.Dynamic(model, 0.002, scheme=scheme)
+        runs.append(an.run(duration=0.5, start=pf.solve_static(model), ground=[gm]))
+    assert runs[0].broken[-1].all()  # it breaks, and slides: its slip by the law
+    assert np.abs(runs[0].s[-1, :, 0]).min() > 2e-4  # measured 0.35 and 0.24 mm
+    for got, want in ((runs[1].s, runs[0].s), (runs[1].X, runs[0].X)):
+        np.testing.assert_array_equal(got, want)
+
+
+def test_the_contact_data_and_answers_of_a_law_are_checked() -> None:
+    """A law of one's own was taken with a state 'bonded' (read as intact), kn = 0 (a bare
+    ZeroDivisionError), kn < 0 (a run), a negative gap; its answers negative, NaN, of the
+    wrong shape or a tuple went into the solver (a frictionless joint, a NaN residual, a
+    numpy broadcast error). Each is now a ModelError naming the interface, the law and
+    the value."""
+    from pfeie.verification._models import block_on_base
+
+    good = {"initial": "broken", "kn": None, "ks": None, "gap": 0.0}
+
+    def law(answer: object = None, **data: object) -> object:
+        cls = type("Mine", (), {**good, **data, "strength": lambda self, a, b, p: answer})
+        return cls()
+
+    for data, words in [
+        ({"initial": "bonded"}, r"initial: expected 'intact' or 'broken', got str 'bonded'"),
+        ({"kn": 0.0}, r"kn: expected None \(a rigid contact\) or a number >= 1 Pa/m, got "
+                      r"float 0.0"),
+        ({"ks": -1e9}, r"ks: expected None .* got float -1000000000.0"),
+        ({"kn": np.ones(2)}, r"kn: expected None .* got ndarray"),
+        ({"gap": -1e-3}, r"gap: expected a number >= 0 \(m\), got float -0.001"),
+        ({"initial": "intact", "gap": 1e-3}, r"gap = 0.001 m on an intact \(bonded\) joint"),
+    ]:  # fmt: skip
+        with pytest.raises(pf.ModelError, match=r"interface 'joint': joint law Mine: " + words):
+            pf.Interface("joint", law(**data))  # type: ignore[arg-type]
+    no_gap = type("NoGap", (), {"initial": "broken", "kn": None, "ks": None,
+                                "strength": lambda self, a, b, p: None})  # fmt: skip
+    with pytest.raises(pf.ModelError, match=r"got NoGap .*, which lacks gap"):
+        pf.Interface("joint", no_gap())  # type: ignore[arg-type]
+    k = 5  # pairs of the block below
+    z = np.zeros(k)
+    for answer, words in [
+        ((z, z, z), r"returned tuple; expected a pfeie.interface.Strength"),
+        (pf.Strength(z, -np.ones(k), z), r"friction \(-: μ\) must be finite and >= 0; got "
+                                         r"-1.0 at 5 of its 5 pairs"),
+        (pf.Strength(z, np.full(k, np.nan), z), r"friction .* got nan"),
+        (pf.Strength(z, np.ones(k + 1), z), r"friction has shape \(6,\); expected \(5,\)"),
+        (pf.Strength(z, np.ones(k), np.ones(k)), r"tension 1 N lies beyond the apex"),
+    ]:  # fmt: skip
+        model = block_on_base(joint=law(answer), n=4)  # type: ignore[arg-type]
+        with pytest.raises(
+            pf.ModelError,
+            match=r"interface 'joint': joint law Mine: "
+            r"strength\(area, broken, path\).*" + words,
+        ):
+            pf.solve_static(model)
+
+
+class _Plain:
+    """A law of one's own without a repr of its parameters (the default object repr
+    holds its address)."""
+
+    def __init__(self, mu: float) -> None:
+        self.mu = mu
+        self.initial, self.kn, self.ks, self.gap = "broken", None, None, 0.0
+
+    def strength(self, area: np.ndarray, broken: np.ndarray, path: np.ndarray) -> pf.Strength:
+        return pf.Strength(np.zeros(area.shape), np.full(area.shape, self.mu),
+                           np.zeros(area.shape))  # fmt: skip
+
+
+def test_a_law_of_ones_own_is_hashed_and_recorded_by_its_fields() -> None:
+    """The digest of a Python run hashed repr(law), which for a class of one's own holds
+    its address: the same model built twice hashed differently. It now hashes the law's
+    class, contact data and fields: the same law built again hashes the same, another μ
+    differently; the shipped laws keep their digests (their repr). The model summary
+    gave only the class name: it now gives the class's module and name, the contact data
+    and the plain fields."""
+    from pfeie.io._modelfile import _joint_laws, _model_digest
+    from pfeie.verification._models import block_on_base
+
+    spec: dict[str, dict[str, float]] = {"analysis": {}}
+
+    def digest(law: object) -> str:
+        return _model_digest(block_on_base(joint=law, n=2), spec, [])  # type: ignore[arg-type]
+
+    assert digest(_Plain(0.5)) == digest(_Plain(0.5)) != digest(_Plain(0.6))
+    assert digest(pf.Joint(phi=30.0)) == digest(pf.Joint(phi=30.0)) != digest(pf.Joint(phi=31.0))
+    entry = _joint_laws(block_on_base(joint=_Plain(0.5), n=2))["joint"]  # type: ignore[arg-type]
+    assert entry == {"law": "_Plain", "initial": "broken", "class": "test_review32._Plain",
+                     "gap": 0.0, "fields": {"mu": 0.5, "initial": "broken", "kn": None,
+                                            "ks": None, "gap": 0.0}}  # fmt: skip
+
+
+def test_a_python_resume_by_another_analysis_is_refused() -> None:
+    """Dynamic.run(resume=checkpoint) took a checkpoint of a run with another joint law
+    (a tester resumed a softening run of μ 0.6 → 0.35 with μ = 0.1: 0.17 m of slip the
+    other way) or another Δt without a word; the command line's resume checks its run
+    key, the Python one checked the records only. A checkpoint now carries the analysis'
+    key (settings, matrices, pairs and laws): a run resumed by an analysis of the same
+    model built again continues to the bits of the run never stopped; another law, or
+    another Δt, is refused, naming both."""
+    from pfeie.verification._models import block_on_base
+
+    gm = pf.GroundMotion.from_function(lambda t: 0.5 * 9.81 * np.sin(4 * np.pi * t), 0.4, 1e-3)
+
+    def analysis(mu: float, dt: float = 0.002) -> pf.Dynamic:
+        return pf.Dynamic(block_on_base(joint=_Plain(mu), n=2), dt)  # type: ignore[arg-type]
+
+    an = analysis(0.3)
+    kept: list[object] = []
+    whole = an.run(duration=0.4, ground=[gm])
+    an.run(duration=0.2, ground=[gm], on_checkpoint=kept.append)
+    cp = kept[-1]
+    again = analysis(0.3).run(duration=0.2, ground=[gm], resume=cp)  # type: ignore[arg-type]
+    np.testing.assert_array_equal(again.s[-1], whole.s[-1])
+    for other, words in ((analysis(0.1), r"joint laws 'joint': _Plain \(or their settings"),
+                         (analysis(0.3, 0.001), r"this one has Δt = 0.001 s")):  # fmt: skip
+        head = r"resume: the checkpoint was taken by another analysis \(Δt = 0.002 s, .*"
+        with pytest.raises(pf.ModelError, match=head + words):
+            other.run(duration=0.2, ground=[gm], resume=cp)  # type: ignore[arg-type]
+
+
+def test_a_block_turning_in_a_small_rotation_run_is_warned() -> None:
+    """A rock tester's column rocking on its corner turned 2.3° by 2 s in the default
+    small-rotation run, where the rigid rocking solution and a large-rotation run turn
+    4.4°, with no word (the "large motion" line starts at 30°). A floating block of a
+    small-rotation run that turns past 1° now gets the line "rotation", naming the
+    setting; the same column in a large-rotation run gets none. Here the column of
+    tests/test_summary.py (1 m × 4 m on a 20° plane, b/h < tan 20°: it topples) for
+    0.4 s: 1.7° in both runs."""
+    from pathlib import Path
+
+    from pfeie._job import SMALL_TURN_DEG, Job, format_summary, reliability, summarize
+    from pfeie.verification._models import block_on_base
+
+    model = block_on_base(joint=pf.Joint(phi=45.0), width=1.0, height=4.0, n=2, ny=4,
+                          incline_deg=20.0, E=30e9)  # fmt: skip
+    top = int(np.argmax(model.mesh.points[:, 1]))
+    for large in (False, True):
+        res = pf.Dynamic(model, 4e-3, large_rotation=large).run(0.4, probes=[top])
+        spec = {"title": "t", "analysis": {"dt": 4e-3, "large_rotation": large}, "output": {}}
+        job = Job(Path("t.toml"), spec, model, [], {"top": top}, "0" * 64)
+        s = summarize(job, None, res)
+        b = s["bodies"]["block"]
+        turn = np.degrees(np.abs(res.rigid[:, 1, 2] - res.rigid[0, 1, 2]))
+        assert 1.5 < turn.max() < 30.0  # measured 1.68°: short of "large motion"
+        if large:
+            assert "small_rotation_beyond_s" not in b
+            assert not [w for w in reliability(s) if w.label == "rotation"]
+            continue
+        assert b["small_rotation_beyond_s"] == res.t[np.argmax(turn > SMALL_TURN_DEG)]
+        (w,) = [w for w in reliability(s) if w.label == "rotation"]
+        assert w.text.startswith(f"block block turned by up to {turn.max():.3g}° (past 1°")
+        assert "take analysis.large_rotation = true" in w.text
+        assert "  rotation     block block turned by up to" in format_summary(s)

@@ -39,7 +39,7 @@ from .errors import (
     PfeieError,
     SolverError,
 )  # fmt: skip
-from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings
+from .interface import Joint, JointLaw, MohrCoulomb, SlipWeakening, SolverSettings, Strength
 from .io import read_mesh, read_record
 from .mesh import Mesh, box, graded, rectangle
 from .model import Block, Elastic, GroundMotion, Interface, Model, Rayleigh, Reservoir
@@ -66,7 +66,7 @@ __all__ = [
     "Interface", "InterfaceError", "Joint", "JointLaw", "MechanismError", "Mesh", "MeshError",
     "ModalResult", "Model", "ModelError", "MohrCoulomb", "Newmark", "PfeieError", "Rayleigh",
     "Reservoir", "RunStopped", "SlipWeakening", "SolverError", "SolverSettings", "State",
-    "StaticResult", "StrengthReduction", "Study", "StudyTable", "YieldCoefficient", "__version__",
-    "box", "factorize", "graded", "modal", "read_mesh", "read_record", "rectangle",
+    "StaticResult", "Strength", "StrengthReduction", "Study", "StudyTable", "YieldCoefficient",
+    "__version__", "box", "factorize", "graded", "modal", "read_mesh", "read_record", "rectangle",
     "run_to_folder", "solve_static", "strength_reduction", "yield_coefficient",
 ]  # fmt: skip

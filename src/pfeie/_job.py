@@ -167,6 +167,12 @@ POST_EQ_MOVE_MAX = 0.1
 #: it meets); a rocking block that stays up turns by a few degrees
 LARGE_TURN_DEG = 30.0
 LARGE_MOVE = 0.5
+#: degrees: the rotation of a floating block beyond which a run with small rotations
+#: (``analysis.large_rotation = false``) is warned: its pairs' frames and lever arms stay
+#: as meshed, an error of the order of the rotation against the angles that matter (a
+#: 1 m × 4 m column rocking on its corner, slenderness 14°, turned 2.3° by 2 s where the
+#: rigid rocking solution and a large-rotation run turn 4.4°)
+SMALL_TURN_DEG = 1.0
 
 #: a joint's minimum safety factor is dated at the first recorded time within this
 #: share of it: the values of a sliding joint are 1 to round-off (1 − 1e-15) at every
@@ -1336,6 +1342,23 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
             "are not reliable (docs/results.md)",
             f"large motion: {what}: toppled or left its joints, not followed by the "
             "node-to-node pairs"))  # fmt: skip
+    for name, b in s.get("bodies", {}).items():
+        if "small_rotation_beyond_s" not in b or "beyond_pairs_s" in b:
+            continue
+        what = (
+            f"block {name} turned by up to {b['peak_rotation_deg']:.3g}° (past "
+            f"{SMALL_TURN_DEG:g}° first at {b['small_rotation_beyond_s']:.3f} s)"
+        )
+        out.append(RunWarning(
+            "rotation",
+            f"{what} with small rotations (analysis.large_rotation = false): the pairs' "
+            "frames and the blocks' lever arms stay as meshed, an error of the order of "
+            "the rotation against the angles that matter (a slender block rocking on its "
+            "corner: the rotation against its slenderness, atan(width/height)); take "
+            "analysis.large_rotation = true for a block that rocks or topples "
+            "(docs/theory.md, large rotations)",
+            f"rotation: {what}, small-rotation run: take analysis.large_rotation = "
+            "true"))  # fmt: skip
     for name, j in s.get("joints", {}).items():
         ratio = j.get("peak_slip_to_spacing", 0.0)
         if ratio > LARGE_SLIP:
@@ -1733,6 +1756,9 @@ def _body_motions(job: Job, res: DynamicResult) -> dict[str, dict[str, Any]]:
             out[name]["airborne_rows"], out[name]["first_airborne_s"] = flying[b]
         if b not in floating:
             continue
+        turned = np.abs(turn[:, b]) > SMALL_TURN_DEG
+        if not job.analysis.large_rotation and turned.any():
+            out[name]["small_rotation_beyond_s"] = _time(res.t[int(np.argmax(turned))])
         pts = model.mesh.points[body == b]
         size = float(np.ptp(pts, axis=0).max()) if pts.size else 0.0
         far = (np.abs(turn[:, b]) > LARGE_TURN_DEG) | (u[:, b] > LARGE_MOVE * size)
@@ -1927,6 +1953,7 @@ def format_summary(s: dict[str, Any]) -> str:
     warnings = reliability(s)
     lines += _warning_lines(warnings, "airborne")
     lines += _warning_lines(warnings, "large motion")
+    lines += _warning_lines(warnings, "rotation")
     lines += _warning_lines(warnings, "large slip")
     post = s.get("post_earthquake", {})
     if "error" in post:

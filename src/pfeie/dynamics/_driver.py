@@ -48,7 +48,7 @@ from pydantic import ValidationError
 
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
-from ..interface import INTACT, OPEN, SLIDE, STICK, PairState
+from ..interface import INTACT, OPEN, SLIDE, STICK, PairState, law_key
 from ..linalg import Factorization, factorize
 from ..model import GroundMotion, Model
 from ..typing import BoolArray, FloatArray, IntArray, settings_message
@@ -127,6 +127,10 @@ class Checkpoint:
     #: :meth:`Excitation.grid_rows`), where a resumed run's supports go on from; None:
     #: none (the relative form; a checkpoint written before it: the grid from its origin)
     supports: FloatArray | None = None
+    #: the analysis that took it (:attr:`Dynamic.key`: a digest and its wording), which a
+    #: resumed run must have; None: not checked (a checkpoint read from a results file,
+    #: whose run key the command line checks, or one taken before version 0.3.21)
+    analysis: tuple[str, str] | None = None
 
 
 class Dynamic:
@@ -202,6 +206,7 @@ class Dynamic:
                              "or a support")  # fmt: skip
         self.settings = settings
         self.model = model
+        self._key: tuple[str, str] | None = None
         self._revision = model.revision  # the model as built (see _check_model)
         # the blocks' mass lumped; the reservoirs' added mass kept as a matrix where it
         # couples DOFs (a finite-element reservoir's M_a, Westergaard's nodal blocks on an
@@ -273,7 +278,7 @@ class Dynamic:
                     f"the Moreau-Jean scheme with interfaces needs theta in [0.55, 1], got "
                     f"{self.mj.theta}: theta = 1/2 does not dissipate impacts and lets blocks hop"
                 )
-            laws = impulse_laws(model.pair_laws, model.pairs.interface, self.dt, self.d)
+            laws = impulse_laws(model.pair_laws, self.dt)
             W = (self.corot.reference_delassus() if self.corot is not None
                  else delassus(self.mj.factor, self.op.G))  # fmt: skip
             self.istep = InterfaceStep(self.op, W, laws, 1.0, settings=settings.solver(),
@@ -367,6 +372,32 @@ class Dynamic:
                          "pfeie.Dynamic(model, ...) after the change")  # fmt: skip
 
     # -- operators of the current configuration ------------------------------------------------
+    @property
+    def key(self) -> tuple[str, str]:
+        """What identifies this analysis, for a checkpoint (a run resumed by another
+        analysis would not continue the run): a digest of its settings (Δt, scheme and
+        the rest), its stiffness, mass and damping, its pairs and their joint laws
+        (:func:`pfeie.interface.law_key`), and its wording; hashed once."""
+        if self._key is not None:
+            return self._key
+        import hashlib
+
+        h = hashlib.sha256(self.settings.model_dump_json().encode())
+        for mat in (self.system.K, self.system.M, self.system.C):
+            if mat is not None:
+                h.update(np.ascontiguousarray(mat.data).tobytes())
+                h.update(np.ascontiguousarray(mat.indices).tobytes())
+        P = self.model.pairs
+        if P is not None:
+            h.update(np.ascontiguousarray(P.x).tobytes())
+            for it in self.model.interfaces:
+                h.update(it.group.encode() + b"\0" + law_key(it.joint))
+        laws = ", ".join(f"{it.group!r}: {type(it.joint).__name__}" for it in self.model.interfaces)
+        self._key = (h.hexdigest()[:16], f"Δt = {self.dt:g} s, the {self.settings.scheme} "
+                     f"scheme, {self.system.n} free DOFs"
+                     + (f", joint laws {laws}" if laws else ""))  # fmt: skip
+        return self._key
+
     def excitation(self, ground: Sequence[GroundMotion] = (), form: str = "relative",
                    start: object | None = None) -> Excitation:  # fmt: skip
         """The excitation of a run by the records ``ground`` in the given form; the uplift
@@ -1159,6 +1190,14 @@ class Dynamic:
                     f"run is given {key[1]} (or the records' samples differ): a resumed run "
                     "continues the same run, so give it the same records and form (to "
                     "continue under another record, start from the state: "
+                    "start=checkpoint.state)")  # fmt: skip
+            if resume.analysis is not None and resume.analysis[0] != self.key[0]:
+                raise ModelError(
+                    f"resume: the checkpoint was taken by another analysis "
+                    f"({resume.analysis[1]}); this one has {self.key[1]} (or their "
+                    "settings, matrices or laws' parameters differ): a resumed run continues "
+                    "the same run, so resume it with the analysis that took the checkpoint "
+                    "(to go on with another, start from the state: "
                     "start=checkpoint.state)")  # fmt: skip
             cur, row0 = resume.state, resume.row
             self._check_state(cur, "resume")

@@ -42,12 +42,11 @@ shaken base and let it fall for a step.
 
 from __future__ import annotations
 
-import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..interface import JointLaw, PairLaws, Strength
-from ..typing import BoolArray, FloatArray
+from ..interface import PairLaws
+from ..typing import FloatArray
 from ._newmark import SecondOrderSystem, State, damping_product, factorize_step
 
 
@@ -106,27 +105,13 @@ class MoreauJean:
         return (self.theta - 0.5) * float(dv @ (s.M @ dv) + du @ (s.K @ du))
 
 
-class _Impulse:
-    """A joint law seen at the velocity level: its force strengths times h (N s)."""
-
-    def __init__(self, law: JointLaw, h: float) -> None:
-        if law.kn is not None or law.ks is not None:
-            raise ModelError("the Moreau-Jean scheme supports rigid joints only (no kn, ks)")
-        self.law, self.h = law, h
-        self.initial, self.kn, self.ks, self.gap = law.initial, None, None, 0.0
-
-    def strength(self, area: FloatArray, broken: BoolArray, path: FloatArray) -> Strength:
-        st = self.law.strength(area, broken, path)
-        return Strength(st.cohesion * self.h, st.friction, st.tension * self.h)
-
-
-def impulse_laws(laws: PairLaws, interface: np.ndarray, h: float, dim: int) -> PairLaws:
-    """The pair laws in impulse units for the velocity-level problem (no gap: the law
-    acts on velocities)."""
-    wrapped = [_Impulse(law, h) for law in laws.laws]
-    out = PairLaws.from_interfaces(laws.area, interface, wrapped, dim)
-    return PairLaws(out.area, out.compliance, out.gap, laws.initially_broken, out.laws,
-                    out.index)  # fmt: skip
+def impulse_laws(laws: PairLaws, h: float) -> PairLaws:
+    """The pair laws in impulse units for the velocity-level problem: the cohesion and
+    tension forces times h (N s; :meth:`PairLaws.scaled`), no gap (the law acts on
+    velocities). Rigid joints only: a joint with springs is refused."""
+    if laws.springs.any():
+        raise ModelError("the Moreau-Jean scheme supports rigid joints only (no kn, ks)")
+    return laws.scaled(h)
 
 
 __all__ = ["MoreauJean", "impulse_laws"]

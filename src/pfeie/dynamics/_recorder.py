@@ -722,7 +722,7 @@ class Recorder:
         assert self.origin is not None
         env = self.envelope.snapshot() if self.envelope is not None else None
         return Checkpoint(st, dict(self.account.acc), self.origin, row, env, self.ex.key,
-                          self.ex.grid_rows(st.kin.t))  # fmt: skip
+                          self.ex.grid_rows(st.kin.t), self.an.key)  # fmt: skip
 
     def result(
         self, rows: int, final: StepState, iterations: np.ndarray, wall: float,

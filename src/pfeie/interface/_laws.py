@@ -24,8 +24,8 @@ Laws shipped:
 
       μ(δ) = μ_r + (μ_p − μ_r) max(0, 1 − δ/D_c),
 
-  δ the slip path (m). The strength of a step is evaluated at the committed path of its
-  start (explicit in δ; first order in Δt).
+  δ the slip path (m). The time stepping asks for the strength of a step at the path
+  predicted for its end from the slip rate at its start (second order in the path).
 
 Units: SI (Pa, m, N), angles in degrees.
 """
@@ -33,8 +33,8 @@ Units: SI (Pa, m, N), angles in degrees.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from dataclasses import dataclass, field, replace
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -55,7 +55,36 @@ class Strength:
 
 @runtime_checkable
 class JointLaw(Protocol):
-    """What the analysis needs from a joint law (see the module docstring)."""
+    """What the analysis needs from a joint law: its contact data and the strength of
+    its pairs (the module docstring gives the strength criterion).
+
+    - ``initial``, ``kn``, ``ks``, ``gap``: read once, when the model is built (a later
+      change has no effect), and checked then (:func:`check_law`);
+    - ``strength(area, broken, path)``: (c A, μ, σ_t A) of k pairs, each (k,), finite and
+      ≥ 0 with σ_t A μ ≤ c A (checked at every call, :class:`~pfeie.ModelError` naming
+      the law otherwise), from the pairs' tributary areas in m² (× the thickness in 2D),
+      their broken flags and their slip paths in m (the distance slid since the start,
+      the path predicted for the end of the step, so that a slip-weakening law is second
+      order in Δt). It must be a pure function of its arguments: the answers are cached
+      per state within a step, and the time stepping multiplies the forces by Δt itself
+      where it works with impulses.
+
+    The law sees no normal stress, closure, slip rate or time, and its stiffness is one
+    constant: a stiffness that grows with closure (Barton–Bandis) or a rate-dependent
+    friction cannot be written as a law yet. A law of one's own works in the Python API
+    (:class:`pfeie.Interface`); model files and studies name the shipped laws only
+    (``mohr-coulomb``, ``slip-weakening``), and the results file records its class, its
+    contact data and its fields.
+
+    >>> import numpy as np, pfeie as pf
+    >>> class Frictional:                      # μ = 0.5, no cohesion, no tension
+    ...     initial, kn, ks, gap = "broken", None, None, 0.0
+    ...     def strength(self, area, broken, path):
+    ...         zero = np.zeros_like(area)
+    ...         return pf.Strength(zero, np.full_like(area, 0.5), zero)
+    >>> isinstance(Frictional(), JointLaw)
+    True
+    """
 
     @property
     def initial(self) -> str:
@@ -81,6 +110,133 @@ class JointLaw(Protocol):
         """Strength of pairs of tributary area ``area`` (m²), broken flags ``broken`` and
         slip paths ``path`` (m), all (k,)."""
         ...
+
+
+_PROTOCOL = ("initial", "kn", "ks", "gap", "strength")
+
+
+def check_law(law: Any, where: str = "") -> None:
+    """Raise :class:`ModelError` unless ``law`` is a joint law with valid contact data
+    (what the solver reads once, when the model is built): ``initial`` 'intact' or
+    'broken'; ``kn``, ``ks`` None or a number ≥ :data:`JOINT_STIFFNESS_MIN` Pa/m; ``gap``
+    a number ≥ 0 m, 0 for an intact joint; ``strength`` a method. ``where`` (an interface)
+    leads the message. The built-in laws check the same in their constructors; this
+    names what a law of one's own gets wrong.
+
+    >>> check_law(MohrCoulomb(phi=30.0))
+    >>> class Soft:                       # a law of one's own, with a zero stiffness
+    ...     initial, kn, ks, gap = "broken", 0.0, None, 0.0
+    ...     def strength(self, area, broken, path): ...
+    >>> check_law(Soft(), "interface 'base'")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    pfeie.errors.ModelError: interface 'base': joint law Soft: kn: expected None (a rigid ...
+    """
+    head = f"{where}: " if where else ""
+    name = f"joint law {type(law).__name__}"
+    missing = [k for k in _PROTOCOL if not hasattr(law, k)]
+    if missing:
+        raise ModelError(f"{head}{name} lacks {', '.join(missing)} of the joint-law protocol "
+                         "(pfeie.interface.JointLaw: initial, kn, ks, gap and strength(area, "
+                         "broken, path) -> Strength); e.g. pf.Joint(phi=30.0)")  # fmt: skip
+    if not callable(law.strength):
+        raise ModelError(f"{head}{name}: strength must be a method strength(area, broken, "
+                         "path) -> Strength")  # fmt: skip
+
+    def number(v: object) -> bool:
+        return (isinstance(v, int | float | np.integer | np.floating)
+                and not isinstance(v, bool | np.bool_) and bool(np.isfinite(v)))  # fmt: skip
+
+    def got(v: object) -> str:
+        return f"{type(v).__name__} {v!r}"
+
+    initial = law.initial
+    if not isinstance(initial, str) or initial not in ("intact", "broken"):
+        raise ModelError(f"{head}{name}: initial: expected 'intact' or 'broken', got "
+                         f"{got(initial)}")  # fmt: skip
+    for key in ("kn", "ks"):
+        v = getattr(law, key)
+        if v is not None and not (number(v) and v >= JOINT_STIFFNESS_MIN):
+            raise ModelError(f"{head}{name}: {key}: expected None (a rigid contact) or a "
+                             f"number >= {JOINT_STIFFNESS_MIN:g} Pa/m, got {got(v)}")  # fmt: skip
+    gap = law.gap
+    if not (number(gap) and gap >= 0):
+        raise ModelError(f"{head}{name}: gap: expected a number >= 0 (m), got {got(gap)}")
+    if gap > 0 and initial == "intact":
+        raise ModelError(f"{head}{name}: gap = {gap:g} m on an intact (bonded) joint; "
+                         "expected gap = 0, or initial = 'broken'")  # fmt: skip
+
+
+def law_fields(law: object) -> dict[str, Any]:
+    """A joint law's fields, what determines its strength besides its class: a
+    dataclass's fields, else its instance attributes (and slots), name → value."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(law):
+        return {f.name: getattr(law, f.name) for f in dataclasses.fields(law)}
+    out = dict(getattr(law, "__dict__", {}))
+    for cls in type(law).__mro__:
+        for name in getattr(cls, "__slots__", ()):
+            if hasattr(law, name):
+                out.setdefault(name, getattr(law, name))
+    return out
+
+
+def law_key(law: Any) -> bytes:
+    """What identifies a joint law, for digests: its class (module and name), its contact
+    data and its fields (:func:`law_fields`; arrays by dtype, shape and bytes, a nested
+    law by its own key, other values by repr, an object whose repr holds its address by
+    its class). Deterministic: the same law built again gives the same bytes, where
+    ``repr`` of a class of one's own holds its address."""
+    parts = [f"{type(law).__module__}.{type(law).__qualname__}",
+             repr((law.initial, law.kn, law.ks, law.gap))]  # fmt: skip
+    for k, v in sorted(law_fields(law).items()):
+        if callable(v) and not hasattr(v, "strength"):
+            continue
+        if isinstance(v, np.ndarray):
+            a = np.ascontiguousarray(v)
+            parts.append(f"{k}={a.dtype.str}{a.shape}:{a.tobytes().hex()}")
+        elif hasattr(v, "strength") and hasattr(v, "initial"):
+            parts.append(f"{k}=<{law_key(v).decode()}>")
+        else:
+            r = repr(v)
+            parts.append(f"{k}={type(v).__qualname__ if ' at 0x' in r else r}")
+    return "\0".join(parts).encode()
+
+
+def _checked(st: object, k: int, law: object, where: str) -> tuple[FloatArray, ...]:
+    """The arrays (c A, μ, σ_t A), each (k,), of a law's answer ``st`` to
+    :meth:`JointLaw.strength`, checked: a :class:`Strength` of finite values ≥ 0 whose
+    tension lies within the apex of the cone, σ_t A μ ≤ c A (an intact or broken pair in
+    tension beyond it would have no shear capacity). Else :class:`ModelError` naming the
+    law, the field and the first bad value."""
+    head = f"{where}joint law {type(law).__name__}: strength(area, broken, path)"
+    fields = ("cohesion", "friction", "tension")
+    if not all(hasattr(st, f) for f in fields):
+        raise ModelError(f"{head} returned {type(st).__name__}; expected a "
+                         "pfeie.interface.Strength(cohesion, friction, tension)")  # fmt: skip
+    out = []
+    for f, unit in zip(fields, ("N: c A", "-: μ", "N: σ_t A"), strict=True):
+        a = np.asarray(getattr(st, f), dtype=float)
+        if a.shape != (k,):
+            raise ModelError(f"{head}: {f} has shape {a.shape}; expected ({k},), one value "
+                             "a pair")  # fmt: skip
+        bad = np.flatnonzero(~(np.isfinite(a) & (a >= 0.0)))
+        if bad.size:
+            raise ModelError(f"{head}: {f} ({unit}) must be finite and >= 0; got "
+                             f"{float(a[bad[0]])!r} at {bad.size} of its {k} pairs")  # fmt: skip
+        out.append(a)
+    c, mu, t = out
+    if isinstance(law, Reduced):  # F < 1 moves the apex (t μ / F² against c / F): the
+        return c, mu, t  # law inside was held to it
+    beyond = np.flatnonzero(t * mu > c * (1.0 + 1e-12) + 1e-300)
+    if beyond.size:
+        j = beyond[0]
+        raise ModelError(f"{head}: tension {t[j]:g} N lies beyond the apex of the cone, "
+                         f"cohesion / friction = {c[j]:g} / {mu[j]:g} N, at {beyond.size} "
+                         "pair(s): a pair in tension there has no shear capacity; expected "
+                         "tension * friction <= cohesion")  # fmt: skip
+    return c, mu, t
 
 
 #: m, the least normal opening of a pair that counts as a crack: in the open share, the
@@ -470,19 +626,25 @@ class PairLaws:
     initially_broken: BoolArray
     laws: tuple[JointLaw, ...]
     index: tuple[IntArray, ...]
+    #: the rate level of the strengths: the cohesion and tension forces times ``rate``
+    #: (1: forces; h: step impulses, :meth:`scaled`); the laws see the areas in m² always
+    rate: float = 1.0
+    #: the interface of each law, for messages (empty: the laws are named by their class)
+    names: tuple[str, ...] = ()
     _cache: dict[bytes, tuple[FloatArray, ...]] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
 
     @classmethod
     def from_interfaces(
-        cls, area: FloatArray, interface: IntArray, laws: Sequence[JointLaw], dim: int
-    ) -> PairLaws:
+        cls, area: FloatArray, interface: IntArray, laws: Sequence[JointLaw], dim: int,
+        names: Sequence[str] = (),
+    ) -> PairLaws:  # fmt: skip
         """Per-pair arrays from the law of each interface (``interface`` (m,) indexes
-        ``laws``)."""
-        for law in laws:
-            if not isinstance(law, JointLaw):
-                raise ModelError(f"{law!r} is not a joint law (see pfeie.interface.JointLaw)")
+        ``laws``; ``names`` the interfaces' names, for messages)."""
+        names = tuple(names)
+        for i, law in enumerate(laws):
+            check_law(law, f"interface {names[i]!r}" if names else "")
         index = tuple(np.flatnonzero(interface == i) for i in range(len(laws)))
 
         def col(values: list[float]) -> FloatArray:
@@ -495,7 +657,8 @@ class PairLaws:
         comp[:, -1] = kn / area
         comp[:, :-1] = (ks / area)[:, None]
         broken = col([float(jt.initial == "broken") for jt in laws]).astype(bool)
-        return cls(area, comp, col([jt.gap for jt in laws]), broken, tuple(laws), index)
+        return cls(area, comp, col([jt.gap for jt in laws]), broken, tuple(laws), index,
+                   names=names)  # fmt: skip
 
     @property
     def n(self) -> int:
@@ -510,9 +673,13 @@ class PairLaws:
         if hit is not None:
             return hit
         c, mu, t = np.zeros(self.n), np.zeros(self.n), np.zeros(self.n)
-        for law, idx in zip(self.laws, self.index, strict=True):
+        for i, (law, idx) in enumerate(zip(self.laws, self.index, strict=True)):
             st = law.strength(self.area[idx], broken[idx], path[idx])
-            c[idx], mu[idx], t[idx] = st.cohesion, st.friction, st.tension
+            where = f"interface {self.names[i]!r}: " if self.names else ""
+            c[idx], mu[idx], t[idx] = _checked(st, idx.size, law, where)
+        if self.rate != 1.0:
+            c *= self.rate
+            t *= self.rate
         for arr in (c, mu, t):
             arr.setflags(write=False)
         if len(self._cache) >= 8:
@@ -634,32 +801,35 @@ class PairLaws:
     def scaled(self, factor: float) -> PairLaws:
         """The laws seen at a rate level: the strengths (cohesion and tension forces)
         times ``factor`` (1 for forces at the acceleration level, h for step impulses at
-        the velocity level). Rigid contacts lose their gap (the law acts on relative
+        the velocity level), each law still asked at the pairs' areas in m² (a law whose
+        strength is not proportional to the area, a capped cohesion, is scaled as a
+        force). Rigid contacts lose their gap (the law acts on relative
         accelerations or velocities, not on displacements); the pairs of joints with
         springs keep their compliance and gap: a spring is a smooth force of the
         displacement, whose law the time stepping poses on the displacement at the end of
         the step."""
-        spring = self.springs
-        return PairLaws(self.area * factor, self.compliance.copy(),
-                        np.where(spring, self.gap, 0.0), self.initially_broken, self.laws,
-                        self.index)  # fmt: skip
+        return replace(
+            self,
+            compliance=self.compliance.copy(),
+            gap=np.where(self.springs, self.gap, 0.0),
+            rate=self.rate * factor,
+        )
 
     def reduced(self, factor: float) -> PairLaws:
         """These laws with every strength divided by ``factor`` (:class:`Reduced`): the
         laws of a strength-reduction analysis (:func:`pfeie.strength_reduction`); the
         areas, compliances, gaps and initial states are the same, so that a solver of W
         takes them by :meth:`~pfeie.interface.InterfaceSolver.with_laws`."""
-        return PairLaws(self.area, self.compliance, self.gap, self.initially_broken,
-                        tuple(Reduced(law, factor) for law in self.laws),
-                        self.index)  # fmt: skip
+        return replace(self, laws=tuple(Reduced(law, factor) for law in self.laws))
 
     def subset(self, idx: IntArray) -> PairLaws:
         """The laws of the pairs ``idx`` only (a sub-problem of these pairs)."""
         pos = np.full(self.n, -1, dtype=np.int64)
         pos[idx] = np.arange(idx.size)
         index = tuple(pos[i][pos[i] >= 0] for i in self.index)
-        return PairLaws(self.area[idx], self.compliance[idx], self.gap[idx],
-                        self.initially_broken[idx], self.laws, index)  # fmt: skip
+        return replace(self, area=self.area[idx], compliance=self.compliance[idx],
+                       gap=self.gap[idx], initially_broken=self.initially_broken[idx],
+                       index=index)  # fmt: skip
 
     def initial_state(self, dim: int) -> PairState:
         """Pairs before any load (see :meth:`PairState.initial`)."""
@@ -668,4 +838,5 @@ class PairLaws:
 
 __all__ = ["COHESION_RAMP", "FS_ROUNDOFF", "JOINT_STIFFNESS_MIN", "MODEL_FILE_KEYS",
            "OPEN_CRACK_MIN_M", "Joint", "JointLaw", "MohrCoulomb", "PairLaws", "Reduced",
-           "SlipWeakening", "Strength", "cohesion_ramp", "cone"]  # fmt: skip
+           "SlipWeakening", "Strength", "check_law", "cohesion_ramp", "cone", "law_fields",
+           "law_key"]  # fmt: skip

@@ -38,6 +38,8 @@ from ..interface import (
     Joint,
     MohrCoulomb,
     SlipWeakening,
+    law_fields,
+    law_key,
 )
 from ..mesh import Mesh, shape_quality
 from ..model import (
@@ -361,8 +363,14 @@ def _model_digest(
         for arr in (P.x, P.frame, P.area, P.node_a, P.node_b, P.interface):
             add(arr)
     # the joint laws, damping and uplift as their dataclass fields (every parameter of a
-    # law, Rayleigh's deformation_only, the uplift's heads and drains)
-    h.update(repr([(it.group, it.joint) for it in model.interfaces]).encode())
+    # law, Rayleigh's deformation_only, the uplift's heads and drains): the shipped laws
+    # by their repr, a law of one's own by its class, contact data and fields (its repr
+    # may hold its address or leave its parameters out)
+    own = [it for it in model.interfaces if not type(it.joint).__module__.startswith("pfeie.")]
+    shipped = [(it.group, it.joint) for it in model.interfaces if it not in own]
+    h.update(repr(shipped).encode())
+    for it in own:
+        h.update(it.group.encode() + b"\0" + law_key(it.joint))
     h.update(repr((model.damping, model.uplifts)).encode())
     # loads with a time amplitude: the load vector sampled over the run (an amplitude is a
     # function, known only by its values)
@@ -413,10 +421,18 @@ def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:
     out: dict[str, dict[str, Any]] = {}
     for it in m.interfaces:
         law = it.joint
-        if not isinstance(law, MohrCoulomb):
-            out[it.group] = {"law": type(law).__name__}
-            continue
         entry: dict[str, Any] = {"law": type(law).__name__, "initial": law.initial}
+        if not isinstance(law, MohrCoulomb):  # a law of one's own: its contact data and
+            entry["class"] = _qualname(law)  # plain fields
+            for api in ("kn", "ks", "gap"):  # under the model file's keys, as below
+                if getattr(law, api) is not None:
+                    entry[_JOINT_KEYS.get(api, api)] = float(getattr(law, api))
+            fields = {k: v for k, v in law_fields(law).items() if not k.startswith("_")
+                      and (v is None or isinstance(v, bool | int | float | str))}  # fmt: skip
+            if fields:
+                entry["fields"] = fields
+            out[it.group] = entry
+            continue
         for api, key in _JOINT_KEYS.items():
             value = getattr(law, api, None)
             if api == "phi_r" and value is None:
@@ -425,6 +441,11 @@ def _joint_laws(m: Model) -> dict[str, dict[str, Any]]:
                 entry[key] = float(value)
         out[it.group] = entry
     return out
+
+
+def _qualname(obj: object) -> str:
+    """The module and qualified name of ``obj``'s class."""
+    return f"{type(obj).__module__}.{type(obj).__qualname__}"
 
 
 #: the names of a joint law's parameters in the model file's messages (its keys)
@@ -571,9 +592,11 @@ def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
             if items
         ]
         if given:  # a reservoir's mass or uplift, and no water pressing on the faces
-            log.warning("%s: %s given but no [[loads.hydrostatic]]: the reservoir's water "
-                        "pressure on the faces is missing (its thrust on the dam, the "
-                        "largest static load); intended?", p, " and ".join(given))  # fmt: skip
+            log.warning("%s: %s given but no [[loads.hydrostatic]]: no water presses on "
+                        "the faces (a dam's reservoir thrust, its largest static load; a "
+                        "slope's water in a tension crack); intended? (water in a joint "
+                        "alone, as on a slope's sliding plane, is uplift alone)", p,
+                        " and ".join(given))  # fmt: skip
         return
     k = max(range(len(hyd)), key=lambda i: hyd[i].water_level)  # the reservoir
     lower = [i for i in range(len(hyd)) if i != k]

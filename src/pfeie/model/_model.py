@@ -1434,8 +1434,9 @@ class Model:
         if self.split is None:
             raise ModelError("the model has no interfaces")
         P = self.split.pairs
-        return PairLaws.from_interfaces(P.area, P.interface, [i.joint for i in self.interfaces],
-                                        P.dim)  # fmt: skip
+        its = self.interfaces
+        return PairLaws.from_interfaces(P.area, P.interface, [i.joint for i in its], P.dim,
+                                        names=[i.group for i in its])  # fmt: skip
 
     def joint_extent(self, mask: BoolArray) -> FloatArray:
         """The extent of the pairs where ``mask`` (..., m) per interface (..., n_joints):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ..interface import JointLaw
+from ..interface import JointLaw, check_law
 from ..typing import FloatArray, IntArray, is_number
 
 Amplitude = Callable[[float], float]
@@ -212,7 +212,13 @@ class Interface:
             raise ModelError(f"interface {self.group!r}: joint: expected a joint law, e.g. "
                              f"pf.Joint(phi=30.0), got the class {self.joint.__name__} "
                              "itself")  # fmt: skip
-        if not isinstance(self.joint, JointLaw):  # (None, a material): at once, by name
+        joint: object = self.joint
+        if not isinstance(joint, JointLaw):  # (None, a material): at once, by name
+            missing = [k for k in ("initial", "kn", "ks", "gap", "strength")
+                       if not hasattr(joint, k)]  # fmt: skip
+            lacks = f", which lacks {', '.join(missing)}" if 0 < len(missing) < 5 else ""
             raise ModelError(f"interface {self.group!r}: joint: expected a joint law, e.g. "
-                             f"pf.Joint(phi=30.0) (pfeie.interface.JointLaw), got "
-                             f"{type(self.joint).__name__} {self.joint!r}")  # fmt: skip
+                             f"pf.Joint(phi=30.0) (pfeie.interface.JointLaw: initial, kn, "
+                             f"ks, gap and strength), got {type(joint).__name__} "
+                             f"{joint!r}{lacks}")  # fmt: skip
+        check_law(self.joint, f"interface {self.group!r}")
