@@ -50,7 +50,7 @@ def test_delassus_strategies_agree_with_the_definition() -> None:
         assert np.abs(D.matrix() - W_def).max() < 1e-12 * scale, strategy
         assert np.abs(D.apply(X) - W_def @ X).max() < 1e-12 * np.abs(W_def @ X).max()
         assert np.abs(D.correct(X) - du_def).max() < 1e-12 * np.abs(du_def).max()
-    with pytest.raises(ValueError, match="needs the joint of each component"):
+    with pytest.raises(pf.ModelError, match="needs the joint of each component"):
         delassus(factorize(an.ga.S), op.G, strategy="blocks")  # type: ignore[union-attr]
 
 

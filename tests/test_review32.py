@@ -284,3 +284,20 @@ def test_a_block_turning_in_a_small_rotation_run_is_warned() -> None:
         assert w.text.startswith(f"block block turned by up to {turn.max():.3g}° (past 1°")
         assert "take analysis.large_rotation = true" in w.text
         assert "  rotation     block block turned by up to" in format_summary(s)
+
+
+def test_the_coupling_operators_refuse_wrong_arguments_by_name() -> None:
+    """A code review found untyped errors: an InterfaceSolver given a W of the wrong size
+    failed in a numpy broadcast; with_laws of other springs raised a bare ValueError (in
+    two places, the same check). Both are ModelErrors now, the size named."""
+    from pfeie.interface import InterfaceSolver, PairLaws
+
+    laws = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64), [pf.Joint()], 2)
+    with pytest.raises(pf.ModelError, match=r"W has shape \(3, 3\); the laws have 2 pair\(s\) "
+                                            r"of 2 component\(s\): expected \(4, 4\)"):  # fmt: skip
+        InterfaceSolver(np.eye(3), laws)
+    solver = InterfaceSolver(np.eye(4), laws)
+    soft = PairLaws.from_interfaces(np.ones(2), np.zeros(2, dtype=np.int64),
+                                    [pf.Joint(kn=1e9, ks=1e9)], 2)  # fmt: skip
+    with pytest.raises(pf.ModelError, match="with_laws needs the same joint compliance"):
+        solver.with_laws(soft)

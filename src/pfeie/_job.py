@@ -57,7 +57,7 @@ from .errors import (
     ResultsError,
     SolverError,
 )
-from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE, SolverSettings
+from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE
 from .io import (
     PYTHON_RUN,
     CheckpointWriter,
@@ -649,7 +649,7 @@ def _steps(
     ckw = CheckpointWriter(writer, run_key(job), every_s, job.output.checkpoint_steps,
                            job.part_factors)  # fmt: skip
     ystream = (stream or sys.stderr) if progress else None  # the yield search's progress
-    settings = SolverSettings(tolerance=a.tolerance)
+    settings = a.solver()
     try:
         if a.static and ck is None:
             static = solve_static(model, settings=settings)
@@ -791,8 +791,8 @@ def run_to_folder(
     ground: Sequence[GroundMotion] | GroundMotion | None = (), form: str = "relative",
     start: StaticResult | StepState | None = None,
     probes: Mapping[str, int] | Sequence[int] | None = None,
-    every: int = 1, field_every: int = 10, envelope: bool = True, paraview: bool = True,
-    figures: bool = True, title: str = "",
+    every: int | None = None, field_every: int | None = None, envelope: bool | None = None,
+    paraview: bool | None = None, figures: bool = True, title: str = "",
 ) -> DynamicResult:  # fmt: skip
     """Run ``analysis`` (a :class:`~pfeie.Dynamic`) for ``duration`` s under ``ground``
     and write what ``pfeie run`` writes of a model file into ``folder``: ``results.h5``
@@ -803,8 +803,9 @@ def run_to_folder(
     those of ``pfeie plot``). Returns the run's :class:`~pfeie.DynamicResult`, the same
     bits as ``analysis.run`` with the same arguments. ``probes`` names nodes (name → node
     index), or lists node indices (named ``node<i>``), whose histories are kept;
-    ``every``, ``field_every`` and ``envelope`` are the ``[output]`` keys of a model
-    file. The results file records ``<python>`` as its model file and, as its digest,
+    ``every``, ``field_every``, ``envelope`` and ``paraview`` are the ``[output]`` keys
+    of a model file, with their defaults (docs/model-file.md: 1, 10, true, true) where
+    not given. The results file records ``<python>`` as its model file and, as its digest,
     the SHA-256 of what determines the run (:meth:`pfeie.io.Job.of_run`). ``pfeie plot``,
     ``pfeie export`` and ``pfeie report`` read the folder (the report without the model
     file's sections).
@@ -849,11 +850,15 @@ def run_to_folder(
                          "pfeie.io.read_record), got "
                          f"{[type(g).__name__ for g in ground]}")  # fmt: skip
     names = _probe_names(probes, analysis.model.mesh.n_points)
-    output = {"every": every, "field_every": field_every, "envelope": envelope,
-              "paraview": paraview, "folder": "."}  # fmt: skip
+    given = {"every": every, "field_every": field_every, "envelope": envelope,
+             "paraview": paraview}  # fmt: skip
+    output = {**{k: v for k, v in given.items() if v is not None}, "folder": "."}
     job = Job.of_run(analysis.model, analysis.settings, records=ground, probes=names,
                      duration=duration, form=form, static=static is not None, title=title,
                      output=output, system=analysis.system, start=start)  # fmt: skip
+    # the [output] defaults of the schema where not given
+    every, field_every = job.output.every, job.output.field_every
+    envelope, paraview = job.output.envelope, job.output.paraview
     ResultsWriter.require()  # before the folder is touched (or made)
     out = output_folder(folder, "run_to_folder: folder")
     if (why := study_outputs(out)) is not None:
@@ -1457,7 +1462,7 @@ def _post_earthquake(
         return {"skipped": why}
     t0 = time.perf_counter()
     try:
-        post = solve_static(model, settings=SolverSettings(tolerance=job.analysis.tolerance),
+        post = solve_static(model, settings=job.analysis.solver(),
                             damage=final.pairs)  # fmt: skip
     except (MechanismError, InterfaceError, SolverError) as exc:
         log.warning("post-earthquake static state: %s", exc)

@@ -36,6 +36,7 @@ from typing import Any, Literal, Protocol
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ModelError
 from ..linalg import Factorization, symmetric_product
 from ..typing import FloatArray
 
@@ -273,7 +274,8 @@ def delassus(
     M, n = G.shape
     if strategy == "blocks":
         if parts is None:
-            raise ValueError("the 'blocks' strategy needs the joint of each component (parts)")
+            raise ModelError("delassus: the 'blocks' strategy needs the joint of each "
+                             "component (parts)")  # fmt: skip
         return _blocks(factor, G, np.asarray(parts), chunk, rank_tol)
     if strategy == "matrix-free":
         _, Z = _solve_columns(factor, G, chunk, True, want_w=False)

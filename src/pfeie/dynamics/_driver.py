@@ -218,8 +218,7 @@ class Dynamic:
         self.mj: MoreauJean | None = None
         self.ga: NonsmoothAlpha | None = None
         if settings.scheme == "nonsmooth-alpha":
-            rho = 0.0 if settings.rho_inf is None else settings.rho_inf
-            self.ga = NonsmoothAlpha(self.system, settings.dt, rho_inf=rho,
+            self.ga = NonsmoothAlpha(self.system, settings.dt, rho_inf=settings.nonsmooth_alpha(),
                                      backend=settings.backend)  # fmt: skip
         elif settings.scheme == "moreau-jean":
             self.mj = MoreauJean(self.system, settings.dt, theta=settings.theta,

@@ -67,7 +67,7 @@ class MoreauJean:
     """
 
     def __init__(
-        self, system: SecondOrderSystem, dt: float, *, theta: float = 1.0, backend: str = "auto"
+        self, system: SecondOrderSystem, dt: float, *, theta: float, backend: str = "auto"
     ) -> None:
         if not dt > 0:
             raise ModelError(f"time step dt must be > 0 s, got {dt}")

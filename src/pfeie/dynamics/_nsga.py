@@ -82,7 +82,7 @@ class NonsmoothAlpha:
     """
 
     def __init__(
-        self, system: SecondOrderSystem, dt: float, *, rho_inf: float = 0.0,
+        self, system: SecondOrderSystem, dt: float, *, rho_inf: float,
         backend: str = "auto",
     ) -> None:  # fmt: skip
         if not dt > 0:

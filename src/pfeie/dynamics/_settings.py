@@ -25,7 +25,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ..interface import SolverSettings
+from ..interface import SolverSettings, Tolerance
 from ..typing import Unit
 from ._newmark import scheme_parameters
 
@@ -83,8 +83,7 @@ class DynamicSettings(BaseModel):
         "grid of dt; 1: off. It resolves crack growth and slip onsets at a coarse dt "
         "(docs/theory.md, 'Event sub-steps'); not with large_rotation",
     )] = 1  # fmt: skip
-    tolerance: Annotated[float, Field(
-        gt=0.0, le=1e-2, allow_inf_nan=False,
+    tolerance: Annotated[Tolerance, Field(
         description=SolverSettings.model_fields["tolerance"].description,
     )] = _SOLVER.tolerance  # fmt: skip
     backend: Annotated[Literal["auto", "cholmod", "superlu"], Field(
@@ -146,6 +145,10 @@ class DynamicSettings(BaseModel):
         """(β, γ, α) of the scheme, with β and γ derived from α (or ρ∞) unless given."""
         beta, gamma, _, _ = scheme_parameters(self.alpha, self.rho_inf, self.beta, self.gamma)
         return beta, gamma, float(self.alpha)
+
+    def nonsmooth_alpha(self) -> float:
+        """ρ∞ of the nonsmooth generalised-α scheme: ``rho_inf``, 0 when not given."""
+        return 0.0 if self.rho_inf is None else float(self.rho_inf)
 
     def generalized_alpha(self) -> tuple[float, float]:
         """(α_m, α_f) of the balance instants: (0, −α) for HHT-α, Chung & Hulbert's

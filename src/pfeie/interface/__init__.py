@@ -36,7 +36,7 @@ from ._laws import (
     law_fields,
     law_key,
 )
-from ._settings import SolverSettings
+from ._settings import SolverSettings, Tolerance
 from ._solver import (
     FACTOR_CACHE_BYTES,
     FACTOR_CACHE_COUNT,
@@ -78,6 +78,7 @@ __all__ = [
     "SolverSettings",
     "SplitMesh",
     "Strength",
+    "Tolerance",
     "check_law",
     "cohesion_ramp",
     "cohesion_ramp_tangent",

@@ -6,6 +6,10 @@ from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 
+#: the interface solver's tolerance as a settings field: its range, its one definition
+#: (:class:`SolverSettings` and the analysis settings that pass it on)
+Tolerance = Annotated[float, Field(gt=0.0, le=1e-2, allow_inf_nan=False)]
+
 
 class SolverSettings(BaseModel):
     """Options of :class:`pfeie.interface.InterfaceSolver` (method.md §5.3).
@@ -16,8 +20,7 @@ class SolverSettings(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    tolerance: Annotated[float, Field(
-        gt=0.0, le=1e-2, allow_inf_nan=False,
+    tolerance: Annotated[Tolerance, Field(
         description="interface complementarity tolerance: the largest scaled residual of "
         "the joint law accepted at a pair (relative to the pair forces)",
     )] = 1e-8  # fmt: skip
@@ -28,4 +31,4 @@ class SolverSettings(BaseModel):
     )] = 60  # fmt: skip
 
 
-__all__ = ["SolverSettings"]
+__all__ = ["SolverSettings", "Tolerance"]

@@ -106,7 +106,7 @@ import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgetrf as _getrf
 from scipy.linalg.lapack import dgetrs as _getrs
 
-from ..errors import InterfaceError, MechanismError
+from ..errors import InterfaceError, MechanismError, ModelError
 from ..linalg import SYMMETRIC_MIN, MixedLU, Workspace, symmetric_columns, symmetric_product
 from ..typing import FloatArray
 from ._laws import PairLaws, cohesion_ramp, cohesion_ramp_tangent, cone
@@ -368,6 +368,11 @@ class InterfaceSolver:
         self.m = props.n
         self.d = props.compliance.shape[1] if props.n else 1
         self.W = np.asarray(W, dtype=float)
+        size = self.m * (self.d if self.m else 0)
+        if self.W.shape != (size, size):
+            raise ModelError(f"InterfaceSolver: W has shape {self.W.shape}; the laws have "
+                             f"{self.m} pair(s) of {self.d} component(s): expected "
+                             f"({size}, {size})")  # fmt: skip
         diag = np.diag(self.W)
         self.rho = 1.0 / float(diag.mean()) if diag.size else 1.0
         reg = regularize * float(diag.mean()) if diag.size else 0.0
@@ -491,7 +496,8 @@ class InterfaceSolver:
         """This solver (W, its factorisation, settings) for other laws with the same joint
         compliance, without factorising W again."""
         if not np.array_equal(laws.compliance, self.props.compliance):
-            raise ValueError("with_laws needs the same joint compliance")
+            raise ModelError("with_laws needs the same joint compliance (the same pairs and "
+                             "springs): W_c = W + C is factorised with it")  # fmt: skip
         other = copy.copy(self)
         other.props = laws
         # on a reference W_c⁻¹ the capacitance factors (W_c⁻¹ and the pattern only) are

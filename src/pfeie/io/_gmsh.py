@@ -568,6 +568,6 @@ def _more_groups(
 def _known(cell_type: str) -> bool:
     try:
         cell_dimension(cell_type)
-    except Exception:
+    except MeshError:
         return False
     return True

@@ -554,7 +554,7 @@ def _make(
     try:
         return GroundMotion.from_samples(acc, dt=dt, time=t, units=units, scale=scale,
                                          direction=direction, name=label)  # fmt: skip
-    except Exception as exc:  # ModelError with the reason
+    except ModelError as exc:  # the reason
         raise RecordError(f"{p}: {exc}") from None
 
 

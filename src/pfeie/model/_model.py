@@ -424,7 +424,7 @@ class Model:
         for ib, blk in enumerate(self.blocks):
             try:
                 grp = self.mesh.cell_group(blk.cell_group)
-            except Exception as exc:
+            except MeshError as exc:
                 raise ModelError(f"block {blk.name!r}: {exc}") from None
             for ctype, idx in grp.items():
                 clash = owner[ctype][idx] >= 0
@@ -515,7 +515,7 @@ class Model:
         if isinstance(where, str):
             try:
                 nodes = self.mesh.group_nodes(where)
-            except Exception as exc:
+            except MeshError as exc:
                 raise ModelError(str(exc)) from None
             if not nodes.size:
                 raise ModelError(f"{what}: the group {where!r} has no nodes (its selector "

@@ -332,7 +332,7 @@ def system(ctx: Context) -> _System:
         finally:
             if quiet:
                 logging.disable(previous)
-        static = solve_static(job.model, settings=_solver_settings(job)) \
+        static = solve_static(job.model, settings=job.analysis.solver()) \
             if job.analysis.static else None  # fmt: skip
         hit = _System(job, dynamic_analysis(job), static)
         _SYSTEMS.clear()  # one model per process at a time
@@ -341,12 +341,6 @@ def system(ctx: Context) -> _System:
         log.info("pid %d: system of %s built in %.2f s (build %d of this process)",
                  os.getpid(), ctx.model, time.perf_counter() - t0, _BUILDS[0])  # fmt: skip
     return hit
-
-
-def _solver_settings(job: Job) -> Any:
-    from ..interface import SolverSettings
-
-    return SolverSettings(tolerance=job.analysis.tolerance)
 
 
 def kept_row(ctx: Context, spec: RunSpec) -> dict[str, Any] | None:
