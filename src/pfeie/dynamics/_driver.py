@@ -865,6 +865,8 @@ class Dynamic:
         prev = cur.pairs
         moving = ex.moves_supports
         pres = ex.prescribed(t1) if moving else None
+        # G_p u_p(t_{n+1}), once a step (the frames do not turn within it)
+        wp1 = self.op.w_prescribed(pres[0]) if pres is not None else self._w_pres0
         Gp = self.op.Gp
         zero = np.zeros((m, d))
         # 1. the smooth pair forces at the acceleration level, posed in displacement units:
@@ -886,7 +888,7 @@ class Dynamic:
         if spring.any():
             # springs: G q_{n+1} = G q̂ + c_q G q̈ (with the prescribed side at t_{n+1}),
             # and the committed s, their elastic reference
-            w_known = G @ q_hat + self.w_pres(t1, ex)
+            w_known = G @ q_hat + wp1
             sc = np.repeat(spring, d)
             w_free[sc] = w_known[sc] + cq * g_free[sc]
             sw, ss = np.where(spring[:, None], prev.w, 0.0), np.where(spring[:, None], prev.s, 0.0)
@@ -902,7 +904,7 @@ class Dynamic:
         g_acc = w_sol / cq - a_pres
         if spring.any():
             g_acc[sc] = (w_sol[sc] - w_known[sc]) / cq
-        gap = (G @ q_hat + cq * g_acc + self.w_pres(t1, ex)).reshape(m, d)[:, -1] + laws.gap
+        gap = (G @ q_hat + cq * g_acc + wp1).reshape(m, d)[:, -1] + laws.gap
         u_pres = Gp @ pres[1] if pres is not None else zero.ravel()
         U_minus = G @ v_hat + cv * g_acc + u_pres  # G ṽ (+ the supports' velocity)
         # 2. the velocity correction on the step impulse P (U = G ṽ + s W (P − hλ)), for
@@ -967,7 +969,7 @@ class Dynamic:
             t2 = origin + (cur.step + 2) * h
             f2 = ex.load(t2)
             self._ahead = (new, ex, t2, f2, ga.free_acceleration(new, f2))
-        w = (G @ u1 + self.w_pres(t1, ex)).reshape(m, d)
+        w = (G @ u1 + wp1).reshape(m, d)
         X = P.X / h
         s = w + laws.compliance * X
         s[:, -1] += laws.gap

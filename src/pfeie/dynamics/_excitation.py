@@ -252,6 +252,7 @@ class Excitation:
         self.form, self.system, self.dim = form, system, d
         self._supports_work: bool | None = None  # (see supports_work)
         self._key: tuple[str, str] | None = None  # (see key)
+        self._last_support: list[tuple[float, FloatArray, float]] = []  # (support_energy)
         free, pres = system.free, system.prescribed
         iota = [np.tile(g.direction, model.mesh.n_points) for g in self.ground]
         Mfp = system.M_fp
@@ -308,6 +309,7 @@ class Excitation:
         """Move the supports of the absolute form as the time scheme integrates the
         records on the grid t₀ + k h (:class:`GridGround`, its parameters the scheme's);
         without it (and in the relative form) the records' exact motion."""
+        self._last_support = []  # (another grid: other support motions)
         if self.moves_supports:
             self._grid = [GridGround(g, t0, h, beta=beta, gamma=gamma, alpha_m=alpha_m,
                                      alpha_f=alpha_f, auxiliary=auxiliary, theta=theta,
@@ -332,6 +334,7 @@ class Excitation:
         if k is None or np.shape(rows) != (len(self._grid), 4):
             raise ValueError(f"the supports' grid rows {np.shape(rows)} at t = {t:g} s do "
                              f"not fit {len(self._grid)} records on the grid")  # fmt: skip
+        self._last_support = []
         for gg, row in zip(self._grid, rows, strict=True):
             gg.restart(k, tuple(row))
 
@@ -349,11 +352,11 @@ class Excitation:
         if k is None:
             raise ValueError(f"an event step from t = {t:g} s, off the supports' grid")
         fine = [gg.refined(k, n) for gg in coarse]
-        self._grid = fine
+        self._grid, self._last_support = fine, []
         try:
             yield
         finally:
-            self._grid = coarse
+            self._grid, self._last_support = coarse, []
         for gg, ff in zip(coarse, fine, strict=True):
             gg.rebase(k + 1, ff.row(n))
 
@@ -442,10 +445,17 @@ class Excitation:
         the external work, balanced it). Zero where the supports are not displaced."""
         if not self.supports_work:
             return 0.0
+        # the energy account and the recorder ask for the same states: the last three
+        # answers are kept (u by identity: the states' vectors are never modified in place)
+        for t_, vec, value in self._last_support:
+            if t_ == t and vec is u:
+                return value
         sy = self.system
         assert sy.K_fp is not None and sy.K_pp is not None
         up = self.prescribed(t)[0]
-        return float(u @ (sy.K_fp @ up) + 0.5 * (up @ (sy.K_pp @ up)))
+        value = float(u @ (sy.K_fp @ up) + 0.5 * (up @ (sy.K_pp @ up)))
+        self._last_support = [(t, u, value), *self._last_support[:2]]
+        return value
 
     def support_damping_work(
         self, t0: float, t1: float, u0: FloatArray, u1: FloatArray, v0: FloatArray,
