@@ -307,10 +307,8 @@ class InterfaceStep:
                     getattr(trial, name)[active] = getattr(part, name)
             X = trial.X.ravel()
             w = w_free.ravel() + self.scale * self.W.apply(X)
-            trial.s = w.reshape(m, d) + self.laws.compliance * trial.X
-            trial.s[:, -1] += self.laws.gap
-            trial.w = trial.s - self.laws.compliance * trial.X
-            trial.w[:, -1] -= self.laws.gap
+            trial.s = self.laws.s_of(w.reshape(m, d), trial.X)
+            trial.w = self.laws.w_of(trial.s, trial.X)
         if not correct:
             return StepSolution(trial, np.zeros(0))
         du = self.W.correct(trial.X.ravel() * self.scale)

@@ -971,9 +971,7 @@ class Dynamic:
             self._ahead = (new, ex, t2, f2, ga.free_acceleration(new, f2))
         w = (G @ u1 + wp1).reshape(m, d)
         X = P.X / h
-        s = w + laws.compliance * X
-        s[:, -1] += laws.gap
-        trial = PairState(P.state, P.broken, X, w, s, P.slip_dir, prev.path)
+        trial = PairState(P.state, P.broken, X, w, laws.s_of(w, X), P.slip_dir, prev.path)
         return StepState(new, trial.committed(prev), cur.step + 1, lam=lam, impact=impact,
                          dissipation=dissipation, correction=correction, shift=dq)  # fmt: skip
 

@@ -664,6 +664,21 @@ class PairLaws:
     def n(self) -> int:
         return int(self.area.size)
 
+    def s_of(self, w: FloatArray, X: FloatArray) -> FloatArray:
+        """The pairs' gaps and slips s = w + C X + g₀ n (m, d) of their relative motion w
+        and forces X (m, d): the joint springs' share C X, and the initial gap g₀ on the
+        normal (the last column)."""
+        s = w + self.compliance * X
+        s[:, -1] += self.gap
+        return s
+
+    def w_of(self, s: FloatArray, X: FloatArray) -> FloatArray:
+        """The relative motion w = s − C X − g₀ n (m, d) of gaps and slips s: the inverse
+        of :meth:`s_of`."""
+        w = s - self.compliance * X
+        w[:, -1] -= self.gap
+        return w
+
     def strength(self, broken: BoolArray, path: FloatArray) -> tuple[FloatArray, ...]:
         """(c A, μ, σ_t A) of every pair for the broken flags and slip paths given (the
         arrays are shared: do not modify them). The last few answers are cached: within a

@@ -1821,7 +1821,7 @@ class InterfaceSolver:
         m = self.m
         out = st.copy()
         out.X, out.broken = X, broken
-        out.w = s_ - self.props.compliance * X - self._gapv
+        out.w = self.props.w_of(s_, X)
         out.s = s_
         g = s_[:, -1]
         state = np.full(m, INTACT, dtype=np.int8)
@@ -1965,13 +1965,13 @@ class InterfaceSolver:
             if sweep % 5 == 0:
                 trial.X, trial.state, trial.broken, trial.slip_dir = X, state, broken, sdir
                 trial.w = self.relative(X, np.zeros(0), w_free) - self._gapv
-                trial.s = trial.w + self.props.compliance * X + self._gapv
+                trial.s = self.props.s_of(trial.w, X)
                 if self.residual(trial, prev, w_free).max(initial=0.0) <= self.tol:
                     break
         out = st.copy()
         out.X, out.state, out.broken, out.slip_dir = X, state, broken, sdir
         out.w = self.relative(X, np.zeros(0), w_free) - self._gapv
-        out.s = out.w + self.props.compliance * X + self._gapv
+        out.s = self.props.s_of(out.w, X)
         return out
 
     def _local(
