@@ -21,6 +21,7 @@ of rotation R are T_k Rᵀ, so gaps and slips are measured in the turned frames
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -122,10 +123,23 @@ class PairOperator:
             return np.zeros(self.G.shape[0])
         return np.asarray(self.Gp @ u_pres)
 
-    def mass_delassus(self, minv: FloatArray) -> sp.csc_matrix:
-        """H = G M⁻¹ Gᵀ for a lumped mass (M⁻¹ = ``minv``, zero on massless DOFs)."""
-        GM = self.G.multiply(minv[None, :]).tocsr()
-        return (GM @ self.G.T).tocsc()
+    def mass_delassus(
+        self, comps: IntArray, *, minv: FloatArray | sp.spmatrix | None = None,
+        mass_solve: Callable[[FloatArray], FloatArray] | None = None,
+    ) -> FloatArray:  # fmt: skip
+        """W_m = G_c M⁻¹ G_cᵀ (dense, k × k) of the pair components ``comps`` (G_c their
+        rows of G): the operator of an acceleration-level pair problem on the mass alone
+        (the consistent start acceleration of a time stepping). M⁻¹ is given as the
+        lumped mass's inverse ``minv`` (n,), zero on massless DOFs, or as a sparse matrix
+        (a mass block-diagonal by node, inverted node by node), or by ``mass_solve`` (a
+        coupled mass: M⁻¹ applied to the columns of G_cᵀ)."""
+        Gc = self.G[comps]
+        if mass_solve is not None:
+            return np.asarray(Gc @ mass_solve(Gc.T.toarray()))
+        if sp.issparse(minv):
+            return np.asarray((Gc @ minv @ Gc.T).toarray())
+        assert minv is not None
+        return np.asarray((Gc @ (Gc.multiply(np.asarray(minv)[None, :]).T)).toarray())
 
 
 __all__ = ["PairOperator", "relative_operator"]

@@ -48,7 +48,7 @@ from pydantic import ValidationError
 
 from ..coupling import InterfaceStep, PairOperator, delassus
 from ..errors import InterfaceError, ModelError
-from ..interface import INTACT, OPEN, SLIDE, STICK, PairState, law_key
+from ..interface import INTACT, OPEN, SLIDE, STICK, InterfaceSolver, PairState, law_key
 from ..linalg import Factorization, factorize
 from ..model import GroundMotion, Model
 from ..typing import BoolArray, FloatArray, IntArray, settings_message
@@ -652,20 +652,17 @@ class Dynamic:
         if (static and at_rest) or not closed.any():
             X = ps.X if static else np.where(spring[:, None], ps.X, 0.0)
             return self._mass_solve(r + G.T @ X.ravel())
-        from ..interface import InterfaceSolver
-
         idx = np.flatnonzero(closed)
         comps = (idx[:, None] * d + np.arange(d)).ravel()
-        Gc = G[comps]
         minv = self._mass_inverse() if self._full_mass else None
-        if minv is not None:
-            Wm = (Gc @ minv @ Gc.T).toarray()  # sparse: M⁻¹ node by node
+        if minv is not None:  # sparse: M⁻¹ node by node
+            Wm = self.op.mass_delassus(comps, minv=minv)
         elif self._full_mass:
-            Wm = np.asarray(Gc @ self._mass_solve(Gc.T.toarray()))
+            Wm = self.op.mass_delassus(comps, mass_solve=self._mass_solve)
         else:
-            Wm = (Gc @ (Gc.multiply(self.minv[None, :]).T)).toarray()
+            Wm = self.op.mass_delassus(comps, minv=self.minv)
         a_pres = self.op.Gp @ ex.prescribed(t0)[2] if ex.moves_supports else np.zeros(m * d)
-        w_free = (Gc @ self._mass_solve(r) + a_pres[comps]).reshape(-1, d)
+        w_free = (G[comps] @ self._mass_solve(r) + a_pres[comps]).reshape(-1, d)
         zero = np.zeros((idx.size, d))
         start = PairState(ps.state[idx], ps.broken[idx], zero, zero, zero,
                           ps.slip_dir[idx], ps.path[idx])  # fmt: skip
