@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -301,3 +303,23 @@ def test_the_coupling_operators_refuse_wrong_arguments_by_name() -> None:
                                     [pf.Joint(kn=1e9, ks=1e9)], 2)  # fmt: skip
     with pytest.raises(pf.ModelError, match="with_laws needs the same joint compliance"):
         solver.with_laws(soft)
+
+
+def test_a_modal_run_says_nothing_of_the_time_step(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """``pfeie modal`` printed the warning that analysis.dt is coarser than the record's
+    sampling (a rock tester's model), though a modal analysis takes no time step. The
+    run still says it."""
+    import logging
+
+    from pfeie.io import load_job
+    from test_cli import SMALL, _write
+
+    p = _write(tmp_path, SMALL.replace("dt = 0.005", "dt = 0.02"))
+    with caplog.at_level(logging.WARNING):
+        load_job(p, modal=True)
+    assert "coarser than the record's sampling" not in caplog.text
+    with caplog.at_level(logging.WARNING):
+        load_job(p)
+    assert "analysis.dt = 0.02 s is coarser than the record's sampling (0.005 s)" in caplog.text

@@ -1125,7 +1125,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
         if (sparse := coarse_sampling(gm.file, rec)) is not None:
             log.warning("%s: ground_motion[%d]: %s", p, i, sparse)
         log.info("%s: ground_motion[%d]: %s", p, i, rec.summary())
-        if cfg.analysis.dynamic:
+        if cfg.analysis.dynamic and not modal:  # (a modal analysis takes no time step)
             _record_against_dt(p, i, rec, cfg.analysis.dt)
             if end is not None and float(rec.time[0]) >= end:
                 raise InputError(f"{p}: ground_motion[{i}]: {gm.file}: the record starts at "
