@@ -113,12 +113,13 @@ def test_koyna_demo_statics_and_short_run(tmp_path: Path) -> None:
     assert abs(e["balance"]) < 1e-14 * (e["damping"] + e["interface"] + 1.0)
     assert (tmp_path / "results.h5").is_file() and (tmp_path / "blocks.xdmf").is_file()
     # the pairs' dissipation −P·U⁺ and the impacts' ½sΛᵀWΛ are signed at every step (to
-    # the interface solver's tolerance: measured −7.9e-15 of the input on these 2 s)
+    # the interface solver's tolerance: measured −7.9e-15 of the input on these 2 s with
+    # OpenBLAS's SkylakeX kernels, −1.6e-13 with its Haswell ones on an AMD EPYC)
     with h5py.File(tmp_path / "results.h5", "r") as f:
         E = {k: f["history/energy"][k][:] for k in ("interface", "impact", "external_work")}
     scale = np.abs(E["external_work"]).max()
     assert E["impact"][-1] > 0 and E["interface"][-1] > 0
-    assert min(np.diff(E["interface"]).min(), np.diff(E["impact"]).min()) > -5e-14 * scale
+    assert min(np.diff(E["interface"]).min(), np.diff(E["impact"]).min()) > -1e-12 * scale
     _read_back_with_vtk_and_meshio(tmp_path, model)
 
 

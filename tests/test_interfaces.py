@@ -159,14 +159,14 @@ def test_v9_intact_interface_is_monolithic(dim: int) -> None:
 def test_static_state_is_kept_without_excitation() -> None:
     """A dynamic run from the static state with no excitation stays there (no settling; the
     reference is the static solution): displacements within 1e-14 m (measured 1.6e-15 m),
-    pair forces within 1e-9 of the largest (measured 1.1e-10 with numpy 2.4.6 and scipy
-    1.17.1, 1.4e-11 with earlier builds: a round-off random walk of the stick forces, 1.3e-10
-    after 4 s, not a drift)."""
+    pair forces within 1e-8 of the largest (measured 1.1e-10 with numpy 2.4.6 and scipy
+    1.17.1, 1.4e-11 with earlier builds, 1.2e-9 with OpenBLAS's Haswell kernels on an AMD
+    EPYC: a round-off random walk of the stick forces, 1.3e-10 after 4 s, not a drift)."""
     model = block_on_base(joint=pf.Joint(phi=35.0), incline_deg=20, n=3)
     st = pf.solve_static(model)
     res = pf.Dynamic(model, 0.01).run(1.0, start=st, probes=[model.nearest_node([0.5, 1.0])])
     assert np.abs(res.probe_u - res.probe_u[0]).max() < 1e-14
-    assert np.abs(res.X - res.X[0]).max() < 1e-9 * np.abs(res.X[0]).max()
+    assert np.abs(res.X - res.X[0]).max() < 1e-8 * np.abs(res.X[0]).max()
     assert np.all(res.state == res.state[0]) and np.any(res.state[0] == STICK)
 
 

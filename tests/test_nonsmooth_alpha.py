@@ -321,7 +321,9 @@ def test_energy_terms_of_a_landing_block() -> None:
     at a landing) and the corrections leave terms of no sign. Measured: the most negative
     step is −0.31, −0.020, −4.6e-4 of the energy released at Δt = 2, 1, 0.5 ms (K's worst
     −0.33, −0.032, −4.5e-3; K totals −1.22, −0.075, 1.2e-3); without K every step is
-    ≥ −2ρ (ρ of the step) at Δt = 1 and 0.5 ms (measured −0.21ρ, −0.38ρ; −1.2e-7 of the
+    ≥ −4ρ (ρ of the step) at Δt = 1 and 0.5 ms (measured −0.21ρ, −0.38ρ with OpenBLAS's
+    SkylakeX kernels, −1.4ρ, −2.9ρ (1.8e-15 of the energy released) with its Haswell ones on
+    an AMD EPYC; −1.2e-7 of the
     energy released at 2 ms, from the velocity and position corrections). Totals:
     algorithmic 15.7, 2.02, 0.76 (the corrections' spurious energy that the scheme then
     damps)."""
@@ -368,7 +370,7 @@ def test_energy_terms_of_a_landing_block() -> None:
         assert np.abs(alg - D - Kp)[smooth].max() <= rho[smooth].max()
         worst.append(-alg.min() / drop)
         if dt < 2e-3:
-            assert np.all(alg - Kp >= -2 * rho), dt
+            assert np.all(alg - Kp >= -4 * rho), dt
     assert impact[0] > impact[1] > impact[2] > 0, impact
     assert correction[0] > correction[1] > correction[2] > 0, correction
     assert worst[0] > worst[1] > 10 * worst[2], worst

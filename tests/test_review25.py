@@ -128,7 +128,8 @@ def test_spinning_blocks_joint_force_is_centripetal() -> None:
 def test_initial_state_keeps_the_static_uplift() -> None:
     """The cracked dam of test_uplift (a 7 m static crack at full headwater): with no
     shaking, a run from Dynamic.initial(static) keeps the static state (as a run from the
-    static result does), to 1e-11 of the static displacement (measured 8e-12; before, the
+    static result does), to 1e-10 of the static displacement (measured 8e-12 with
+    OpenBLAS's SkylakeX kernels, 1.2e-11 with its Haswell ones on an AMD EPYC; before, the
     uncracked joint's uplift moved it by 5 %)."""
     model, _ = dam(19.0, pf.Joint(phi=45.0, initial="broken"))
     st = pf.solve_static(model)
@@ -138,7 +139,7 @@ def test_initial_state_keeps_the_static_uplift() -> None:
     for start in (st, an.initial(st)):
         res = an.run(n_steps=20, start=start)
         assert res.final is not None
-        assert np.abs(res.final.kin.u - u0).max() < 1e-11 * np.abs(u0).max()
+        assert np.abs(res.final.kin.u - u0).max() < 1e-10 * np.abs(u0).max()
 
 
 def test_continued_run_follows_the_open_pairs() -> None:

@@ -84,7 +84,7 @@ from .solvers import (
     strength_reduction,
     yield_coefficient,
 )
-from .typing import FloatArray
+from .typing import FloatArray, IntArray
 
 log = logging.getLogger(__name__)
 
@@ -1638,7 +1638,7 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
     rd = model.damping
     s["damping"] = {"alpha_per_s": rd.alpha if rd else 0.0, "beta_s": rd.beta if rd else 0.0,
                     "deformation_only": bool(rd and rd.deformation_only)}  # fmt: skip
-    joints: dict[str, dict[str, float | None]] = {}
+    joints: dict[str, dict[str, Any]] = {}
     if model.pairs is not None and res.X.shape[1]:
         at_start = model.pair_laws.initially_broken
         # the open crack: broken pairs open, and open by more than OPEN_CRACK_MIN_M
@@ -1665,6 +1665,19 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
                 "initially_broken_share": float((at_start[idx] * area).sum() / area.sum()),
             }
+            pieces = _joint_pieces(model, idx)
+            if len(pieces) > 1:  # the joint's pieces between two blocks each
+                joints[name]["pieces"] = {
+                    label: {
+                        "pairs": int(k.size),
+                        "peak_slip_max_m": float(slip_mag[:, k].max()),
+                        "residual_slip_max_m": float(slip_mag[-1, k].max()),
+                        "max_opening_m": float(res.opening[:, idx[k]].max()),
+                        "broken_share": float((res.broken[-1, idx[k]] * area[k]).sum()
+                                              / area[k].sum()),
+                    }
+                    for label, k in pieces.items()
+                }  # fmt: skip
             # the cracked extent at the end: the broken pairs' length (2D) or area (3D);
             # the largest open crack (broken pairs open by more than OPEN_CRACK_MIN_M)
             jk = model.pairs.names.index(name)
@@ -1805,6 +1818,28 @@ def _ground_displacement(job: Job, res: DynamicResult) -> FloatArray:
         return res.ground
     return np.array([sum((g.direction * g.motion(ti)[0] for g in job.records),
                          np.zeros(job.model.dim)) for ti in res.t])  # fmt: skip
+
+
+#: the pieces of a joint listed in the run's summary text (the rest in summary.json)
+PIECE_LINES = 6
+
+
+def _joint_pieces(model: Model, idx: IntArray) -> dict[str, IntArray]:
+    """The pieces of a joint whose pairs ``idx`` join more than one pair of blocks (a
+    contraction joint cut by a lift joint; a lift joint across monoliths): each pair of
+    blocks, as "A | B" in the order of the blocks, → the positions in ``idx`` of its
+    pairs. One entry for a joint between two blocks."""
+    P = model.pairs
+    assert P is not None
+    body, names = model.body_of_node, model.body_names()
+    a, b = body[P.node_a[idx]], body[P.node_b[idx]]
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    key = lo * model.n_bodies + hi
+    out: dict[str, IntArray] = {}
+    for k in np.unique(key):
+        i, j = divmod(int(k), model.n_bodies)
+        out[f"{names[i]} | {names[j]}"] = np.flatnonzero(key == k)
+    return out
 
 
 def _pair_spacing(x: FloatArray) -> FloatArray:
@@ -1955,6 +1990,16 @@ def format_summary(s: dict[str, Any]) -> str:
                f", min FS {j['min_safety_factor']:.2f} at {j['min_safety_factor_time_s']:.2f} s"
                if "min_safety_factor" in j else "")
         )  # fmt: skip
+        pieces = j.get("pieces", {})
+        for label, q in list(pieces.items())[:PIECE_LINES]:
+            lines.append(
+                f"    {label:<20} residual slip {1e3 * q['residual_slip_max_m']:.2f} mm, max "
+                f"opening {1e3 * q['max_opening_m']:.2f} mm, broken "
+                f"{100 * q['broken_share']:.0f} %"
+            )
+        if len(pieces) > PIECE_LINES:
+            lines.append(f"    {len(pieces) - PIECE_LINES} more piece(s) in summary.json "
+                         f"(joints.{name}.pieces)")  # fmt: skip
     warnings = reliability(s)
     lines += _warning_lines(warnings, "airborne")
     lines += _warning_lines(warnings, "large motion")

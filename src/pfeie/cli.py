@@ -279,7 +279,10 @@ def _main(argv: Sequence[str] | None) -> int:
     if args.command == "modal":
         return _modal(args, job)
     if args.command == "check":
+        from .plot import load_rows
+
         s = job.summary()
+        s["loads"] = load_rows(None, job)
         if args.json:
             print(json.dumps(s, indent=2, default=str))
         else:
@@ -812,6 +815,11 @@ def _format_check(s: dict[str, object]) -> str:
     assert isinstance(laws, dict)
     for name, n in pairs.items():
         lines.append(f"interface    {name}: {n} pairs" + _law_text(laws.get(name)))
+    for row in s.get("loads") or []:  # type: ignore[attr-defined]
+        F = [(k[2:-5], v) for k, v in row.items() if k.startswith("F_")]
+        lines.append(f"load         {row['load']} on {row['where']}: {row['parameters']}"
+                     + ("; resultant " + ", ".join(f"{a} {v:.4g}" for a, v in F) + " kN"
+                        if F else ""))  # fmt: skip
     damping = s.get("damping")
     if isinstance(damping, dict):
         floating = damping["floating"]

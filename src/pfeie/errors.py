@@ -24,6 +24,12 @@ class ModelError(PfeieError):
     """A model is inconsistent: unknown group, bad material, bad load or support."""
 
 
+class SettingsError(ModelError, ValueError):
+    """A field of typed settings (:class:`pfeie.DynamicSettings`, :class:`pfeie.SolverSettings`)
+    out of its range, of the wrong type, or unknown: both a :class:`ModelError` and a
+    :class:`ValueError`."""
+
+
 class MechanismError(PfeieError):
     """The stiffness is singular: some part of the model can move without resistance."""
 

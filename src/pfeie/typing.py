@@ -1,4 +1,5 @@
-"""Array types used throughout pfeie (one home for the aliases).
+"""Array types used throughout pfeie (one home for the aliases), and the base of its typed
+settings.
 
 Axis convention: element data are indexed ``(cell, quadrature point, node, component)``
 (``(c, q, n, d)``); pair data ``(pair, component)`` with the local components ordered
@@ -9,13 +10,13 @@ Axis convention: element data are indexed ``(cell, quadrature point, node, compo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import BaseModel, ConfigDict, ValidationError
 
-if TYPE_CHECKING:
-    from pydantic import ValidationError
+from .errors import SettingsError
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -55,4 +56,28 @@ def settings_message(exc: ValidationError) -> str:
     return "; ".join(parts)
 
 
-__all__ = ["BoolArray", "FloatArray", "IntArray", "Unit", "is_number", "settings_message"]
+class Settings(BaseModel):
+    """Base of pfeie's typed settings (:class:`pfeie.SolverSettings`,
+    :class:`pfeie.DynamicSettings`): frozen, no unknown field, and strict, as where an
+    analysis takes them (a string for a number is refused, not converted). A wrong field
+    raises :class:`pfeie.errors.SettingsError`, a :class:`pfeie.ModelError` (and a
+    ``ValueError``) naming each field, what was expected and what was given.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    def __init__(self, /, **data: Any) -> None:
+        try:
+            self.__pydantic_validator__.validate_python(data, self_instance=self, strict=True)
+        except ValidationError as exc:
+            raise SettingsError(f"{type(self).__name__}: {settings_message(exc)}") from None
+
+    # validation inside another model (the model file's [analysis], a subclass) goes on
+    # with pydantic's own errors, which name the key path: pydantic calls an __init__ that
+    # is not marked as the base one there
+    __init__.__pydantic_base_init__ = True  # type: ignore[attr-defined]
+
+
+__all__ = [
+    "BoolArray", "FloatArray", "IntArray", "Settings", "Unit", "is_number", "settings_message",
+]  # fmt: skip

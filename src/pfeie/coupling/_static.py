@@ -37,6 +37,17 @@ from ._operators import PairOperator
 log = logging.getLogger(__name__)
 
 
+#: the share of its load below which the rigid-block check counts a block as balanced (its
+#: linear programme is solved to about 1e-9 of the loads)
+RIGID_SHARE_MIN = 1e-6
+
+#: the relative width of the bracket of :meth:`StaticInterfaceProblem.rigid_factor`
+RIGID_FACTOR_TOL = 1e-3
+
+#: the factors of :meth:`StaticInterfaceProblem.rigid_factor` lie in [1/R, R]
+RIGID_FACTOR_RANGE = 64.0
+
+
 class RigidCheck(NamedTuple):
     """The rigid-block check of :meth:`StaticInterfaceProblem.rigid_check`."""
 
@@ -46,6 +57,9 @@ class RigidCheck(NamedTuple):
     #: limited and the other joints unbreakable (name → share; empty: not asked): a joint
     #: that cannot hold alone is where the blocks fail (:func:`pfeie.solve_pairs`'s error)
     alone: tuple[tuple[str, float], ...] = ()
+    #: the rigid blocks' factor of safety by strength reduction, where the check was asked
+    #: for it (:meth:`StaticInterfaceProblem.rigid_factor`; None: not asked or not found)
+    factor: float | None = None
 
 
 def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
@@ -150,7 +164,7 @@ class StaticInterfaceProblem:
 
     def rigid_check(
         self, f_free: FloatArray, damage: PairState | None = None,
-        strong: np.ndarray | None = None,
+        strong: np.ndarray | None = None, factor: float = 1.0,
     ) -> RigidCheck:  # fmt: skip
         """Limit equilibrium of the floating blocks as rigid bodies: per body (n_bodies,),
         the least share of its load that no pair forces within the joints' strength can
@@ -175,7 +189,8 @@ class StaticInterfaceProblem:
         zero proves that no static equilibrium exists, elastic or rigid; a share of zero
         leaves open whether the elastic one does (the elastic problem may part a joint
         that the rigid blocks keep closed). ``strong`` (n_pairs,): pairs taken unbreakable
-        (no cone, no tensile bound), to test the other joints alone.
+        (no cone, no tensile bound), to test the other joints alone. ``factor``: every
+        strength (c, tan φ, σ_t) divided by it, as in :meth:`PairLaws.reduced`.
 
         >>> import pfeie as pf
         >>> from pfeie.verification._models import block_on_base
@@ -220,7 +235,7 @@ class StaticInterfaceProblem:
             broken |= damage.broken
             path = damage.path
         c, mu, t = laws.strength(broken, path)
-        c, mu, t = c[idx], mu[idx], t[idx]
+        c, mu, t = c[idx] / factor, mu[idx] / factor, t[idx] / factor
         limited = np.ones(idx.size, dtype=bool) if strong is None else ~strong[idx]
         n = idx.size
         if d == 2:
@@ -269,6 +284,67 @@ class StaticInterfaceProblem:
         normal[idx] = F * res.x[d - 1 : n * d : d]
         return RigidCheck(share, normal)
 
+    def rigid_factor(
+        self, f_free: FloatArray, damage: PairState | None = None, tol: float = RIGID_FACTOR_TOL,
+    ) -> float | None:  # fmt: skip
+        """The factor of safety of the floating blocks as rigid bodies, by strength
+        reduction: the largest F in [1/RIGID_FACTOR_RANGE, RIGID_FACTOR_RANGE] at which the
+        :meth:`rigid_check` of the loads ``f_free`` with every strength divided by F
+        balances them, within a relative ``tol`` (bisection of log F); None where even the
+        strengths multiplied by RIGID_FACTOR_RANGE leave them unbalanced (a mechanism of
+        opening that tension does not hold), the check fails, or F exceeds the range.
+
+        It is limit equilibrium on the blocks as the model cuts them (rigid, with their
+        loads and water), the factor a hand computation gives for one plane:
+        F = (c A + W cos β tan φ) / (W sin β) for a block on a plane of dip β. In 3D the
+        cone is the octagon circumscribed about the circle, so F may be up to 1/cos 22.5°
+        − 1 = 8.2 % high where the block slides between the octagon's corners.
+
+        >>> import pfeie as pf
+        >>> from pfeie.verification._models import block_on_base
+        >>> model = block_on_base(joint=pf.Joint(phi=30.0))
+        >>> model.add_inertia([0.7 * 9.81, 0.0])                # pushed sideways by 0.7 g
+        >>> problem = StaticInterfaceProblem(model, model.system())
+        >>> F = problem.rigid_factor(model.system().load(0.0))
+        >>> round(F, 3), round(float(np.tan(np.radians(30.0)) / 0.7), 3)   # tan φ / k
+        (0.825, 0.825)
+        """
+        f_lo, f_hi = 1.0 / RIGID_FACTOR_RANGE, RIGID_FACTOR_RANGE
+
+        def holds(F: float) -> bool | None:
+            check = self.rigid_check(f_free, damage, factor=F)
+            if not np.isfinite(check.normal).all():
+                return None
+            return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
+
+        lo, hi = 1.0, 1.0
+        first = holds(1.0)
+        if first is None:
+            return None
+        if first:  # grow F until it fails
+            while holds(hi := min(hi * 4.0, f_hi)):
+                lo = hi
+                if hi >= f_hi:
+                    return None
+        else:  # shrink F until it holds
+            while True:
+                lo = max(lo / 4.0, f_lo)
+                ok = holds(lo)
+                if ok is None:
+                    return None
+                if ok:
+                    break
+                hi = lo
+                if lo <= f_lo:
+                    return None
+        while hi / lo - 1.0 > tol:
+            mid = float(np.sqrt(lo * hi))
+            ok = holds(mid)
+            if ok is None:
+                return None
+            lo, hi = (mid, hi) if ok else (lo, mid)
+        return lo
+
     def with_laws(self, laws: PairLaws) -> StaticInterfaceProblem:
         """This problem (its factorisation, W_pin and border, built once) for other laws of
         the same pairs, e.g. the model's strengths divided by a factor
@@ -284,4 +360,11 @@ class StaticInterfaceProblem:
         return self.op.G
 
 
-__all__ = ["RigidCheck", "StaticInterfaceProblem", "pins"]
+__all__ = [
+    "RIGID_FACTOR_RANGE",
+    "RIGID_FACTOR_TOL",
+    "RIGID_SHARE_MIN",
+    "RigidCheck",
+    "StaticInterfaceProblem",
+    "pins",
+]

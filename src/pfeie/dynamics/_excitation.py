@@ -42,7 +42,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import ModelError
-from ..model import GroundMotion, LinearSystem, Model
+from ..model import GroundMotion, LinearSystem, Model, Stations
 from ..typing import BoolArray, FloatArray
 
 Form = Literal["relative", "absolute"]
@@ -226,6 +226,8 @@ class Excitation:
         self.model = model
         self._f_up: FloatArray | None = None
         self._open: bytes = b""
+        # the stations of each joint with uplift under shaking = "full" (Uplift.stations)
+        self._stations: dict[str, Stations] = {}
         if model.uplifts:
             self._p0 = model.uplift_pressure()[0] if uplift is None else np.asarray(uplift)
             self._f_up = model.uplift_load(self._p0)[system.free]
@@ -298,8 +300,9 @@ class Excitation:
             if up.shaking == "zero":
                 p[idx[new]] = 0.0
                 continue
-            s, _ = up.abscissa(P, idx)
-            o = idx[new & (s <= up.crack(P, idx, open_))]
+            if up.interface not in self._stations:
+                self._stations[up.interface] = up.stations(P, idx)
+            o = idx[new & self._stations[up.interface].reached(open_[idx])]
             p[o] = up.density * up.g * np.maximum(up.headwater - P.x[o, -1], 0.0)
         self._f_up = self.model.uplift_load(p)[self.system.free]
 

@@ -23,19 +23,17 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
 from ..interface import SolverSettings, Tolerance
-from ..typing import Unit
+from ..typing import Settings, Unit
 from ._newmark import scheme_parameters
 
 _SOLVER = SolverSettings()
 
 
-class DynamicSettings(BaseModel):
+class DynamicSettings(Settings):
     """Options of a dynamic analysis (see the module docstring)."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
 
     dt: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False), Unit("s"),
                   Field(description="time step (s)")] = 0.01  # fmt: skip

@@ -193,23 +193,41 @@ def law_key(law: Any) -> bytes:
     for k, v in sorted(law_fields(law).items()):
         if callable(v) and not hasattr(v, "strength"):
             continue
-        if isinstance(v, np.ndarray):
-            a = np.ascontiguousarray(v)
-            parts.append(f"{k}={a.dtype.str}{a.shape}:{a.tobytes().hex()}")
-        elif hasattr(v, "strength") and hasattr(v, "initial"):
-            parts.append(f"{k}=<{law_key(v).decode()}>")
-        else:
-            r = repr(v)
-            parts.append(f"{k}={type(v).__qualname__ if ' at 0x' in r else r}")
+        parts.append(f"{k}={_value_key(v)}")
     return "\0".join(parts).encode()
 
 
-def _checked(st: object, k: int, law: object, where: str) -> tuple[FloatArray, ...]:
+def _value_key(v: object) -> str:
+    """A field's value for :func:`law_key`, the same in every process: an array by dtype,
+    shape and bytes; a nested law by its key; a set by its sorted elements and a mapping
+    by its sorted items (their repr follows the hash seed); a list or tuple element by
+    element; else its repr, or its class where the repr holds its address."""
+    if isinstance(v, np.ndarray):
+        a = np.ascontiguousarray(v)
+        return f"{a.dtype.str}{a.shape}:{a.tobytes().hex()}"
+    if hasattr(v, "strength") and hasattr(v, "initial"):
+        return f"<{law_key(v).decode()}>"
+    if isinstance(v, set | frozenset):
+        return "{" + ", ".join(sorted(_value_key(x) for x in v)) + "}"
+    if isinstance(v, dict):
+        items = sorted(f"{_value_key(a)}: {_value_key(b)}" for a, b in v.items())
+        return "{" + ", ".join(items) + "}"
+    if isinstance(v, list | tuple):
+        return type(v).__name__ + "(" + ", ".join(_value_key(x) for x in v) + ")"
+    r = repr(v)
+    return type(v).__qualname__ if " at 0x" in r else r
+
+
+def _checked(st: object, k: int, law: object, where: str,
+             held: BoolArray | None = None) -> tuple[FloatArray, ...]:  # fmt: skip
     """The arrays (c A, μ, σ_t A), each (k,), of a law's answer ``st`` to
     :meth:`JointLaw.strength`, checked: a :class:`Strength` of finite values ≥ 0 whose
     tension lies within the apex of the cone, σ_t A μ ≤ c A (an intact or broken pair in
-    tension beyond it would have no shear capacity). Else :class:`ModelError` naming the
-    law, the field and the first bad value."""
+    tension beyond it would have no shear capacity), on the pairs ``held`` (k,) (default
+    all): those that can hold the strength asked, not the intact strength of a pair of a
+    joint that starts broken (asked with the others, never used; a model file's or
+    :class:`MohrCoulomb`'s tensile strength of an existing joint is not checked either).
+    Else :class:`ModelError` naming the law, the field and the first bad value."""
     head = f"{where}joint law {type(law).__name__}: strength(area, broken, path)"
     fields = ("cohesion", "friction", "tension")
     if not all(hasattr(st, f) for f in fields):
@@ -229,7 +247,8 @@ def _checked(st: object, k: int, law: object, where: str) -> tuple[FloatArray, .
     c, mu, t = out
     if isinstance(law, Reduced):  # F < 1 moves the apex (t μ / F² against c / F): the
         return c, mu, t  # law inside was held to it
-    beyond = np.flatnonzero(t * mu > c * (1.0 + 1e-12) + 1e-300)
+    over = t * mu > c * (1.0 + 1e-12) + 1e-300
+    beyond = np.flatnonzero(over if held is None else over & held)
     if beyond.size:
         j = beyond[0]
         raise ModelError(f"{head}: tension {t[j]:g} N lies beyond the apex of the cone, "
@@ -691,7 +710,9 @@ class PairLaws:
         for i, (law, idx) in enumerate(zip(self.laws, self.index, strict=True)):
             st = law.strength(self.area[idx], broken[idx], path[idx])
             where = f"interface {self.names[i]!r}: " if self.names else ""
-            c[idx], mu[idx], t[idx] = _checked(st, idx.size, law, where)
+            # (the intact strength of a pair that starts broken is asked, never used)
+            held = broken[idx] | ~self.initially_broken[idx]
+            c[idx], mu[idx], t[idx] = _checked(st, idx.size, law, where, held)
         if self.rate != 1.0:
             c *= self.rate
             t *= self.rate

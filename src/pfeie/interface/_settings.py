@@ -4,21 +4,21 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
+
+from ..typing import Settings
 
 #: the interface solver's tolerance as a settings field: its range, its one definition
 #: (:class:`SolverSettings` and the analysis settings that pass it on)
 Tolerance = Annotated[float, Field(gt=0.0, le=1e-2, allow_inf_nan=False)]
 
 
-class SolverSettings(BaseModel):
+class SolverSettings(Settings):
     """Options of :class:`pfeie.interface.InterfaceSolver` (method.md §5.3).
 
     >>> SolverSettings().tolerance
     1e-08
     """
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
 
     tolerance: Annotated[Tolerance, Field(
         description="interface complementarity tolerance: the largest scaled residual of "

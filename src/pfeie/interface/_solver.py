@@ -896,7 +896,7 @@ class InterfaceSolver:
         tolF = 1e-10 * fscale
         tolD = tolF / self.rho
         c, mu, t = self.props.strength(st.broken, prev.path)
-        tau = c + mu * Xn
+        tau = cone(c, mu, t, Xn, st.broken)[0]
         state = st.state
         new_state = state.copy()
         broken, sdir = st.broken, st.slip_dir
@@ -911,12 +911,10 @@ class InterfaceSolver:
                 new_state[she] = SLIDE
                 sdir = sdir.copy()
                 sdir[she] = -Xt[she] / nt[she, None]
-        cr, mur, tr = self._residual_strength(prev.path)
-        tau_r = np.where(st.broken, tau, cr + mur * Xn)
-        t_r = np.where(st.broken, t, tr)
-        ramp, tau_ramp, _ = cohesion_ramp(cr, mur, tr, Xn, np.ones(self.m, dtype=bool))
-        if ramp.any():
-            tau_r = np.where(ramp, tau_ramp, tau_r)
+        # the residual cone: a broken pair's own, and that of an intact pair breaking now
+        cr, mur, t_r = self._residual_strength(prev.path)
+        assert self._all_broken is not None
+        tau_r = cone(cr, mur, t_r, Xn, self._all_broken)[0]
         # stick
         sk = state == STICK
         op = sk & (Xn < -t_r - tolF)
@@ -1828,10 +1826,7 @@ class InterfaceSolver:
         c, mu, t = self._newton_strength(broken, prev.path)
         opened = broken & (X[:, -1] + t - self.rho * g <= 0)
         nt = np.linalg.norm(X[:, :-1], axis=1)
-        tau = c + mu * X[:, -1]
-        ramp, tau_ramp, _ = cohesion_ramp(c, mu, t, X[:, -1], broken)
-        if ramp.any():
-            tau = np.where(ramp, tau_ramp, tau)
+        tau = cone(c, mu, t, X[:, -1], broken)[0]
         sliding = broken & ~opened & (nt >= tau * (1 - 1e-9)) & (nt > 0) & ~self._fixed
         state[broken] = STICK
         state[sliding] = SLIDE

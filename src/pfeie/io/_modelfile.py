@@ -1138,10 +1138,15 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                 base / cfg.ground_motion[j].file
             ).resolve() and np.array_equal(other.direction, rec.direction)
             if same:  # the same record along the same axis, given twice
+                # (a 2D habit in 3D: the vertical component on y, where y is horizontal)
+                habit = (mesh.dim == 3 and rec.direction.size == 3
+                         and abs(float(rec.direction[1])) == 1.0)  # fmt: skip
                 raise InputError(f"{p}: ground_motion[{i}]: {gm.file} along "
                                  f"{rec.direction.tolist()} is ground_motion[{j}] again: the "
                                  "records add up, so a copy would count twice; expected "
-                                 "each record once (scale it to double it)")  # fmt: skip
+                                 "each record once (scale it to double it)"
+                                 + ("; in 3D the vertical axis is z (component = \"z\"), y "
+                                    "is horizontal" if habit else ""))  # fmt: skip
         records.append(rec)
         used.append(i)
     end = cfg.analysis.duration

@@ -202,8 +202,10 @@ def _overlaps(mesh: Mesh) -> list[str]:
     - a facet shared by two cells on the same side of it (two regions meshed on the same
       boundary nodes, their interiors apart: the cells of a joint lie on either side);
     - a boundary facet (of one cell) whose centre, or a point halfway from it to a
-      corner, lies inside another cell, deeper than :data:`INSIDE` of that cell's size
-      (regions that overlap with no node in common: volumes not fragmented).
+      corner, or the centroid of its cell, lies inside another cell, deeper than
+      :data:`INSIDE` of that cell's size (regions that overlap with no node in common:
+      volumes not fragmented; a region meshed twice with different meshes, whose
+      boundaries coincide).
 
     The last two judge a cell by the polygon or polyhedron of its corners (each face by
     the plane through its corners' centre, normal to its diagonals)."""
@@ -283,10 +285,15 @@ def _overlaps(mesh: Mesh) -> list[str]:
         one = np.flatnonzero(counts[inv] == 1)  # boundary facets: their centres and the
         X = mesh.points[corners[one]]  # points halfway to their corners (a point alone can
         mid_one = X.mean(axis=1)[:, None]
-        samples = np.concatenate([mid_one, (X + mid_one) / 2], axis=1)
+        # and the centroid of the facet's cell: where two regions fill the same place with
+        # different meshes, their boundaries coincide and only the cells' insides show it
+        own_c = _centroids(mesh, owner[one])[:, None]
+        samples = np.concatenate([mid_one, (X + mid_one) / 2, own_c], axis=1)
+        label = np.repeat(one + offset, samples.shape[1]).reshape(samples.shape[:2])
+        label[:, -1] = -1  # (a cell's centroid: not a facet's point)
         boundary.append((samples.reshape(-1, mesh.dim),  # fall on another mesh's edges)
                          np.repeat(owner[one], samples.shape[1], axis=0),
-                         np.repeat(one + offset, samples.shape[1])))  # fmt: skip
+                         label.ravel()))  # fmt: skip
         offset += keys.shape[0]
     if out or not boundary:
         return out
@@ -295,11 +302,15 @@ def _overlaps(mesh: Mesh) -> list[str]:
                                  np.concatenate([o for _, o, _ in boundary]))  # fmt: skip
     if inside is not None:
         hits, host, own = inside
-        count = np.unique(facet[hits]).size
+        on_facets = facet[hits][facet[hits] >= 0]
+        count = np.unique(on_facets).size
         at = np.concatenate([p for p, _, _ in boundary])[hits[0]]
+        what = (f"{count} boundary facet(s) reach inside cells of another region" if count
+                else "cells along a region's boundary lie inside cells of another region "
+                "(the regions' boundaries coincide: one region meshed twice?)")  # fmt: skip
         out.append(
-            f"{count} boundary facet(s) reach inside cells of another region, the first at "
-            f"{np.round(at, 6).tolist()} (a facet of {_cell_of(mesh, own)} inside "
+            f"{what}, the first at {np.round(at, 6).tolist()} (a "
+            f"{'facet of ' if facet[hits[0]] >= 0 else ''}{_cell_of(mesh, own)} inside "
             f"{_cell_of(mesh, host)}): regions overlap with no node in common (surfaces or "
             "volumes not fragmented: gmsh's BooleanFragments, or Coherence in a .geo file)? "
             "expected regions that meet on shared or coincident facets"

@@ -24,14 +24,14 @@ from ._spectrum import (
     response_spectrum,
     sdof_response,
 )
-from ._uplift import SHAKING, Uplift, uplift_force
+from ._uplift import SHAKING, Stations, Uplift, uplift_force
 
 __all__ = [
     "DAMPING_RATIO_MAX", "G_UNITS", "INTENSITY_MEASURES", "RECORD_DT_COARSE", "RECORD_DT_MAX",
     "SHAKING", "STIFFNESS_MIN", "STRENGTH_MIN", "Block",
     "BodyFrames",
     "Elastic", "GroundMotion", "Interface", "LinearSystem", "Load", "Model", "Rayleigh",
-    "Reservoir", "ResponseSpectrum", "Support",
+    "Reservoir", "ResponseSpectrum", "Stations", "Support",
     "Uplift", "direction_label", "implausible_gravity", "implausible_joints",
     "implausible_materials",
     "implausible_mesh",

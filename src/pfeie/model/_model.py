@@ -37,6 +37,14 @@ from ._uplift import Uplift, uplift_force
 
 log = logging.getLogger(__name__)
 
+#: an uplift's joint shorter along its upstream axis than this share of its extent is
+#: warned (:meth:`Model.add_uplift`: a vertical joint, or the wrong upstream axis)
+UPLIFT_FLAT_SHARE = 0.1
+
+#: a Westergaard face group more than this share of whose wet area is level is warned
+#: (:meth:`Model.add_westergaard`: a reservoir floor listed among the dam's wet faces)
+WESTERGAARD_LEVEL_SHARE = 0.25
+
 
 @dataclass
 class _CellSet:
@@ -919,7 +927,36 @@ class Model:
                              f"reservoir bottom {zb} m")  # fmt: skip
         if not (np.isfinite(density) and density > 0):
             raise ModelError(f"westergaard: the water density must be > 0, got {density}")
+        for g in names:
+            share = self._level_share(g, float(water_level))
+            if share > WESTERGAARD_LEVEL_SHARE:
+                log.warning(
+                    "westergaard on %r: %.0f %% of its wet area is level (its normal within "
+                    "45° of the vertical, as a reservoir floor or a gallery's floor): "
+                    "Westergaard's added mass (1933) is that of the dam's upstream face, "
+                    "and on a level face it adds vertical added mass the water does not "
+                    "give; list the dam's wet face(s) only", g, 100.0 * share)  # fmt: skip
         self.reservoirs.append((names, float(water_level), zb, float(density)))
+
+    def _level_share(self, group: str, level: float) -> float:
+        """The share of the wet area (below ``level``) of the facet group ``group`` whose
+        normal lies within 45° of the vertical (by each facet's corners)."""
+        d, pts = self.dim, self.mesh.points
+        area = level_area = 0.0
+        for ftype, conn in self.mesh.facet_group(group).items():
+            x = pts[conn[:, : reference(ftype).n_corners]]
+            if d == 2:
+                t = x[:, 1] - x[:, 0]
+                n = np.column_stack([t[:, 1], -t[:, 0]])
+            else:  # (half) the cross product of the diagonals, or of a triangle's edges
+                k = x.shape[1]
+                n = np.cross(x[:, 2 % k] - x[:, 0], x[:, 3 % k] - x[:, 1 % k])
+            a = np.linalg.norm(n, axis=1)
+            wet = x[..., d - 1].min(axis=1) < level
+            up = np.abs(n[:, d - 1]) > np.sqrt(0.5) * a
+            area += float(a[wet].sum())
+            level_area += float(a[wet & up].sum())
+        return level_area / area if area > 0 else 0.0
 
     def add_reservoir(
         self,
@@ -1019,6 +1056,16 @@ class Model:
                              f"whose pairs reach {length:g} m from the heel along the flow "
                              f"({up.upstream} upstream); expected 0 < drains < that length "
                              "(drains at the heel or the toe would change nothing)")  # fmt: skip
+        x = self.pairs.x[self.pairs.of(interface)]
+        extent = float(np.ptp(x, axis=0).max()) if x.shape[0] else 0.0
+        if extent > 0 and length < UPLIFT_FLAT_SHARE * extent:
+            # every pair at the heel: full headwater over the whole joint
+            log.warning(
+                "uplift in %r: the joint spans %.4g m along the upstream axis (%s) but %.4g m "
+                "in all, so the heel-to-toe profile does not develop: every pair is at the "
+                "heel, at full headwater pressure. A steep joint (a contraction joint) takes "
+                "no uplift in the guidelines; or is the upstream axis another one?",
+                interface, length, up.upstream, extent)  # fmt: skip
         self.uplifts.append(up)
         return up
 
@@ -1627,7 +1674,7 @@ class Model:
             for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
                 basis[:, i, 3 + k], basis[:, j, 3 + k] = -X[:, j], X[:, i]
         held = basis[fixed[nodes]]  # (prescribed components, modes)
-        null = null_space(held, 1e-9).T
+        null = _echelon(null_space(held, 1e-9).T)
         return [" + ".join(labels[k] for k in np.flatnonzero(np.abs(v) > 1e-6)) for v in null]
 
     @cached_property
@@ -2014,6 +2061,31 @@ def _westergaard_add(out: FloatArray, conn: IntArray, N: FloatArray, dA: FloatAr
                                   share[:, :, None, None] * whole[:, None])  # fmt: skip
     # symmetric to the bit (the per-point products of a curved facet are not, to 1e-17)
     np.add.at(out, conn, 0.5 * (blocks + blocks.swapaxes(-1, -2)))
+
+
+def _echelon(A: FloatArray, tol: float = 1e-9) -> FloatArray:
+    """The reduced row echelon form of the rows of A (k, m), which span a subspace: the
+    subspace's one basis whose leading entries are 1 with zeros above and below them, so
+    that it does not depend on how a solver chose the rows (the null space's basis from
+    an SVD turns with the LAPACK build).
+
+    >>> (_echelon(np.array([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0]])).round(12) + 0.0).tolist()
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    """
+    A = np.array(A, dtype=float)
+    row = 0
+    for col in range(A.shape[1]):
+        if row == A.shape[0]:
+            break
+        r = row + int(np.argmax(np.abs(A[row:, col])))
+        if abs(A[r, col]) <= tol:
+            continue
+        A[[row, r]] = A[[r, row]]
+        A[row] /= A[row, col]
+        others = np.arange(A.shape[0]) != row
+        A[others] -= np.outer(A[others, col], A[row])
+        row += 1
+    return A
 
 
 def _block_diagonal(blocks: FloatArray) -> FloatArray:

@@ -17,7 +17,8 @@ drains at s_d of efficiency E, the level at the drains is
     h_d = H_t + (1 − E) (H_w − H_t) (L − s_d) / L,
 
 and h is piecewise linear H_w → h_d → H_t. The part of the joint open from the heel (a
-crack of length s_c: the pairs open at the heel and every pair between them) is at full
+crack of length s_c: the pairs open at the heel and every pair between them; in 3D the
+crack open across the whole width, station by station along the abscissa) is at full
 headwater, h = H_w for s ≤ s_c; below it h falls linearly from H_w at the crack tip to h_d
 at the drains (or, once the crack reaches past the drains, which then no longer work, to
 H_t at the toe). The pressure is p = ρ_w g max(h − z, 0) at the pair's elevation z.
@@ -25,9 +26,10 @@ H_t at the toe). The pressure is p = ρ_w g max(h − z, 0) at the pair's elevat
 During shaking (``shaking``), as the guidelines name it: ``"keep"``, the pre-earthquake
 uplift stays (the usual assumption: water cannot follow a crack opening and closing in
 a fraction of a second; EM 1110-2-6051); ``"full"``, the parts that open in the crack
-from the heel (as above: the pairs reached from the heel through open pairs) get full
-headwater pressure, the reservoir's water reaching no other opening (a toe that lifts
-keeps its pressure); ``"zero"``, the parts that open lose their pressure. The last two
+from the heel (the pairs reached from the heel through open pairs: along the joint in
+2D, as above; across its face in 3D, :meth:`Uplift.stations`) get full headwater
+pressure, the reservoir's water reaching no other opening (a toe that lifts keeps its
+pressure); ``"zero"``, the parts that open lose their pressure. The last two
 follow the open or closed state of each pair, lagged by one step.
 """
 
@@ -39,13 +41,52 @@ import numpy as np
 
 from ..errors import ModelError
 from ..interface import PairGeometry
-from ..typing import BoolArray, FloatArray
+from ..typing import BoolArray, FloatArray, IntArray
 
 SHAKING = ("keep", "full", "zero")
 
 #: the model file's keys of ``[[loads.uplift]]`` that the Python API names otherwise
 MODEL_FILE_KEYS = {"drain_efficiency": "efficiency"}
 _AXES = {"-x": (0, 1.0), "+x": (0, -1.0), "-y": (1, 1.0), "+y": (1, -1.0)}
+
+
+@dataclass(frozen=True)
+class Stations:
+    """The pairs of a joint with uplift as stations and their neighbours
+    (:meth:`Uplift.stations`): ``of`` (k,) the station of each pair, ``edges`` (e, 2) the
+    neighbouring stations, ``heel`` (n_stations,) the stations at the heel."""
+
+    of: IntArray
+    edges: IntArray
+    heel: BoolArray
+
+    def reached(self, open_: BoolArray) -> BoolArray:
+        """The pairs (k,) reached from the heel through open stations (a station is open
+        when all its pairs are): the crack from the heel, which the reservoir's water
+        fills. In 2D the pairs up to :meth:`Uplift.crack`; in 3D across the joint's face,
+        so a crack over part of the width, or along a lateral edge, is reached.
+
+        >>> st = Stations(np.arange(4), np.array([[0, 1], [1, 2], [2, 3]]),
+        ...               np.array([True, False, False, False]))
+        >>> st.reached(np.array([True, True, False, True])).tolist()
+        [True, True, False, False]
+        """
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
+        n = self.heel.size
+        count = np.bincount(self.of, minlength=n)
+        st_open = np.bincount(self.of, weights=open_.astype(float), minlength=n) == count
+        a, b = self.edges[:, 0], self.edges[:, 1]
+        keep = st_open[a] & st_open[b]
+        heel = np.flatnonzero(self.heel & st_open)
+        # the stations and a source joined to the open heel stations
+        rows = np.r_[a[keep], np.full(heel.size, n)]
+        cols = np.r_[b[keep], heel]
+        graph = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n + 1, n + 1))
+        _, label = connected_components(graph, directed=False)
+        wet = (label[:n] == label[n]) & st_open
+        return np.asarray(wet[self.of] & open_)
 
 
 @dataclass(frozen=True)
@@ -134,6 +175,49 @@ class Uplift:
         k = int(np.argmin(st_open)) if not st_open.all() else stations.size
         return float(stations[k - 1]) if k > 0 else 0.0
 
+    def stations(self, pairs: PairGeometry, idx: np.ndarray) -> Stations:
+        """The joint's pairs ``idx`` as stations (pairs at one point, the two sides of a
+        junction, are one) and their neighbours, for :meth:`Stations.reached`: in 2D
+        consecutive along the abscissa, the heel the first; in 3D the edges of the
+        Delaunay triangulation of the stations in the joint's mean plane, the heel the
+        stations with no neighbour nearer the heel (the joint's upstream edge). Built
+        once a run."""
+        s, L = self.abscissa(pairs, idx)
+        tol = 1e-9 * max(L, 1e-300)
+        if pairs.dim == 2:
+            key = np.round(s / tol)[:, None] if L > 0 else np.zeros((s.size, 1))
+        else:
+            # coordinates in the joint's mean plane (any planar joint, not only level ones)
+            n = pairs.frame[idx, -1, :].mean(axis=0)
+            _, _, vt = np.linalg.svd(np.eye(3) - np.outer(n, n) / max(n @ n, 1e-300))
+            key = np.round(pairs.x[idx] @ vt[:2].T / tol) if L > 0 else np.zeros((s.size, 2))
+        uniq, inv = np.unique(key, axis=0, return_inverse=True)
+        inv = inv.ravel()
+        k = uniq.shape[0]
+        s_st = np.full(k, np.inf)
+        np.minimum.at(s_st, inv, s)
+        edges = np.zeros((0, 2), dtype=np.int64)
+        if k > 1 and pairs.dim == 2:
+            order = np.argsort(s_st, kind="stable")
+            edges = np.column_stack([order[:-1], order[1:]])
+        elif k > 2:
+            from scipy.spatial import Delaunay, QhullError
+
+            try:
+                tri = Delaunay(uniq * tol).simplices
+                e = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+                edges = np.unique(np.sort(e, axis=1), axis=0)
+            except QhullError:  # the stations on a line: consecutive along it
+                order = np.lexsort(uniq.T[::-1])
+                edges = np.column_stack([order[:-1], order[1:]])
+        # the heel: stations with no neighbour nearer the heel (in 2D the first)
+        nearer = np.zeros(k, dtype=bool)
+        if edges.size:
+            a, b = edges[:, 0], edges[:, 1]
+            nearer[a[s_st[b] < s_st[a] - tol]] = True
+            nearer[b[s_st[a] < s_st[b] - tol]] = True
+        return Stations(inv, edges, ~nearer)
+
     def level(self, s: FloatArray, L: float, crack: float, z_toe: float) -> FloatArray:
         """The piezometric level h(s) (m) for a crack of length ``crack`` (module doc)."""
         hw = self.headwater
@@ -181,4 +265,4 @@ def uplift_force(pairs: PairGeometry, p: FloatArray, n_dof: int) -> FloatArray:
     return f
 
 
-__all__ = ["SHAKING", "Uplift", "uplift_force"]
+__all__ = ["SHAKING", "Stations", "Uplift", "uplift_force"]

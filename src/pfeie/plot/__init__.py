@@ -11,9 +11,9 @@ from ._plots import (
     plot_states,
     plot_static,
 )
-from ._report import plot_run, solver_line, write_report
+from ._report import load_rows, plot_run, solver_line, write_report
 
-__all__ = ["OPEN_CRACK_MIN_M", "plot_all", "plot_energy", "plot_joint", "plot_probe",
+__all__ = ["OPEN_CRACK_MIN_M", "load_rows", "plot_all", "plot_energy", "plot_joint", "plot_probe",
            "plot_rigid", "plot_run", "plot_spectrum", "plot_states", "plot_static", "solver_line",
            "write_report"]  # fmt: skip
 from ._study import plot_fragility, plot_ida, save_figure

@@ -531,12 +531,13 @@ def joint_property_rows(res: Results, job: Job | None) -> list[dict[str, Any]]:
     return rows
 
 
-def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
+def load_rows(res: Results | None, job: Job) -> list[dict[str, Any]]:
     """The loads of the model file, one row per table of ``[loads]``: what, where, its
     parameters and its resultant force (kN; in 2D per the model's thickness): the loads
     of the static state from the model's load patterns (gravity, pressures, hydrostatic
     pressure, silt; in the order the model file builds them), the uplift from the static
-    state of the results file, the reservoir's added mass (kg)."""
+    state of the results file ``res`` (without one, as in ``pfeie check``, its parameters
+    only), the reservoir's added mass (kg)."""
     model = job.model
     d = model.dim
     spec = job.spec["loads"]
@@ -594,7 +595,9 @@ def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
                      "parameters": f"silt level {sl['level']:g} m, γ' = "
                                    f"{sl['submerged_unit_weight']:g} N/m³, {coef}",
                      **resultant(len(sl["groups"]))})  # fmt: skip
-    if "static/uplift" in res.f and spec["uplift"]:
+    static_uplift = res is not None and "static/uplift" in res.f
+    if static_uplift and spec["uplift"]:
+        assert res is not None
         p = np.asarray(res.f["static/uplift"])
         A = np.asarray(res.f["pairs/area"])
         normal = np.asarray(res.f["pairs/frame"])[:, -1, :]
@@ -609,7 +612,7 @@ def load_rows(res: Results, job: Job) -> list[dict[str, Any]]:
                      f"{100 * ut['drain_efficiency']:g} %")  # fmt: skip
         text += f"; during the shaking: {ut['shaking']}"
         row: dict[str, Any] = {"load": "uplift", "where": ut["interface"], "parameters": text}
-        if "static/uplift" in res.f and ut["interface"] in res.interface_names:
+        if static_uplift and res is not None and ut["interface"] in res.interface_names:
             sel = iface == res.interface_names.index(ut["interface"])
             n = normal[sel]
             n = np.where((n[:, -1] < 0)[:, None], -n, n)  # the force on the upper side

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from pydantic import ValidationError
 
-from ..coupling import RigidCheck, StaticInterfaceProblem, relative_operator
+from ..coupling import RIGID_SHARE_MIN, RigidCheck, StaticInterfaceProblem, relative_operator
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
@@ -164,6 +164,8 @@ def solve_pairs(
                         break
                     alone.append((name, float(np.nansum(one.share))))
                 check = check._replace(alone=tuple(alone))
+            if np.nansum(check.share) > RIGID_SHARE_MIN:
+                check = check._replace(factor=problem.rigid_factor(f, damage))
             return check
         except (ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
             log.debug("static analysis: the rigid-block check failed: %s", exc)
@@ -282,12 +284,6 @@ def _lengths(cracks: Sequence[float], model: Model | None = None) -> str:
     return ", ".join(f"{c:.4g}" for c in cracks)
 
 
-#: the share of its load below which the rigid-block check counts a block as balanced
-#: (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_check`; its linear programme is
-#: solved to about 1e-9 of the loads)
-RIGID_SHARE_MIN = 1e-6
-
-
 #: what an unbalance in the rigid-block check means, in the mechanism's message
 _NOT_RIGID = (
     "not even as rigid blocks can pair forces within their joints' strength "
@@ -387,6 +383,14 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                 + (f" Floating blocks press on it ({'; '.join(leaning)}): the unbalance is "
                    "theirs together, placed where the check could put it." if leaning
                    else "")
+            )  # fmt: skip
+        if share.factor is not None:
+            head += (
+                f" As rigid blocks they balance only with every joint strength (c, tan φ, "
+                f"σ_t) multiplied by {1.0 / share.factor:.4g}: a rigid-block factor of safety "
+                f"of {share.factor:.4g} by strength reduction (limit equilibrium"
+                + ("; its 3D friction cone is an octagon, up to 8 % high" if model.dim == 3
+                   else "") + ")."
             )  # fmt: skip
     elif any(np.isfinite(v) for v in shares.values()):
         head = (
