@@ -317,26 +317,22 @@ class StaticInterfaceProblem:
                 return None
             return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
 
-        lo, hi = 1.0, 1.0
-        first = holds(1.0)
-        if first is None:
+        at_one = holds(1.0)
+        if at_one is None:
             return None
-        if first:  # grow F until it fails
-            while holds(hi := min(hi * 4.0, f_hi)):
-                lo = hi
-                if hi >= f_hi:
-                    return None
-        else:  # shrink F until it holds
-            while True:
-                lo = max(lo / 4.0, f_lo)
-                ok = holds(lo)
-                if ok is None:
-                    return None
-                if ok:
-                    break
-                hi = lo
-                if lo <= f_lo:
-                    return None
+        # steps of 4 away from 1 (up where F = 1 holds, down where it does not) until the
+        # answer changes: the bracket [lo, hi], lo held
+        step = 4.0 if at_one else 0.25
+        F = 1.0
+        while True:
+            nxt = min(max(F * step, f_lo), f_hi)
+            ok = None if nxt == F else holds(nxt)  # (the range ends: no factor in it)
+            if ok is None:
+                return None
+            if ok != at_one:
+                break
+            F = nxt
+        lo, hi = (F, nxt) if at_one else (nxt, F)
         while hi / lo - 1.0 > tol:
             mid = float(np.sqrt(lo * hi))
             ok = holds(mid)
