@@ -312,25 +312,9 @@ def test_joint_pieces_in_the_summary(tmp_path) -> None:  # type: ignore[no-untyp
     pieces' pairs make up the joint's, and its largest opening is the largest piece's."""
     import json
 
-    mesh = pf.rectangle(2.0, 3.0, 4, 6)
-    mesh.points[:, 1] -= 1.0
-    mesh.add_cell_group("rock", lambda x: x[:, 1] < 0)
-    for name, xs, ys in (("ll", 0, 0), ("lr", 1, 0), ("ul", 0, 1), ("ur", 1, 1)):
-        mesh.add_cell_group(name, lambda x, xs=xs, ys=ys: (x[:, 1] > 0)
-                            & ((x[:, 0] > 1) == bool(xs))
-                            & ((x[:, 1] > 1) == bool(ys)))  # fmt: skip
-    mesh.add_facet_group("base", lambda x: np.abs(x[:, 1]) < 1e-9, boundary_only=False)
-    mesh.add_facet_group("lift", lambda x: np.abs(x[:, 1] - 1) < 1e-9, boundary_only=False)
-    mesh.add_facet_group("cj", lambda x: (np.abs(x[:, 0] - 1) < 1e-9) & (x[:, 1] > 0),
-                         boundary_only=False)  # fmt: skip
-    mat = pf.Elastic(30e9, 0.2, 2400.0)
-    weak = pf.Joint(phi=20.0)
-    model = pf.Model(mesh, [pf.Block(b, mat) for b in ("rock", "ll", "lr", "ul", "ur")],
-                     interfaces=[pf.Interface("base", pf.Joint(phi=45.0, c=1e6, tensile=1e6,
-                                                                initial="intact")),
-                                 pf.Interface("lift", weak), pf.Interface("cj", weak)])  # fmt: skip
-    model.fix("rock")
-    model.add_gravity()
+    from test_review34 import _monoliths
+
+    model = _monoliths()
     gm = pf.GroundMotion.from_function(lambda t: 0.6 * G * np.sin(2 * np.pi * 4 * t), 0.25, 1e-3)
     pf.run_to_folder(pf.Dynamic(model, 2e-3), 0.25, tmp_path / "out", ground=[gm],
                      start=pf.solve_static(model), figures=False, paraview=False)  # fmt: skip

@@ -57,7 +57,7 @@ from .errors import (
     ResultsError,
     SolverError,
 )
-from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE
+from .interface import FS_ROUNDOFF, OPEN, OPEN_CRACK_MIN_M, SLIDE, block_pieces
 from .io import (
     PYTHON_RUN,
     CheckpointWriter,
@@ -1825,21 +1825,12 @@ PIECE_LINES = 6
 
 
 def _joint_pieces(model: Model, idx: IntArray) -> dict[str, IntArray]:
-    """The pieces of a joint whose pairs ``idx`` join more than one pair of blocks (a
-    contraction joint cut by a lift joint; a lift joint across monoliths): each pair of
-    blocks, as "A | B" in the order of the blocks, → the positions in ``idx`` of its
-    pairs. One entry for a joint between two blocks."""
+    """The pieces of the joint whose pairs are ``idx`` by the blocks they join
+    (:func:`pfeie.interface.block_pieces`): "A | B" → positions in ``idx``."""
     P = model.pairs
     assert P is not None
-    body, names = model.body_of_node, model.body_names()
-    a, b = body[P.node_a[idx]], body[P.node_b[idx]]
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    key = lo * model.n_bodies + hi
-    out: dict[str, IntArray] = {}
-    for k in np.unique(key):
-        i, j = divmod(int(k), model.n_bodies)
-        out[f"{names[i]} | {names[j]}"] = np.flatnonzero(key == k)
-    return out
+    body = model.body_of_node
+    return block_pieces(body[P.node_a[idx]], body[P.node_b[idx]], model.body_names())
 
 
 def _pair_spacing(x: FloatArray) -> FloatArray:

@@ -5,6 +5,7 @@
 - joint laws behind the :class:`JointLaw` protocol (:class:`MohrCoulomb`, alias
   :class:`Joint`; :class:`SlipWeakening`; :class:`Reduced`, a law's strength divided by
   a factor), gathered per pair by :class:`PairLaws`;
+- :func:`block_pieces`: a joint's pairs grouped by the two blocks they join;
 - :class:`PairState`: the pair states with explicit trial and commit (the solver returns
   a trial state; the analysis commits it when the step is accepted);
 - :func:`load_fclib`, :func:`coulomb_laws`, :func:`natural_map_residual`: frictional-
@@ -46,7 +47,7 @@ from ._solver import (
     InterfaceSolver,
     SolveInfo,
 )
-from ._split import PairGeometry, SplitMesh, split
+from ._split import PairGeometry, SplitMesh, block_pieces, split
 from ._state import INTACT, OPEN, SLIDE, STATE_NAMES, STICK, PairState
 
 __all__ = [
@@ -79,6 +80,7 @@ __all__ = [
     "SplitMesh",
     "Strength",
     "Tolerance",
+    "block_pieces",
     "check_law",
     "cohesion_ramp",
     "cohesion_ramp_tangent",

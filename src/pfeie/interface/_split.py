@@ -135,6 +135,29 @@ class PairGeometry:
         return F.astype(float), M.astype(float)
 
 
+def block_pieces(
+    body_a: IntArray, body_b: IntArray, names: list[str] | tuple[str, ...]
+) -> dict[str, IntArray]:
+    """The pieces of a joint by the blocks its pairs join (a contraction joint cut by a
+    lift joint, a lift joint across monoliths): ``body_a``, ``body_b`` (m,) the blocks of
+    the pairs' two sides (indices into ``names``) → ``{"A | B": positions}``, the blocks
+    in the order of ``names``, the pieces in that order too. One entry for a joint between
+    two blocks.
+
+    >>> block_pieces(np.array([0, 0, 1]), np.array([2, 2, 2]), ["dam", "mid", "rock"])
+    {'dam | rock': array([0, 1]), 'mid | rock': array([2])}
+    """
+    a, b = np.asarray(body_a), np.asarray(body_b)
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    n = len(names)
+    key = lo * n + hi
+    out: dict[str, IntArray] = {}
+    for k in np.unique(key):
+        i, j = divmod(int(k), n)
+        out[f"{names[i]} | {names[j]}"] = np.flatnonzero(key == k)
+    return out
+
+
 @dataclass(frozen=True)
 class SplitMesh:
     """A mesh cut along its interfaces, the pairs, and the bodies (connected parts)."""

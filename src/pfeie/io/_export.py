@@ -4,8 +4,9 @@ A run with histories gives probes.csv, bodies.csv, ground.csv (the ground's disp
 as the run moved it: subtract it from a probe's or a body's motion in the absolute form),
 energy.csv, joints.csv (per joint and time: largest and mean slip, largest opening, the
 area-mean relative displacement of its faces w_t…, w_n since the start, the sliding
-safety factor, the shares broken, sliding and open) and pairs_final.csv
-(per pair, its final relative displacement among others); a static-only run
+safety factor, the shares broken, sliding and open), joint_pieces.csv (for a joint whose
+pairs join more than two blocks, the same per pair of blocks "A | B") and pairs_final.csv
+(per pair, its final relative displacement and its blocks among others); a static-only run
 (``analysis.dynamic = false``) gives the static state: nodes_static.csv (displacements)
 and pairs_static.csv (the pair state of every joint).
 """
@@ -25,9 +26,10 @@ AXES = "xyz"
 
 
 def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
-    """Write probes.csv, bodies.csv, ground.csv, energy.csv, joints.csv and
-    pairs_final.csv (or, for a static-only run, nodes_static.csv and pairs_static.csv);
-    ground.csv only from a file that records the ground (format 1.10 and later)."""
+    """Write probes.csv, bodies.csv, ground.csv, energy.csv, joints.csv,
+    joint_pieces.csv and pairs_final.csv (or, for a static-only run, nodes_static.csv and
+    pairs_static.csv); ground.csv only from a file that records the ground (format 1.10
+    and later), joint_pieces.csv only for a joint whose pairs join more than two blocks."""
     with Results(results) as res:
         if res.n_times == 0:
             return _export_static(res, folder)
@@ -91,11 +93,16 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                 axes = [*(f"t{i + 1}" for i in range(d - 1)), "n"]
                 w2.writerow(["joint", "pair", *coords, "area_m2", "residual_slip_m",
                              "max_opening_m", *(f"final_w_{a}_m" for a in axes),
-                             "final_state", "broken"])  # fmt: skip
+                             "final_state", "broken", "blocks"])  # fmt: skip
+                pieces: dict[str, dict[str, np.ndarray]] = {}
                 for name in res.interface_names:
                     pr = res.pairs(name)
                     A = pr["area"]
                     slip = np.linalg.norm(pr["slip"], axis=-1)
+                    by = res.joint_pieces(name)
+                    blocks = _blocks(by, A.size)
+                    if len(by) > 1:
+                        pieces[name] = by
                     share = res.joint_shares(name)
                     series = {
                         ("slip_max", "m"): slip.max(axis=1),
@@ -139,10 +146,48 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                                 *(f"{v:.9g}" for v in pr["w"][-1, k]),
                                 names[int(pr["state"][-1, k])],
                                 int(pr["broken"][-1, k]),
+                                blocks[k],
                             ]
                         )
             files += [path, final]
+            if pieces:
+                files.append(_export_pieces(res, pieces, out / "joint_pieces.csv"))
     return files
+
+
+def _blocks(pieces: dict[str, np.ndarray], m: int) -> list[str]:
+    """The blocks "A | B" that each of a joint's ``m`` pairs joins ("" without
+    ``/mesh/body`` in the file)."""
+    out = [""] * m
+    for label, k in pieces.items():
+        for i in k:
+            out[int(i)] = label
+    return out
+
+
+def _export_pieces(res: Results, pieces: dict[str, dict[str, np.ndarray]], path: Path) -> Path:
+    """joint_pieces.csv: per joint in several pieces (its pairs join more than two blocks:
+    a contraction joint cut by a lift joint) and per piece "A | B", over time: the
+    largest and the area-mean slip, the largest opening and the broken share."""
+    t = res.time
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(["time_s", "joint", "blocks", "quantity", "value", "unit"])
+        for name, by in pieces.items():
+            pr = res.pairs(name)
+            slip = np.linalg.norm(pr["slip"], axis=-1)
+            for label, k in by.items():
+                A = pr["area"][k]
+                series = {
+                    ("slip_max", "m"): slip[:, k].max(axis=1),
+                    ("slip_mean", "m"): (slip[:, k] * A).sum(axis=1) / A.sum(),
+                    ("opening_max", "m"): pr["opening"][:, k].max(axis=1),
+                    ("broken_share", "-"): (pr["broken"][:, k] * A).sum(axis=1) / A.sum(),
+                }
+                for (qn, unit), arr in series.items():
+                    for ti, val in zip(t, arr, strict=True):
+                        w.writerow([f"{ti:.12g}", name, label, qn, f"{val:.9g}", unit])
+    return path
 
 
 def _export_static(res: Results, folder: str | Path) -> list[Path]:
@@ -173,14 +218,16 @@ def _export_static(res: Results, folder: str | Path) -> list[Path]:
                                                           "shear_stress_t2_Pa"]  # fmt: skip
             w.writerow(["joint", "pair", *(f"{a}_m" for a in AXES[:d]), "area_m2",
                         "normal_stress_Pa", *tangents, "opening_m", "state",
-                        "broken"])  # fmt: skip
+                        "broken", "blocks"])  # fmt: skip
             for name in res.interface_names:
                 pr = res.static_pairs(name)
+                blocks = _blocks(res.joint_pieces(name), pr["area"].size)
                 for k in range(pr["area"].size):
                     w.writerow([name, k, *(f"{c:.9g}" for c in pr["x"][k]),
                                 f"{pr['area'][k]:.9g}", f"{pr['normal_stress'][k]:.9g}",
                                 *(f"{c:.9g}" for c in pr["shear_stress"][k]),
                                 f"{pr['opening'][k]:.9g}",
-                                names[int(pr["state"][k])], int(pr["broken"][k])])  # fmt: skip
+                                names[int(pr["state"][k])], int(pr["broken"][k]),
+                                blocks[k]])  # fmt: skip
         files.append(path)
     return files

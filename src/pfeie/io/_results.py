@@ -702,6 +702,20 @@ class Results:
         out["slip"] = out["s"][..., :-1] - out["s"][:1, :, :-1]
         return out
 
+    def joint_pieces(self, interface: str) -> dict[str, np.ndarray]:
+        """A joint's pairs grouped by the two blocks they join, "A | B" → the positions
+        among the joint's pairs (:func:`pfeie.interface.block_pieces`; one entry for a
+        joint between two blocks, none for a file without ``/mesh/body``)."""
+        from ..interface import block_pieces
+
+        sel = self._select(interface)
+        if "body" not in self.f["mesh"] or "node_a" not in self.f["pairs"]:
+            return {}
+        body = np.asarray(self.f["mesh/body"][...])
+        a = np.asarray(self.f["pairs/node_a"][...])[sel]
+        b = np.asarray(self.f["pairs/node_b"][...])[sel]
+        return block_pieces(body[a], body[b], self.body_names)
+
     def joint_shares(self, interface: str) -> dict[str, FloatArray]:
         """The area shares (n_t,) of a joint's pairs that are ``broken``, ``sliding`` and
         ``open``, the last by more than :data:`pfeie.interface.OPEN_CRACK_MIN_M` (a

@@ -14,7 +14,7 @@ import json
 import logging
 import math
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,6 +24,7 @@ from ..dynamics import envelope_extremes
 from ..errors import InputError, PfeieError, ResultsError
 from ..interface import OPEN_CRACK_MIN_M
 from ..io import PYTHON_RUN, Results, applied_part, output_file
+from ..typing import FloatArray
 from ._plots import (
     figure_file,
     open_crack,
@@ -70,26 +71,43 @@ def motion_tables(res: Results) -> tuple[list[dict[str, Any]], list[dict[str, An
     return blocks, probes
 
 
+def _piece_rows(
+    res: Results, name: str, pr: dict[str, FloatArray],
+    row: Callable[[str, dict[str, FloatArray], Any], dict[str, Any]],
+) -> list[dict[str, Any]]:  # fmt: skip
+    """The rows "joint: A | B" of the pieces of a joint whose pairs join more than two
+    blocks (none for a joint between two), by ``row(label, pairs, positions)``."""
+    by = res.joint_pieces(name)
+    return [row(f"{name}: {label}", pr, i) for label, i in by.items()] if len(by) > 1 else []
+
+
 def joint_table(res: Results) -> list[dict[str, Any]]:
     """Per joint: pairs, residual slip (largest, area mean), largest opening, broken share,
     the post-earthquake safety factor (for a static-only run: the static state,
-    :func:`static_joint_table`)."""
+    :func:`static_joint_table`); after the joints, a row "joint: A | B" for each piece of
+    a joint whose pairs join more than two blocks (:meth:`Results.joint_pieces`)."""
     if res.n_times == 0:
         return static_joint_table(res)
     rows = []
-    for name in res.interface_names:
-        pr = res.pairs(name)
-        A = pr["area"]
-        slip = np.linalg.norm(pr["slip"][-1], axis=-1)
-        rows.append({
-            "joint": name, "pairs": int(A.size),
+    pieces: list[dict[str, Any]] = []
+
+    def row_of(label: str, pr: dict[str, FloatArray], k: Any) -> dict[str, Any]:
+        A = pr["area"][k]
+        slip = np.linalg.norm(pr["slip"][-1, k], axis=-1)
+        return {
+            "joint": label, "pairs": int(A.size),
             "residual slip, largest (mm)": 1e3 * float(slip.max()),
             "residual slip, mean (mm)": 1e3 * float((slip * A).sum() / A.sum()),
-            "largest opening (mm)": 1e3 * float(pr["opening"].max()),
-            "broken (%)": 100 * float((pr["broken"][-1] * A).sum() / A.sum()),
-        })  # fmt: skip
+            "largest opening (mm)": 1e3 * float(pr["opening"][:, k].max()),
+            "broken (%)": 100 * float((pr["broken"][-1, k] * A).sum() / A.sum()),
+        }  # fmt: skip
+
+    for jk, name in enumerate(res.interface_names):
+        pr = res.pairs(name)
+        rows.append(row_of(name, pr, slice(None)))
+        pieces += _piece_rows(res, name, pr, row_of)
         if "joints/safety_factor" in res.f["history"]:
-            fs = np.asarray(res.f["history/joints/safety_factor"])[:, len(rows) - 1]
+            fs = np.asarray(res.f["history/joints/safety_factor"])[:, jk]
             rows[-1]["min safety factor"] = float(fs.min())
         if "joints/cracked" in res.f["history"]:
             cr = res.joint_cracks(name)
@@ -115,7 +133,7 @@ def joint_table(res: Results) -> list[dict[str, Any]]:
         elif row["joint"] in post.get("joints", {}):
             fs = post["joints"][row["joint"]]["safety_factor"]
             row["post-earthquake safety factor"] = "∞" if fs is None else f"{fs:.3g}"
-    return rows
+    return rows + pieces
 
 
 def envelope_rows(res: Results) -> list[tuple[str, str]]:
@@ -175,7 +193,8 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
     """Per joint, the static state: pairs, mean normal stress, largest opening, shares
     sliding, open and broken, the sliding safety factor (of the first recorded row, or
     from the static pair forces and the model's joint laws, ``job``), the uplift (empty
-    without a static pair state)."""
+    without a static pair state); after the joints, a row "joint: A | B" for each piece
+    of a joint whose pairs join more than two blocks."""
     if "static/X" not in res.f:
         return []
     fs_static = None
@@ -190,23 +209,28 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
             np.zeros(X.shape[0]), P.frame, noise,
             opening=np.asarray(res.f["static/s"][:, -1]))  # fmt: skip
     rows = []
-    for name in res.interface_names:
-        pr = res.static_pairs(name)
-        A = pr["area"]
-        rows.append({
-            "joint": name, "pairs": int(A.size),
-            "static normal stress, mean (MPa)": 1e-6 * float((pr["X"][:, -1]).sum() / A.sum()),
+    pieces: list[dict[str, Any]] = []
+
+    def static_row(label: str, pr: dict[str, FloatArray], k: Any) -> dict[str, Any]:
+        A = pr["area"][k]
+        opened = (pr["state"][k] == 3) & (pr["opening"][k] > OPEN_CRACK_MIN_M)
+        return {
+            "joint": label, "pairs": int(A.size),
+            "static normal stress, mean (MPa)": 1e-6 * float(pr["X"][k, -1].sum() / A.sum()),
             # to 0.01 mm (OPEN_CRACK_MIN_M), as the summary prints it: a closed pair's
             # opening is round-off
-            "largest opening (mm)": round(1e3 * float(pr["opening"].max()), 2),
-            "sliding (%)": 100 * float(((pr["state"] == 2) * A).sum() / A.sum()),
+            "largest opening (mm)": round(1e3 * float(pr["opening"][k].max()), 2),
+            "sliding (%)": 100 * float(((pr["state"][k] == 2) * A).sum() / A.sum()),
             # as the summary: open by more than OPEN_CRACK_MIN_M (the corner pairs of
             # quadratic facets part by microns under compression)
-            "open (%)": 100 * float((((pr["state"] == 3) & (pr["opening"] > OPEN_CRACK_MIN_M))
-                                     * A).sum() / A.sum()),
-            "broken (%)": 100 * float((pr["broken"] * A).sum() / A.sum()),
-        })  # fmt: skip
-        k = len(rows) - 1
+            "open (%)": 100 * float((opened * A).sum() / A.sum()),
+            "broken (%)": 100 * float((pr["broken"][k] * A).sum() / A.sum()),
+        }  # fmt: skip
+
+    for k, name in enumerate(res.interface_names):
+        pr = res.static_pairs(name)
+        rows.append(static_row(name, pr, slice(None)))
+        pieces += _piece_rows(res, name, pr, static_row)
         if "history/joints/safety_factor" in res.f and res.n_times:
             rows[-1]["sliding safety factor"] = float(res.f["history/joints/safety_factor"][0, k])
         elif fs_static is not None:
@@ -233,7 +257,7 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
     for row in rows:
         if sr.get("joint") == row["joint"] and sr.get("factor") is not None:
             row["FS by strength reduction"] = f"{sr['factor']:.4g} ({sr['limit']})"
-    return rows
+    return rows + pieces
 
 
 def analysis_rows(res: Results) -> list[tuple[str, str]]:
