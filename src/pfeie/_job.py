@@ -78,6 +78,7 @@ from .plot import plot_run, solver_line
 from .solvers import (
     REDUCTION_F_MAX,
     YIELD_K_MAX,
+    YIELD_RIGID_GAP,
     StaticResult,
     horizontal,
     solve_static,
@@ -1093,7 +1094,7 @@ def _yield_coefficients(
         out[label] = {
             "direction": [round(float(v), 12) + 0.0 for v in y.direction],
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
-            "joint": y.joint,
+            "k_rigid": y.k_rigid, "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
             # every joint's FS at k_y (None: no shear)
             "safety_factors": {n: (float(f) if np.isfinite(f) else None)
@@ -1124,6 +1125,7 @@ def _strength_reduction(
     r = strength_reduction(job.model, problem=problem)
     out = {
         "factor": r.factor, "factor_fail": r.factor_fail, "limit": r.limit, "joint": r.joint,
+        "rigid_factor": r.rigid_factor,
         "safety_factors": {n: (f if np.isfinite(f) else None)
                            for n, f in r.safety_factors.items()},
         "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
@@ -1239,6 +1241,10 @@ def _reduction_text(sr: dict[str, Any]) -> str:
     if sr.get("open_joint"):
         what += (f"; {sr['open_joint']!r} is the most open, {100 * sr['open_share']:.0f} % "
                  "of its area")  # fmt: skip
+    rigid = sr.get("rigid_factor")
+    if rigid is not None and rigid > sr["factor"] * (1 + YIELD_RIGID_GAP):
+        what += (f"; the rigid blocks' factor is {rigid:.4g} (limit equilibrium, an upper "
+                 f"bound): the factor lies between {sr['factor']:.4g} and {rigid:.4g}")  # fmt: skip
     return what + lost + ")"
 
 
@@ -1963,6 +1969,10 @@ def format_summary(s: dict[str, Any]) -> str:
                     f"of the limit; {_least_fs(y)}")  # fmt: skip
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
+            rigid = y.get("k_rigid")
+            if rigid is not None and rigid > k * (1 + YIELD_RIGID_GAP):
+                what += (f"; the rigid blocks' limit is {rigid:.4g} (limit equilibrium, an "
+                         f"upper bound): k_y lies between {k:.4g} and {rigid:.4g}")  # fmt: skip
             what += _open_text(y) + ")"
         lines.append(f"  yield {label:<10} {what}")
     sr = s.get("strength_reduction")

@@ -24,12 +24,18 @@ from ._delassus import (
     delassus,
 )  # fmt: skip
 from ._operators import PairOperator, relative_operator
-from ._static import RIGID_SHARE_MIN, RigidCheck, StaticInterfaceProblem, pins
+from ._static import (
+    RIGID_FACTOR_TOL,
+    RIGID_SHARE_MIN,
+    RigidCheck,
+    StaticInterfaceProblem,
+    pins,
+)
 from ._step import SUBSOLVER_BYTES, SUBSOLVERS, InterfaceStep, SolveStats, StepSolution
 
 __all__ = [
-    "RIGID_SHARE_MIN", "SUBSOLVERS", "SUBSOLVER_BYTES", "BlockDelassus", "Delassus",
-    "DenseDelassus", "GatheredDelassus", "InterfaceStep",
+    "RIGID_FACTOR_TOL", "RIGID_SHARE_MIN", "SUBSOLVERS", "SUBSOLVER_BYTES", "BlockDelassus",
+    "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep",
     "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "RigidCheck", "SolveStats",
     "StaticInterfaceProblem", "StepSolution", "delassus", "pins",
     "relative_operator",

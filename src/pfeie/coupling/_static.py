@@ -341,6 +341,56 @@ class StaticInterfaceProblem:
             lo, hi = (mid, hi) if ok else (lo, mid)
         return lo
 
+    def rigid_limit(
+        self, f0: FloatArray, f1: FloatArray, k_max: float, tol: float = RIGID_FACTOR_TOL,
+        damage: PairState | None = None,
+    ) -> float | None:  # fmt: skip
+        """The rigid-block limit load factor: the largest k in [0, ``k_max``] at which the
+        :meth:`rigid_check` of the loads f0 + k f1 (free DOFs) balances them, within a
+        relative ``tol`` (bisection); ``k_max`` where they balance there, None where they
+        do not balance at k = 0 or the check fails.
+
+        Any static equilibrium, elastic or rigid, has pair forces within the joints'
+        strength that balance the floating blocks, so no static equilibrium exists beyond
+        it: it bounds from above the limit that static analyses of the elastic blocks
+        find (:func:`pfeie.yield_coefficient`), and equals it for stiff blocks where the
+        analyses hold up to the limit (a pair solver that fails short of the limit near a
+        hinge mechanism shows as a gap between the two).
+
+        >>> import pfeie as pf
+        >>> from pfeie.verification._models import block_on_base
+        >>> model = block_on_base(joint=pf.Joint(phi=30.0))   # a block on a level joint
+        >>> problem = StaticInterfaceProblem(model, model.system())
+        >>> f0 = model.system().load(0.0)                       # its weight
+        >>> f1 = model.inertia_load([9.81, 0.0])[model.system().free]  # 1 g sideways
+        >>> k = problem.rigid_limit(f0, f1, 2.0)
+        >>> bool(abs(k / np.tan(np.radians(30.0)) - 1) < 1e-3)  # tan φ
+        True
+        """
+
+        def holds(k: float) -> bool | None:
+            check = self.rigid_check(f0 + k * f1, damage)
+            if not np.isfinite(check.normal).all():
+                return None
+            return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
+
+        at_zero = holds(0.0)
+        if not at_zero:
+            return None
+        at_max = holds(k_max)
+        if at_max is None:
+            return None
+        if at_max:
+            return k_max
+        lo, hi = 0.0, k_max
+        while hi - lo > tol * max(hi, 1e-3):
+            mid = 0.5 * (lo + hi)
+            ok = holds(mid)
+            if ok is None:
+                return None
+            lo, hi = (mid, hi) if ok else (lo, mid)
+        return lo
+
     def with_laws(self, laws: PairLaws) -> StaticInterfaceProblem:
         """This problem (its factorisation, W_pin and border, built once) for other laws of
         the same pairs, e.g. the model's strengths divided by a factor

@@ -45,6 +45,10 @@ UPLIFT_FLAT_SHARE = 0.1
 #: (:meth:`Model.add_westergaard`: a reservoir floor listed among the dam's wet faces)
 WESTERGAARD_LEVEL_SHARE = 0.25
 
+#: a surface or nodal load whose part on the free DOFs is at most this share of it (sums
+#: of absolute nodal values) acts on supports only and is warned (round-off of the cut)
+SUPPORTED_LOAD = 1e-12
+
 
 @dataclass
 class _CellSet:
@@ -413,6 +417,7 @@ class Model:
         self._westergaard_cache: tuple[tuple[Any, ...], FloatArray] | None = None
         self.fe_reservoirs: list[Reservoir] = []
         self.uplifts: list[Uplift] = []
+        self._warned: set[int] = set()  # the loads warned of (_warn_supported_loads)
         self._cellsets = self._collect_cells()
         self._warn_hanging_nodes()
 
@@ -1375,6 +1380,7 @@ class Model:
         K = self.stiffness()
         M = self.mass(lumped=lumped_mass, full_reservoir=full_reservoir)
         pats, amps = self.load_patterns()
+        self._warn_supported_loads(pats, free)
         Kf, pf_ = K[free], pats[free]
         Kff = Kf[:, free].tocsr()
         Kfp = Kf[:, pres].tocsr()
@@ -1400,6 +1406,24 @@ class Model:
             rayleigh=(None if C is None or self.damping is None
                       else (float(self.damping.alpha), float(self.damping.beta))),
         )  # fmt: skip
+
+    def _warn_supported_loads(self, pats: FloatArray, free: IntArray) -> None:
+        """Warn, once per load, of a surface or nodal load that acts on supported DOFs
+        only (a reservoir's pressure on the floor of a foundation fixed as a whole, a
+        point load on a fixed node): it goes straight into the reactions and moves
+        nothing, which the user rarely means. Body loads are not warned (a fixed
+        foundation's own weight is the common, harmless case)."""
+        for k, ld in enumerate(self.loads):
+            if ld.kind not in ("traction", "pressure", "silt", "nodal") or k in self._warned:
+                continue
+            total = float(np.abs(pats[:, k]).sum())
+            if total > 0.0 and float(np.abs(pats[free, k]).sum()) <= SUPPORTED_LOAD * total:
+                self._warned.add(k)
+                what = f"{ld.kind} on {ld.target!r}" if ld.target else f"{ld.kind} load"
+                log.warning(
+                    "%s acts on supported DOFs only: every DOF it loads is fixed, so it goes "
+                    "straight into the reactions and moves nothing (is its group a face of "
+                    "a fixed block, such as a foundation's floor?)", what)  # fmt: skip
 
     def _rigid_damping(self, Mff: sp.csr_matrix, free: IntArray) -> LowRankTerm | None:
         """−α M R (RᵀMR)⁻¹ RᵀM over the rigid motions that the supports leave free

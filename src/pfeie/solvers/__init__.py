@@ -11,11 +11,18 @@ from ._strength import (
     StrengthReduction,
     strength_reduction,
 )
-from ._yield import SLIDING_FS, YIELD_K_MAX, YieldCoefficient, horizontal, yield_coefficient
+from ._yield import (
+    SLIDING_FS,
+    YIELD_K_MAX,
+    YIELD_RIGID_GAP,
+    YieldCoefficient,
+    horizontal,
+    yield_coefficient,
+)
 
 __all__ = [
     "REDUCTION_F_MAX", "REDUCTION_MAX_ANALYSES", "REDUCTION_TOL", "SLIDING_FS", "YIELD_K_MAX",
-    "Factorization", "ModalResult", "StaticResult", "StrengthReduction", "YieldCoefficient",
-    "available_backends", "factorize", "horizontal", "modal", "solve_static",
+    "YIELD_RIGID_GAP", "Factorization", "ModalResult", "StaticResult", "StrengthReduction",
+    "YieldCoefficient", "available_backends", "factorize", "horizontal", "modal", "solve_static",
     "strength_reduction", "yield_coefficient",
 ]  # fmt: skip

@@ -41,19 +41,21 @@ by ψ (Hoek and Bray 1981, ch. 7): F = tan φ / (sin ξ tan ψ).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
-from ..coupling import StaticInterfaceProblem
+from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem
 from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
 from ..typing import FloatArray
 from ._static import StaticResult, held, joint_factors, solve_pairs
-from ._yield import SLIDING_FS, _creep
+from ._yield import SLIDING_FS, YIELD_REOPEN, YIELD_RIGID_GAP, _creep, probe_towards
 
 log = logging.getLogger(__name__)
 
@@ -85,7 +87,11 @@ class StrengthReduction:
       ``factor`` while every joint is short of its reduced capacity: a mechanism of
       opening, a bonded joint breaking through, or the pair solver failing short of the
       limit), "none" (held up to ``f_max``) or "not bracketed" (``max_analyses`` first);
-    - ``static``: the static state at ``factor``; ``analyses``: how many static analyses.
+    - ``static``: the static state at ``factor``; ``analyses``: how many static analyses;
+    - ``rigid_factor``: with the limit "no equilibrium found", the rigid blocks' factor of
+      safety (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_factor`, limit
+      equilibrium, to 1e-3): no equilibrium exists beyond it, so the factor lies in
+      [``factor``, ``rigid_factor``]; a gap of more than 1 % is warned. None otherwise.
     """
 
     factor: float | None
@@ -95,6 +101,7 @@ class StrengthReduction:
     limit: str
     static: StaticResult
     analyses: int
+    rigid_factor: float | None = None
 
     def __repr__(self) -> str:
         """One line: the factor, the limit and its joint, the analyses."""
@@ -169,50 +176,84 @@ def strength_reduction(
     grow = 2.0 * tol  # the least relative step while the limit is not bracketed
     widths: list[float] = []
     targets: list[float] = []  # the estimates aimed at while the limit is not bracketed
-    while hi is None or hi - lo > tol * lo:
-        if count >= max_analyses:
-            log.warning("strength reduction: the limit bracketed to [%.6g, %s] only, in %d "
-                        "static analyses", lo, hi, count)  # fmt: skip
+    reopened = 0
+    rigid: float | None = None  # the rigid blocks' factor (asked only if needed)
+    rigid_done = False
+    while True:
+        while hi is None or hi - lo > tol * lo:
+            if count >= max_analyses:
+                log.warning("strength reduction: the limit bracketed to [%.6g, %s] only, in %d "
+                            "static analyses", lo, hi, count)  # fmt: skip
+                break
+            finite = fs_lo[np.isfinite(fs_lo)]
+            est = lo * float(finite.min()) if finite.size else np.inf
+            if hi is None:
+                if lo >= f_max:
+                    log.info("strength reduction: held up to F = %g, %d static analyses in %.1f s",
+                             f_max, count, time.perf_counter() - t0)  # fmt: skip
+                    return _result(None, None, names, fs_lo, st_lo, count, "none")
+                f_try = max(est * (1 + tol / 4), lo * (1 + grow))
+                grow *= 2.0
+                ahead = _creep(targets, est, tol)  # estimates that creep up: extrapolated
+                if ahead is not None:
+                    f_try = max(f_try, ahead)
+            elif lo * (1 + tol) < est < hi:
+                # the estimate inside the bracket and a step ahead (else it creeps: bisect):
+                # just below it once the bracket is that close above it, else just beyond it
+                f_try = est * (1 - tol / 4) if hi <= est * (1 + tol / 2) else est * (1 + tol / 4)
+                if len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
+                    f_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
+            else:
+                f_try = 0.5 * (lo + hi)
+            f_try = min(f_try, f_max)
+            if hi is not None and not lo < f_try < hi:
+                f_try = 0.5 * (lo + hi)
+            out = analyse(f_try, st_lo)
+            if out is None:  # no equilibrium: beyond the limit
+                hi = f_try
+            else:
+                lo, (st_lo, fs_lo) = f_try, out
+            if hi is not None:
+                widths.append(hi - lo)
+        # the failure may be the pair solver's where no joint slides (a hinge mechanism):
+        # the rigid blocks' factor bounds the true one from above; factors between the
+        # failure and it are tried, and the search goes on from the first that holds
+        if (hi is None or reopened >= YIELD_REOPEN or count >= max_analyses
+                or np.nanmin(fs_lo, initial=np.inf) <= 1 + SLIDING_FS):  # fmt: skip
             break
-        finite = fs_lo[np.isfinite(fs_lo)]
-        est = lo * float(finite.min()) if finite.size else np.inf
-        if hi is None:
-            if lo >= f_max:
-                log.info("strength reduction: held up to F = %g, %d static analyses in %.1f s",
-                         f_max, count, time.perf_counter() - t0)  # fmt: skip
-                return _result(None, None, names, fs_lo, st_lo, count, "none")
-            f_try = max(est * (1 + tol / 4), lo * (1 + grow))
-            grow *= 2.0
-            ahead = _creep(targets, est, tol)  # estimates that creep up: extrapolated
-            if ahead is not None:
-                f_try = max(f_try, ahead)
-        elif lo * (1 + tol) < est < hi:
-            # the estimate inside the bracket and a step ahead (else it creeps: bisect):
-            # just below it once the bracket is that close above it, else just beyond it
-            f_try = est * (1 - tol / 4) if hi <= est * (1 + tol / 2) else est * (1 + tol / 4)
-            if len(widths) >= 3 and widths[-1] > 0.5 * widths[-3]:
-                f_try = 0.5 * (lo + hi)  # the bracket did not halve in two steps: bisect
-        else:
-            f_try = 0.5 * (lo + hi)
-        f_try = min(f_try, f_max)
-        if hi is not None and not lo < f_try < hi:
-            f_try = 0.5 * (lo + hi)
-        out = analyse(f_try, st_lo)
-        if out is None:  # no equilibrium: beyond the limit
-            hi = f_try
-        else:
-            lo, (st_lo, fs_lo) = f_try, out
-        if hi is not None:
-            widths.append(hi - lo)
+        if not rigid_done:
+            rigid, rigid_done = problem.rigid_factor(f0_free), True
+        if rigid is None or not rigid > hi * (1 + YIELD_RIGID_GAP):
+            break
+        beyond = probe_towards(partial(analyse, start=st_lo), hi, rigid)
+        if beyond is None:
+            break
+        log.warning("strength reduction: no equilibrium found at F = %.6g, but one at %.6g: "
+                    "the pair solver failed short of the limit there; the search goes on "
+                    "from %.6g", hi, beyond[0], beyond[0])  # fmt: skip
+        reopened += 1
+        lo, (st_lo, fs_lo) = beyond
+        hi = max(rigid * (1 + 2 * RIGID_FACTOR_TOL), lo * (1 + 2 * tol))
+        widths, targets, grow = [], [], 2.0 * tol
     if hi is None:
         limit = "not bracketed"
     else:
         gov = int(np.argmin(fs_lo)) if np.isfinite(fs_lo).any() else None
         limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
                  else "no equilibrium found")  # fmt: skip
+        if limit != "sliding" and not rigid_done:
+            rigid, rigid_done = problem.rigid_factor(f0_free), True
+        if limit != "sliding" and rigid is not None and rigid > hi * (1 + YIELD_RIGID_GAP):
+            log.warning(
+                "strength reduction: the static analyses fail from F = %.6g, below the "
+                "rigid blocks' factor %.6g (limit equilibrium: no equilibrium exists "
+                "beyond it): the pair solver may have failed short of the limit (a hinge "
+                "mechanism, an arch); the factor lies between %.6g and %.6g",
+                hi, rigid, lo, rigid)  # fmt: skip
     log.info("strength reduction: F = %.6g (%s), %d static analyses in %.1f s", lo, limit,
              count, time.perf_counter() - t0)  # fmt: skip
-    return _result(lo, hi, names, fs_lo, st_lo, count, limit)
+    out_ = _result(lo, hi, names, fs_lo, st_lo, count, limit)
+    return dataclasses.replace(out_, rigid_factor=rigid) if limit != "sliding" else out_
 
 
 def _result(

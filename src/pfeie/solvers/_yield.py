@@ -43,14 +43,17 @@ so k_y = (c L / W + μ cos β − sin β) / (cos β + μ sin β), tan(φ − β)
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
+from typing import TypeVar
 
 import numpy as np
 
-from ..coupling import StaticInterfaceProblem
+from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem
 from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
@@ -58,6 +61,8 @@ from ..typing import BoolArray, FloatArray
 from ._static import StaticResult, held, joint_factors, solve_pairs
 
 log = logging.getLogger(__name__)
+
+T = TypeVar("T")
 
 #: the relative width of the final bracket [k_y, k_fail] (default of ``tol``)
 YIELD_TOL = 1e-6
@@ -90,6 +95,15 @@ YIELD_MAX_ANALYSES = 60
 YIELD_BEYOND = (0.01,)
 YIELD_REOPEN = 2
 
+#: where the analyses fail with no joint sliding, the rigid blocks' limit k_rigid
+#: (:meth:`StaticInterfaceProblem.rigid_limit`) is computed; if it lies more than this
+#: (relative) beyond the failure, coefficients at these fractions of the way from the
+#: failure to it are tried, and the search goes on from the first that holds (a masonry
+#: arch of 20 voussoirs under a lateral load: the analyses failed at k = 0.14 to 0.145,
+#: held at 0.1475, against a rigid limit of 0.149)
+YIELD_RIGID_GAP = 0.01
+YIELD_RIGID_PROBES = (0.5, 0.8, 0.25, 0.95)
+
 #: the largest coefficient tried (a fraction of g); a structure held at it is reported
 #: with k_y = None (no yield up to it)
 YIELD_K_MAX = 2.0
@@ -119,7 +133,12 @@ class YieldCoefficient:
       breaking through, or the pair solver failing short of the limit; ``k_affine`` then
       estimates the sliding limit), "none" (held up to ``k_max``) or "not bracketed"
       (``max_analyses`` reached first);
-    - ``static``: the static state at ``k_y``; ``analyses``: how many static analyses.
+    - ``static``: the static state at ``k_y``; ``analyses``: how many static analyses;
+    - ``k_rigid``: with the limit "no equilibrium found", the rigid blocks' limit
+      coefficient (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_limit`, limit
+      equilibrium, to 1e-3): no equilibrium exists beyond it, so the limit lies in
+      [``k_y``, ``k_rigid``]; a gap of more than 1 % is warned (the pair solver failing
+      short of the limit near a hinge mechanism). None otherwise.
     """
 
     direction: FloatArray
@@ -131,6 +150,7 @@ class YieldCoefficient:
     limit: str
     static: StaticResult
     analyses: int
+    k_rigid: float | None = None
 
     def __repr__(self) -> str:
         """One line: the coefficient, the limit and its joint, the analyses (the static
@@ -283,6 +303,8 @@ def yield_coefficient(
     widths: list[float] = []
     targets: list[float] = []  # the predicted roots aimed at (see _creep)
     reopened = 0
+    k_rigid: float | None = None  # the rigid blocks' limit (asked only if needed)
+    rigid_done = False
     # the k at which each joint came to its capacity during the search (NaN: not at it,
     # or at it from k = 0 on: a joint that slides while the structure holds), and the
     # relative steps out from a k where one just came to it (see below)
@@ -343,6 +365,14 @@ def yield_coefficient(
             if out is not None:
                 beyond = (k_b, out)
                 break
+        if beyond is None and not np.nanmin(fs_lo, initial=np.inf) <= 1 + SLIDING_FS:
+            # no joint slides at the last coefficient held, so the failure may be the pair
+            # solver's (near a hinge mechanism): the rigid blocks' limit bounds the true
+            # one from above; coefficients between the failure and it are tried
+            if k_rigid is None and not rigid_done:
+                k_rigid, rigid_done = problem.rigid_limit(f0_free, f_h[free], k_max), True
+            if k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
+                beyond = probe_towards(partial(analyse, start=st_lo), hi, k_rigid)
         if beyond is None:
             break
         log.warning("yield coefficient along %s: no equilibrium found at k = %.6g, but one "
@@ -352,6 +382,9 @@ def yield_coefficient(
         prev = (lo, m_lo)
         lo, (st_lo, m_lo, fs_lo) = beyond
         hi, widths, targets, nudge, nudges = None, [], [], tol / 2, 0
+        if k_rigid is not None and k_rigid * (1 + 2 * RIGID_FACTOR_TOL) > lo:
+            # no equilibrium beyond the rigid blocks' limit (to its bracket): the bound
+            hi = min(k_rigid * (1 + 2 * RIGID_FACTOR_TOL), k_max)
     estimate, joint = _root(lo, m_lo, prev)
     if hi is None:
         limit = "not bracketed"
@@ -370,9 +403,33 @@ def yield_coefficient(
         limit = ("sliding" if gov is not None and fs_lo[gov] <= at_one
                  else "no equilibrium found")  # fmt: skip
         joint = gov
+        if limit != "sliding" and not rigid_done:
+            k_rigid = problem.rigid_limit(f0_free, f_h[free], k_max)
+        if limit != "sliding" and k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
+            log.warning(
+                "yield coefficient along %s: the static analyses fail from k = %.6g, below "
+                "the rigid blocks' limit k = %.6g (limit equilibrium: no equilibrium exists "
+                "beyond it): the pair solver may have failed short of the limit (a hinge "
+                "mechanism, an arch); the limit lies between %.6g and %.6g",
+                _direction(iota), hi, k_rigid, lo, k_rigid)  # fmt: skip
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
              _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
-    return _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+    out_ = _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
+    return dataclasses.replace(out_, k_rigid=k_rigid) if limit != "sliding" else out_
+
+
+def probe_towards(analyse: Callable[[float], T | None], fail: float,
+                  bound: float) -> tuple[float, T] | None:  # fmt: skip
+    """The first of the values at :data:`YIELD_RIGID_PROBES` of the way from a ``fail``
+    (a value the analyses did not hold) to the rigid blocks' ``bound`` at which
+    ``analyse`` holds, with its answer; None if none holds (a limit search's way past a
+    pair solver that failed short of the limit)."""
+    for frac in YIELD_RIGID_PROBES:
+        value = fail + frac * (bound - fail)
+        out = analyse(value)
+        if out is not None:
+            return value, out
+    return None
 
 
 def _fresh(k_came: FloatArray, lo: float, tol: float) -> BoolArray:
