@@ -359,3 +359,59 @@ def test_strength_reduction_of_an_arch_reaches_its_rigid_factor() -> None:
     # within the gap that is warned (1 %): where the solver fails, and how it is rescued,
     # turns on round-off (another numbering of the nodes did not fail at all)
     assert r.rigid_factor * (1 - YIELD_RIGID_GAP) <= r.factor <= r.rigid_factor * (1 + 2e-3)
+
+
+def test_a_thin_arch_is_said_to_be_a_mechanism_no_strength_holds(
+    caplog: pytest.LogCaptureFixture,
+) -> None:  # fmt: skip
+    """An arch thinner than Milankovitch's t/R = 0.1075 (0.09) under its own weight: no
+    static equilibrium, and none of rigid blocks with every strength multiplied by 64
+    (friction cannot hold a hinge mechanism). The message gave no rigid-block factor and
+    ended on advice about friction and cohesion; it now says what such a mechanism is.
+    And the one group of all the voussoirs' joints is warned: its joints lie in planes
+    up to 90° apart, so its sliding safety factor means little (the masonry tester's
+    arch read FS 43.9 on 0.001 kN of shear); one group of parallel joints is not."""
+    import logging
+
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        model = _arch(t_over_r=0.09)
+    assert "interface 'joints' joins 11 pairs of blocks in planes up to 90° apart" in (
+        caplog.text)  # fmt: skip
+    with pytest.raises(pf.MechanismError) as info:
+        pf.solve_static(model)
+    msg = str(info.value)
+    assert "do not balance even with every joint strength multiplied by 64" in msg
+    assert "a hinge mechanism (an arch or a wall too thin for its loads)" in msg
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="pfeie"):
+        _monoliths()  # a lift joint across two monoliths, a contraction joint cut by it
+    assert "planes up to" not in caplog.text
+
+
+def test_a_failed_pair_problem_says_where_its_pairs_are(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The pair solver's error named its pairs by their raw indices ("pairs changing
+    state: 8 (stick/open), 16 ..."), which a user cannot map to joints. A run that stops
+    on it (and a static analysis) now adds each named pair's joint, place and blocks."""
+    from pfeie.coupling import InterfaceStep
+    from pfeie.errors import InterfaceError
+    from pfeie.verification._models import block_on_base
+
+    model = block_on_base(joint=pf.Joint(phi=30.0))
+    real = InterfaceStep.solve
+    calls = [0]
+
+    def solve(self, *a, **k):  # type: ignore[no-untyped-def]
+        calls[0] += 1
+        if calls[0] > 6:
+            raise InterfaceError("step: the interface problem did not converge", (2, 0))
+        return real(self, *a, **k)
+
+    monkeypatch.setattr(InterfaceStep, "solve", solve)
+    gm = pf.GroundMotion.from_function(lambda t: 0.0 * t, 0.1, 1e-3)
+    res = pf.Dynamic(model, 1e-3).run(0.1, start=pf.solve_static(model), ground=[gm])
+    x = model.pairs.x  # type: ignore[union-attr]
+    assert res.stop_reason is not None and "Pairs: 2 on 'joint' at (" in res.stop_reason
+    assert f"({x[2, 0]:.4g}, {x[2, 1]:.4g}) m, between 'base' and 'block'; 0 on" in (
+        res.stop_reason)  # fmt: skip

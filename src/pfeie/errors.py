@@ -40,7 +40,13 @@ class SolverError(PfeieError):
 
 class InterfaceError(PfeieError):
     """The interface problem of a step did not converge (the message names the step,
-    the pairs that kept changing state and the residual)."""
+    the pairs that kept changing state and the residual). ``pairs``: the indices of the
+    pairs the message names (the model's numbering of its pairs), most telling first, for
+    a caller that knows the model to say where they are."""
+
+    def __init__(self, message: str, pairs: tuple[int, ...] = ()) -> None:
+        super().__init__(message)
+        self.pairs = pairs
 
 
 class RecordError(PfeieError):

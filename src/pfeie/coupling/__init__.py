@@ -25,6 +25,7 @@ from ._delassus import (
 )  # fmt: skip
 from ._operators import PairOperator, relative_operator
 from ._static import (
+    RIGID_FACTOR_RANGE,
     RIGID_FACTOR_TOL,
     RIGID_SHARE_MIN,
     RigidCheck,
@@ -34,9 +35,9 @@ from ._static import (
 from ._step import SUBSOLVER_BYTES, SUBSOLVERS, InterfaceStep, SolveStats, StepSolution
 
 __all__ = [
-    "RIGID_FACTOR_TOL", "RIGID_SHARE_MIN", "SUBSOLVERS", "SUBSOLVER_BYTES", "BlockDelassus",
-    "Delassus", "DenseDelassus", "GatheredDelassus", "InterfaceStep",
-    "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "RigidCheck", "SolveStats",
-    "StaticInterfaceProblem", "StepSolution", "delassus", "pins",
+    "RIGID_FACTOR_RANGE", "RIGID_FACTOR_TOL", "RIGID_SHARE_MIN", "SUBSOLVERS",
+    "SUBSOLVER_BYTES", "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus",
+    "InterfaceStep", "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "RigidCheck",
+    "SolveStats", "StaticInterfaceProblem", "StepSolution", "delassus", "pins",
     "relative_operator",
 ]  # fmt: skip

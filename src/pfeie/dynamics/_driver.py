@@ -1278,8 +1278,10 @@ class Dynamic:
                                     "the step of dt is kept", cur.step + 1,
                                     cur.kin.t + self.dt, exc)  # fmt: skip
             except InterfaceError as exc:
-                log.error("run stopped: %s", exc)
-                completed, reason = False, str(exc)
+                # the pairs it names, by joint and place
+                reason = f"{exc}{self.model.pair_text(exc.pairs)}"
+                log.error("run stopped: %s", reason)
+                completed = False
                 if cur.step % every:  # keep the last completed step, with its counters
                     j += 1
                     rec.record(j, cur, solver=since(i - 1))

@@ -70,8 +70,8 @@ class DynamicSettings(Settings):
     )] = None  # fmt: skip
     large_rotation: Annotated[bool, Field(
         description="carry finite rotations of the floating blocks in body frames "
-        "(rocking, toppling: with scheme = 'moreau-jean' for their impacts; see "
-        "docs/theory.md)",
+        "(rocking, toppling); with either scheme, scheme = 'moreau-jean' the robust one "
+        "where blocks land and impact repeatedly (see docs/theory.md)",
     )] = False  # fmt: skip
     event_substeps: Annotated[int, Field(
         ge=1, le=16,

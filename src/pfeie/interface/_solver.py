@@ -1199,7 +1199,7 @@ class InterfaceSolver:
                                      breaking, inactive)  # fmt: skip
             if out is not None:
                 return out
-        raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
+        raise self._diagnose(label, history, st2, prev, w_free)
 
     def _continuation(
         self, w_free: FloatArray, prev: PairState, e: FloatArray, label: str, work: int,
@@ -1268,15 +1268,14 @@ class InterfaceSolver:
             if res5 < res:
                 st2, res = st5, res5
         if self._sparse is not None:
-            raise InterfaceError(self._diagnose(label, history, st2, prev, w_free))
+            raise self._diagnose(label, history, st2, prev, w_free)
         st3 = self._gauss_seidel(st2, prev, w_free)
         res3 = float(self.residual(st3, prev, w_free).max(initial=0.0))
         if res3 <= self.tol:
             self.last = SolveInfo(n_total, res3, "projected Gauss-Seidel")
             log.debug("%s: solved by projected Gauss-Seidel, residual %.2e", label, res3)
             return st3, np.zeros(0)
-        raise InterfaceError(self._diagnose(label, history, st3 if res3 < res else st2, prev,
-                                            w_free))  # fmt: skip
+        raise self._diagnose(label, history, st3 if res3 < res else st2, prev, w_free)
 
     def _proximal(
         self, st: PairState, prev: PairState, w_free: FloatArray
@@ -1844,7 +1843,10 @@ class InterfaceSolver:
         st: PairState,
         prev: PairState,
         w_free: FloatArray,
-    ) -> str:
+    ) -> InterfaceError:
+        """The error of a problem the solver did not converge on: the residual, the pairs
+        that kept changing state and those of the largest residuals (``pairs``: both,
+        the cycling ones first)."""
         res = self.residual(st, prev, w_free)
         if len(history) > 1:
             H = np.array(history[-8:])
@@ -1859,12 +1861,14 @@ class InterfaceSolver:
                f" Its force scale, ρ max|w_free| = {scale:.1e} N, lies below"
                f" {SAFE_SCALE[0]:.0e} N, where the squares of the law leave double"
                " precision: check the units.")  # fmt: skip
-        return (
+        named = tuple(dict.fromkeys(int(k) for k in (*cyc[:10], *worst)))
+        return InterfaceError(
             f"{label}: the interface problem did not converge: residual "
             f"{float(res.max(initial=0.0)):.3e} > {self.tol:.1e}; pairs changing state: "
             f"{cyc_txt}; largest residuals at pairs {worst.tolist()}."
             + rng
-            + (f" {self.hint}" if self.hint else "")
+            + (f" {self.hint}" if self.hint else ""),
+            named,
         )
 
     def _natural_map(

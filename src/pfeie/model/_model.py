@@ -25,7 +25,7 @@ from scipy.sparse.csgraph import connected_components
 from .. import assembly as asm
 from ..element import quadrature, reference
 from ..errors import MeshError, ModelError
-from ..interface import MohrCoulomb, PairGeometry, PairLaws, SplitMesh, split
+from ..interface import MohrCoulomb, PairGeometry, PairLaws, SplitMesh, block_pieces, split
 from ..linalg import LowRankTerm, null_space
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
@@ -44,6 +44,10 @@ UPLIFT_FLAT_SHARE = 0.1
 #: a Westergaard face group more than this share of whose wet area is level is warned
 #: (:meth:`Model.add_westergaard`: a reservoir floor listed among the dam's wet faces)
 WESTERGAARD_LEVEL_SHARE = 0.25
+
+#: an interface group whose pieces between pairs of blocks lie in planes more than this
+#: apart (degrees) is warned: its sliding safety factor sums shears of several planes
+JOINT_PLANES_DEG = 30.0
 
 #: a surface or nodal load whose part on the free DOFs is at most this share of it (sums
 #: of absolute nodal values) acts on supports only and is warned (round-off of the cut)
@@ -420,6 +424,7 @@ class Model:
         self._warned: set[int] = set()  # the loads warned of (_warn_supported_loads)
         self._cellsets = self._collect_cells()
         self._warn_hanging_nodes()
+        self._warn_joint_planes()
 
     # -- topology -------------------------------------------------------------------------
     @property
@@ -466,6 +471,67 @@ class Model:
     def active_nodes(self) -> IntArray:
         """Nodes used by at least one block cell."""
         return np.unique(np.concatenate([s.conn.ravel() for s in self._cellsets]))
+
+    def pair_text(self, pairs: Sequence[int], limit: int = 5) -> str:
+        """Where the pairs ``pairs`` (indices of the model's pairs, as an
+        :class:`~pfeie.errors.InterfaceError` names them) lie, for a message: " Pairs:
+        8 on 'joints' at (1.25, 3.4) m, between 'v3' and 'v4'; …" (the first ``limit``);
+        empty without pairs.
+
+        >>> import pfeie as pf
+        >>> from pfeie.verification._models import block_on_base
+        >>> block_on_base(joint=pf.Joint(phi=30.0)).pair_text([1])
+        " Pairs: 1 on 'joint' at (0.5, 0) m, between 'base' and 'block'."
+        """
+        P = self.pairs
+        idx = [int(k) for k in pairs if P is not None and 0 <= int(k) < P.n][:limit]
+        if P is None or not idx:
+            return ""
+        names, body = self.body_names(), self.body_of_node
+        parts = []
+        for k in idx:
+            a, b = sorted((int(body[P.node_a[k]]), int(body[P.node_b[k]])))
+            at = ", ".join(f"{v:.4g}" for v in P.x[k])
+            parts.append(f"{k} on {P.names[int(P.interface[k])]!r} at ({at}) m, between "
+                         f"{names[a]!r} and {names[b]!r}")  # fmt: skip
+        return " Pairs: " + "; ".join(parts) + "."
+
+    def _warn_joint_planes(self) -> None:
+        """Warn of an interface group whose pieces (its pairs grouped by the blocks they
+        join, :func:`pfeie.interface.block_pieces`) lie in planes more than
+        :data:`JOINT_PLANES_DEG` apart (the joints of an arch's voussoirs, or of a wall's
+        courses and head joints, in one group): its sliding safety factor, Σ capacity /
+        ‖Σ T‖, adds shears that cancel between the planes (a masonry arch read FS 43.9
+        with 0.001 kN of shear). The slips, openings and states are per pair and keep
+        their meaning."""
+        P = self.pairs
+        if P is None:
+            return
+        body = self.body_of_node
+        n = self.n_bodies
+        for name in P.names:
+            idx = P.of(name)
+            pieces = block_pieces(body[P.node_a[idx]], body[P.node_b[idx]],
+                                  [str(i) for i in range(n)])  # fmt: skip
+            if len(pieces) < 2:
+                continue
+            normals = np.array([(P.frame[idx[k], -1] * P.area[idx[k], None]).sum(axis=0)
+                                for k in pieces.values()])  # fmt: skip
+            normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
+            cos = np.abs(normals @ normals.T)  # (a piece's sides may be either way round)
+            i, j = np.unravel_index(int(np.argmin(cos)), cos.shape)
+            angle = float(np.degrees(np.arccos(min(float(cos[i, j]), 1.0))))
+            if angle > JOINT_PLANES_DEG:
+                names = self.body_names()
+                label = [" | ".join(names[int(b)] for b in key.split(" | "))
+                         for key in pieces]  # fmt: skip
+                log.warning(
+                    "interface %r joins %d pairs of blocks in planes up to %.0f° apart (%s "
+                    "and %s): its sliding safety factor Σ capacity / ‖Σ T‖ adds shears that "
+                    "cancel between the planes and means little; give each plane its own "
+                    "interface group for a factor of each (its slips, openings and states "
+                    "are per pair, unaffected)", name, len(pieces), angle, label[i],
+                    label[j])  # fmt: skip
 
     def _warn_hanging_nodes(self) -> None:
         """A warning where the mesh is not conforming: nodes on a cell's edge (a face, in

@@ -15,7 +15,13 @@ from typing import Any
 import numpy as np
 from pydantic import ValidationError
 
-from ..coupling import RIGID_SHARE_MIN, RigidCheck, StaticInterfaceProblem, relative_operator
+from ..coupling import (
+    RIGID_FACTOR_RANGE,
+    RIGID_SHARE_MIN,
+    RigidCheck,
+    StaticInterfaceProblem,
+    relative_operator,
+)
 from ..errors import InterfaceError, MechanismError, ModelError, SolverError
 from ..interface import FS_ROUNDOFF, OPEN, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
@@ -178,13 +184,14 @@ def solve_pairs(
             why = _floating(model, damaged=damage is not None, share=share(f))
             raise MechanismError(f"{exc}. {why}") from None
         except InterfaceError as exc:
+            where = model.pair_text(exc.pairs)  # the pairs it names, by joint and place
             if not model.floating_bodies().size:
-                raise
+                raise InterfaceError(f"{exc}{where}", exc.pairs) from None
             # with floating blocks, a static problem without a solution ends here too (no
             # pattern balances them), as may one the solver fails on: say what to check,
             # with the rigid-block check's verdict where it has one
             why = _floating(model, found=False, damaged=damage is not None, share=share(f))
-            raise InterfaceError(f"{exc} {why}") from None
+            raise InterfaceError(f"{exc}{where} {why}", exc.pairs) from None
 
     # the crack of an uplift: its pairs open from the heel (and, after an earthquake, the
     # pairs it broke from the heel)
@@ -391,6 +398,14 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
                 f"of {share.factor:.4g} by strength reduction (limit equilibrium"
                 + ("; its 3D friction cone is an octagon, up to 8 % high" if model.dim == 3
                    else "") + ")."
+            )  # fmt: skip
+        else:  # not even with every strength multiplied by RIGID_FACTOR_RANGE
+            head += (
+                f" As rigid blocks they do not balance even with every joint strength "
+                f"multiplied by {RIGID_FACTOR_RANGE:g}: a mechanism that friction and "
+                "cohesion cannot hold, as a block overturning (its weight's line outside "
+                "its base, or pushed over by the lateral loads) or a hinge mechanism (an "
+                "arch or a wall too thin for its loads)."
             )  # fmt: skip
     elif any(np.isfinite(v) for v in shares.values()):
         head = (
