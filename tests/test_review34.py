@@ -415,3 +415,35 @@ def test_a_failed_pair_problem_says_where_its_pairs_are(
     assert res.stop_reason is not None and "Pairs: 2 on 'joint' at (" in res.stop_reason
     assert f"({x[2, 0]:.4g}, {x[2, 1]:.4g}) m, between 'base' and 'block'; 0 on" in (
         res.stop_reason)  # fmt: skip
+
+
+# -- [blocks] by pattern -----------------------------------------------------------------
+
+
+def test_blocks_by_pattern_in_a_model_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:  # fmt: skip
+    """An arch of 20 voussoirs needed 22 lines of [blocks] (a masonry tester): a key with
+    a shell pattern now stands for every cell group it matches; a group named outright
+    keeps its own material; a pattern that matches nothing, or two that give one group
+    different materials, are errors naming the key."""
+    from conftest import cli_fails
+    from pfeie.cli import main
+    from test_cli import SMALL, _write
+
+    blocks = 'rock = "concrete"\ndam = "concrete"\n'
+    assert blocks in SMALL
+    soft = '[materials.soft]\nE = 10e9\nnu = 0.2\nrho = 2000.0\n'
+    text = SMALL.replace(blocks, '"*" = "concrete"\ndam = "soft"\n').replace(
+        "[blocks]", soft + "[blocks]")  # fmt: skip
+    assert main(["check", "--json", str(_write(tmp_path, text))]) == 0
+    blocks_ = json.loads(capsys.readouterr().out)["blocks"]
+    assert set(blocks_) == {"dam", "rock"}
+    assert "E=10000000000.0" in blocks_["dam"] and "E=30000000000.0" in blocks_["rock"]
+    bad = _write(tmp_path, SMALL.replace(blocks, '"v*" = "concrete"\n'))
+    cli_fails(capsys, ["check", str(bad)], "blocks.v*: the pattern matches none of the mesh's",
+              "'dam'", "'rock'")  # fmt: skip
+    both = _write(tmp_path, SMALL.replace(blocks, '"*" = "concrete"\n"d*" = "soft"\n').replace(
+        "[blocks]", soft + "[blocks]"))  # fmt: skip
+    cli_fails(capsys, ["check", str(both)], "the group 'dam' matches the patterns '*'",
+              "'d*' ('soft')")  # fmt: skip

@@ -472,6 +472,45 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
+def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, str]:
+    """[blocks] with its patterns expanded: a key with ``*``, ``?`` or ``[...]`` (a shell
+    pattern, :func:`fnmatch.fnmatchcase`) stands for every cell group of the mesh it
+    matches, in the mesh's order (``"v*" = "stone"`` for the voussoirs v0 … v19 of an
+    arch). A group named outright keeps its own material; one that two patterns give
+    different materials, and a pattern that matches no group, are errors naming the key.
+
+    >>> from pfeie import rectangle
+    >>> mesh = rectangle(2.0, 1.0, 2, 1)
+    >>> for i in (0, 1):
+    ...     _ = mesh.add_cell_group(f"v{i}", lambda x, i=i: (x[:, 0] > i) & (x[:, 0] < i + 1))
+    >>> _block_patterns(Path("m.toml"), {"v*": "stone", "v1": "brick"}, mesh)
+    {'v1': 'brick', 'v0': 'stone'}
+    """
+    import fnmatch
+
+    groups = list(mesh.cell_groups)
+    out = {k: v for k, v in blocks.items() if not any(c in k for c in "*?[")}
+    given: dict[str, tuple[str, str]] = {}  # group → (pattern, material)
+    for key, mat in blocks.items():
+        if key in out:
+            continue
+        hits = [g for g in groups if fnmatch.fnmatchcase(g, key)]
+        if not hits:
+            raise InputError(f"{p}: blocks.{key}: the pattern matches none of the mesh's "
+                             f"{'surface' if mesh.dim == 2 else 'volume'} groups "
+                             f"{sorted(groups)}")  # fmt: skip
+        for g in hits:
+            if g in out and g not in given:
+                continue  # named outright
+            if g in given and given[g][1] != mat:
+                raise InputError(f"{p}: blocks: the group {g!r} matches the patterns "
+                                 f"{given[g][0]!r} ({given[g][1]!r}) and {key!r} ({mat!r}); "
+                                 "expected one material a block: name it outright")  # fmt: skip
+            given[g] = (key, mat)
+            out[g] = mat
+    return out
+
+
 def _covered(cfg: Any, mesh: Mesh) -> dict[str, np.ndarray]:
     """Per cell type, which cells a block holds (bool masks)."""
     covered = {t: np.zeros(len(c), dtype=bool) for t, c in mesh.cells.items()}
@@ -840,6 +879,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
     mats = {}
     for name, mt in cfg.materials.items():
         mats[name] = Elastic(mt.E, mt.nu, mt.rho, mt.tensile_strength)
+    cfg = cfg.model_copy(update={"blocks": _block_patterns(p, cfg.blocks, mesh)})
     blocks = []
     for group, mat in cfg.blocks.items():
         if mat not in mats:

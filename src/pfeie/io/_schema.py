@@ -828,7 +828,10 @@ class ModelFile(_Table):
     ]
     blocks: Annotated[
         dict[str, str],
-        Field(description="material of the block (the block is the physical group of this name)"),
+        Field(
+            description="material of the block (the block is the physical group of this "
+            "name; a key with *, ? or [...] stands for every group it matches)"
+        ),
     ]
     damping: Damping = Damping()
     interfaces: Annotated[
