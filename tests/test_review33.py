@@ -399,10 +399,10 @@ def test_uplift_on_a_vertical_joint_is_warned(caplog: pytest.LogCaptureFixture) 
                  interfaces=[pf.Interface("cj", pf.Joint(phi=30.0))])  # fmt: skip
     with caplog.at_level(logging.WARNING, logger="pfeie.model._model"):
         m.add_uplift("cj", headwater=5.0)
-    assert "uplift in 'cj': the joint spans 0 m along the upstream axis (-x) but 2 m" in (
-        caplog.text)
+    assert "uplift in 'cj': the joint is steep (its mean plane 90° from level)" in (
+        caplog.text)  # (since 0.3.23 by its normal: a review of the extent rule)
     caplog.clear()
     base = block_on_base(joint=pf.Joint(phi=30.0))
     with caplog.at_level(logging.WARNING, logger="pfeie.model._model"):
         base.add_uplift("joint", headwater=5.0)
-    assert "spans" not in caplog.text
+    assert "steep" not in caplog.text and "spans" not in caplog.text

@@ -61,12 +61,17 @@ class Settings(BaseModel):
     :class:`pfeie.DynamicSettings`): frozen, no unknown field, and strict, as where an
     analysis takes them (a string for a number is refused, not converted). A wrong field
     raises :class:`pfeie.errors.SettingsError`, a :class:`pfeie.ModelError` (and a
-    ``ValueError``) naming each field, what was expected and what was given.
+    ``ValueError``) naming each field, what was expected and what was given. NumPy
+    scalars are taken as the Python numbers they hold.
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     def __init__(self, /, **data: Any) -> None:
+        # NumPy scalars as the Python numbers they hold (a script that loops over an array
+        # of settings passes np.int64, np.bool_), strings still refused
+        data = {k: v.item() if isinstance(v, np.generic) and not isinstance(v, np.str_ | np.bytes_)
+                else v for k, v in data.items()}  # fmt: skip
         try:
             self.__pydantic_validator__.validate_python(data, self_instance=self, strict=True)
         except ValidationError as exc:

@@ -280,9 +280,10 @@ class Excitation:
     def follow(self, open_: BoolArray) -> None:
         """Set the uplift of the ``"full"`` and ``"zero"`` policies from the pairs open
         now: under ``"full"``, full headwater pressure ρ_w g (H_w − z) where a pair of the
-        joint has opened during the shaking in the crack from the heel (the pairs that the
-        static rule reaches from the heel through open pairs, :meth:`Uplift.crack`: water
-        from the reservoir reaches no other opening); under ``"zero"``, none where a pair
+        joint has opened during the shaking in the crack from the heel (the pairs reached
+        from the heel's stations through open neighbours, :meth:`Uplift.stations` and
+        :meth:`Stations.reached`: along the joint in 2D, across its face in 3D; water from
+        the reservoir reaches no other opening); under ``"zero"``, none where a pair
         has opened; the pre-earthquake pressure elsewhere (closed pairs, openings apart
         from the heel's crack under ``"full"``, and the crack open before the shaking)."""
         key = np.packbits(open_).tobytes()

@@ -33,7 +33,7 @@ Units: SI (Pa, m, N), angles in degrees.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
@@ -201,7 +201,8 @@ def _value_key(v: object) -> str:
     """A field's value for :func:`law_key`, the same in every process: an array by dtype,
     shape and bytes; a nested law by its key; a set by its sorted elements and a mapping
     by its sorted items (their repr follows the hash seed); a list or tuple element by
-    element; else its repr, or its class where the repr holds its address."""
+    element, a dataclass field by field; else its repr, or its class where the repr holds
+    its address."""
     if isinstance(v, np.ndarray):
         a = np.ascontiguousarray(v)
         return f"{a.dtype.str}{a.shape}:{a.tobytes().hex()}"
@@ -214,6 +215,10 @@ def _value_key(v: object) -> str:
         return "{" + ", ".join(items) + "}"
     if isinstance(v, list | tuple):
         return type(v).__name__ + "(" + ", ".join(_value_key(x) for x in v) + ")"
+    if is_dataclass(v) and not isinstance(v, type):
+        # field by field (a frozenset inside: its repr follows the hash seed)
+        parts = ", ".join(f"{f.name}={_value_key(getattr(v, f.name))}" for f in fields(v))
+        return f"{type(v).__qualname__}({parts})"
     r = repr(v)
     return type(v).__qualname__ if " at 0x" in r else r
 

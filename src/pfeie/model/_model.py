@@ -38,12 +38,20 @@ from ._uplift import Uplift, uplift_force
 log = logging.getLogger(__name__)
 
 #: an uplift's joint shorter along its upstream axis than this share of its extent is
-#: warned (:meth:`Model.add_uplift`: a vertical joint, or the wrong upstream axis)
-UPLIFT_FLAT_SHARE = 0.1
+#: warned (:meth:`Model.add_uplift`: the wrong upstream axis, every pair at the heel)
+UPLIFT_FLAT_SHARE = 1e-3
+
+#: an uplift's joint whose mean plane lies more than this from level (degrees) is warned
+#: (:meth:`Model.add_uplift`: a contraction joint or a steep fault)
+UPLIFT_STEEP_DEG = 60.0
 
 #: a Westergaard face group more than this share of whose wet area is level is warned
 #: (:meth:`Model.add_westergaard`: a reservoir floor listed among the dam's wet faces)
 WESTERGAARD_LEVEL_SHARE = 0.25
+
+#: a facet whose normal lies within this of the vertical (degrees) counts as level there
+#: (a battered upstream face, 40° from level, is a wet face: Kuo's normal form takes it)
+WESTERGAARD_LEVEL_DEG = 20.0
 
 #: an interface group whose pieces between pairs of blocks lie in planes more than this
 #: apart (degrees) is warned: its sliding safety factor sums shears of several planes
@@ -1003,7 +1011,7 @@ class Model:
             if share > WESTERGAARD_LEVEL_SHARE:
                 log.warning(
                     "westergaard on %r: %.0f %% of its wet area is level (its normal within "
-                    "45° of the vertical, as a reservoir floor or a gallery's floor): "
+                    "20° of the vertical, as a reservoir floor or a gallery's floor): "
                     "Westergaard's added mass (1933) is that of the dam's upstream face, "
                     "and on a level face it adds vertical added mass the water does not "
                     "give; list the dam's wet face(s) only", g, 100.0 * share)  # fmt: skip
@@ -1011,7 +1019,8 @@ class Model:
 
     def _level_share(self, group: str, level: float) -> float:
         """The share of the wet area (below ``level``) of the facet group ``group`` whose
-        normal lies within 45° of the vertical (by each facet's corners)."""
+        normal lies within :data:`WESTERGAARD_LEVEL_DEG` of the vertical (by each facet's
+        corners)."""
         d, pts = self.dim, self.mesh.points
         area = level_area = 0.0
         for ftype, conn in self.mesh.facet_group(group).items():
@@ -1024,7 +1033,7 @@ class Model:
                 n = np.cross(x[:, 2 % k] - x[:, 0], x[:, 3 % k] - x[:, 1 % k])
             a = np.linalg.norm(n, axis=1)
             wet = x[..., d - 1].min(axis=1) < level
-            up = np.abs(n[:, d - 1]) > np.sqrt(0.5) * a
+            up = np.abs(n[:, d - 1]) > np.cos(np.radians(WESTERGAARD_LEVEL_DEG)) * a
             area += float(a[wet].sum())
             level_area += float(a[wet & up].sum())
         return level_area / area if area > 0 else 0.0
@@ -1127,15 +1136,29 @@ class Model:
                              f"whose pairs reach {length:g} m from the heel along the flow "
                              f"({up.upstream} upstream); expected 0 < drains < that length "
                              "(drains at the heel or the toe would change nothing)")  # fmt: skip
-        x = self.pairs.x[self.pairs.of(interface)]
+        idx = self.pairs.of(interface)
+        x = self.pairs.x[idx]
         extent = float(np.ptp(x, axis=0).max()) if x.shape[0] else 0.0
-        if extent > 0 and length < UPLIFT_FLAT_SHARE * extent:
+        normal = (self.pairs.frame[idx, -1] * self.pairs.area[idx, None]).sum(axis=0)
+        tilt = float(
+            np.degrees(
+                np.arccos(
+                    min(abs(float(normal[-1])) / max(float(np.linalg.norm(normal)), 1e-300), 1.0)
+                )
+            )
+        )  # from level, by the mean normal
+        if x.shape[0] and tilt > UPLIFT_STEEP_DEG:
+            log.warning(
+                "uplift in %r: the joint is steep (its mean plane %.0f° from level): uplift "
+                "acts on base and lift joints in the guidelines, not on a contraction joint "
+                "or a steep fault; its profile runs from the heel along the upstream axis "
+                "(%s), %.4g m here", interface, tilt, up.upstream, length)  # fmt: skip
+        elif extent > 0 and length < UPLIFT_FLAT_SHARE * extent:
             # every pair at the heel: full headwater over the whole joint
             log.warning(
                 "uplift in %r: the joint spans %.4g m along the upstream axis (%s) but %.4g m "
                 "in all, so the heel-to-toe profile does not develop: every pair is at the "
-                "heel, at full headwater pressure. A steep joint (a contraction joint) takes "
-                "no uplift in the guidelines; or is the upstream axis another one?",
+                "heel, at full headwater pressure: is the upstream axis another one?",
                 interface, length, up.upstream, extent)  # fmt: skip
         self.uplifts.append(up)
         return up
