@@ -562,3 +562,88 @@ def test_westergaard_on_a_battered_face_is_not_warned(caplog: pytest.LogCaptureF
     with caplog.at_level(logging.WARNING, logger="pfeie.model._model"):
         m.add_westergaard("xmin", water_level=10.0)
     assert "level" not in caplog.text
+
+
+# -- uplift 'full' in 3D: the crack's graph from the joint's facets ------------------------
+
+
+def _wet(m: pf.Model, opened) -> int:  # type: ignore[no-untyped-def]
+    """How many of the joint's pairs the crack from the heel reaches when the pairs
+    ``opened(x, y)`` are open (Uplift.stations with the joint's facets, as a run takes)."""
+    P = m.pairs
+    assert P is not None
+    idx = P.of("joint")
+    up = m.uplifts[0]
+    st = up.stations(P, idx, m.joint_facets("joint"))
+    x, y = P.x[idx, 0], P.x[idx, 1]
+    return int(st.reached(opened(x, y)).sum())
+
+
+def test_full_uplift_does_not_cross_where_a_3d_joint_is_not() -> None:
+    """An L-shaped block (a 2 m cube without the quadrant x > 1, y > 1) on its L-shaped
+    joint: the arm along y open from the heel, the far arm (x ≥ 1.5, y ≥ 0.75) open too,
+    the pairs between them closed. The Delaunay graph of the last session joined the arms
+    across the missing quadrant (7 edges) and wet the far arm (6 pairs); the joint's own
+    facets do not: 0 (a reviewer; 0.3.21 gave 0)."""
+    mesh = pf.box(2.0, 2.0, 1.25, 8, 8, 5, cell="hexahedron")
+    mesh.points[:, 2] -= 0.25
+    keep = ~((mesh.points[mesh.cells["hexahedron"]].mean(axis=1)[:, 0] > 1)
+             & (mesh.points[mesh.cells["hexahedron"]].mean(axis=1)[:, 1] > 1))  # fmt: skip
+    cells = mesh.cells["hexahedron"][keep]
+    used = np.unique(cells)
+    new = np.full(mesh.n_points, -1)
+    new[used] = np.arange(used.size)
+    mesh = pf.Mesh(mesh.points[used], {"hexahedron": new[cells]})
+    mesh.add_cell_group("base", lambda x: x[:, 2] < 0)
+    mesh.add_cell_group("block", lambda x: x[:, 2] > 0)
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2]) < 1e-9, boundary_only=False)
+    mat = pf.Elastic(30e9, 0.2, 2400.0)
+    m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
+                 interfaces=[pf.Interface("joint", pf.Joint(phi=40.0))])  # fmt: skip
+    m.fix("base")
+    m.add_uplift("joint", headwater=3.0, shaking="full")
+    arm = lambda x, y: (x <= 1.0) & (y >= 1.25)  # noqa: E731
+    far = lambda x, y: (x >= 1.5) & (y >= 0.75)  # noqa: E731
+    assert _wet(m, lambda x, y: far(x, y)) == 0
+    n_arm = _wet(m, lambda x, y: arm(x, y))
+    assert n_arm > 0  # the arm from the heel is reached
+    assert _wet(m, lambda x, y: arm(x, y) | far(x, y)) == n_arm
+
+
+@pytest.mark.parametrize("skew", [0.0, 0.1, 0.3])
+def test_full_uplift_from_a_skewed_upstream_edge(skew: float) -> None:
+    """The 2 m cube on its 4 × 4 joint, sheared in plan (x += skew·y): its upstream edge is
+    a line at 5.7° (skew 0.1) or 16.7° (0.3) to the y axis. The heel was the stations with
+    no neighbour nearer the heel: one station (the corner) on the skewed edge, so a heel
+    band open but for its corner pair wet 0 of 9 pairs (a reviewer). The heel is now the
+    joint's boundary edges facing upstream: 9 of 9 at every skew; and a crack reached
+    from two places along the heel counts alike (the Delaunay diagonals differed: 2 and 1)."""
+    from pfeie.verification._models import block_on_base_3d
+
+    m = block_on_base_3d(joint=pf.Joint(phi=40.0), size=2.0, n=4)
+    P = m.pairs
+    assert P is not None
+    xi = P.x[:, 0].copy()  # before the shear
+    mesh = m.input_mesh
+    mesh.points[:, 0] += skew * mesh.points[:, 1]
+    m = pf.Model(mesh, m.blocks, interfaces=m.interfaces)
+    m.add_uplift("joint", headwater=3.0, shaking="full")
+    P = m.pairs
+    assert P is not None
+    x0 = P.x[:, 0] - skew * P.x[:, 1]  # the abscissa before the shear
+    np.testing.assert_allclose(np.sort(x0), np.sort(xi), atol=1e-12)
+
+    def band(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        u = x - skew * y
+        return (u <= 0.5 + 1e-9) & ~((u < 0.1) & (np.abs(y) < 0.1))
+
+    assert _wet(m, band) == 9
+    for y0 in (0.5, 1.0):
+        def diagonal(x: np.ndarray, y: np.ndarray, y0: float = y0) -> np.ndarray:
+            u = x - skew * y
+            return ((np.abs(u) < 1e-9) & (np.abs(y - y0) < 1e-9)) | (
+                (np.abs(u - 0.5) < 1e-9) & (np.abs(y - y0 - 0.5) < 1e-9))
+
+        # a heel pair and the pair diagonally behind it: not neighbours along the facets'
+        # edges, so the crack holds the heel pair alone, wherever it is along the heel
+        assert _wet(m, diagonal) == 1

@@ -302,7 +302,9 @@ class Excitation:
                 p[idx[new]] = 0.0
                 continue
             if up.interface not in self._stations:
-                self._stations[up.interface] = up.stations(P, idx)
+                self._stations[up.interface] = up.stations(
+                    P, idx, self.model.joint_facets(up.interface)
+                )
             o = idx[new & self._stations[up.interface].reached(open_[idx])]
             p[o] = up.density * up.g * np.maximum(up.headwater - P.x[o, -1], 0.0)
         self._f_up = self.model.uplift_load(p)[self.system.free]

@@ -913,6 +913,15 @@ class Model:
                     for t in {*a, *b}}  # fmt: skip
         return self.mesh.facet_group(group)
 
+    def joint_facets(self, name: str) -> list[tuple[IntArray, int]]:
+        """The facets of an interface's side a in the split mesh, by type, each with its
+        corner count (:meth:`pfeie.model.Uplift.stations` joins the stations along them);
+        empty for a name that is not an interface's."""
+        if self.pairs is None or name not in self.pairs.names:
+            return []
+        group = f"{name}:a" if f"{name}:a" in self.mesh.facet_groups else name
+        return [(conn, reference(t).n_corners) for t, conn in self.facets_of(group).items()]
+
     def _boundary_group(self, group: str, what: str) -> None:
         """Refuse a surface load on facets that are not on the boundary of a block (after
         the interfaces are split, a joint's faces are on the boundary of its blocks), and

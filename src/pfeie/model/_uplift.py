@@ -35,6 +35,7 @@ follow the open or closed state of each pair, lagged by one step.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +49,11 @@ SHAKING = ("keep", "full", "zero")
 #: the model file's keys of ``[[loads.uplift]]`` that the Python API names otherwise
 MODEL_FILE_KEYS = {"drain_efficiency": "efficiency"}
 _AXES = {"-x": (0, 1.0), "+x": (0, -1.0), "-y": (1, 1.0), "+y": (1, -1.0)}
+
+
+#: a boundary edge of a 3D joint whose outward normal lies within this angle (degrees) of
+#: the upstream direction in the joint's plane is at the heel (:meth:`Uplift.stations`)
+HEEL_FACING_DEG = 60.0
 
 
 @dataclass(frozen=True)
@@ -175,13 +181,21 @@ class Uplift:
         k = int(np.argmin(st_open)) if not st_open.all() else stations.size
         return float(stations[k - 1]) if k > 0 else 0.0
 
-    def stations(self, pairs: PairGeometry, idx: np.ndarray) -> Stations:
+    def stations(
+        self, pairs: PairGeometry, idx: np.ndarray,
+        facets: Sequence[tuple[IntArray, int]] = (),
+    ) -> Stations:  # fmt: skip
         """The joint's pairs ``idx`` as stations (pairs at one point, the two sides of a
-        junction, are one) and their neighbours, for :meth:`Stations.reached`: in 2D
-        consecutive along the abscissa, the heel the first; in 3D the edges of the
-        Delaunay triangulation of the stations in the joint's mean plane, the heel the
-        stations with no neighbour nearer the heel (the joint's upstream edge). Built
-        once a run."""
+        junction, are one) and their neighbours, for :meth:`Stations.reached`. In 2D
+        consecutive along the abscissa, the heel the first. In 3D, given the joint's
+        ``facets`` (each a connectivity (n_f, nodes) of the split mesh and its corner
+        count), the stations joined along the facets' edges (corner, mid-side node,
+        corner), so that water crosses only where the joint is (an L-shaped joint, a
+        joint around a gallery); the heel the stations on the joint's boundary edges that
+        face upstream (outward normal within 60° of the upstream direction in the joint's
+        plane: a skewed or curved upstream edge too). Without facets, the Delaunay
+        triangulation of the stations in the joint's mean plane, the heel the stations
+        with no neighbour nearer the heel. Built once a run."""
         s, L = self.abscissa(pairs, idx)
         tol = 1e-9 * max(L, 1e-300)
         if pairs.dim == 2:
@@ -200,6 +214,8 @@ class Uplift:
         if k > 1 and pairs.dim == 2:
             order = np.argsort(s_st, kind="stable")
             edges = np.column_stack([order[:-1], order[1:]])
+        elif k > 2 and facets:
+            return self._facet_stations(pairs, idx, facets, inv, uniq * tol, s_st)
         elif k > 2:
             from scipy.spatial import Delaunay, QhullError
 
@@ -217,6 +233,67 @@ class Uplift:
             nearer[a[s_st[b] < s_st[a] - tol]] = True
             nearer[b[s_st[a] < s_st[b] - tol]] = True
         return Stations(inv, edges, ~nearer)
+
+    @staticmethod
+    def _facet_stations(
+        pairs: PairGeometry, idx: np.ndarray, facets: Sequence[tuple[IntArray, int]],
+        inv: IntArray, uv: FloatArray, s_st: FloatArray,
+    ) -> Stations:  # fmt: skip
+        """:meth:`stations` in 3D from the joint's facets: ``inv`` the station of each
+        pair, ``uv`` (n_st, 2) the stations in the joint's plane, ``s_st`` their
+        abscissae."""
+        k = uv.shape[0]
+        station = np.full(int(max(pairs.node_a.max(), pairs.node_b.max())) + 1, -1)
+        station[pairs.node_a[idx]] = inv
+        side_a = np.zeros(station.size, dtype=bool)
+        side_a[pairs.node_a[idx]] = True
+        station[pairs.node_b[idx]] = inv
+        pieces, bound = [], []
+        for conn, nc in facets:
+            conn = conn[np.all(side_a[conn], axis=1)]  # one side's facets: each edge once
+            if not conn.size:
+                continue
+            st = station[conn]  # (f, nodes)
+            centre = uv[st[:, :nc]].mean(axis=1)
+            for c in range(nc):
+                a, b = st[:, c], st[:, (c + 1) % nc]
+                if conn.shape[1] > nc:  # a mid-side node between them (quadratic facets)
+                    mid = st[:, nc + c]
+                    pieces += [np.column_stack([a, mid]), np.column_stack([mid, b])]
+                else:
+                    pieces.append(np.column_stack([a, b]))
+                # the edge's outward normal in the plane, away from its facet's centre
+                e = uv[b] - uv[a]
+                nu = np.column_stack([e[:, 1], -e[:, 0]])
+                out = np.einsum("fi,fi->f", nu, 0.5 * (uv[a] + uv[b]) - centre) < 0
+                nu[out] *= -1.0
+                bound.append((np.sort(np.column_stack([a, b]), axis=1), nu,
+                              mid if conn.shape[1] > nc else a))  # fmt: skip
+            if conn.shape[1] == 2 * nc + 1:  # a centre node (Q9): joined to the mid-sides
+                pieces += [np.column_stack([st[:, nc + c], st[:, -1]]) for c in range(nc)]
+        e_all = np.concatenate(pieces) if pieces else np.zeros((0, 2), dtype=np.int64)
+        e_all = e_all[(e_all >= 0).all(axis=1) & (e_all[:, 0] != e_all[:, 1])]
+        edges = np.unique(np.sort(e_all, axis=1), axis=0)
+        # the joint's boundary: corner edges of one facet only; the heel those that face
+        # upstream, against the flow's direction in the plane (the gradient of s)
+        heel = np.zeros(k, dtype=bool)
+        if bound:
+            ab = np.concatenate([b[0] for b in bound])
+            nu = np.concatenate([b[1] for b in bound])
+            mids = np.concatenate([b[2] for b in bound])
+            _, first, count = np.unique(ab, axis=0, return_index=True, return_counts=True)
+            edge = np.zeros(ab.shape[0], dtype=bool)
+            edge[first[count == 1]] = True
+            A = np.column_stack([uv, np.ones(k)])
+            grad = np.linalg.lstsq(A, np.where(np.isfinite(s_st), s_st, 0.0), rcond=None)[0][:2]
+            flow = grad / max(float(np.linalg.norm(grad)), 1e-300)
+            nn = nu / np.maximum(np.linalg.norm(nu, axis=1), 1e-300)[:, None]
+            up = edge & (nn @ flow < -np.cos(np.radians(HEEL_FACING_DEG)))
+            heel[ab[up].ravel()] = True
+            heel[mids[up]] = True
+        if not heel.any():  # (a degenerate joint) the stations nearest the heel
+            heel = s_st <= s_st.min() + 1e-9 * max(float(np.ptp(s_st)), 1e-300)
+        return Stations(inv, edges, heel)
 
     def level(self, s: FloatArray, L: float, crack: float, z_toe: float) -> FloatArray:
         """The piezometric level h(s) (m) for a crack of length ``crack`` (module doc)."""
