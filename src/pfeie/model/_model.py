@@ -1149,13 +1149,9 @@ class Model:
         x = self.pairs.x[idx]
         extent = float(np.ptp(x, axis=0).max()) if x.shape[0] else 0.0
         normal = (self.pairs.frame[idx, -1] * self.pairs.area[idx, None]).sum(axis=0)
-        tilt = float(
-            np.degrees(
-                np.arccos(
-                    min(abs(float(normal[-1])) / max(float(np.linalg.norm(normal)), 1e-300), 1.0)
-                )
-            )
-        )  # from level, by the mean normal
+        # the joint's tilt from level, by its mean normal
+        cos_tilt = abs(float(normal[-1])) / max(float(np.linalg.norm(normal)), 1e-300)
+        tilt = float(np.degrees(np.arccos(min(cos_tilt, 1.0))))
         if x.shape[0] and tilt > UPLIFT_STEEP_DEG:
             log.warning(
                 "uplift in %r: the joint is steep (its mean plane %.0f° from level): uplift "

@@ -76,7 +76,9 @@ class StrengthReduction:
 
     - ``factor``: the largest factor F held (strengths divided by it), None if the
       structure holds up to ``f_max``;
-    - ``factor_fail``: the least factor found beyond the limit (None with ``factor`` None);
+    - ``factor_fail``: the least factor found beyond the limit (None with ``factor`` None;
+      where the search went on past a failure of the pair solver, it may be the rigid
+      blocks' bound, beyond which no equilibrium exists);
     - ``joint``: the joint that governs, the least safety factor at ``factor`` under the
       reduced strengths;
     - ``safety_factors``: each joint's sliding safety factor at ``factor`` under the

@@ -116,7 +116,9 @@ class YieldCoefficient:
     - ``direction``: the unit vector ι of the pseudo-static acceleration;
     - ``k_y``: the largest coefficient held (a fraction of g), None if the structure is
       held up to ``k_max``;
-    - ``k_fail``: the least coefficient found beyond the limit (None with ``k_y`` None);
+    - ``k_fail``: the least coefficient found beyond the limit (None with ``k_y`` None;
+      where the search went on past a failure of the pair solver, it may be the rigid
+      blocks' bound, beyond which no equilibrium exists);
     - ``k_affine``: where the joints' margins, extrapolated affinely from the last two
       coefficients held, vanish (the limit of a rigid block; an estimate where the
       analyses fail short of the limit, see ``limit``); None without two;
