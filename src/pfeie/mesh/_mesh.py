@@ -366,19 +366,36 @@ class Mesh:
         return grp
 
     def add_facet_group(
-        self, name: str, where: Callable[[FloatArray], Any], boundary_only: bool = True
-    ) -> dict[str, IntArray]:
+        self, name: str, where: Callable[[FloatArray], Any], boundary_only: bool = True,
+        interior_only: bool = False,
+    ) -> dict[str, IntArray]:  # fmt: skip
         """Add a facet group of the (boundary) facets whose centroid satisfies ``where(x)``.
         With ``boundary_only=False`` an interior facet is taken once per cell it bounds
-        (both sides of a joint; :meth:`facets`), so a joint of k faces holds 2k."""
+        (both sides of a joint; :meth:`facets`), so a joint of k faces holds 2k; with
+        ``interior_only=True`` the interior facets alone (a joint chosen by a test that
+        the mesh's boundary also meets, such as the radial lines of an arch's voussoirs,
+        whose ends lie on the intrados and extrados).
+
+        >>> import pfeie as pf
+        >>> mesh = pf.rectangle(2.0, 1.0, 2, 1)
+        >>> vertical = lambda x: abs(x[:, 0] - x[:, 0].round()) < 1e-9   # x = 0, 1, 2
+        >>> {t: c.shape[0] for t, c in mesh.add_facet_group("j", vertical, False).items()}
+        {'line': 4}
+        >>> {t: c.shape[0] for t, c in mesh.add_facet_group("j", vertical,
+        ...                                                 interior_only=True).items()}
+        {'line': 2}
+        """
         grp: dict[str, IntArray] = {}
-        for ftype, conn in self.facets(boundary_only=boundary_only).items():
+        table = self.facets(boundary_only=boundary_only and not interior_only,
+                            interior_only=interior_only)  # fmt: skip
+        for ftype, conn in table.items():
             mask = _mask(where, self.points[conn].mean(axis=1), f"facet group {name!r}")
             if mask.any():
                 grp[ftype] = conn[mask]
         if not grp:
             log.warning("facet group %r: where(x) selected no %sfacet", name,
-                        "boundary " if boundary_only else "")  # fmt: skip
+                        "interior " if interior_only else "boundary " if boundary_only
+                        else "")  # fmt: skip
         old_f = self.facet_groups.get(name)
         if old_f is not None and (old_f.keys() != grp.keys() or any(
                 not np.array_equal(old_f[t], grp[t]) for t in grp)):  # fmt: skip
@@ -387,11 +404,15 @@ class Mesh:
         self.facet_groups[name] = grp
         return grp
 
-    def facets(self, boundary_only: bool = True) -> dict[str, IntArray]:
-        """All facets (or those on the boundary: owned by exactly one cell), by type."""
+    def facets(
+        self, boundary_only: bool = True, interior_only: bool = False
+    ) -> dict[str, IntArray]:
+        """All facets (or those on the boundary: owned by exactly one cell; or, with
+        ``interior_only``, those inside: owned by two or more, once per owner), by type."""
         out: dict[str, list[IntArray]] = {}
         for ftype, conn, _, _, _, count in self._facet_table():
-            keep = conn if not boundary_only else conn[count == 1]
+            keep = (conn[count > 1] if interior_only else conn if not boundary_only
+                    else conn[count == 1])  # fmt: skip
             out.setdefault(ftype, []).append(keep)
         return {k: np.concatenate(v) for k, v in out.items()}
 
