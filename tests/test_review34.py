@@ -579,29 +579,38 @@ def _wet(m: pf.Model, opened) -> int:  # type: ignore[no-untyped-def]
     return int(st.reached(opened(x, y)).sum())
 
 
-def test_full_uplift_does_not_cross_where_a_3d_joint_is_not() -> None:
-    """An L-shaped block (a 2 m cube without the quadrant x > 1, y > 1) on its L-shaped
-    joint: the arm along y open from the heel, the far arm (x ≥ 1.5, y ≥ 0.75) open too,
-    the pairs between them closed. The Delaunay graph of the last session joined the arms
-    across the missing quadrant (7 edges) and wet the far arm (6 pairs); the joint's own
-    facets do not: 0 (a reviewer; 0.3.21 gave 0)."""
-    mesh = pf.box(2.0, 2.0, 1.25, 8, 8, 5, cell="hexahedron")
-    mesh.points[:, 2] -= 0.25
-    keep = ~((mesh.points[mesh.cells["hexahedron"]].mean(axis=1)[:, 0] > 1)
-             & (mesh.points[mesh.cells["hexahedron"]].mean(axis=1)[:, 1] > 1))  # fmt: skip
-    cells = mesh.cells["hexahedron"][keep]
+def _block_on_a_cut_box(size: tuple[float, float, float], n: tuple[int, int, int],
+                        below: float, cut) -> pf.Model:  # type: ignore[no-untyped-def]
+    """A box of hexahedra with the cells whose centres satisfy ``cut(c)`` removed, cut at
+    z = 0 into a base (below, ``below`` m deep) and a block on a level joint "joint"
+    (its interior facets), φ = 40°, with uplift 'full' (headwater 3 m, heel x = 0)."""
+    mesh = pf.box(*size, *n, cell="hexahedron")
+    mesh.points[:, 2] -= below
+    cells = mesh.cells["hexahedron"]
+    cells = cells[~cut(mesh.points[cells].mean(axis=1))]
     used = np.unique(cells)
     new = np.full(mesh.n_points, -1)
     new[used] = np.arange(used.size)
     mesh = pf.Mesh(mesh.points[used], {"hexahedron": new[cells]})
     mesh.add_cell_group("base", lambda x: x[:, 2] < 0)
     mesh.add_cell_group("block", lambda x: x[:, 2] > 0)
-    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2]) < 1e-9, boundary_only=False)
+    mesh.add_facet_group("joint", lambda x: np.abs(x[:, 2]) < 1e-9, interior_only=True)
     mat = pf.Elastic(30e9, 0.2, 2400.0)
     m = pf.Model(mesh, [pf.Block("base", mat), pf.Block("block", mat)],
                  interfaces=[pf.Interface("joint", pf.Joint(phi=40.0))])  # fmt: skip
     m.fix("base")
     m.add_uplift("joint", headwater=3.0, shaking="full")
+    return m
+
+
+def test_full_uplift_does_not_cross_where_a_3d_joint_is_not() -> None:
+    """An L-shaped block (a 2 m cube without the quadrant x > 1, y > 1) on its L-shaped
+    joint: the arm along y open from the heel, the far arm (x ≥ 1.5, y ≥ 0.75) open too,
+    the pairs between them closed. The Delaunay graph of the last session joined the arms
+    across the missing quadrant (7 edges) and wet the far arm (6 pairs); the joint's own
+    facets do not: 0 (a reviewer; 0.3.21 gave 0)."""
+    m = _block_on_a_cut_box((2.0, 2.0, 1.25), (8, 8, 5), 0.25,
+                            lambda c: (c[:, 0] > 1) & (c[:, 1] > 1))  # fmt: skip
     arm = lambda x, y: (x <= 1.0) & (y >= 1.25)  # noqa: E731
     far = lambda x, y: (x >= 1.5) & (y >= 0.75)  # noqa: E731
     assert _wet(m, lambda x, y: far(x, y)) == 0
@@ -647,3 +656,86 @@ def test_full_uplift_from_a_skewed_upstream_edge(skew: float) -> None:
         # a heel pair and the pair diagonally behind it: not neighbours along the facets'
         # edges, so the crack holds the heel pair alone, wherever it is along the heel
         assert _wet(m, diagonal) == 1
+
+
+# -- the second review of this session ---------------------------------------------------------
+
+
+def test_the_rim_of_a_gallery_is_no_heel() -> None:
+    """A lift joint around a gallery (a hole through the joint): its downstream rim faces
+    upstream, and was taken as heel, so a crack from it got the headwater though the
+    reservoir does not reach it (a reviewer). The rim of a hole is not heel: the rim's
+    pairs open alone are not reached; a crack from the outer heel is."""
+    m = _block_on_a_cut_box(
+        (4.0, 2.0, 2.5), (8, 4, 5), 0.5,
+        lambda c: (np.abs(c[:, 0] - 2.0) < 0.5) & (np.abs(c[:, 1] - 1.0) < 0.5) & (c[:, 2] > 0)
+        & (c[:, 2] < 0.5))  # fmt: skip
+    rim = lambda x, y: (np.abs(x - 2.5) < 1e-9) & (y > 0.4) & (y < 1.6)  # noqa: E731
+    assert _wet(m, rim) == 0
+    assert _wet(m, lambda x, y: x < 1e-9) > 0  # the outer heel still is
+
+
+def test_a_failed_sub_problem_names_the_models_pairs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A pair problem of the active pairs alone (most pairs held open) numbered its pairs
+    among the active ones, and the run's message located the wrong pairs (a reviewer):
+    its InterfaceError now carries the model's numbering."""
+    from pfeie.errors import InterfaceError
+    from pfeie.interface import InterfaceSolver
+    from pfeie.verification._models import block_on_base
+
+    m = block_on_base(joint=pf.Joint(phi=30.0), width=4.0, n=8)
+    an = pf.Dynamic(m, 0.01, scheme="moreau-jean")
+    an.excitation((), "relative", pf.solve_static(m))
+    P = m.pairs
+    assert P is not None and an.istep is not None
+    inactive = P.x[:, 0] < 3.0
+    real = InterfaceSolver.solve
+
+    def solve(self, w_free, prev, *a, **k):  # type: ignore[no-untyped-def]
+        if self.m < P.n:  # the sub-problem: fails on its first two pairs
+            raise InterfaceError("sub-problem failed", (0, 1))
+        return real(self, w_free, prev, *a, **k)
+
+    monkeypatch.setattr(InterfaceSolver, "solve", solve)
+    state = pf.solve_static(m).pairs
+    with pytest.raises(InterfaceError) as info:
+        an.istep.solve(None, np.zeros((P.n, 2)), state, "step", inactive=inactive)
+    on = np.flatnonzero(~inactive)
+    assert info.value.pairs == (int(on[0]), int(on[1]))
+
+
+def test_limit_searches_stay_within_their_ranges(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A block whose rigid limit lies beyond the search's range (k_max, f_max), its
+    analyses made to fail part of the way: the yield search took k_max as a failure it
+    never analysed ("no equilibrium found" at 0.999999 with k_max = 1, though the block
+    holds there), and strength reduction probed and returned F = 4.76 beyond f_max = 3
+    (a reviewer). Now: held up to k_max, and no factor beyond f_max."""
+    from pfeie.verification._models import block_on_base
+
+    m = block_on_base(joint=pf.Joint(phi=60.0))  # k_y = tan 60° = 1.73
+    _failing(monkeypatch, "pfeie.solvers._yield", lambda k: 0.04 < k < 0.6)
+    y = pf.yield_coefficient(m, k_max=1.0)
+    assert y.k_y is None and y.limit == "none" and y.k_rigid is None
+    m = block_on_base(joint=pf.Joint(phi=60.0), incline_deg=20.0)  # F = 4.76
+    tried: list[float] = []
+
+    def fails(f: float) -> bool:
+        tried.append(f)
+        return 1.0001 < f < 3.5
+
+    _failing(monkeypatch, "pfeie.solvers._strength", fails)
+    r = pf.strength_reduction(m, f_max=3.0)
+    assert max(tried) <= 3.0
+    assert r.factor is None or r.factor <= 3.0
+
+
+def test_a_block_group_named_with_pattern_characters_is_itself() -> None:
+    """A cell group named "dam[1]" listed in [blocks] was taken for a pattern that
+    matched nothing (a reviewer): a key that is a group's name is that group."""
+    from pfeie.io._modelfile import _block_patterns
+
+    mesh = pf.rectangle(2.0, 1.0, 2, 1)
+    mesh.add_cell_group("dam[1]", lambda x: x[:, 0] < 1)
+    mesh.add_cell_group("rock", lambda x: x[:, 0] > 1)
+    out = _block_patterns(Path("m.toml"), {"dam[1]": "concrete", "r*": "rock"}, mesh)
+    assert out == {"dam[1]": "concrete", "rock": "rock"}

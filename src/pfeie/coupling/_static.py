@@ -347,8 +347,8 @@ class StaticInterfaceProblem:
     ) -> float | None:  # fmt: skip
         """The rigid-block limit load factor: the largest k in [0, ``k_max``] at which the
         :meth:`rigid_check` of the loads f0 + k f1 (free DOFs) balances them, within a
-        relative ``tol`` (bisection); ``k_max`` where they balance there, None where they
-        do not balance at k = 0 or the check fails.
+        relative ``tol`` (bisection); ∞ where they balance at ``k_max`` (no limit up to
+        it), None where they do not balance at k = 0 or the check fails.
 
         Any static equilibrium, elastic or rigid, has pair forces within the joints'
         strength that balance the floating blocks, so no static equilibrium exists beyond
@@ -381,7 +381,7 @@ class StaticInterfaceProblem:
         if at_max is None:
             return None
         if at_max:
-            return k_max
+            return float("inf")
         lo, hi = 0.0, k_max
         while hi - lo > tol * max(hi, 1e-3):
             mid = 0.5 * (lo + hi)

@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InterfaceError
 from ..interface import (
     OPEN,
     SECOND_STAGE_PROXIMAL,
@@ -297,9 +298,16 @@ class InterfaceStep:
             if active.any():
                 sub = self._subsolver(active)
                 n0 = sub.factorizations
-                part, _ = sub.solve(w_free[active], prev.select(active), label=label,
-                                    fixed=None if fixed is None else fixed[active],
-                                    breaking=breaking)  # fmt: skip
+                try:
+                    part, _ = sub.solve(w_free[active], prev.select(active), label=label,
+                                        fixed=None if fixed is None else fixed[active],
+                                        breaking=breaking)  # fmt: skip
+                except InterfaceError as exc:
+                    # the sub-problem's pairs in the model's numbering
+                    on = np.flatnonzero(active)
+                    raise InterfaceError(
+                        f"{exc} (pair numbers above among the {on.size} active pairs)",
+                        tuple(int(on[k]) for k in exc.pairs)) from None  # fmt: skip
                 self._track(sub, n0, active.tobytes())
                 self._last = sub
                 self.stats.add(sub.last)

@@ -476,7 +476,8 @@ def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, st
     """[blocks] with its patterns expanded: a key with ``*``, ``?`` or ``[...]`` (a shell
     pattern, :func:`fnmatch.fnmatchcase`) stands for every cell group of the mesh it
     matches, in the mesh's order (``"v*" = "stone"`` for the voussoirs v0 … v19 of an
-    arch). A group named outright keeps its own material; one that two patterns give
+    arch); a key that is a group's name is that group ("dam[1]"). A group named outright
+    keeps its own material; one that two patterns give
     different materials, and a pattern that matches no group, are errors naming the key.
 
     >>> from pfeie import rectangle
@@ -489,7 +490,9 @@ def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, st
     import fnmatch
 
     groups = list(mesh.cell_groups)
-    out = {k: v for k, v in blocks.items() if not any(c in k for c in "*?[")}
+    # a group's own name is never a pattern, whatever its characters ("dam[1]")
+    out = {k: v for k, v in blocks.items() if k in mesh.cell_groups
+           or not any(c in k for c in "*?[")}  # fmt: skip
     given: dict[str, tuple[str, str]] = {}  # group → (pattern, material)
     for key, mat in blocks.items():
         if key in out:

@@ -51,6 +51,30 @@ MODEL_FILE_KEYS = {"drain_efficiency": "efficiency"}
 _AXES = {"-x": (0, 1.0), "+x": (0, -1.0), "-y": (1, 1.0), "+y": (1, -1.0)}
 
 
+def _hole_edges(ab: IntArray, edge: BoolArray, uv: FloatArray) -> BoolArray:
+    """Which of the edges ``ab`` (e, 2) (stations) flagged ``edge`` (on the joint's
+    boundary) bound a hole of the joint (a gallery, a shaft): the loops of boundary edges
+    whose extent in the plane ``uv`` lies inside another loop's. Water from the reservoir
+    reaches the outer boundary only."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    k = uv.shape[0]
+    a, b = ab[edge, 0], ab[edge, 1]
+    g = coo_matrix((np.ones(a.size), (a, b)), shape=(k, k))
+    _, loop = connected_components(g, directed=False)
+    on = np.unique(np.r_[a, b])
+    loops = np.unique(loop[on])
+    lo = np.array([uv[on[loop[on] == c]].min(axis=0) for c in loops])
+    hi = np.array([uv[on[loop[on] == c]].max(axis=0) for c in loops])
+    tol = 1e-9 * max(float(np.ptp(uv, axis=0).max()), 1e-300)
+    inside = np.all((lo[:, None] > lo[None, :] + tol) & (hi[:, None] < hi[None, :] - tol), axis=2)
+    hole = loops[np.any(inside, axis=1)]
+    out = np.zeros(ab.shape[0], dtype=bool)
+    out[edge] = np.isin(loop[a], hole)
+    return out
+
+
 #: a boundary edge of a 3D joint whose outward normal lies within this angle (degrees) of
 #: the upstream direction in the joint's plane is at the heel (:meth:`Uplift.stations`)
 HEEL_FACING_DEG = 60.0
@@ -289,6 +313,7 @@ class Uplift:
             flow = grad / max(float(np.linalg.norm(grad)), 1e-300)
             nn = nu / np.maximum(np.linalg.norm(nu, axis=1), 1e-300)[:, None]
             up = edge & (nn @ flow < -np.cos(np.radians(HEEL_FACING_DEG)))
+            up &= ~_hole_edges(ab, edge, uv)  # the rim of a hole (a gallery) is no heel
             heel[ab[up].ravel()] = True
             heel[mids[up]] = True
         if not heel.any():  # (a degenerate joint) the stations nearest the heel

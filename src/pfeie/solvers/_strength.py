@@ -225,9 +225,10 @@ def strength_reduction(
             break
         if not rigid_done:
             rigid, rigid_done = problem.rigid_factor(f0_free), True
-        if rigid is None or not rigid > hi * (1 + YIELD_RIGID_GAP):
+        bound = None if rigid is None else min(rigid, f_max)  # no analysis beyond f_max
+        if bound is None or not bound > hi * (1 + YIELD_RIGID_GAP):
             break
-        beyond = probe_towards(partial(analyse, start=st_lo), hi, rigid)
+        beyond = probe_towards(partial(analyse, start=st_lo), hi, bound)
         if beyond is None:
             break
         log.warning("strength reduction: no equilibrium found at F = %.6g, but one at %.6g: "
@@ -235,7 +236,9 @@ def strength_reduction(
                     "from %.6g", hi, beyond[0], beyond[0])  # fmt: skip
         reopened += 1
         lo, (st_lo, fs_lo) = beyond
-        hi = max(rigid * (1 + 2 * RIGID_FACTOR_TOL), lo * (1 + 2 * tol))
+        assert rigid is not None
+        top = rigid * (1 + 2 * RIGID_FACTOR_TOL)  # no equilibrium beyond (to its bracket)
+        hi = max(top, lo * (1 + 2 * tol)) if top < f_max else None
         widths, targets, grow = [], [], 2.0 * tol
     if hi is None:
         limit = "not bracketed"

@@ -373,8 +373,10 @@ def yield_coefficient(
             # one from above; coefficients between the failure and it are tried
             if k_rigid is None and not rigid_done:
                 k_rigid, rigid_done = problem.rigid_limit(f0_free, f_h[free], k_max), True
-            if k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
-                beyond = probe_towards(partial(analyse, start=st_lo), hi, k_rigid)
+            # (towards k_max where the rigid blocks hold there: k_rigid = ∞)
+            bound = None if k_rigid is None else min(k_rigid, k_max)
+            if bound is not None and bound > hi * (1 + YIELD_RIGID_GAP):
+                beyond = probe_towards(partial(analyse, start=st_lo), hi, bound)
         if beyond is None:
             break
         log.warning("yield coefficient along %s: no equilibrium found at k = %.6g, but one "
@@ -384,9 +386,9 @@ def yield_coefficient(
         prev = (lo, m_lo)
         lo, (st_lo, m_lo, fs_lo) = beyond
         hi, widths, targets, nudge, nudges = None, [], [], tol / 2, 0
-        if k_rigid is not None and k_rigid * (1 + 2 * RIGID_FACTOR_TOL) > lo:
+        if k_rigid is not None and lo < k_rigid * (1 + 2 * RIGID_FACTOR_TOL) < k_max:
             # no equilibrium beyond the rigid blocks' limit (to its bracket): the bound
-            hi = min(k_rigid * (1 + 2 * RIGID_FACTOR_TOL), k_max)
+            hi = k_rigid * (1 + 2 * RIGID_FACTOR_TOL)
     estimate, joint = _root(lo, m_lo, prev)
     if hi is None:
         limit = "not bracketed"
@@ -407,6 +409,8 @@ def yield_coefficient(
         joint = gov
         if limit != "sliding" and not rigid_done:
             k_rigid = problem.rigid_limit(f0_free, f_h[free], k_max)
+        if k_rigid is not None and not np.isfinite(k_rigid):
+            k_rigid = None  # the rigid blocks hold at k_max: no bound below it
         if limit != "sliding" and k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
             log.warning(
                 "yield coefficient along %s: the static analyses fail from k = %.6g, below "
