@@ -451,50 +451,17 @@ def test_blocks_by_pattern_in_a_model_file(
 
 # -- law keys: a nested object of one's own ------------------------------------------------
 
-_NESTED = """
-import hashlib
-from dataclasses import dataclass, field
-import numpy as np
-import pfeie as pf
-from pfeie.interface import law_key
-
-@dataclass(frozen=True)
-class Zones:
-    names: frozenset = frozenset({"heel", "toe", "gallery", "drain", "core"})
-
-@dataclass(frozen=True)
-class Zoned:
-    zones: Zones = field(default_factory=Zones)
-    initial: str = "broken"
-    kn: float | None = None
-    ks: float | None = None
-    gap: float = 0.0
-
-    def strength(self, area, broken, path):
-        z = np.zeros_like(area)
-        return pf.Strength(z, np.full_like(area, 0.6), z)
-
-print(hashlib.sha256(law_key(Zoned())).hexdigest())
-"""
-
-
 def test_law_key_of_a_nested_dataclass_is_the_same_in_every_process() -> None:
     """The last session's fix keyed sets and mappings by their sorted elements, but a
     field holding a dataclass of one's own fell back to its repr, with a frozenset inside
     whose order follows the hash seed: four seeds, four digests (a reviewer). A dataclass
     is now keyed field by field."""
-    import os
-    import subprocess
-    import sys
+    from test_review33 import _zoned, seed_keys
 
-    src = str(Path(pf.__file__).resolve().parents[1])
-    keys = set()
-    for seed in ("1", "2", "3", "4"):
-        env = {**os.environ, "PYTHONHASHSEED": seed, "PYTHONPATH": src}
-        out = subprocess.run([sys.executable, "-c", _NESTED], env=env, capture_output=True,
-                             text=True, check=True)  # fmt: skip
-        keys.add(out.stdout.strip())
-    assert len(keys) == 1
+    prelude = ('@dataclass(frozen=True)\nclass Zones:\n'
+               '    names: frozenset = frozenset({"heel", "toe", "gallery", "drain", "core"})\n')
+    code = _zoned("    zones: Zones = field(default_factory=Zones)", prelude)
+    assert len(seed_keys(code, ("1", "2", "3", "4"))) == 1
 
 
 # -- typed settings take NumPy scalars ------------------------------------------------------
@@ -527,22 +494,24 @@ def test_uplift_warning_by_the_joints_normal(caplog: pytest.LogCaptureFixture) -
     It is now judged by the joint's mean normal: more than 60° from level."""
     import logging
 
-    mat = pf.Elastic(30e9, 0.2, 2400.0)
-    mesh = pf.box(5.0, 60.0, 4.0, 2, 12, 4)
-    mesh.add_cell_group("low", lambda x: x[:, 2] < 2)
-    mesh.add_cell_group("high", lambda x: x[:, 2] > 2)
-    mesh.add_facet_group("lift", lambda x: np.abs(x[:, 2] - 2) < 1e-9, boundary_only=False)
-    m = pf.Model(mesh, [pf.Block("low", mat), pf.Block("high", mat)],
-                 interfaces=[pf.Interface("lift", pf.Joint(phi=30.0))])  # fmt: skip
+    def halves(size: tuple[float, float, float], n: tuple[int, int, int], axis: int,
+               joint: str) -> pf.Model:  # fmt: skip
+        """A box cut in two blocks at its middle across ``axis`` by the joint ``joint``."""
+        mesh = pf.box(*size, *n)
+        at = size[axis] / 2
+        mesh.add_cell_group("a", lambda x: x[:, axis] < at)
+        mesh.add_cell_group("b", lambda x: x[:, axis] > at)
+        mesh.add_facet_group(joint, lambda x: np.abs(x[:, axis] - at) < 1e-9,
+                             boundary_only=False)  # fmt: skip
+        mat = pf.Elastic(30e9, 0.2, 2400.0)
+        return pf.Model(mesh, [pf.Block("a", mat), pf.Block("b", mat)],
+                        interfaces=[pf.Interface(joint, pf.Joint(phi=30.0))])  # fmt: skip
+
+    m = halves((5.0, 60.0, 4.0), (2, 12, 4), 2, "lift")
     with caplog.at_level(logging.WARNING, logger="pfeie.model._model"):
         m.add_uplift("lift", headwater=5.0)
     assert "uplift in" not in caplog.text
-    mesh = pf.box(4.0, 20.0, 4.0, 2, 4, 2)
-    mesh.add_cell_group("m1", lambda x: x[:, 1] < 10)
-    mesh.add_cell_group("m2", lambda x: x[:, 1] > 10)
-    mesh.add_facet_group("cj", lambda x: np.abs(x[:, 1] - 10) < 1e-9, boundary_only=False)
-    m = pf.Model(mesh, [pf.Block("m1", mat), pf.Block("m2", mat)],
-                 interfaces=[pf.Interface("cj", pf.Joint(phi=30.0))])  # fmt: skip
+    m = halves((4.0, 20.0, 4.0), (2, 4, 2), 1, "cj")
     with caplog.at_level(logging.WARNING, logger="pfeie.model._model"):
         m.add_uplift("cj", headwater=5.0)
     assert "uplift in 'cj': the joint is steep (its mean plane 90° from level)" in caplog.text

@@ -284,6 +284,17 @@ class StaticInterfaceProblem:
         normal[idx] = F * res.x[d - 1 : n * d : d]
         return RigidCheck(share, normal)
 
+    def _balances(
+        self, f_free: FloatArray, damage: PairState | None, factor: float = 1.0
+    ) -> bool | None:
+        """Whether the :meth:`rigid_check` of the loads ``f_free`` (strengths divided by
+        ``factor``) balances every floating block, to :data:`RIGID_SHARE_MIN`; None where
+        the check fails."""
+        check = self.rigid_check(f_free, damage, factor=factor)
+        if not np.isfinite(check.normal).all():
+            return None
+        return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
+
     def rigid_factor(
         self, f_free: FloatArray, damage: PairState | None = None, tol: float = RIGID_FACTOR_TOL,
     ) -> float | None:  # fmt: skip
@@ -312,10 +323,7 @@ class StaticInterfaceProblem:
         f_lo, f_hi = 1.0 / RIGID_FACTOR_RANGE, RIGID_FACTOR_RANGE
 
         def holds(F: float) -> bool | None:
-            check = self.rigid_check(f_free, damage, factor=F)
-            if not np.isfinite(check.normal).all():
-                return None
-            return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
+            return self._balances(f_free, damage, F)
 
         at_one = holds(1.0)
         if at_one is None:
@@ -369,10 +377,7 @@ class StaticInterfaceProblem:
         """
 
         def holds(k: float) -> bool | None:
-            check = self.rigid_check(f0 + k * f1, damage)
-            if not np.isfinite(check.normal).all():
-                return None
-            return not bool(np.nansum(check.share) > RIGID_SHARE_MIN)
+            return self._balances(f0 + k * f1, damage)
 
         at_zero = holds(0.0)
         if not at_zero:
