@@ -1094,7 +1094,7 @@ def _yield_coefficients(
         out[label] = {
             "direction": [round(float(v), 12) + 0.0 for v in y.direction],
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
-            "k_rigid": y.k_rigid, "joint": y.joint,
+            "k_rigid": y.k_rigid, "k_translation": y.k_translation, "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
             # every joint's FS at k_y (None: no shear)
             "safety_factors": {n: (float(f) if np.isfinite(f) else None)
@@ -1125,7 +1125,7 @@ def _strength_reduction(
     r = strength_reduction(job.model, problem=problem)
     out = {
         "factor": r.factor, "factor_fail": r.factor_fail, "limit": r.limit, "joint": r.joint,
-        "rigid_factor": r.rigid_factor,
+        "rigid_factor": r.rigid_factor, "translation_factor": r.translation_factor,
         "safety_factors": {n: (f if np.isfinite(f) else None)
                            for n, f in r.safety_factors.items()},
         "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
@@ -1974,10 +1974,21 @@ def format_summary(s: dict[str, Any]) -> str:
                 what += (f"; the rigid blocks' limit is {rigid:.4g} (limit equilibrium, an "
                          f"upper bound): k_y lies between {k:.4g} and {rigid:.4g}")  # fmt: skip
             what += _open_text(y) + ")"
+        kt = y.get("k_translation")
+        if kt is not None and (k is None or k > kt * (1 + YIELD_RIGID_GAP)):
+            what += (f"; but a block slides as a rigid block from k = {kt:.4g} (Hoek and "
+                     "Bray's plane and wedge sliding; the static analyses pinch it between "
+                     "its planes): take that")  # fmt: skip
         lines.append(f"  yield {label:<10} {what}")
     sr = s.get("strength_reduction")
     if sr:
-        lines.append(f"  reduction    {_reduction_text(sr)}")
+        text = _reduction_text(sr)
+        ft = sr.get("translation_factor")
+        if ft is not None and (sr["factor"] is None or sr["factor"] > ft * (1 + YIELD_RIGID_GAP)):
+            text += (f"; but a block slides as a rigid block at FS {ft:.4g} (Hoek and Bray's "
+                     "plane and wedge sliding; the static analyses pinch it between its "
+                     "planes): take that")  # fmt: skip
+        lines.append(f"  reduction    {text}")
     for name, j in s.get("joints", {}).items():
         lines.append(
             f"  joint {name:<10} residual slip {1e3 * j['residual_slip_max_m']:.2f} mm "

@@ -7,6 +7,9 @@
   from one multi-RHS solve;
 - :class:`StaticInterfaceProblem`: the static problem with the rigid unknowns of
   floating blocks (method.md §5.2);
+- :func:`translations`, :func:`translation_limit`: limit equilibrium of single rigid
+  blocks' translations (Hoek and Bray's plane and wedge sliding), beside the static
+  problem's own answers;
 - :class:`InterfaceStep`: the one-step problem, predictor → interface solve → corrector,
   that a time integrator calls (method.md §5.1).
 
@@ -33,11 +36,12 @@ from ._static import (
     pins,
 )
 from ._step import SUBSOLVER_BYTES, SUBSOLVERS, InterfaceStep, SolveStats, StepSolution
+from ._translation import Translation, translation_limit, translations
 
 __all__ = [
     "RIGID_FACTOR_RANGE", "RIGID_FACTOR_TOL", "RIGID_SHARE_MIN", "SUBSOLVERS",
     "SUBSOLVER_BYTES", "BlockDelassus", "Delassus", "DenseDelassus", "GatheredDelassus",
     "InterfaceStep", "MatrixFreeDelassus", "NodalFlexibility", "PairOperator", "RigidCheck",
-    "SolveStats", "StaticInterfaceProblem", "StepSolution", "delassus", "pins",
-    "relative_operator",
+    "SolveStats", "StaticInterfaceProblem", "StepSolution", "Translation", "delassus", "pins",
+    "relative_operator", "translation_limit", "translations",
 ]  # fmt: skip

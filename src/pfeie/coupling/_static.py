@@ -26,7 +26,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from ..errors import MechanismError
+from ..errors import InterfaceError, MechanismError
 from ..interface import InterfaceSolver, PairLaws, PairState, SolverSettings
 from ..linalg import factorize
 from ..model import LinearSystem, Model
@@ -60,6 +60,18 @@ class RigidCheck(NamedTuple):
     #: the rigid blocks' factor of safety by strength reduction, where the check was asked
     #: for it (:meth:`StaticInterfaceProblem.rigid_factor`; None: not asked or not found)
     factor: float | None = None
+
+
+def pair_strengths(laws: PairLaws, damage: PairState | None) -> tuple[FloatArray, ...]:
+    """(c A, μ, σ_t A) of every pair for the limit checks: broken where the laws start
+    broken or ``damage`` (a pair state left by an earlier load) broke them, with the slip
+    paths of ``damage``; every other pair intact."""
+    broken = laws.initially_broken.copy()
+    path = np.zeros(laws.n)
+    if damage is not None:
+        broken |= damage.broken
+        path = damage.path
+    return tuple(laws.strength(broken, path))
 
 
 def pins(F: FloatArray, avoid: np.ndarray | None = None) -> IntArray:
@@ -155,7 +167,19 @@ class StaticInterfaceProblem:
         if damage is not None:
             prev = PairState.initial(laws.initially_broken | damage.broken, laws.gap, d)
             prev.path = damage.path.copy()
-        st, q = self.solver.solve(w_free, prev, e, label=label, start=start)
+        try:
+            st, q = self.solver.solve(w_free, prev, e, label=label, start=start)
+        except (InterfaceError, MechanismError) as exc:
+            # near a hinge mechanism the state iteration meets singular systems and the
+            # Newtons stall; where the rigid blocks can balance the loads, an equilibrium
+            # may exist and the bordered proximal Newton looks for it (otherwise, or if it
+            # fails too, the first error stands)
+            if e is None or not self._balances(f_free, damage):
+                raise
+            try:
+                st, q = self.solver.solve_bordered_proximal(w_free, prev, e, label, start)
+            except InterfaceError:
+                raise exc from None
         u_free = u_pin
         u_free[keep] += self.W.correct(st.X.ravel())
         if Phi.shape[1]:
@@ -229,12 +253,7 @@ class StaticInterfaceProblem:
         rows = np.abs(E).reshape(-1, d, k).sum(axis=(1, 2)) > 0
         idx = np.flatnonzero(rows)
         laws = self.laws
-        broken = laws.initially_broken.copy()
-        path = np.zeros(laws.n)
-        if damage is not None:
-            broken |= damage.broken
-            path = damage.path
-        c, mu, t = laws.strength(broken, path)
+        c, mu, t = pair_strengths(laws, damage)
         c, mu, t = c[idx] / factor, mu[idx] / factor, t[idx] / factor
         limited = np.ones(idx.size, dtype=bool) if strong is None else ~strong[idx]
         n = idx.size
@@ -417,5 +436,6 @@ __all__ = [
     "RIGID_SHARE_MIN",
     "RigidCheck",
     "StaticInterfaceProblem",
+    "pair_strengths",
     "pins",
 ]

@@ -26,10 +26,13 @@ a sequence of regularised problems: given the iterate X^k and σ > 0, X^{k+1} so
 the pair law for the shifted operator W + σ I, whose Jacobians are regular and well
 conditioned whatever the rank of W. A fixed point (X^{k+1} = X^k) solves the original
 problem, since then s̃ = s; the natural map of the true s differs from the subproblem's by
-at most r σ |X^{k+1} − X^k| per pair, so σ is lowered as the outer residual falls
-(σ_{k+1} = max(σ_min, min(σ_k, α ‖F‖ / f)) · w̄ with w̄ = mean diag W and f the force
-scale), and raised tenfold when a subproblem's Newton fails, which brings the subproblem
-closer to the previous iterate and so easier. The redundant forces are not unique; the
+at most r σ |X^{k+1} − X^k| per pair, and the outer iterations converge linearly at a
+rate of about σ/(σ + λ), λ the stiffness of the slowest mode (small near a mechanism):
+so σ (relative to w̄ = mean diag W) falls tenfold with each subproblem solved, down to
+σ_min, and rises tenfold when a subproblem's Newton fails, which brings the subproblem
+closer to the previous iterate and so easier (and stays there a while). Lowering σ with
+the residual instead (σ ≤ ‖F‖/f) crawled at 6 % an iteration near an arch's hinge
+mechanism and stopped, short, after 30. The redundant forces are not unique; the
 proximal term picks the answer nearest to the start, and the relative motions, which are
 unique, converge.
 
@@ -147,13 +150,26 @@ def natural_map(
 
 
 class ShiftedOperator:
-    """W (dense, with an optional sparse copy) and the Newton systems of the natural map
-    for W + σ I: J = A (W + σ I) + B with block-diagonal A and B (module doc)."""
+    """W (dense, with an optional sparse copy), an optional border E (M, k), and the
+    Newton systems of the natural map for W + σ I: J = A (W + σ I) + B with
+    block-diagonal A and B (module doc); with the border (dense W only), the bordered
+    system of :func:`proximal_newton`."""
 
-    def __init__(self, W: FloatArray, sparse: sp.csr_array | None = None) -> None:
+    def __init__(
+        self, W: FloatArray, sparse: sp.csr_array | None = None, border: FloatArray | None = None
+    ) -> None:
+        if sparse is not None and border is not None:
+            raise ValueError("a border goes with the dense W only (the solver keeps W sparse "
+                             "only without one)")  # fmt: skip
         self.W = W
         self.sparse = sparse
         self.n = W.shape[0]
+        self.E = border
+
+    @property
+    def k(self) -> int:
+        """The border's columns (0 without a border)."""
+        return 0 if self.E is None else int(self.E.shape[1])
 
     def matvec(self, x: FloatArray) -> FloatArray:
         """W x."""
@@ -161,20 +177,25 @@ class ShiftedOperator:
             return np.asarray(self.sparse @ x)
         return symmetric_product(self.W, x)
 
-    def solve(self, A: FloatArray, B: FloatArray, shift: FloatArray, rhs: FloatArray) -> FloatArray:
-        """The solution of (A (W + S) + B) x = rhs, S = diag(shift) (M,); raises
-        ``np.linalg.LinAlgError`` when the system is singular."""
+    def solve(
+        self, A: FloatArray, B: FloatArray, shift: FloatArray, rhs: FloatArray,
+        wbar: float = 1.0, sigma: float = 0.0,
+    ) -> FloatArray:  # fmt: skip
+        """The solution of (A (W + S) + B) x = rhs, S = diag(shift) (M,); with the
+        border, of the bordered system [[A (W + S) + B, A E], [Eᵀ / w̄, −σ I]] (x, z) =
+        rhs (M + k,); raises ``np.linalg.LinAlgError`` when the system is singular."""
         m, d, _ = A.shape
+        k = self.k
         D = A * shift.reshape(m, 1, d) + B
         if self.sparse is not None:
             idx = np.arange(m + 1)
             Ab = sp.bsr_array((A, idx[:-1], idx), shape=(self.n, self.n))
             Db = sp.bsr_array((D, idx[:-1], idx), shape=(self.n, self.n))
-            J = sp.csc_array(Ab @ self.sparse + Db)
+            Js = sp.csc_array(Ab @ self.sparse + Db)
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", spla.MatrixRankWarning)
-                    lu = spla.splu(J)
+                    lu = spla.splu(Js)
             except RuntimeError as exc:  # "Factor is exactly singular"
                 raise np.linalg.LinAlgError(str(exc)) from exc
             x = lu.solve(rhs)
@@ -186,7 +207,12 @@ class ShiftedOperator:
         J4 = J.reshape(m, d, m, d)
         ar = np.arange(m)
         J4[ar, :, ar, :] += D
-        return np.asarray(np.linalg.solve(J.reshape(self.n, self.n), rhs))
+        if not k:
+            return np.asarray(np.linalg.solve(J.reshape(self.n, self.n), rhs))
+        assert self.E is not None
+        AE = np.einsum("kij,kjn->kin", A, self.E.reshape(m, d, k)).reshape(self.n, k)
+        Jb = np.block([[J.reshape(self.n, self.n), AE], [self.E.T / wbar, -sigma * np.eye(k)]])
+        return np.asarray(np.linalg.solve(Jb, rhs))
 
 
 @dataclass
@@ -194,10 +220,11 @@ class ProximalResult:
     """The outcome of :func:`proximal_newton`."""
 
     X: FloatArray  # (m, d) pair forces
-    s: FloatArray  # (m, d) relative displacement s_free + W X
-    residual: float  # max_k |F_k| / fscale of the true problem
+    s: FloatArray  # (m, d) relative displacement s_free + W X (+ E z)
+    residual: float  # max_k |F_k| / fscale of the true problem (and the border's gap)
     iterations: int  # Newton iterations (linear systems solved)
     outer: int  # proximal (outer) iterations
+    z: FloatArray  # (k,) the border's unknowns (empty without a border)
 
 
 def _pair_norm(F: FloatArray) -> FloatArray:
@@ -213,6 +240,8 @@ def proximal_newton(
     tol: float,
     fscale: float,
     *,
+    e: FloatArray | None = None,
+    z0: FloatArray | None = None,
     max_outer: int = 300,
     max_newton: int = 1500,
     sigma0: float = 1e-2,
@@ -224,63 +253,118 @@ def proximal_newton(
     from X0, until max_k |F_k(X, s)| ≤ tol · fscale with F the natural map of parameter
     ``rho`` (the measure of the solver). The subproblems use r_k = 1/mean diag W_kk per
     pair (the same solutions, better balanced when the pairs' flexibilities differ), and
-    σ relative to each pair's diagonal: the shift is σ D with D = diag(1/r_k)."""
+    σ relative to each pair's diagonal: the shift is σ D with D = diag(1/r_k).
+
+    With a border (``op.E``, statics with floating blocks, method.md §5.2) the unknowns
+    are X and z (k,), s = s_free + W X + E z, and the equilibrium Eᵀ X = ``e`` joins the
+    law; the proximal term acts on z too, as a spring that holds each floating block near
+    its last position (a pseudo-dynamic regularisation):
+
+        s̃ = s + σ D (X − X^k),      Eᵀ X − e = σ w̄ (z − z^k),
+
+    whose Jacobian [[A (W + σ D) + B, A E], [Eᵀ/w̄, −σ I]] stays regular where a block
+    is nearly free (every pair of it sliding or open near a hinge mechanism), where the
+    unregularised Newton meets singular systems. A fixed point solves the original
+    problem; the outer measure adds the equilibrium gap |Eᵀ X − e|, row by row relative
+    to the row's |E|ᵀ|X| or |e|, whichever is larger. Converging to a fixed point needs an
+    equilibrium: where none exists (beyond the limit load) the iterations stall and the
+    best iterate is returned, its residual above ``tol``."""
     m, d = X0.shape
+    k = op.k
+    E = op.E
+    if k and (E is None or e is None):
+        raise ValueError("a bordered proximal Newton needs the border's right-hand side e")
     diag = np.diag(op.W).reshape(m, d).mean(axis=1)
     wbar = float(diag.mean())
     dpos = np.where(diag > 1e-12 * max(wbar, 1e-300), diag, wbar)
     rk = 1.0 / dpos
     rg = np.full(m, rho)
     X = X0.copy()
-    s = s_free + op.matvec(X.ravel()).reshape(m, d)
-    F, _, _ = natural_map(X, s, law, rg, jac=False)
-    res = float(_pair_norm(F).max(initial=0.0)) / fscale
+    z = np.zeros(k) if z0 is None or not k else np.asarray(z0, dtype=float).copy()
+
+    def border(zv: FloatArray) -> FloatArray:  # E z as (m, d)
+        return (E @ zv).reshape(m, d) if k and E is not None else np.zeros((m, d))
+
+    def gap(Xv: FloatArray) -> FloatArray:  # Eᵀ X − e
+        return E.T @ Xv.ravel() - e if k and E is not None and e is not None else np.zeros(0)
+
+    def outer_residual(Xv: FloatArray, sv: FloatArray) -> float:
+        F, _, _ = natural_map(Xv, sv, law, rg, jac=False)
+        r = float(_pair_norm(F).max(initial=0.0)) / fscale
+        if k and E is not None:
+            # row by row: a rotation's row (lever arms of metres) must not set the
+            # measure of a translation's
+            size = np.maximum(np.abs(E).T @ np.abs(Xv.ravel()), np.abs(e) if e is not None else 0.0)
+            size = np.maximum(size, 1e-12 * float(size.max(initial=0.0)) + 1e-300)
+            r = max(r, float((np.abs(gap(Xv)) / size).max(initial=0.0)))
+        return r
+
+    s = s_free + op.matvec(X.ravel()).reshape(m, d) + border(z)
+    res = outer_residual(X, s)
     sig = sigma0
     floor = sigma_min
     stall = 0
     total = 0
     outer = 0
-    best = (res, X.copy(), s.copy())
+    best = (res, X.copy(), s.copy(), z.copy())
     while outer < max_outer and total < max_newton and res > tol:
         outer += 1
         shift = (sig * dpos)[:, None]  # σ D, per pair
-        Xk = X.copy()
+        Xk, zk = X.copy(), z.copy()
         # the subproblem to well below the outer residual (inexact proximal point)
         target = max(0.1 * tol, 1e-3 * res) * fscale * rk / rho
+        target_eq = max(0.1 * tol, 1e-3 * res) * fscale
+
+        def sub(
+            Xi: FloatArray, si: FloatArray, zi: FloatArray, jac: bool,
+            shift: FloatArray = shift, Xk: FloatArray = Xk, zk: FloatArray = zk,
+            sig: float = sig,
+        ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
+            """The subproblem's natural map and its equilibrium rows (and A, B)."""
+            Fi, A, B = natural_map(Xi, si + shift * (Xi - Xk), law, rk, jac=jac)
+            Fe = gap(Xi) / wbar - sig * (zi - zk)
+            return Fi, Fe, A, B
+
         ok = False
         why = "iterations"
-        Xi, si = X.copy(), s.copy()
+        Xi, si, zi = X.copy(), s.copy(), z.copy()
         for _ in range(max_inner):
-            Fi, A, B = natural_map(Xi, si + shift * (Xi - Xk), law, rk)
-            if bool((_pair_norm(Fi) <= target).all()):
+            Fi, Fe, A, B = sub(Xi, si, zi, True)
+            if bool((_pair_norm(Fi) <= target).all()) and bool((np.abs(Fe) <= target_eq).all()):
                 ok = True
                 break
-            nF = float(np.linalg.norm(Fi))
+            nF = float(np.sqrt(np.linalg.norm(Fi) ** 2 + np.linalg.norm(Fe) ** 2))
             total += 1
             try:
-                dX = op.solve(A, B, np.repeat(shift[:, 0], d), -Fi.ravel()).reshape(m, d)
+                dv = op.solve(A, B, np.repeat(shift[:, 0], d), -np.concatenate([Fi.ravel(), Fe]),
+                              wbar, sig)  # fmt: skip
             except np.linalg.LinAlgError:
                 why = "singular"
                 break
-            dS = op.matvec(dX.ravel()).reshape(m, d)
+            dX, dz = dv[: m * d].reshape(m, d), dv[m * d :]
+            dS = op.matvec(dX.ravel()).reshape(m, d) + border(dz)
             step = 1.0
             for _ in range(30):
-                X2 = Xi + step * dX
+                X2, z2 = Xi + step * dX, zi + step * dz
                 s2 = si + step * dS
-                F2, _, _ = natural_map(X2, s2 + shift * (X2 - Xk), law, rk, jac=False)
-                if np.linalg.norm(F2) <= (1 - 1e-4 * step) * nF:
+                F2, Fe2, _, _ = sub(X2, s2, z2, False)
+                if np.sqrt(np.linalg.norm(F2) ** 2 + np.linalg.norm(Fe2) ** 2) <= (
+                        1 - 1e-4 * step) * nF:  # fmt: skip
                     break
                 step *= 0.5
             else:
                 why = f"no descent at {nF:.2e}"
                 break  # no descent: the subproblem's Newton failed
-            Xi, si = X2, s2
+            Xi, si, zi = X2, s2, z2
             if total >= max_newton:
                 break
         if not ok:
-            Fi, _, _ = natural_map(Xi, si + shift * (Xi - Xk), law, rk, jac=False)
-            n1 = float((_pair_norm(Fi) / target).max(initial=0.0))
-            n0 = float((_pair_norm(F) * (rk / rho) / target).max(initial=0.0))
+            Fi, Fe, _, _ = sub(Xi, si, zi, False)
+            n1 = max(float((_pair_norm(Fi) / target).max(initial=0.0)),
+                     float(np.abs(Fe).max(initial=0.0)) / target_eq)  # fmt: skip
+            F0, _, _ = natural_map(X, s, law, rg, jac=False)
+            n0 = max(float((_pair_norm(F0) * (rk / rho) / target).max(initial=0.0)),
+                     float(np.abs(gap(X)).max(initial=0.0)) / wbar / target_eq)  # fmt: skip
             if not n1 <= 0.5 * n0:
                 # a harder subproblem than its Newton can take: more regularisation, and
                 # not less than that for a while
@@ -292,9 +376,8 @@ def proximal_newton(
                     break
                 continue
             # not to its target, but a step forward: an inexact proximal step
-        X, s = Xi, si
-        F, _, _ = natural_map(X, s, law, rg, jac=False)
-        res = float(_pair_norm(F).max(initial=0.0)) / fscale
+        X, s, z = Xi, si, zi
+        res = outer_residual(X, s)
         log.debug("proximal %d: σ %.1e, residual %.2e, %d Newton", outer, sig, res, total)
         if res < 0.5 * best[0]:
             stall = 0
@@ -303,15 +386,15 @@ def proximal_newton(
             if stall > max_stall:
                 log.debug("proximal: no progress in %d iterations", max_stall)
                 if res < best[0]:
-                    best = (res, X.copy(), s.copy())
+                    best = (res, X.copy(), s.copy(), z.copy())
                 break
         if res < best[0]:
-            best = (res, X.copy(), s.copy())
+            best = (res, X.copy(), s.copy(), z.copy())
         if ok:
             floor = max(sigma_min, 0.5 * floor)
-            sig = max(floor, 0.1 * sig, min(sig, res))
-    res, X, s = best
-    return ProximalResult(X, s, res, total, outer)
+            sig = max(floor, 0.1 * sig)
+    res, X, s, z = best
+    return ProximalResult(X, s, res, total, outer, z)
 
 
 __all__ = ["PairLaw", "ProximalResult", "ShiftedOperator", "natural_map", "proximal_newton"]

@@ -127,6 +127,14 @@ CONTINUATION = (0.5, 0.75, 0.9, 1.0)
 #: problem (:data:`PROXIMAL_FIRST_3D`), after the state iteration: not a fallback
 SECOND_STAGE_PROXIMAL = "proximal Newton (second stage)"
 
+#: the most unknowns (pair components and rigid amplitudes) on which the static problem
+#: tries the bordered proximal Newton (dense (M + k)-square Newton systems: 0.4 s each at
+#: 2,400 on one core; it needed 28 to 42 of them near an arch's hinge mechanism)
+BORDERED_PROXIMAL_MAX = 2400
+
+#: the bordered proximal Newton's cap on Newton iterations per start
+BORDERED_PROXIMAL_NEWTON = 400
+
 PROXIMAL_FIRST_3D = True
 """Where the state iteration does not settle a 3D problem without a border that the Newton
 through W_c⁻¹ does not take (fewer than :data:`NEWTON_WOODBURY_MIN` components, or a W_c⁻¹
@@ -1025,6 +1033,73 @@ class InterfaceSolver:
             return self._solve(w_free, prev, e, label, fixed=fixed, breaking=breaking,
                                inactive=inactive, start=start)  # fmt: skip
 
+    def _prepare(
+        self, w_free: FloatArray, prev: PairState, label: str, fixed: np.ndarray | None,
+        breaking: bool, inactive: np.ndarray | None,
+    ) -> FloatArray:  # fmt: skip
+        """Set the solve's pair flags and scales; returns s_free (w_free plus the gaps),
+        with which the internal routines work."""
+        self._fixed = (np.zeros(self.m, dtype=bool) if fixed is None
+                       else np.asarray(fixed, dtype=bool) & (prev.state == SLIDE))  # fmt: skip
+        self._inactive = (np.zeros(self.m, dtype=bool) if inactive is None
+                          else np.asarray(inactive, dtype=bool))  # fmt: skip
+        self._fixed &= ~self._inactive
+        self._breaking = bool(breaking)
+        self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
+        w_free = w_free + self._gapv
+        self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
+        if not self._wscale <= SAFE_SCALE[1]:  # inf or NaN too: no iteration can help
+            raise InterfaceError(
+                f"{label}: the interface problem cannot be solved: its force scale, "
+                f"ρ max|w_free| = {self._wscale:.1e} N, exceeds {SAFE_SCALE[1]:.0e} N, where "
+                "the squares of the law leave double precision: check the units, or "
+                "whether the motion diverged before this step.")  # fmt: skip
+        return w_free
+
+    def solve_bordered_proximal(
+        self, w_free: FloatArray, prev: PairState, e: FloatArray, label: str = "",
+        start: PairState | None = None,
+    ) -> tuple[PairState, FloatArray]:  # fmt: skip
+        """Statics with floating blocks (the border): the bordered proximal-point Newton
+        (:func:`._proximal.proximal_newton`) alone, from ``start``'s forces (else from X =
+        0), then cold; the fallback where :meth:`solve` meets singular systems and
+        stalls near a hinge mechanism. The caller judges first that an equilibrium can
+        exist (the rigid-block check, :class:`~pfeie.coupling.StaticInterfaceProblem`):
+        where none does, the iterations stall at their caps. Returns the trial state and
+        q; :class:`InterfaceError` where it does not reach the tolerance."""
+        if self.E is None:
+            raise InterfaceError(f"{label}: the bordered proximal Newton needs a border")
+        size = self.Wc.shape[0] + self.E.shape[1]
+        if size > BORDERED_PROXIMAL_MAX:
+            raise InterfaceError(f"{label}: the bordered proximal Newton is not tried on "
+                                 f"{size} unknowns (above {BORDERED_PROXIMAL_MAX})")  # fmt: skip
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            s_free = self._prepare(w_free, prev, label, None, True, None)
+            starts = []
+            if start is not None and np.all(np.isfinite(start.X)):
+                first = start.copy()
+                fresh = first.broken & ~prev.broken
+                first.broken[fresh] = False
+                first.state[fresh] = prev.state[fresh]
+                starts.append(first)
+            cold = prev.copy()
+            cold.X[:] = 0.0
+            starts.append(cold)
+            total, best = 0, np.inf
+            for st0 in starts:
+                st, n, q = self._proximal(st0, prev, s_free, e,
+                                          max_newton=BORDERED_PROXIMAL_NEWTON)  # fmt: skip
+                total += n
+                res = float(self.residual(st, prev, s_free).max(initial=0.0))
+                if res <= self.tol and self._balanced(st.X, e, rows=True):
+                    self.last = SolveInfo(total, res, "bordered proximal Newton")
+                    log.debug("%s: solved by the bordered proximal Newton, residual %.2e",
+                              label, res)  # fmt: skip
+                    return st, q
+                best = min(best, res)
+        raise InterfaceError(f"{label}: the bordered proximal Newton reached a residual of "
+                             f"{best:.1e} only (tolerance {self.tol:.0e})")  # fmt: skip
+
     def _solve(
         self,
         w_free: FloatArray,
@@ -1037,21 +1112,7 @@ class InterfaceSolver:
         inactive: np.ndarray | None,
         start: PairState | None,
     ) -> tuple[PairState, FloatArray]:
-        self._fixed = (np.zeros(self.m, dtype=bool) if fixed is None
-                       else np.asarray(fixed, dtype=bool) & (prev.state == SLIDE))  # fmt: skip
-        self._inactive = (np.zeros(self.m, dtype=bool) if inactive is None
-                          else np.asarray(inactive, dtype=bool))  # fmt: skip
-        self._fixed &= ~self._inactive
-        self._breaking = bool(breaking)
-        self._debonded = np.zeros(self.m, dtype=bool)  # (see _parting)
-        w_free = w_free + self._gapv  # the internal routines work with s_free
-        self._wref, self._wscale = w_free, self.rho * float(np.abs(w_free).max(initial=0.0))
-        if not self._wscale <= SAFE_SCALE[1]:  # inf or NaN too: no iteration can help
-            raise InterfaceError(
-                f"{label}: the interface problem cannot be solved: its force scale, "
-                f"ρ max|w_free| = {self._wscale:.1e} N, exceeds {SAFE_SCALE[1]:.0e} N, where "
-                "the squares of the law leave double precision: check the units, or "
-                "whether the motion diverged before this step.")  # fmt: skip
+        w_free = self._prepare(w_free, prev, label, fixed, breaking, inactive)
         first = None if start is None else start.copy()
         if first is not None:  # breaking is the iteration's, from prev's flags
             fresh = first.broken & ~prev.broken
@@ -1139,7 +1200,7 @@ class InterfaceSolver:
         if PROXIMAL_FIRST_3D and self.d == 3 and self.E is None and not self._vectorised_newton:
             # 3D without the Newton through W_c⁻¹: the proximal Newton first, the dense
             # Newtons after it
-            st6, n6 = self._proximal(st, prev, w_free)
+            st6, n6, _ = self._proximal(st, prev, w_free)
             it += n6
             res6 = float(self.residual(st6, prev, w_free).max(initial=0.0))
             if res6 <= self.tol:
@@ -1258,7 +1319,7 @@ class InterfaceSolver:
         cold.X[:] = 0.0
         starts.append(cold)
         for start in starts:
-            st5, n5 = self._proximal(start, prev, w_free)
+            st5, n5, _ = self._proximal(start, prev, w_free)
             n_total += n5
             res5 = float(self.residual(st5, prev, w_free).max(initial=0.0))
             if res5 <= self.tol:
@@ -1278,15 +1339,21 @@ class InterfaceSolver:
         raise self._diagnose(label, history, st3 if res3 < res else st2, prev, w_free)
 
     def _proximal(
-        self, st: PairState, prev: PairState, w_free: FloatArray
-    ) -> tuple[PairState, int]:
+        self, st: PairState, prev: PairState, w_free: FloatArray,
+        e: FloatArray | None = None, max_newton: int = 1500,
+    ) -> tuple[PairState, int, FloatArray]:  # fmt: skip
         """The proximal-point Newton (:func:`._proximal.proximal_newton`) from ``st``, with
         intact pairs breaking where the answer exceeds their strength (then solved again);
-        returns the trial state and the Newton iterations."""
+        with the border (statics: ``e``) the bordered variant, its rigid amplitudes from
+        zero (the pinned position). Returns the trial state, the Newton iterations and q
+        (empty without a border)."""
         m = self.m
-        op = ShiftedOperator(self.Wc, self._sparse)
+        bordered = self.E is not None and e is not None
+        op = ShiftedOperator(self.Wc, self._sparse, self.E if bordered else None)
         X = np.where(np.isfinite(st.X), st.X, 0.0)
         X[self._inactive] = 0.0
+        z = np.zeros(op.k)
+        eb = self._escale * e if bordered and e is not None else None
         broken = st.broken.copy()
         sdir = st.slip_dir.copy()
         total = 0
@@ -1298,9 +1365,10 @@ class InterfaceSolver:
             # the measure of :meth:`residual`: relative to the larger of the forces and
             # ρ |s_free|; the forces at the start stand for those of the answer
             fscale = self._scale(X, w_free)
-            out = proximal_newton(op, w_free, X, law, self.rho, 0.1 * self.tol, fscale)
+            out = proximal_newton(op, w_free, X, law, self.rho, 0.1 * self.tol, fscale,
+                                  e=eb, z0=z, max_newton=max_newton)  # fmt: skip
             total += out.iterations
-            X, s_ = out.X, out.s
+            X, s_, z = out.X, out.s, out.z
             if not self._breaking:
                 break
             Xn, nt = X[:, -1], np.linalg.norm(X[:, :-1], axis=1)
@@ -1310,8 +1378,8 @@ class InterfaceSolver:
             if not fail.any():
                 break
             broken = broken | fail
-        # s = s_free + W_c X: the relative displacement w adds no compliance term
-        return self._classify(st, X, broken, s_, prev, sdir), total
+        # s = s_free + W_c X (+ E z): the relative displacement w adds no compliance term
+        return self._classify(st, X, broken, s_, prev, sdir), total, z * self._escale
 
     def _newton(
         self,
@@ -1405,16 +1473,22 @@ class InterfaceSolver:
             self._debonded = self._debonded | parting
         return self._classify(st, X, broken, s_, prev, sdir), z_q * self._escale, total
 
-    def _balanced(self, X: FloatArray, e: FloatArray | None) -> bool:
+    def _balanced(self, X: FloatArray, e: FloatArray | None, rows: bool = False) -> bool:
         """Whether forces X meet the border's equilibrium Eᵀ X = e (the floating blocks'
         rigid modes; always without a border) to the tolerance of the largest term of
-        |E|ᵀ|X|: the pair law's residual does not see it."""
+        |E|ᵀ|X|: the pair law's residual does not see it. ``rows``: each row to the
+        tolerance of its own |E|ᵀ|X| or |e| (a rotation's lever arms do not set a
+        translation's measure)."""
         if self.E is None or e is None:
             return True
         x = X.ravel()
-        gap = np.abs(self.E.T @ x - self._escale * e).max(initial=0.0)
+        gap = np.abs(self.E.T @ x - self._escale * e)
+        if rows:
+            size = np.maximum(np.abs(self.E).T @ np.abs(x), self._escale * np.abs(e))
+            size = np.maximum(size, 1e-12 * float(size.max(initial=0.0)) + 1e-300)
+            return bool((gap <= self.tol * size).all())
         scale = float((np.abs(self.E).T @ np.abs(x)).max(initial=0.0))
-        return bool(gap <= self.tol * max(scale, 1e-300))
+        return bool(gap.max(initial=0.0) <= self.tol * max(scale, 1e-300))
 
     def _newton_strength(self, broken: np.ndarray, path: FloatArray) -> tuple[FloatArray, ...]:
         """(c A, μ, σ_t A) of the pairs as the Newtons solve them: the residual tensile

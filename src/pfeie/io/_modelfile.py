@@ -53,6 +53,8 @@ from ..model import (
     implausible_joints,
     implausible_materials,
     implausible_mesh,
+    implausible_silt,
+    implausible_water,
 )
 from ._files import PYTHON_RUN, foreign_file, toml_text
 from ._gmsh import read_mesh
@@ -589,16 +591,40 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
                             "of the model (%g m): the structure is overtopped; intended?",
                             p, key, i, item.water_level, item.water_level - top,
                             top)  # fmt: skip
-            nodes = [conn.ravel() for g in item.groups
-                     for conn in mesh.facet_groups.get(g, {}).values()]  # fmt: skip
-            if nodes:
-                low = float(mesh.points[np.concatenate(nodes), mesh.dim - 1].min())
-                if item.water_level <= low:
-                    log.warning("%s: loads.%s[%d].water_level = %g m lies at or below the "
-                                "lowest point of its faces %s (%g m): no water on them; "
-                                "intended?", p, key, i, item.water_level,
-                                list(item.groups), low)  # fmt: skip
+            low = _lowest(mesh, item.groups)
+            if low is not None and item.water_level <= low:
+                log.warning("%s: loads.%s[%d].water_level = %g m lies at or below the lowest "
+                            "point of its faces %s (%g m): no water on them; intended?", p,
+                            key, i, item.water_level, list(item.groups), low)  # fmt: skip
+    for key, items in (("hydrostatic", loads.hydrostatic), ("westergaard", loads.westergaard),
+                       ("uplift", loads.uplift)):  # fmt: skip
+        for i, item in enumerate(items):
+            if (hint := implausible_water(item.density)) is not None:
+                log.warning("%s: loads.%s[%d].%s", p, key, i, hint)
+    for i, sl in enumerate(loads.silt):
+        if (hint := implausible_silt(sl.submerged_unit_weight)) is not None:
+            log.warning("%s: loads.silt[%d].%s", p, i, hint)
+        low = _lowest(mesh, sl.groups)
+        if low is not None and sl.level <= low:
+            log.warning("%s: loads.silt[%d].level = %g m lies at or below the lowest point of "
+                        "its faces %s (%g m): no silt against them; intended?", p, i,
+                        sl.level, list(sl.groups), low)  # fmt: skip
+        pool = max((h.water_level for h in loads.hydrostatic), default=None)
+        if pool is not None and sl.level > pool + _LEVEL_TOL:
+            log.warning("%s: loads.silt[%d].level = %g m lies above the reservoir's water "
+                        "level (%g m, the highest of [[loads.hydrostatic]]): the silt load "
+                        "is that of sediment under water (its submerged unit weight); "
+                        "intended?", p, i, sl.level, pool)  # fmt: skip
     _water_levels(p, cfg, mesh)
+
+
+def _lowest(mesh: Mesh, groups: Sequence[str]) -> float | None:
+    """The elevation (m, the vertical axis) of the lowest node of the facet ``groups``;
+    None where none of them is a facet group of the mesh."""
+    nodes = [conn.ravel() for g in groups for conn in mesh.facet_groups.get(g, {}).values()]
+    if not nodes:
+        return None
+    return float(mesh.points[np.concatenate(nodes), mesh.dim - 1].min())
 
 
 #: a duration above this many times the longest record, and more than FREE_TAIL_MIN_S
@@ -648,13 +674,40 @@ def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
                         "loads.hydrostatic[%d].water_level = %g m (the reservoir: the highest "
                         "water on the faces): one reservoir, two levels; intended?", p, j,
                         up.headwater, k, hyd[k].water_level)  # fmt: skip
+        if abs(up.density - hyd[k].density) > 1e-9 * hyd[k].density:
+            log.warning("%s: loads.uplift[%d].density = %g kg/m³ differs from "
+                        "loads.hydrostatic[%d].density = %g kg/m³ (the reservoir): one "
+                        "reservoir, two densities; intended?", p, j, up.density, k,
+                        hyd[k].density)  # fmt: skip
         tail = up.tailwater
+        # the joint's lowest point: water above it at the toe acts in the joint as well
+        low = (float(mesh.points[mesh.group_nodes(up.interface), mesh.dim - 1].min())
+               if up.interface in mesh.facet_groups else np.inf)  # fmt: skip
         if tail is not None and all(abs(tail - hyd[i].water_level) > _LEVEL_TOL for i in lower):
             i = min(lower, key=lambda i: abs(hyd[i].water_level - tail), default=-1)
-            if i >= 0:  # (without water on the downstream faces, nothing to compare)
+            if i >= 0:
                 log.warning("%s: loads.uplift[%d].tailwater = %g m differs from "
                             "loads.hydrostatic[%d].water_level = %g m (the tailwater on the "
                             "faces): one tailwater, two levels; intended?", p, j, tail, i,
+                            hyd[i].water_level)  # fmt: skip
+            elif tail > low + _LEVEL_TOL:
+                log.warning("%s: loads.uplift[%d].tailwater = %g m, but no "
+                            "[[loads.hydrostatic]] puts that tailwater on the downstream "
+                            "faces: its thrust and its weight on them are left out "
+                            "(USACE EM 1110-2-2200); add a loads.hydrostatic item with "
+                            "water_level = %g on the downstream faces and the tail floor, "
+                            "or intended?", p, j, tail, tail)  # fmt: skip
+        elif tail is None:
+            above = [i for i in lower if hyd[i].water_level > low + _LEVEL_TOL]
+            if above:
+                i = max(above, key=lambda i: hyd[i].water_level)
+                log.warning("%s: loads.uplift[%d] has no tailwater, but "
+                            "loads.hydrostatic[%d] puts water at %g m on faces, above the "
+                            "joint %r (its lowest point %g m): the uplift falls to zero at "
+                            "the toe instead of to the tailwater's head, which is "
+                            "unconservative (USACE EM 1110-2-2200: linear from the headwater "
+                            "to the tailwater); give loads.uplift[%d].tailwater = %g, or "
+                            "intended?", p, j, i, hyd[i].water_level, up.interface, low, j,
                             hyd[i].water_level)  # fmt: skip
         _upstream_side(p, j, up, k, hyd[k], mesh)
 
@@ -1092,11 +1145,15 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
             if idx.size and not np.any(pressure[idx] > 0):
                 z = model.pairs.x[idx, mesh.dim - 1]
                 tail = "none" if ut.tailwater is None else f"{ut.tailwater:g} m"
+                where = ("lies above the headwater (%g m) and tailwater (%s) levels"
+                         if float(z.min()) >= ut.headwater else
+                         "reaches below the headwater (%g m), yet at each pair the head "
+                         "that the profile gives there (tailwater %s) lies below it")  # fmt: skip
                 log.warning("%s: loads.uplift[%d]: the uplift in %r is zero at every pair: "
-                            "the joint (%s from %.4g to %.4g m) lies above the headwater "
-                            "(%g m) and tailwater (%s) levels where they apply; the levels "
+                            "the joint (%s from %.4g to %.4g m) " + where + "; the levels "
                             "are elevations (m), and the pressure runs linearly from the "
-                            "headwater at the upstream end to the tailwater at the other",
+                            "headwater at the upstream end to the tailwater at the other, "
+                            "along the upstream axis",
                             p, i, ut.interface, "yz"[mesh.dim - 2], float(z.min()),
                             float(z.max()), ut.headwater, tail)  # fmt: skip
     records: list[GroundMotion] = []

@@ -13,6 +13,8 @@ from ._plausible import (
     implausible_joints,
     implausible_materials,
     implausible_mesh,
+    implausible_silt,
+    implausible_water,
     radians_meant,
     warn_implausible,
 )
@@ -35,6 +37,8 @@ __all__ = [
     "Uplift", "direction_label", "implausible_gravity", "implausible_joints",
     "implausible_materials",
     "implausible_mesh",
+    "implausible_silt",
+    "implausible_water",
     "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
     "uplift_force", "warn_implausible",
 ]  # fmt: skip

@@ -30,7 +30,7 @@ from ..linalg import LowRankTerm, null_space
 from ..mesh import Mesh
 from ..typing import BoolArray, FloatArray, IntArray
 from ._physics import Amplitude, Block, Interface, Load, Rayleigh, Support, VectorField
-from ._plausible import implausible_gravity, warn_implausible
+from ._plausible import implausible_gravity, implausible_silt, implausible_water, warn_implausible
 from ._reservoir import Reservoir
 from ._uplift import MODEL_FILE_KEYS as UPLIFT_FILE_KEYS
 from ._uplift import Uplift, uplift_force
@@ -433,6 +433,7 @@ class Model:
         self._cellsets = self._collect_cells()
         self._warn_hanging_nodes()
         self._warn_joint_planes()
+        self._warn_bonded_across()
 
     # -- topology -------------------------------------------------------------------------
     @property
@@ -540,6 +541,36 @@ class Model:
                     "interface group for a factor of each (its slips, openings and states "
                     "are per pair, unaffected)", name, len(pieces), angle, label[i],
                     label[j])  # fmt: skip
+
+    def _warn_bonded_across(self) -> None:
+        """Warn of an interface between two blocks that are one body: bonded to each other
+        through the mesh elsewhere (faces between them that no interface names), so that
+        the joint cannot open or slide as a joint between blocks, and a limit search
+        finds no mechanism (a rock tester's wedge with one of its two planes an interface
+        read FS > 20 and k_y > 2, silently). A crack inside one block (both sides in the
+        same block) is not warned: it may end inside it."""
+        P = self.pairs
+        if P is None:
+            return
+        block = np.full(self.mesh.n_points, -1, dtype=np.int64)
+        for cs in self._cellsets:
+            block[cs.conn] = cs.block[:, None]
+        body = self.body_of_node
+        ba, bb = block[P.node_a], block[P.node_b]
+        same = (body[P.node_a] == body[P.node_b]) & (ba != bb) & (ba >= 0) & (bb >= 0)
+        for name in P.names:
+            idx = P.of(name)
+            bad = idx[same[idx]]
+            if not bad.size:
+                continue
+            a, b = sorted({self.blocks[int(ba[bad[0]])].name, self.blocks[int(bb[bad[0]])].name})
+            log.warning("interface %r: %d of its %d pairs join blocks %r and %r, which are one "
+                        "body: bonded to each other through faces that no interface names. "
+                        "A crack that ends in the bond is modelled so; a joint meant to "
+                        "separate the blocks cannot slide while the bond holds them (a limit "
+                        "search finds no mechanism through it): it needs every face between "
+                        "the blocks in an interface group (a wedge's two planes, a block's "
+                        "base and its release joints)", name, bad.size, idx.size, a, b)  # fmt: skip
 
     def _warn_hanging_nodes(self) -> None:
         """A warning where the mesh is not conforming: nodes on a cell's edge (a face, in
@@ -724,6 +755,15 @@ class Model:
                                  f"{self.dim} components, got {e.tolist()}")  # fmt: skip
             e = e / big
             e = e / np.linalg.norm(e)
+            if e[-1] >= 0.0:
+                # the last axis is the vertical one (y in 2D, z in 3D): gravity along or
+                # up it lifts every block off its base (a rock tester's wedge pulled out of
+                # its V read a "factor of safety")
+                log.warning("gravity: the direction %s points %s along %s, the vertical "
+                            "axis (pfeie's: up is +%s); expected a downward component, as "
+                            "in [0, -1] or a tilted [sin θ, -cos θ]", e.round(6).tolist(),
+                            "up" if e[-1] > 0 else "level",
+                            "yz"[self.dim - 2], "yz"[self.dim - 2])  # fmt: skip
         if not (np.isfinite(g) and g >= 0):
             raise ModelError(f"gravity: expected a finite acceleration >= 0 m/s², got {g}")
         if self._check_units and implausible_gravity(g) is not None:
@@ -891,6 +931,8 @@ class Model:
                              f"got {k}")  # fmt: skip
         for g in names:
             self._boundary_group(g, "silt")
+        if self._check_units and (text := implausible_silt(float(submerged_unit_weight))):
+            log.warning("silt: %s", text)
         up, zs, gam, kk = self.dim - 1, float(level), float(submerged_unit_weight), float(k)
         ratio = np.full(self.dim, kk)
         ratio[up] = 1.0
@@ -1015,6 +1057,8 @@ class Model:
                              f"reservoir bottom {zb} m")  # fmt: skip
         if not (np.isfinite(density) and density > 0):
             raise ModelError(f"westergaard: the water density must be > 0, got {density}")
+        if self._check_units and (text := implausible_water(float(density))) is not None:
+            log.warning("westergaard: %s", text)
         for g in names:
             share = self._level_share(g, float(water_level))
             if share > WESTERGAARD_LEVEL_SHARE:
@@ -1136,6 +1180,8 @@ class Model:
                 raise ModelError(f"uplift in {interface!r}: unknown keyword {key!r}{hint} "
                                  f"(expected {', '.join(sorted(known))})")  # fmt: skip
         up = Uplift(interface, float(headwater), **options)
+        if self._check_units and (text := implausible_water(float(up.density))) is not None:
+            log.warning("uplift in %r: %s", interface, text)
         _, length = up.abscissa(self.pairs, self.pairs.of(interface))  # the axis exists
         if up.drains is not None and not 0.0 < up.drains < length:
             # drains at the heel or at or beyond the toe would be silently without effect

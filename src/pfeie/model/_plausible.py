@@ -229,6 +229,58 @@ def implausible_gravity(g: float) -> str | None:
     return None
 
 
+#: water densities outside this range (kg/m³) get a warning: fresh water 1,000, sea water
+#: 1,025, a reservoir's sediment-laden water some tens more (a density in t/m³, or a unit
+#: weight in N/m³ or kN/m³ given as the density, falls far outside)
+WATER_DENSITY = (950.0, 1250.0)
+#: submerged unit weights of silt above this (N/m³) get a warning: silts lie at 4,000 to
+#: 12,000 N/m³ submerged, 14,000 to 21,000 saturated (γ' = γ_sat − γ_w)
+SILT_SUBMERGED_MAX = 14000.0
+
+
+def implausible_water(density: float) -> str | None:
+    """A warning on a water density (kg/m³) outside :data:`WATER_DENSITY`, with the value
+    probably meant: t/m³, or a unit weight (ρ g) in N/m³ or kN/m³.
+
+    >>> implausible_water(1.0)
+    'density = 1 kg/m³ is not water\'s (fresh 1000, sea 1025 kg/m³): pfeie takes kg/m³: did you mean 1000 kg/m³ (t/m³ × 1000)?'
+    >>> implausible_water(9810.0)[-68:]
+    'did you mean 1000 kg/m³ (the unit weight ρ g = 9810 N/m³, ÷ g)?'
+    >>> implausible_water(1000.0) is None
+    True
+    """  # noqa: E501
+    lo, hi = WATER_DENSITY
+    if lo <= density <= hi:
+        return None
+    meant = ""
+    if 0.9 <= density <= 1.3:
+        meant = f": did you mean {density * 1e3:g} kg/m³ (t/m³ × 1000)?"
+    elif 9.0 <= density <= 12.5:
+        meant = (f": did you mean {density * 1e3 / 9.81:.0f} kg/m³ (the unit weight ρ g = "
+                 f"{density:g} kN/m³, × 1000 ÷ g)?")  # fmt: skip
+    elif 9000.0 <= density <= 12500.0:
+        meant = (f": did you mean {density / 9.81:.0f} kg/m³ (the unit weight ρ g = "
+                 f"{density:g} N/m³, ÷ g)?")  # fmt: skip
+    return (f"density = {density:g} kg/m³ is not water's (fresh 1000, sea 1025 kg/m³): pfeie "
+            f"takes kg/m³{meant}")  # fmt: skip
+
+
+def implausible_silt(submerged_unit_weight: float) -> str | None:
+    """A warning on a silt's submerged unit weight above :data:`SILT_SUBMERGED_MAX`
+    (N/m³): its saturated unit weight, which does not subtract the water's?
+
+    >>> implausible_silt(19000.0)[:60]
+    'submerged_unit_weight = 19000 N/m³ lies above 14000 N/m³ (su'
+    """
+    if submerged_unit_weight <= SILT_SUBMERGED_MAX:
+        return None
+    return (f"submerged_unit_weight = {submerged_unit_weight:g} N/m³ lies above "
+            f"{SILT_SUBMERGED_MAX:g} N/m³ (submerged silts: 4000 to 12000 N/m³): a saturated "
+            "unit weight? The water's pressure is the reservoir's (its hydrostatic load); "
+            f"the silt adds γ' = γ_sat − γ_w, here {submerged_unit_weight - 9810.0:g} N/m³ "
+            "with γ_w = 9810")  # fmt: skip
+
+
 def implausible_mesh(mesh: Mesh, prefix: str = "") -> list[str]:
     """A warning on a mesh wider than :data:`EXTENT_MAX` or taller than
     :data:`HEIGHT_MAX` (along the last axis, the vertical one): drawn in millimetres?

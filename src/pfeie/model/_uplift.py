@@ -35,6 +35,7 @@ follow the open or closed state of each pair, lagged by one step.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -132,7 +133,8 @@ class Uplift:
         joint's abscissa measures it (:meth:`abscissa`: along the upstream axis, the
         horizontal projection on an inclined joint); None:
         no drains.
-    efficiency: drain efficiency E in [0, 1].
+    efficiency: drain efficiency E in [0, 1]; required with ``drains`` (0 for drains that
+        remove nothing), without them 0.
     upstream: where the reservoir is: ``"-x"`` (default: upstream is towards −x, the heel
         is the joint's end of least x), ``"+x"``, or in 3D also ``"-y"``, ``"+y"``.
     shaking: ``"keep"``, ``"full"`` or ``"zero"`` (module doc).
@@ -143,7 +145,7 @@ class Uplift:
     headwater: float
     tailwater: float | None = None
     drains: float | None = None
-    efficiency: float = 0.0
+    efficiency: float = math.nan  # (not given: 0 without drains, an error with them)
     upstream: str = "-x"
     shaking: str = "keep"
     density: float = 1000.0
@@ -151,6 +153,13 @@ class Uplift:
 
     def __post_init__(self) -> None:
         where = f"uplift in {self.interface!r}"
+        if math.isnan(self.efficiency):
+            if self.drains is not None:
+                # drains with the default efficiency of 0 change nothing, silently
+                raise ModelError(f"{where}: drains given without their efficiency: give "
+                                 "efficiency, the fraction E of the head the drains remove "
+                                 "(e.g. 0.5; 0 for drains that remove nothing)")  # fmt: skip
+            object.__setattr__(self, "efficiency", 0.0)
         for name in ("headwater", "efficiency", "density", "g"):
             if not np.isfinite(getattr(self, name)):
                 raise ModelError(f"{where}: {name} must be a finite number")

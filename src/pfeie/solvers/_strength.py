@@ -49,13 +49,20 @@ from functools import partial
 
 import numpy as np
 
-from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem
+from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem, translations
 from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
 from ..typing import FloatArray
 from ._static import StaticResult, held, joint_factors, solve_pairs
-from ._yield import SLIDING_FS, YIELD_REOPEN, YIELD_RIGID_GAP, _creep, probe_towards
+from ._yield import (
+    SLIDING_FS,
+    YIELD_REOPEN,
+    YIELD_RIGID_GAP,
+    _creep,
+    probe_towards,
+    warn_pinched,
+)
 
 log = logging.getLogger(__name__)
 
@@ -94,6 +101,12 @@ class StrengthReduction:
       safety (:meth:`~pfeie.coupling.StaticInterfaceProblem.rigid_factor`, limit
       equilibrium, to 1e-3): no equilibrium exists beyond it, so the factor lies in
       [``factor``, ``rigid_factor``]; a gap of more than 1 % is warned. None otherwise.
+    - ``translation_factor``: the least factor of the floating blocks' rigid translations
+      (:func:`~pfeie.coupling.translations`: Hoek and Bray's plane and wedge sliding,
+      for blocks that rest on supported bodies only; None where no block is checked). A
+      ``factor`` more than 1 % above it is warned: the static analyses then lean on
+      friction that the block's sliding does not mobilise (a block pinched between its
+      planes), and the dynamic runs follow the lower factor.
     """
 
     factor: float | None
@@ -104,6 +117,7 @@ class StrengthReduction:
     static: StaticResult
     analyses: int
     rigid_factor: float | None = None
+    translation_factor: float | None = None
 
     def __repr__(self) -> str:
         """One line: the factor, the limit and its joint, the analyses."""
@@ -193,7 +207,8 @@ def strength_reduction(
                 if lo >= f_max:
                     log.info("strength reduction: held up to F = %g, %d static analyses in %.1f s",
                              f_max, count, time.perf_counter() - t0)  # fmt: skip
-                    return _result(None, None, names, fs_lo, st_lo, count, "none")
+                    none = _result(None, None, names, fs_lo, st_lo, count, "none")
+                    return _translated(problem, f0_free, none, f_max)
                 f_try = max(est * (1 + tol / 4), lo * (1 + grow))
                 grow *= 2.0
                 ahead = _creep(targets, est, tol)  # estimates that creep up: extrapolated
@@ -253,12 +268,29 @@ def strength_reduction(
                 "strength reduction: the static analyses fail from F = %.6g, below the "
                 "rigid blocks' factor %.6g (limit equilibrium: no equilibrium exists "
                 "beyond it): the pair solver may have failed short of the limit (a hinge "
-                "mechanism, an arch); the factor lies between %.6g and %.6g",
+                "mechanism, an arch); static equilibrium ends between %.6g and %.6g",
                 hi, rigid, lo, rigid)  # fmt: skip
     log.info("strength reduction: F = %.6g (%s), %d static analyses in %.1f s", lo, limit,
              count, time.perf_counter() - t0)  # fmt: skip
     out_ = _result(lo, hi, names, fs_lo, st_lo, count, limit)
-    return dataclasses.replace(out_, rigid_factor=rigid) if limit != "sliding" else out_
+    out_ = dataclasses.replace(out_, rigid_factor=rigid) if limit != "sliding" else out_
+    return _translated(problem, f0_free, out_, f_max)
+
+
+def _translated(problem: StaticInterfaceProblem, f0_free: FloatArray,
+                out_: StrengthReduction, f_max: float) -> StrengthReduction:  # fmt: skip
+    """``out_`` with the floating blocks' translational factor, and the warning where the
+    static analyses' factor lies above it by more than :data:`YIELD_RIGID_GAP`."""
+    found = [t for t in translations(problem, f0_free) if np.isfinite(t.factor)]
+    if not found:
+        return out_
+    t = min(found, key=lambda t: t.factor)
+    held_f = out_.factor
+    if held_f is None or held_f > t.factor * (1 + YIELD_RIGID_GAP):
+        warn_pinched("strength reduction", problem, t, f"at F = {t.factor:.6g}",
+                     f"F > {f_max:g}" if held_f is None else f"F = {held_f:.6g}",
+                     "factor", t.factor)  # fmt: skip
+    return dataclasses.replace(out_, translation_factor=t.factor)
 
 
 def _result(

@@ -53,7 +53,7 @@ from typing import TypeVar
 
 import numpy as np
 
-from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem
+from ..coupling import RIGID_FACTOR_TOL, StaticInterfaceProblem, Translation, translation_limit
 from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
@@ -141,6 +141,13 @@ class YieldCoefficient:
       equilibrium, to 1e-3): no equilibrium exists beyond it, so the limit lies in
       [``k_y``, ``k_rigid``]; a gap of more than 1 % is warned (the pair solver failing
       short of the limit near a hinge mechanism). None otherwise.
+    - ``k_translation``: the least coefficient at which a floating block's rigid
+      translation slides (:func:`~pfeie.coupling.translation_limit`: Hoek and Bray's
+      plane and wedge sliding, for blocks that rest on supported bodies only; None where
+      no block is checked or none slides up to ``k_max``). A ``k_y`` more than 1 % above
+      it is warned: the static analyses then lean on friction that the block's sliding
+      does not mobilise (a block pinched between its planes), and the dynamic runs
+      follow the lower coefficient.
     """
 
     direction: FloatArray
@@ -153,6 +160,7 @@ class YieldCoefficient:
     static: StaticResult
     analyses: int
     k_rigid: float | None = None
+    k_translation: float | None = None
 
     def __repr__(self) -> str:
         """One line: the coefficient, the limit and its joint, the analyses (the static
@@ -344,7 +352,8 @@ def yield_coefficient(
                 log.info("yield coefficient along %s: held up to k = %g, %d static analyses "
                          "in %.1f s", _direction(iota), k_max, count,
                          time.perf_counter() - t0)  # fmt: skip
-                return _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
+                none = _result(iota, None, None, names, fs_lo, st_lo, count, None, "none")
+                return _translated(problem, f0_free, f_h[free], k_max, none)
             out = analyse(k_try, st_lo)
             if out is None:  # no equilibrium: beyond the limit
                 hi = k_try
@@ -416,12 +425,46 @@ def yield_coefficient(
                 "yield coefficient along %s: the static analyses fail from k = %.6g, below "
                 "the rigid blocks' limit k = %.6g (limit equilibrium: no equilibrium exists "
                 "beyond it): the pair solver may have failed short of the limit (a hinge "
-                "mechanism, an arch); the limit lies between %.6g and %.6g",
+                "mechanism, an arch); static equilibrium ends between %.6g and %.6g",
                 _direction(iota), hi, k_rigid, lo, k_rigid)  # fmt: skip
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
              _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     out_ = _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
-    return dataclasses.replace(out_, k_rigid=k_rigid) if limit != "sliding" else out_
+    out_ = dataclasses.replace(out_, k_rigid=k_rigid) if limit != "sliding" else out_
+    return _translated(problem, f0_free, f_h[free], k_max, out_)
+
+
+def _translated(problem: StaticInterfaceProblem, f0: FloatArray, f1: FloatArray,
+                k_max: float, out_: YieldCoefficient) -> YieldCoefficient:  # fmt: skip
+    """``out_`` with the floating blocks' translational limit, and the warning where the
+    static analyses' k_y lies above it by more than :data:`YIELD_RIGID_GAP`."""
+    found = translation_limit(problem, f0, f1, k_max)
+    if found is None:
+        return out_
+    k_t, t = found
+    ky = out_.k_y
+    if ky is None or ky > k_t * (1 + YIELD_RIGID_GAP):
+        warn_pinched(f"yield coefficient along {_direction(out_.direction)}", problem, t,
+                     f"from k = {k_t:.6g}",
+                     f"k_y > {k_max:g}" if ky is None else f"k_y = {ky:.6g}",
+                     "coefficient", k_t)  # fmt: skip
+    return dataclasses.replace(out_, k_translation=k_t)
+
+
+def warn_pinched(what: str, problem: StaticInterfaceProblem, t: Translation, at: str,
+                 held_text: str, quantity: str, value: float) -> None:  # fmt: skip
+    """The warning of a limit search whose static analyses hold beyond the limit of a
+    block's rigid translation ``t`` (:func:`pfeie.coupling.translations`): ``what`` names
+    the search, ``at`` where the block slides, ``held_text`` the analyses' answer."""
+    name = problem.model.body_names()[t.body]
+    where = f"on {', '.join(map(repr, t.planes))}" if t.planes else "off its planes"
+    log.warning(
+        "%s: block %r slides as a rigid block %s %s (limit equilibrium of its translations, "
+        "Hoek and Bray's plane and wedge sliding: a plane parallel to the sliding carries "
+        "no force), below the static analyses' %s: they pinch the block between its "
+        "planes and lean on friction that its sliding does not mobilise, and the dynamic "
+        "runs follow the lower %s; take %.6g (docs/theory.md, 'Two safety factors')",
+        what, name, where, at, held_text, quantity, value)  # fmt: skip
 
 
 def probe_towards(analyse: Callable[[float], T | None], fail: float,
