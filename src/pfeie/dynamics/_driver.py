@@ -1175,6 +1175,7 @@ class Dynamic:
             why = shorter_than_a_step(g, self.dt)
             if why is not None:
                 raise ModelError(f"ground motion {g.name!r}: {why}")
+            self.model.warn_along_gravity(g.name, g.direction)
         if resume is not None:
             if not isinstance(resume, Checkpoint):
                 raise ModelError(f"resume: expected a pfeie Checkpoint (from on_checkpoint), "

@@ -1173,7 +1173,7 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
                 raise InputError(f"{p}: ground_motion[{i}].component: 'z' in a 2D model")
             direction = [0.0] * mesh.dim
             direction[k] = 1.0
-            _along_gravity(p, i, gm.component, direction, cfg.loads.gravity_direction)
+            _along_gravity(p, i, gm.component, direction, model)
         # scale = -1 beside pga or target_sa is the polarity (the record flipped, then
         # scaled to its target); another factor would be overridden by the target
         factor = "scale" in gm.model_fields_set and abs(gm.scale) != 1.0
@@ -1374,36 +1374,21 @@ def _undamped_sliding(p: Path, a: Analysis, damping: Any) -> None:
 MIN_APPLIED_HZ = 1.0
 
 
-#: the share of a record's axis along a tilted gravity above which a warning says so
-#: (sin 0.06°: a tilt of the model that small is a rounding of its axes)
-ALONG_GRAVITY = 1e-3
-
-
 def _along_gravity(p: Path, i: int, component: str, direction: list[float],
-                   gravity: Sequence[float] | None) -> None:  # fmt: skip
+                   model: Model) -> None:  # fmt: skip
     """A record given by its ``component`` acts along that global axis; where gravity is
     tilted (``loads.gravity_direction``: a mesh drawn in the slope's own axes), the axis
     is not horizontal, and a record meant as horizontal shaking must be given by its
-    ``direction`` made normal to gravity (as the yield coefficient and the pseudo-static
-    loads make theirs): a warning gives that direction."""
-    if gravity is None:
+    ``direction`` made normal to gravity (:meth:`pfeie.Model.along_gravity`): a warning
+    gives that direction."""
+    found = model.along_gravity(direction)
+    if found is None:
         return
-    g = np.asarray(gravity, dtype=float)
-    norm = float(np.linalg.norm(g))
-    if not (np.isfinite(norm) and norm > 0):  # no direction (gravity 0): nothing to warn
-        return
-    g = g / norm
-    e = np.asarray(direction, dtype=float)
-    along = float(e @ g)
-    if abs(along) <= ALONG_GRAVITY:
-        return
-    h = e - along * g
-    h /= np.linalg.norm(h)
     log.warning("%s: ground_motion[%d].component = %r is the global %s axis, which has %.3g "
                 "of its length along the tilted gravity (loads.gravity_direction): the record "
                 "shakes partly along gravity; for horizontal shaking give direction = [%s] "
-                "(the axis made normal to gravity)", p, i, component, component, abs(along),
-                ", ".join(f"{v:.6g}" for v in h))  # fmt: skip
+                "(the axis made normal to gravity)", p, i, component, component, found[0],
+                ", ".join(f"{v:.6g}" for v in found[1]))  # fmt: skip
 
 
 def _record_against_dt(p: Path, i: int, rec: GroundMotion, dt: float) -> None:

@@ -37,6 +37,11 @@ from ._uplift import Uplift, uplift_force
 
 log = logging.getLogger(__name__)
 
+#: a record whose direction has more than this share of its length along a tilted gravity
+#: shakes partly along gravity (:meth:`Model.along_gravity`; sin 0.06°: a tilt of the
+#: model that small is a rounding of its axes)
+ALONG_GRAVITY = 1e-3
+
 #: an uplift's joint shorter along its upstream axis than this share of its extent is
 #: warned (:meth:`Model.add_uplift`: the wrong upstream axis, every pair at the heel)
 UPLIFT_FLAT_SHARE = 1e-3
@@ -775,6 +780,49 @@ class Model:
                         "default): gravity puts no load on them; give their material its "
                         "density (kg/m³)", ", ".join(repr(n) for n in massless))  # fmt: skip
         self.loads.append(Load("gravity", None, g * e, amplitude))
+
+    def along_gravity(
+        self, direction: Sequence[float] | FloatArray
+    ) -> tuple[float, FloatArray] | None:
+        """Where gravity is tilted (a mesh drawn in a slope's own axes) and a record's
+        ``direction`` has more than :data:`ALONG_GRAVITY` of its length along it: that
+        share and the direction made normal to gravity (horizontal shaking, as the yield
+        coefficient and the pseudo-static loads take it); None otherwise (gravity along
+        the vertical axis: a record along it is vertical shaking, meant so).
+
+        >>> import pfeie as pf
+        >>> m = pf.Model(pf.rectangle(1.0, 1.0, 1, 1), [pf.Block("all", pf.Elastic(1e9, 0.2, 1e3))])
+        >>> m.add_gravity(direction=[np.sin(0.1), -np.cos(0.1)])
+        >>> share, h = m.along_gravity([1.0, 0.0])
+        >>> round(share, 4), [round(float(v), 4) for v in h]
+        (0.0998, [0.995, 0.0998])
+        """
+        grav = [ld.value for ld in self.loads if ld.kind == "gravity"]
+        if not grav:
+            return None
+        g = np.asarray(grav[-1], dtype=float)
+        norm = float(np.linalg.norm(g))
+        if not (np.isfinite(norm) and norm > 0) or abs(abs(g[-1]) / norm - 1.0) < 1e-12:
+            return None
+        g = g / norm
+        e = np.asarray(direction, dtype=float)
+        e = e / np.linalg.norm(e)
+        along = float(e @ g)
+        if abs(along) <= ALONG_GRAVITY:
+            return None
+        h = e - along * g
+        return abs(along), h / np.linalg.norm(h)
+
+    def warn_along_gravity(self, name: str, direction: Sequence[float] | FloatArray) -> None:
+        """The warning of :meth:`along_gravity` for a record ``name`` of the Python API
+        (a model file names its keys itself and builds with ``check_units=False``)."""
+        found = self.along_gravity(direction) if self._check_units else None
+        if found is not None:
+            log.warning("ground motion %r: its direction %s has %.3g of its length along the "
+                        "tilted gravity: the record shakes partly along gravity; for "
+                        "horizontal shaking give direction = [%s] (made normal to gravity)",
+                        name, [round(float(v), 6) for v in direction], found[0],
+                        ", ".join(f"{v:.6g}" for v in found[1]))  # fmt: skip
 
     def add_inertia(
         self, acceleration: Sequence[float], amplitude: Amplitude | None = None
