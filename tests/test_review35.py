@@ -3,6 +3,7 @@ solver), checked by equilibrium against closed forms and by the rigid blocks' li
 
 from __future__ import annotations
 
+import json
 import logging
 from pathlib import Path
 
@@ -464,3 +465,32 @@ def test_a_record_along_a_tilted_axis_is_warned_in_python_too(
     with caplog.at_level(logging.WARNING):
         pf.Dynamic(m, 0.01).run(0.02, ground=[gm])
     assert "along the tilted gravity" not in caplog.text
+
+
+def test_the_model_file_takes_yield_directions_as_vectors(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:  # fmt: skip
+    """analysis.yield_coefficient took '+x', '-x', '+y', '-y' only, so a wedge whose keel
+    trends obliquely needed the Python API. Vectors normal to gravity are taken now, keyed
+    in summary.json as written: the level joint of two blocks (tan φ = 0.5) gives 0.5
+    along [-1, 0] as along '+x' (to the search's 1e-6); a vector along gravity is refused,
+    naming the key."""
+    from conftest import cli_fails
+    from pfeie.cli import main
+    from test_cli import SMALL, _write
+
+    def model(directions: str) -> Path:
+        text = SMALL.replace("[analysis]", f"[analysis]\nyield_coefficient = {directions}\n"
+                             "dynamic = false")  # fmt: skip
+        return _write(tmp_path, text.replace('[[ground_motion]]\nfile = "pulse.csv"\n'
+                                             'units = "g"\n', ""))  # fmt: skip
+
+    assert main(["run", str(model('["+x", [-1.0, 0.0]]')), "--quiet"]) == 0
+    ys = json.loads((tmp_path / "out" / "summary.json").read_text())["yield_coefficient"]
+    assert set(ys) == {"+x", "[-1, 0]"}
+    assert ys["[-1, 0]"]["direction"] == [-1.0, 0.0]
+    for y in ys.values():  # (φ = 26.565°: tan φ = 0.4999986)
+        assert y["k_y"] == pytest.approx(np.tan(np.radians(26.565)), rel=2e-6)
+    p = model("[[0.0, 1.0]]")
+    err = cli_fails(capsys, ["run", str(p), "--quiet"])
+    assert f"{p}: analysis.yield_coefficient: yield coefficient:" in err

@@ -72,6 +72,7 @@ from .io import (
     run_key,
     utf8_text,
     write_paraview,
+    yield_label,
 )  # fmt: skip
 from .model import GroundMotion, Model
 from .plot import plot_run, solver_line
@@ -1079,16 +1080,21 @@ def _yield_coefficients(
     model = job.model
     out: dict[str, dict[str, Any]] = {}
     asked = job.analysis.yield_coefficient
-    labels = ["+x", "-x"] if asked is True else list(asked or [])
-    for label in labels:
-        sign, axis = (1.0 if label[0] == "+" else -1.0), "xy".index(label[1])
+    wanted: list[str | list[float]] = ["+x", "-x"] if asked is True else list(asked or [])
+    for given in wanted:
+        label = yield_label(given)
         t0 = time.perf_counter()
         if stream is not None:
             stream.write(f"yield coefficient {label}: static analyses ...\n")
             stream.flush()
         try:
-            _, iota = horizontal(model, axis=axis)
-            y = yield_coefficient(model, sign * iota, problem=problem)
+            if isinstance(given, str):
+                sign, axis = (1.0 if given[0] == "+" else -1.0), "xy".index(given[1])
+                _, iota = horizontal(model, axis=axis)
+                iota = sign * iota
+            else:
+                _, iota = horizontal(model, direction=given)
+            y = yield_coefficient(model, iota, problem=problem)
         except ModelError as exc:
             raise InputError(f"{job.path}: analysis.yield_coefficient: {exc}") from None
         out[label] = {

@@ -38,6 +38,7 @@ from ._records import (
     write_at2,
 )
 from ._results import Results, ResultsWriter
+from ._schema import yield_label
 from ._studyfile import BATCH, MAX_BATCH, MAX_WORKERS, StudyFile, read_study_file
 
 __all__ = [
@@ -84,4 +85,5 @@ __all__ = [
     "write_at2",
     "write_modes",
     "write_paraview",
+    "yield_label",
 ]  # fmt: skip

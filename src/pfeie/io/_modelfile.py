@@ -75,6 +75,7 @@ from ._schema import (
     problems,
     reference_markdown,
     reference_rows,
+    yield_label,
 )
 
 log = logging.getLogger(__name__)
@@ -312,7 +313,8 @@ class Job:
         a = self.analysis
         out = ["static state"] if a.static else []
         if a.yield_coefficient:
-            labels = ["+x", "-x"] if a.yield_coefficient is True else list(a.yield_coefficient)
+            labels = (["+x", "-x"] if a.yield_coefficient is True
+                      else [yield_label(v) for v in a.yield_coefficient])  # fmt: skip
             out.append(f"yield coefficient along {', '.join(labels)}")
         if a.strength_reduction:
             out.append("factor of safety by strength reduction")

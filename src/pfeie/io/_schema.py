@@ -95,6 +95,14 @@ UnitWeight = Annotated[float, Field(gt=0.0, le=1e6), Unit("N/m³")]
 SILT_UNIT_WEIGHT_MIN = 1000.0
 
 
+def yield_label(direction: str | Sequence[float]) -> str:
+    """The label of a yield coefficient's direction as the model file gives it (its key
+    in summary.json): '+x' as written, a vector as "[0.6, 0.8, 0]"."""
+    if isinstance(direction, str):
+        return direction
+    return "[" + ", ".join(f"{float(v):g}" for v in direction) + "]"
+
+
 def _path_text(v: str) -> str:
     if not v.strip():
         raise ValueError(f"expected a path, found {'an empty' if not v else 'a blank'} string")
@@ -661,12 +669,15 @@ class Analysis(DynamicSettings):
     )
     dynamic: Annotated[bool, Field(description="run the dynamic analysis")] = True
     yield_coefficient: Annotated[
-        bool | list[Literal["+x", "-x", "+y", "-y"]],
-        Expect("true, false or an array of '+x', '-x' (in 3D also '+y', '-y')"), Field(
+        bool | list[Literal["+x", "-x", "+y", "-y"] | list[float]],
+        Expect("true, false or an array of '+x', '-x' (in 3D also '+y', '-y') or of "
+               "horizontal vectors such as [0.6, 0.8, 0.0]"), Field(
         description="after the static state, find the yield coefficient k_y along +x and "
         "−x (true), or along the directions listed (in 3D also '+y', '-y'), each made "
-        "horizontal: the pseudo-static acceleration, a fraction of g, at which a joint "
-        "slides (summary.json yield_coefficient; needs static = true)",
+        "horizontal, or along horizontal vectors (a wedge whose keel trends obliquely: "
+        "[0.6, 0.8, 0.0], normal to gravity): the pseudo-static acceleration, a fraction "
+        "of g, at which a joint slides (summary.json yield_coefficient, keyed by the "
+        "direction as written; needs static = true)",
     )] = False  # fmt: skip
     strength_reduction: Annotated[bool, Field(
         description="after the static state, the factor of safety by strength reduction: "
@@ -695,10 +706,10 @@ class Analysis(DynamicSettings):
                          "expected one of them (or both) true")  # fmt: skip
         if isinstance(self.yield_coefficient, list) and (
             not self.yield_coefficient
-            or len(set(self.yield_coefficient)) < len(self.yield_coefficient)
+            or len({yield_label(v) for v in self.yield_coefficient}) < len(self.yield_coefficient)
         ):
             raise _check("yield_coefficient", "expected true, false or distinct directions "
-                         "among '+x', '-x', '+y', '-y'")  # fmt: skip
+                         "among '+x', '-x', '+y', '-y' or horizontal vectors")  # fmt: skip
         if self.yield_coefficient and not self.static:
             raise _check("yield_coefficient", "the yield coefficient is found from the "
                          "static state; expected static = true")  # fmt: skip
