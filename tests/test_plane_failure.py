@@ -109,9 +109,12 @@ def test_massless_foundation_gives_hoek_and_bray(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_a_foundation_with_mass_leans_on_the_block(tmp_path: Path) -> None:
     """With the rock mass at 2,600 kg/m³ its own k g pushes the rock behind the crack onto
-    the block's top: the block slides earlier, k_y between 3 % and 6 % below the hand's
-    (measured 0.11899, 4.3 % below), still a sliding limit on the plane."""
+    the block's top: the block slides earlier, k_y between 1 % and 2 % below the hand's
+    (measured 0.122527, 1.42 % below), still a sliding limit on the plane. It read
+    0.11899 (4.3 % below) where the Newtons failed from k = 0.1207 on; the bordered
+    proximal Newton holds those analyses (their equilibria balance the reactions to
+    2e-11, docs/theory.md)."""
     y = _yield(tmp_path, 2600.0)
     ky = _hand_ky()
     assert y["limit"] == "sliding" and y["joint"] == "plane"
-    assert 0.94 * ky < y["k_y"] < 0.97 * ky
+    assert 0.98 * ky < y["k_y"] < 0.99 * ky
