@@ -273,7 +273,8 @@ def test_directions_listed_in_a_model_file(
     assert list(s["yield_coefficient"]) == ["-x"]
     mu = np.tan(np.radians(26.565))
     assert mu * (1 - TOL) <= s["yield_coefficient"]["-x"]["k_y"] <= mu
-    either = "expected true, false or an array of '+x', '-x' (in 3D also '+y', '-y'), found"
+    either = ("expected true, false or an array of '+x', '-x' (in 3D also '+y', '-y') or of "
+              "horizontal vectors such as [0.6, 0.8, 0.0], found")
     for bad, words in (('["+y"]', "names y, the vertical axis of a 2D model"),
                        ('["-x", "-x"]', "distinct directions"),
                        ('"x"', f"{either} a string 'x'"),

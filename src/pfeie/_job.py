@@ -1990,7 +1990,8 @@ def format_summary(s: dict[str, Any]) -> str:
     if sr:
         text = _reduction_text(sr)
         ft = sr.get("translation_factor")
-        if ft is not None and (sr["factor"] is None or sr["factor"] > ft * (1 + YIELD_RIGID_GAP)):
+        held = sr.get("f_max", REDUCTION_F_MAX) if sr["factor"] is None else sr["factor"]
+        if ft is not None and held > ft * (1 + YIELD_RIGID_GAP):
             text += (f"; but a block slides as a rigid block at FS {ft:.4g} (Hoek and Bray's "
                      "plane and wedge sliding; the static analyses pinch it between its "
                      "planes): take that")  # fmt: skip

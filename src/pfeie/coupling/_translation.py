@@ -6,14 +6,16 @@ grouped into planes, each with the unit normal n_i pointing into the block (the 
 of the force the support puts on it), the cohesive force C_i = Σ c_k A_k and the friction
 coefficient μ_i (area-weighted). A translation v (unit) is admissible when it opens or
 slides every plane (n_i · v ≥ 0); the planes it slides on (n_i · v = 0) carry normal
-forces N_i ≥ 0 that balance R across v, and friction opposes v:
+forces N_i ≥ 0 that balance R across v, friction opposes v, and a plane parallel to v
+that carries no normal force (a release joint, a slot's walls) is sheared: its cohesion
+resists:
 
     sliding on plane i:        v = R_t / |R_t|,  R_t = R − (R · n_i) n_i,  N_i = −R · n_i,
     along planes i and j (3D): v = ±(n_i × n_j) / |n_i × n_j| with R · v > 0,
                                N_i n_i + N_j n_j = −(R − (R · v) v),
-    lifting off every plane:   v = R / |R|,
+    along no loaded plane:     v = R / |R| (lifting off, or sliding past parallel planes),
 
-    F = Σ_i (C_i + μ_i N_i) / (R · v)        (0 for a block that lifts off),
+    F = (Σ_loaded (C_i + μ_i N_i) + Σ_sheared C_j) / (R · v),
 
 and the block's factor is the least F over its admissible translations (a plane that
 holds tension, an intact joint with a tensile strength, is not opened). No planes carry
@@ -77,13 +79,21 @@ def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
     free = problem.system.free
     body_dof = model.body_of_node[free // d]
     comp = free % d
+    # the bodies with every rigid mode free (no support at all): a partly supported one
+    # (rollers on a symmetry plane) has translations its supports forbid
+    modes = (
+        np.bincount(problem.mode_body, minlength=model.n_bodies)
+        if problem.mode_body.size
+        else np.zeros(model.n_bodies, dtype=np.int64)
+    )
     floating = set(int(b) for b in np.unique(problem.mode_body))
+    whole = {b for b in floating if modes[b] == (3 if d == 2 else 6)}
     c, mu, t = pair_strengths(problem.laws, damage)
     c, mu = c / factor, mu / factor
     ba, bb = model.body_of_node[P.node_a], model.body_of_node[P.node_b]
     G = problem.op.G
     out = []
-    for b in sorted(floating):
+    for b in sorted(whole):
         on = body_dof == b
         T = np.zeros((free.size, d))
         T[np.flatnonzero(on), comp[on]] = 1.0
@@ -135,16 +145,17 @@ def _least(block: _Block, R: FloatArray) -> Translation:
         return best
     tol = SLIDE_TOL
 
-    def admissible(v: FloatArray, on: list[int]) -> bool:
-        # it opens every other plane, none of which holds tension
+    def sheared(v: FloatArray, on: list[int]) -> FloatArray | None:
+        """The other planes that v shears (parallel to it: their cohesion resists, with no
+        normal force), or None where v presses into one or opens one holding tension."""
         others = np.setdiff1d(np.arange(len(n)), on)
-        return bool((n[others] @ v > tol).all() and (block.tensile[others] <= 0).all())
+        g = n[others] @ v
+        if (g < -tol).any() or (block.tensile[others[g > tol]] > 0).any():
+            return None
+        return others[np.abs(g) <= tol]
 
-    # lifting off every plane
-    v = R / size
-    if (n @ v > -tol).all() and (block.tensile <= 0).all():
-        return Translation(block.body, 0.0, v, ())
-    cands: list[tuple[FloatArray, list[int], FloatArray]] = []
+    # every plane opened or sheared, none loaded (lifting off, or sliding past parallel ones)
+    cands: list[tuple[FloatArray, list[int], FloatArray]] = [(R / size, [], np.zeros(0))]
     for i in range(len(n)):
         Rt = R - (R @ n[i]) * n[i]
         if np.linalg.norm(Rt) <= 1e-12 * size or R @ n[i] >= 0:
@@ -165,11 +176,13 @@ def _least(block: _Block, R: FloatArray) -> Translation:
                 cands.append((v, [i, j], np.maximum(nf, 0.0)))
     for v, on, nf in cands:
         drive = float(R @ v)
-        if drive <= 0 or not admissible(v, on):
+        side = sheared(v, on)
+        if drive <= 0 or side is None:
             continue
-        fs = float((C[on] + mu[on] * nf).sum()) / drive
+        fs = float((C[on] + mu[on] * nf).sum() + C[side].sum()) / drive
         if fs < best.factor:
             loaded = [i for i, ni in zip(on, nf, strict=True) if ni > 1e-9 * size]
+            loaded += [int(j) for j in side if C[j] > 0]
             planes = tuple(sorted({name for i in loaded for name in block.names[i]}))
             best = Translation(block.body, fs, v, planes)
     return best

@@ -132,8 +132,12 @@ SECOND_STAGE_PROXIMAL = "proximal Newton (second stage)"
 #: 2,400 on one core; it needed 28 to 42 of them near an arch's hinge mechanism)
 BORDERED_PROXIMAL_MAX = 2400
 
-#: the bordered proximal Newton's cap on Newton iterations per start
-BORDERED_PROXIMAL_NEWTON = 400
+#: the bordered proximal Newton's caps: Newton iterations, and outer iterations in a row
+#: without halving the residual (where it succeeded, near an arch's hinge mechanism and a
+#: plane failure's limit, it took at most 50 and 10; where no equilibrium exists it ran to
+#: its caps, and a limit search meets tens of such analyses)
+BORDERED_PROXIMAL_NEWTON = 150
+BORDERED_PROXIMAL_STALL = 8
 
 PROXIMAL_FIRST_3D = True
 """Where the state iteration does not settle a 3D problem without a border that the Newton
@@ -1062,7 +1066,7 @@ class InterfaceSolver:
     ) -> tuple[PairState, FloatArray]:  # fmt: skip
         """Statics with floating blocks (the border): the bordered proximal-point Newton
         (:func:`._proximal.proximal_newton`) alone, from ``start``'s forces (else from X =
-        0), then cold; the fallback where :meth:`solve` meets singular systems and
+        0); the fallback where :meth:`solve` meets singular systems and
         stalls near a hinge mechanism. The caller judges first that an equilibrium can
         exist (the rigid-block check, :class:`~pfeie.coupling.StaticInterfaceProblem`):
         where none does, the iterations stall at their caps. Returns the trial state and
@@ -1075,30 +1079,25 @@ class InterfaceSolver:
                                  f"{size} unknowns (above {BORDERED_PROXIMAL_MAX})")  # fmt: skip
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             s_free = self._prepare(w_free, prev, label, None, True, None)
-            starts = []
             if start is not None and np.all(np.isfinite(start.X)):
                 first = start.copy()
                 fresh = first.broken & ~prev.broken
                 first.broken[fresh] = False
                 first.state[fresh] = prev.state[fresh]
-                starts.append(first)
-            cold = prev.copy()
-            cold.X[:] = 0.0
-            starts.append(cold)
-            total, best = 0, np.inf
-            for st0 in starts:
-                st, n, q = self._proximal(st0, prev, s_free, e,
-                                          max_newton=BORDERED_PROXIMAL_NEWTON)  # fmt: skip
-                total += n
-                res = float(self.residual(st, prev, s_free).max(initial=0.0))
-                if res <= self.tol and self._balanced(st.X, e, rows=True):
-                    self.last = SolveInfo(total, res, "bordered proximal Newton")
-                    log.debug("%s: solved by the bordered proximal Newton, residual %.2e",
-                              label, res)  # fmt: skip
-                    return st, q
-                best = min(best, res)
+            else:
+                first = prev.copy()
+                first.X[:] = 0.0
+            # one start (the limit searches call again from the cold start)
+            st, n, q = self._proximal(first, prev, s_free, e,
+                                      max_newton=BORDERED_PROXIMAL_NEWTON,
+                                      max_stall=BORDERED_PROXIMAL_STALL)  # fmt: skip
+            res = float(self.residual(st, prev, s_free).max(initial=0.0))
+        if res <= self.tol and self._balanced(st.X, e, rows=True):
+            self.last = SolveInfo(n, res, "bordered proximal Newton")
+            log.debug("%s: solved by the bordered proximal Newton, residual %.2e", label, res)
+            return st, q
         raise InterfaceError(f"{label}: the bordered proximal Newton reached a residual of "
-                             f"{best:.1e} only (tolerance {self.tol:.0e})")  # fmt: skip
+                             f"{res:.1e} only (tolerance {self.tol:.0e})")  # fmt: skip
 
     def _solve(
         self,
@@ -1340,7 +1339,7 @@ class InterfaceSolver:
 
     def _proximal(
         self, st: PairState, prev: PairState, w_free: FloatArray,
-        e: FloatArray | None = None, max_newton: int = 1500,
+        e: FloatArray | None = None, max_newton: int = 1500, max_stall: int = 30,
     ) -> tuple[PairState, int, FloatArray]:  # fmt: skip
         """The proximal-point Newton (:func:`._proximal.proximal_newton`) from ``st``, with
         intact pairs breaking where the answer exceeds their strength (then solved again);
@@ -1366,7 +1365,8 @@ class InterfaceSolver:
             # ρ |s_free|; the forces at the start stand for those of the answer
             fscale = self._scale(X, w_free)
             out = proximal_newton(op, w_free, X, law, self.rho, 0.1 * self.tol, fscale,
-                                  e=eb, z0=z, max_newton=max_newton)  # fmt: skip
+                                  e=eb, z0=z, max_newton=max_newton,
+                                  max_stall=max_stall)  # fmt: skip
             total += out.iterations
             X, s_, z = out.X, out.s, out.z
             if not self._breaking:

@@ -669,7 +669,9 @@ def _water_levels(p: Path, cfg: Any, mesh: Mesh) -> None:
                         " and ".join(given))  # fmt: skip
         return
     k = max(range(len(hyd)), key=lambda i: hyd[i].water_level)  # the reservoir
-    lower = [i for i in range(len(hyd)) if i != k]
+    # (items at the reservoir's level are the reservoir too: its face and floor apart)
+    lower = [i for i in range(len(hyd))
+             if hyd[k].water_level - hyd[i].water_level > _LEVEL_TOL]  # fmt: skip
     for j, up in enumerate(loads.uplift):
         if abs(up.headwater - hyd[k].water_level) > _LEVEL_TOL:
             log.warning("%s: loads.uplift[%d].headwater = %g m differs from "

@@ -35,7 +35,6 @@ follow the open or closed state of each pair, lagged by one step.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -120,6 +119,11 @@ class Stations:
         return np.asarray(wet[self.of] & open_)
 
 
+#: the default of :attr:`Uplift.efficiency`, told from any value given by its identity (a
+#: NaN given is refused as not finite)
+_NOT_GIVEN = float("nan")
+
+
 @dataclass(frozen=True)
 class Uplift:
     """Uplift in one interface (see the module doc).
@@ -145,7 +149,7 @@ class Uplift:
     headwater: float
     tailwater: float | None = None
     drains: float | None = None
-    efficiency: float = math.nan  # (not given: 0 without drains, an error with them)
+    efficiency: float = _NOT_GIVEN  # (not given: 0 without drains, an error with them)
     upstream: str = "-x"
     shaking: str = "keep"
     density: float = 1000.0
@@ -153,7 +157,7 @@ class Uplift:
 
     def __post_init__(self) -> None:
         where = f"uplift in {self.interface!r}"
-        if math.isnan(self.efficiency):
+        if self.efficiency is _NOT_GIVEN:
             if self.drains is not None:
                 # drains with the default efficiency of 0 change nothing, silently
                 raise ModelError(f"{where}: drains given without their efficiency: give "

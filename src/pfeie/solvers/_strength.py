@@ -61,6 +61,7 @@ from ._yield import (
     YIELD_RIGID_GAP,
     _creep,
     probe_towards,
+    warn_gap,
     warn_pinched,
 )
 
@@ -195,6 +196,7 @@ def strength_reduction(
     reopened = 0
     rigid: float | None = None  # the rigid blocks' factor (asked only if needed)
     rigid_done = False
+    gap: tuple[float, float, float] | None = None  # (warned at the end, see _translated)
     while True:
         while hi is None or hi - lo > tol * lo:
             if count >= max_analyses:
@@ -264,33 +266,33 @@ def strength_reduction(
         if limit != "sliding" and not rigid_done:
             rigid, rigid_done = problem.rigid_factor(f0_free), True
         if limit != "sliding" and rigid is not None and rigid > hi * (1 + YIELD_RIGID_GAP):
-            log.warning(
-                "strength reduction: the static analyses fail from F = %.6g, below the "
-                "rigid blocks' factor %.6g (limit equilibrium: no equilibrium exists "
-                "beyond it): the pair solver may have failed short of the limit (a hinge "
-                "mechanism, an arch); static equilibrium ends between %.6g and %.6g",
-                hi, rigid, lo, rigid)  # fmt: skip
+            gap = (hi, rigid, lo)
     log.info("strength reduction: F = %.6g (%s), %d static analyses in %.1f s", lo, limit,
              count, time.perf_counter() - t0)  # fmt: skip
     out_ = _result(lo, hi, names, fs_lo, st_lo, count, limit)
     out_ = dataclasses.replace(out_, rigid_factor=rigid) if limit != "sliding" else out_
-    return _translated(problem, f0_free, out_, f_max)
+    return _translated(problem, f0_free, out_, f_max, gap)
 
 
-def _translated(problem: StaticInterfaceProblem, f0_free: FloatArray,
-                out_: StrengthReduction, f_max: float) -> StrengthReduction:  # fmt: skip
+def _translated(
+    problem: StaticInterfaceProblem, f0_free: FloatArray, out_: StrengthReduction,
+    f_max: float, gap: tuple[float, float, float] | None = None,
+) -> StrengthReduction:  # fmt: skip
     """``out_`` with the floating blocks' translational factor, and the warning where the
-    static analyses' factor lies above it by more than :data:`YIELD_RIGID_GAP`."""
+    static analyses' factor lies above it by more than :data:`YIELD_RIGID_GAP`; else the
+    warning of a ``gap`` (the first failure, the rigid blocks' factor, the last held)
+    between the analyses and the rigid blocks' factor (an upper bound on static
+    equilibrium, which a block pinched between its planes exceeds)."""
     found = [t for t in translations(problem, f0_free) if np.isfinite(t.factor)]
-    if not found:
-        return out_
-    t = min(found, key=lambda t: t.factor)
+    t = min(found, key=lambda t: t.factor) if found else None
     held_f = out_.factor
-    if held_f is None or held_f > t.factor * (1 + YIELD_RIGID_GAP):
+    if t is not None and (f_max if held_f is None else held_f) > t.factor * (1 + YIELD_RIGID_GAP):
         warn_pinched("strength reduction", problem, t, f"at F = {t.factor:.6g}",
                      f"F > {f_max:g}" if held_f is None else f"F = {held_f:.6g}",
                      "factor", t.factor)  # fmt: skip
-    return dataclasses.replace(out_, translation_factor=t.factor)
+    elif gap is not None:
+        warn_gap("strength reduction", "factor", gap)
+    return out_ if t is None else dataclasses.replace(out_, translation_factor=t.factor)
 
 
 def _result(

@@ -314,6 +314,7 @@ def yield_coefficient(
     targets: list[float] = []  # the predicted roots aimed at (see _creep)
     reopened = 0
     k_rigid: float | None = None  # the rigid blocks' limit (asked only if needed)
+    gap: tuple[float, float, float] | None = None  # (warned at the end, see _translated)
     rigid_done = False
     # the k at which each joint came to its capacity during the search (NaN: not at it,
     # or at it from k = 0 on: a joint that slides while the structure holds), and the
@@ -421,34 +422,47 @@ def yield_coefficient(
         if k_rigid is not None and not np.isfinite(k_rigid):
             k_rigid = None  # the rigid blocks hold at k_max: no bound below it
         if limit != "sliding" and k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
-            log.warning(
-                "yield coefficient along %s: the static analyses fail from k = %.6g, below "
-                "the rigid blocks' limit k = %.6g (limit equilibrium: no equilibrium exists "
-                "beyond it): the pair solver may have failed short of the limit (a hinge "
-                "mechanism, an arch); static equilibrium ends between %.6g and %.6g",
-                _direction(iota), hi, k_rigid, lo, k_rigid)  # fmt: skip
+            gap = (hi, k_rigid, lo)
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
              _direction(iota), lo, limit, count, time.perf_counter() - t0)  # fmt: skip
     out_ = _result(iota, lo, hi, names, fs_lo, st_lo, count, estimate, limit, joint)
     out_ = dataclasses.replace(out_, k_rigid=k_rigid) if limit != "sliding" else out_
-    return _translated(problem, f0_free, f_h[free], k_max, out_)
+    return _translated(problem, f0_free, f_h[free], k_max, out_, gap)
 
 
-def _translated(problem: StaticInterfaceProblem, f0: FloatArray, f1: FloatArray,
-                k_max: float, out_: YieldCoefficient) -> YieldCoefficient:  # fmt: skip
+def _translated(
+    problem: StaticInterfaceProblem, f0: FloatArray, f1: FloatArray, k_max: float,
+    out_: YieldCoefficient, gap: tuple[float, float, float] | None = None,
+) -> YieldCoefficient:  # fmt: skip
     """``out_`` with the floating blocks' translational limit, and the warning where the
-    static analyses' k_y lies above it by more than :data:`YIELD_RIGID_GAP`."""
+    static analyses' k_y lies above it by more than :data:`YIELD_RIGID_GAP`; else the
+    warning of a ``gap`` (the first failure, the rigid blocks' limit, the last held)
+    between the analyses and the rigid blocks' limit (an upper bound on static
+    equilibrium, which a block pinched between its planes exceeds)."""
     found = translation_limit(problem, f0, f1, k_max)
-    if found is None:
-        return out_
-    k_t, t = found
     ky = out_.k_y
-    if ky is None or ky > k_t * (1 + YIELD_RIGID_GAP):
-        warn_pinched(f"yield coefficient along {_direction(out_.direction)}", problem, t,
-                     f"from k = {k_t:.6g}",
+    where = _direction(out_.direction)
+    if found is not None and (k_max if ky is None else ky) > found[0] * (1 + YIELD_RIGID_GAP):
+        k_t, t = found
+        warn_pinched(f"yield coefficient along {where}", problem, t, f"from k = {k_t:.6g}",
                      f"k_y > {k_max:g}" if ky is None else f"k_y = {ky:.6g}",
                      "coefficient", k_t)  # fmt: skip
-    return dataclasses.replace(out_, k_translation=k_t)
+    elif gap is not None:
+        warn_gap(f"yield coefficient along {where}", "limit k", gap)
+    return out_ if found is None else dataclasses.replace(out_, k_translation=found[0])
+
+
+def warn_gap(what: str, bound: str, gap: tuple[float, float, float]) -> None:
+    """The warning of a limit search whose analyses fail below the rigid blocks' bound:
+    ``gap`` = (the first failure, the bound, the last held); ``bound`` names it ("limit
+    k", "factor")."""
+    fail, rigid, held_ = gap
+    sym = bound[-1] if bound.endswith(" k") else "F"
+    log.warning(
+        "%s: the static analyses fail from %s = %.6g, below the rigid blocks' %s = %.6g "
+        "(limit equilibrium: no equilibrium exists beyond it): the pair solver may have "
+        "failed short of the limit (a hinge mechanism, an arch); static equilibrium ends "
+        "between %.6g and %.6g", what, sym, fail, bound, rigid, held_, rigid)  # fmt: skip
 
 
 def warn_pinched(what: str, problem: StaticInterfaceProblem, t: Translation, at: str,
