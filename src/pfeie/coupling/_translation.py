@@ -26,7 +26,8 @@ between two planes and lean on friction that the rigid block's sliding does not 
 k_y 0.135, this check 1.2128 = tan 35° / tan 30° and k_y 0.0875 = tan 5°, and the dynamic
 runs slide at the rigid block's rate). Rotations (toppling) and several blocks moving
 together are not these mechanisms: the check bounds the factor from above where they
-govern, and only blocks whose every pair touches a supported body are checked.
+govern. Only blocks with no support of their own (rollers forbid translations) whose
+every pair touches a supported body are checked.
 """
 
 from __future__ import annotations
@@ -66,13 +67,13 @@ class _Block(NamedTuple):
     mu: FloatArray  # (planes,)
     tensile: FloatArray  # (planes,) Σ σ_t A (N): a plane that holds tension cannot open
     names: tuple[tuple[str, ...], ...]  # the interfaces of each plane
-    pairs: tuple[FloatArray, ...]  # the pairs of each plane (indices)
     rows: FloatArray  # (d, n_free) R = rows @ f: the block's resultant
 
 
 def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
             factor: float) -> list[_Block]:  # fmt: skip
-    """The floating blocks that only supported bodies touch, their planes and strengths."""
+    """The floating blocks with no support that only supported bodies touch, their planes
+    and strengths (divided by ``factor``)."""
     model, d = problem.model, problem.model.dim
     P = model.pairs
     assert P is not None
@@ -131,7 +132,7 @@ def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
             np.array([float((mu[g] * a).sum() / a.sum()) for g, a in zip(idx, area, strict=True)]),
             np.array([float(t[g].sum()) for g in idx]),
             tuple(tuple(sorted({P.names[int(i)] for i in P.interface[g]})) for g in idx),
-            tuple(idx), rows))  # fmt: skip
+            rows))  # fmt: skip
     return out
 
 
