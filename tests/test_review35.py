@@ -592,3 +592,30 @@ def test_an_efficiency_given_as_nan_is_refused() -> None:
     with pytest.raises(ModelError, match="efficiency must be a finite number"):
         Uplift("base", 10.0, efficiency=float("nan"))
     assert Uplift("base", 10.0).efficiency == 0.0
+
+
+def test_the_summary_says_take_the_translation_and_not_the_rigid_bracket() -> None:
+    """The summary lines of a pinched block: "take that" with the translation's value, and
+    not the rigid blocks' bracket beside it (it read "k_y lies between 0.1352 and 0.2988"
+    next to "take 0.0875"); with no translation below, the bracket stays."""
+    from pfeie._job import format_summary
+
+    y = {"k_y": 0.13524, "k_affine": None, "k_fail": 0.13525, "limit": "no equilibrium found",
+         "k_rigid": 0.29883, "k_translation": 0.0874887, "joint": "right",
+         "safety_factor": 1.2, "safety_factors": {"left": 5.0, "right": 1.2},
+         "analyses": 40, "k_max": 2.0}  # fmt: skip
+    sr = {"factor": 1.28458, "factor_fail": 1.28465, "limit": "no equilibrium found",
+          "joint": "right", "rigid_factor": 1.48585, "translation_factor": 1.21280,
+          "safety_factors": {"left": 9.0, "right": 1.1}, "analyses": 30, "f_max": 20.0}  # fmt: skip
+    model = {"title": "t", "file": "m.toml", "sha256": "0" * 64, "blocks": ["a", "b"],
+             "bodies": 2, "dof": 10, "pairs": {"left": 1, "right": 1}, "records": []}  # fmt: skip
+    base = {"model": model, "version": "0"}
+    text = format_summary({**base, "yield_coefficient": {"+y": y}, "strength_reduction": sr})
+    assert "but a block slides as a rigid block from k = 0.08749" in text
+    assert "but a block slides as a rigid block at FS 1.213" in text
+    assert "lies between" not in text
+    y["k_translation"], sr["translation_factor"] = None, None
+    text = format_summary({**base, "yield_coefficient": {"+y": y}, "strength_reduction": sr})
+    assert "k_y lies between 0.1352 and 0.2988" in text
+    assert "the factor lies between 1.285 and 1.486" in text
+    assert "slides as a rigid block" not in text

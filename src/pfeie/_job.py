@@ -1248,7 +1248,9 @@ def _reduction_text(sr: dict[str, Any]) -> str:
         what += (f"; {sr['open_joint']!r} is the most open, {100 * sr['open_share']:.0f} % "
                  "of its area")  # fmt: skip
     rigid = sr.get("rigid_factor")
-    if rigid is not None and rigid > sr["factor"] * (1 + YIELD_RIGID_GAP):
+    ft = sr.get("translation_factor")
+    pinched = ft is not None and sr["factor"] > ft * (1 + YIELD_RIGID_GAP)  # (said after)
+    if rigid is not None and rigid > sr["factor"] * (1 + YIELD_RIGID_GAP) and not pinched:
         what += (f"; the rigid blocks' factor is {rigid:.4g} (limit equilibrium, an upper "
                  f"bound): the factor lies between {sr['factor']:.4g} and {rigid:.4g}")  # fmt: skip
     return what + lost + ")"
@@ -1976,7 +1978,9 @@ def format_summary(s: dict[str, Any]) -> str:
             if y["k_affine"] is not None:
                 what += f", the margins' affine estimate {y['k_affine']:.4g}"
             rigid = y.get("k_rigid")
-            if rigid is not None and rigid > k * (1 + YIELD_RIGID_GAP):
+            kt = y.get("k_translation")
+            pinched = kt is not None and k > kt * (1 + YIELD_RIGID_GAP)  # (said below)
+            if rigid is not None and rigid > k * (1 + YIELD_RIGID_GAP) and not pinched:
                 what += (f"; the rigid blocks' limit is {rigid:.4g} (limit equilibrium, an "
                          f"upper bound): k_y lies between {k:.4g} and {rigid:.4g}")  # fmt: skip
             what += _open_text(y) + ")"
