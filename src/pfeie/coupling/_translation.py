@@ -35,8 +35,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
 
-from ..typing import FloatArray
+from ..typing import FloatArray, IntArray
 from ._static import pair_strengths
 
 if TYPE_CHECKING:
@@ -67,7 +68,14 @@ class _Block(NamedTuple):
     mu: FloatArray  # (planes,)
     tensile: FloatArray  # (planes,) Σ σ_t A (N): a plane that holds tension cannot open
     names: tuple[tuple[str, ...], ...]  # the interfaces of each plane
-    rows: FloatArray  # (d, n_free) R = rows @ f: the block's resultant
+    dofs: IntArray  # the block's free DOFs (indices into the free DOFs)
+    comp: IntArray  # their components
+
+    def resultant(self, f_free: FloatArray) -> FloatArray:
+        """R (d,): the sum of the free-DOF loads ``f_free`` on the block, N."""
+        d = self.normal.shape[1]
+        return np.asarray(np.bincount(self.comp, weights=f_free[self.dofs], minlength=d),
+                          dtype=float)  # fmt: skip
 
 
 def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
@@ -95,10 +103,10 @@ def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
     G = problem.op.G
     out = []
     for b in sorted(whole):
-        on = body_dof == b
-        T = np.zeros((free.size, d))
-        T[np.flatnonzero(on), comp[on]] = 1.0
-        S = np.asarray(G @ T).reshape(-1, d, d)  # s_k = S_k v for a translation v of b
+        dofs = np.flatnonzero(body_dof == b)
+        # s_k = S_k v for a translation v of b: G's columns of the body summed by component
+        T = sp.csr_matrix((np.ones(dofs.size), (dofs, comp[dofs])), shape=(free.size, d))
+        S = np.asarray((G @ T).toarray()).reshape(-1, d, d)
         touch = np.flatnonzero(np.abs(S).sum(axis=(1, 2)) > 0)
         if not touch.size:
             continue
@@ -125,14 +133,12 @@ def _blocks(problem: StaticInterfaceProblem, damage: PairState | None,
         normal = np.array([(S[g, -1, :] * a[:, None]).sum(axis=0) / a.sum()
                            for g, a in zip(idx, area, strict=True)])  # fmt: skip
         normal /= np.linalg.norm(normal, axis=1)[:, None]
-        rows = np.zeros((d, free.size))
-        rows[comp[on], np.flatnonzero(on)] = 1.0
         out.append(_Block(
             b, normal, np.array([float(c[g].sum()) for g in idx]),
             np.array([float((mu[g] * a).sum() / a.sum()) for g, a in zip(idx, area, strict=True)]),
             np.array([float(t[g].sum()) for g in idx]),
             tuple(tuple(sorted({P.names[int(i)] for i in P.interface[g]})) for g in idx),
-            rows))  # fmt: skip
+            dofs, comp[dofs]))  # fmt: skip
     return out
 
 
@@ -195,7 +201,7 @@ def translations(
 ) -> list[Translation]:  # fmt: skip
     """Per checked block (see the module docstring), its least translational factor under
     the free-DOF loads ``f_free`` with every strength divided by ``factor``."""
-    return [_least(bk, bk.rows @ f_free) for bk in _blocks(problem, damage, factor)]
+    return [_least(bk, bk.resultant(f_free)) for bk in _blocks(problem, damage, factor)]
 
 
 def translation_limit(
@@ -208,8 +214,8 @@ def translation_limit(
     blocks = _blocks(problem, None, 1.0)
     if not blocks:
         return None
-    R0 = [bk.rows @ f0 for bk in blocks]
-    R1 = [bk.rows @ f1 for bk in blocks]
+    R0 = [bk.resultant(f0) for bk in blocks]
+    R1 = [bk.resultant(f1) for bk in blocks]
 
     def least(k: float) -> Translation:
         return min((_least(bk, a + k * b) for bk, a, b in zip(blocks, R0, R1, strict=True)),
