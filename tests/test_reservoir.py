@@ -82,9 +82,10 @@ def test_westergaard_on_an_inclined_face(theta: float) -> None:
     1.3e-14 at most)."""
     H = 10.0
     t = np.radians(theta)
-    mesh = pf.rectangle(3.0, H, 3, 8, cell="quad8")
+    # (a base of 12 m: narrower, the face at 45° crosses the back and inverts the cells)
+    mesh = pf.rectangle(12.0, H, 3, 8, cell="quad8")
     x, y = mesh.points[:, 0], mesh.points[:, 1]
-    mesh.points[:, 0] = x + (H - y) * np.tan(t) * (1 - x / 3.0)  # left face leans over the toe
+    mesh.points[:, 0] = x + (H - y) * np.tan(t) * (1 - x / 12.0)  # left face leans over the toe
     m = pf.Model(mesh, [pf.Block("all", pf.Elastic(30e9, 0.2, 2400.0))])
     m.add_westergaard("xmin", water_level=H)
     am = m.added_mass().reshape(-1, 2)

@@ -1100,7 +1100,8 @@ def _yield_coefficients(
         out[label] = {
             "direction": [round(float(v), 12) + 0.0 for v in y.direction],
             "k_y": y.k_y, "k_affine": y.k_affine, "k_fail": y.k_fail, "limit": y.limit,
-            "k_rigid": y.k_rigid, "k_translation": y.k_translation, "joint": y.joint,
+            "k_rigid": y.k_rigid, "k_translation": y.k_translation,
+            "junction_share": y.junction_share, "joint": y.joint,
             "safety_factor": None if y.joint is None else y.safety_factors[y.joint],
             # every joint's FS at k_y (None: no shear)
             "safety_factors": {n: (float(f) if np.isfinite(f) else None)
@@ -1113,6 +1114,42 @@ def _yield_coefficients(
                          f"static analyses in {time.perf_counter() - t0:.1f} s\n")  # fmt: skip
             stream.flush()
     return out
+
+
+def _per_thickness(s: dict[str, Any]) -> str:
+    """What the forces of a 2D model are for (" a metre" of its thickness, or of t m);
+    "" in 3D."""
+    m = s.get("model", {})
+    if m.get("dimension") != 2:
+        return ""
+    t = float(m.get("thickness", 1.0))
+    return " a metre" if t == 1.0 else f" for {t:g} m"
+
+
+def _compression_text(j: dict[str, Any], per: str) -> str:
+    """A static joint's compression, resultant and crack for the summary text."""
+    out = f", in compression {100 * j['compressed_share']:.0f} %"
+    if j.get("mean_contact_stress_Pa") is not None:
+        out += f" (mean {j['mean_contact_stress_Pa'] / 1e6:.3g} MPa there)"
+    at = j.get("normal_resultant_at_m")
+    if at is not None:
+        out += ", normal resultant at (" + ", ".join(f"{v:.4g}" for v in at) + ") m"
+    if "crack_m" in j:
+        out += f", crack at full uplift {j['crack_m']:.2f} m (normal: effective)"
+    return out + (f"; forces{per}" if per else "")
+
+
+def _junction_text(result: dict[str, Any]) -> str:
+    """The summary's caveat of a limit search (summary.json's ``yield_coefficient`` item or
+    ``strength_reduction``) whose governing joint leans on its pairs at junctions."""
+    share = result.get("junction_share")
+    if share is None:
+        return ""
+    return (
+        f"; but {result['joint']!r} leans on its pairs at junctions ({100 * share:.0f} % "
+        "of its normal force at a block's corner where joints meet), whose friction "
+        "grows as the mesh is refined: refine it and compare"
+    )
 
 
 def _strength_reduction(
@@ -1132,6 +1169,7 @@ def _strength_reduction(
     out = {
         "factor": r.factor, "factor_fail": r.factor_fail, "limit": r.limit, "joint": r.joint,
         "rigid_factor": r.rigid_factor, "translation_factor": r.translation_factor,
+        "junction_share": r.junction_share,
         "safety_factors": {n: (f if np.isfinite(f) else None)
                            for n, f in r.safety_factors.items()},
         "analyses": r.analyses, "f_max": REDUCTION_F_MAX, **_most_open(job.model, r.static),
@@ -1555,19 +1593,24 @@ def _far_moved(model: Model, motions: dict[str, dict[str, Any]]) -> list[str]:
     return out
 
 
-def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, float | None]]:
+def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, Any]]:
     """Per joint, the static state before any shaking: the sliding safety factor
     Σ max(0, cA + μN)/‖ΣT‖ (None without shear, or with a shear at the forces' round-off),
     the normal and shear resultants (N; compression +), the mean normal stress (Pa), the
     largest opening (m) and the shares of the joint's area that slide, are open (by more
-    than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken."""
+    than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken; the share in
+    compression, the mean normal stress over it (Pa) and the point of the normal
+    resultant (m; None without compression), as a gravity-method stability check reads
+    them (EM 1110-2-2100: the resultant's location, the base in compression); and for a
+    joint with uplift its crack from the heel under full headwater (m)."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
+    cracks = {u.interface: float(c) for u, c in zip(model.uplifts, static.cracks, strict=False)}
     # a shear at the round-off of the joint's forces (FS_ROUNDOFF of their sum) is no shear
     noise = FS_ROUNDOFF * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
                                        noise, opening=st.s[:, -1])  # fmt: skip
-    out = {}
+    out: dict[str, dict[str, Any]] = {}
     for k, name in enumerate(P.names):
         idx = P.of(name)
         A = P.area[idx]
@@ -1590,6 +1633,17 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, fl
             ),
             "broken_share": float(A[st.broken[idx]].sum() / A.sum()),
         }
+        pressed = X[:, -1] > 0.0
+        N, total = float(X[pressed, -1].sum()), float(X[:, -1].sum())
+        out[name] |= {
+            "compressed_share": float(A[pressed].sum() / A.sum()),
+            "mean_contact_stress_Pa": N / float(A[pressed].sum()) if N > 0 else None,
+            # (of the normal forces, tension included: none where they sum to tension)
+            "normal_resultant_at_m": ([float(v) for v in X[:, -1] @ P.x[idx] / total]
+                                      if total > 0 else None),
+        }  # fmt: skip
+        if name in cracks:
+            out[name]["crack_m"] = cracks[name]
     return out
 
 
@@ -1927,6 +1981,7 @@ def format_summary(s: dict[str, Any]) -> str:
     if len(floating) > BODY_LINES:
         lines.append(f"  blocks       {len(floating) - BODY_LINES} more floating block(s) in "
                      "summary.json (bodies)")  # fmt: skip
+    per = _per_thickness(s)
     for name, j in s.get("static_joints", {}).items():
         fs = j["safety_factor"]
         at_capacity = (fs is not None and fs <= 1 + AT_CAPACITY_FS
@@ -1937,6 +1992,7 @@ def format_summary(s: dict[str, Any]) -> str:
             f"(mean normal stress {j['mean_normal_stress_Pa'] / 1e6:.3g} MPa), max opening "
             f"{1e3 * j['max_opening_m']:.2f} mm, sliding {100 * j['sliding_share']:.0f} %, "
             f"open {100 * j['open_share']:.0f} %"
+            + _compression_text(j, per)
             + (
                 "; at its capacity in the static state, which holds: the factor against "
                 "sliding is analysis.strength_reduction's"
@@ -1989,6 +2045,7 @@ def format_summary(s: dict[str, Any]) -> str:
             what += (f"; but a block slides as a rigid block from k = {kt:.4g} (Hoek and "
                      "Bray's plane and wedge sliding; the static analyses pinch it between "
                      "its planes): take that")  # fmt: skip
+        what += _junction_text(y)
         lines.append(f"  yield {label:<10} {what}")
     sr = s.get("strength_reduction")
     if sr:
@@ -1999,6 +2056,7 @@ def format_summary(s: dict[str, Any]) -> str:
             text += (f"; but a block slides as a rigid block at FS {ft:.4g} (Hoek and Bray's "
                      "plane and wedge sliding; the static analyses pinch it between its "
                      "planes): take that")  # fmt: skip
+        text += _junction_text(sr)
         lines.append(f"  reduction    {text}")
     for name, j in s.get("joints", {}).items():
         lines.append(

@@ -95,10 +95,42 @@ def _det_inv(J: FloatArray) -> tuple[FloatArray, FloatArray]:
     return det, inv
 
 
-def stiffness_degree(cell_type: str) -> int:
-    """Quadrature degree integrating the stiffness of an undistorted cell exactly."""
+def stiffness_degree(cell_type: str, curved: bool = False) -> int:
+    """Quadrature degree integrating the stiffness of an undistorted cell exactly; for
+    ``curved`` simplices (:func:`curved_cells`) at least the degree that keeps the patch
+    test exact.
+
+    The internal forces of a constant stress σ are ∫ σ ∇N dV = ∫ σ adj(J)ᵀ ∇_ξN dξ, J
+    the map's Jacobian: on a straight-sided simplex J is constant and the integrand of
+    degree p − 1 (p the cell's order), on a curved one J has degree p − 1, its adjugate
+    (d − 1)(p − 1) and the integrand d(p − 1). In 2D that is 2(p − 1), the stiffness's own
+    degree; a curved Tet10 needs 3 where its stiffness rule has 2 (a curved Tet10 patch
+    of 0.5 m cells, mid-edge nodes moved by 0.04 m: displacements off by 1.8e-4 with the
+    4-point rule, exact to round-off with degree 3). Tensor cells (Q8, Q9, Hex8) take
+    2p per variable, enough for their curved shapes' patch tests.
+    """
     ref = reference(cell_type)
-    return 2 * (ref.degree - 1) if ref.simplex else 2 * ref.degree
+    if not ref.simplex:
+        return 2 * ref.degree
+    own = 2 * (ref.degree - 1)
+    return max(own, ref.dim * (ref.degree - 1)) if curved else own
+
+
+def curved_cells(points: FloatArray, cell_type: str, conn: IntArray, rtol: float = 1e-9) -> bool:
+    """Whether any cell of a quadratic (or higher) type is curved: a node off the
+    position that the cell's corners map it to (their affine image on a simplex, the
+    bilinear or trilinear one on a tensor cell), by more than ``rtol``
+    of the cell's size. Cells of the first order are never curved."""
+    ref = reference(cell_type)
+    if ref.degree == 1 or not conn.shape[0]:
+        return False
+    lin = reference(ref.linear)
+    N, _ = lin.shape_functions(ref.nodes)  # (n, corners): each node from the corners
+    X = points[conn]  # (c, n, d)
+    corners = X[:, : ref.n_corners]
+    off = np.abs(np.einsum("nk,ckd->cnd", N, corners) - X).max(axis=(1, 2))
+    size = np.ptp(corners, axis=1).max(axis=1)
+    return bool((off > rtol * size).any())
 
 
 def mass_degree(cell_type: str) -> int:

@@ -45,7 +45,7 @@ from ..assembly import facet_values, lump_hrz
 from ..element import reference
 from ..errors import InterfaceError, MeshError
 from ..mesh import Mesh, facet_keys, match_rows
-from ..typing import FloatArray, IntArray
+from ..typing import BoolArray, FloatArray, IntArray
 
 log = logging.getLogger(__name__)
 
@@ -76,6 +76,28 @@ class PairGeometry:
         constraints there are redundant."""
         nodes = np.concatenate([self.node_a, self.node_b])
         return bool(np.unique(nodes).size < nodes.size)
+
+    def junctions(self, angle: float | None = None) -> BoolArray:
+        """(m,) bool: the pairs at a junction, which share a node with a pair whose normal
+        turns from theirs by more than ``angle`` degrees (:data:`EDGE_ANGLE` by default;
+        the corner of a block where two
+        joints meet: a column's foot on its base beside its neighbour's face, a wedge's
+        line of intersection). Their node-to-node friction is mesh dependent: a loaded
+        corner presses into the pair across it (docs/theory.md, "Two safety factors")."""
+        m = self.n
+        nodes = np.concatenate([self.node_a, self.node_b])
+        who = np.concatenate([np.arange(m), np.arange(m)])
+        inc = sp.csr_array(
+            (np.ones(2 * m), (nodes, who)), shape=(int(nodes.max(initial=-1)) + 1, m)
+        )
+        near = sp.coo_array(inc.T @ inc)  # pairs that share a node (and each pair itself)
+        i, j = near.row, near.col
+        n = self.frame[:, -1, :]
+        limit = np.cos(np.radians(EDGE_ANGLE if angle is None else angle))
+        turned = np.abs(np.einsum("kd,kd->k", n[i], n[j])) < limit
+        out = np.zeros(m, dtype=bool)
+        out[i[turned]] = True
+        return out
 
     @property
     def regularization(self) -> float:

@@ -55,6 +55,7 @@ from ..model import (
     implausible_mesh,
     implausible_silt,
     implausible_water,
+    locking_cells,
 )
 from ._files import PYTHON_RUN, foreign_file, toml_text
 from ._gmsh import read_mesh
@@ -281,7 +282,8 @@ class Job:
         return {
             "title": self.spec["title"], "file": str(self.path), "sha256": self.digest,
             "overrides": list(self.overrides),
-            "dimension": m.dim, "blocks": {b.name: b.material for b in m.blocks},
+            "dimension": m.dim, "thickness": m.thickness,
+            "blocks": {b.name: b.material for b in m.blocks},
             "bodies": m.n_bodies, "floating": _floating_blocks(m),
             "unsupported": [m.body_names()[b] for b in m.unsupported_bodies()],
             "massless_floating": [m.body_names()[b] for b in m.massless_floating_bodies()],
@@ -574,7 +576,8 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
     # the checks of a model built in Python (pfeie.model.warn_implausible), naming the
     # file and the keys: the model is built with check_units=False
     for text in [
-        *implausible_materials(mats, lambda name: f"{p}: materials.{name}."),
+        *implausible_materials(mats, lambda name: f"{p}: materials.{name}.",
+                               locking_cells(mesh, cfg.plane)),
         *implausible_joints({i.group: i.joint for i in interfaces},
                             lambda name: f"{p}: interfaces.{name}.", _JOINT_KEYS),
     ]:  # fmt: skip

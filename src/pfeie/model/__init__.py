@@ -15,6 +15,7 @@ from ._plausible import (
     implausible_mesh,
     implausible_silt,
     implausible_water,
+    locking_cells,
     radians_meant,
     warn_implausible,
 )
@@ -39,6 +40,6 @@ __all__ = [
     "implausible_mesh",
     "implausible_silt",
     "implausible_water",
-    "intensity_measures", "radians_meant", "response_spectrum", "sdof_response",
+    "intensity_measures", "locking_cells", "radians_meant", "response_spectrum", "sdof_response",
     "uplift_force", "warn_implausible",
 ]  # fmt: skip

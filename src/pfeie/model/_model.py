@@ -78,6 +78,7 @@ class _CellSet:
     rho: FloatArray
     block: IntArray  # index of the owning block per cell
     index: IntArray  # the cell's index among the mesh's cells of its type
+    kdeg: int  # the stiffness's quadrature degree (:func:`pfeie.assembly.stiffness_degree`)
 
 
 @dataclass(frozen=True)
@@ -319,7 +320,7 @@ class Model:
     ----------
     mesh: the mesh; each block names one of its cell groups.
     blocks: the blocks; every cell used must belong to exactly one block.
-    plane: "strain" or "stress", the 2D hypothesis (ignored in 3D).
+    plane: "strain" or "stress", the 2D hypothesis (3D: "stress" is refused).
     thickness: out-of-plane thickness in 2D (m); forces are then per this thickness.
     damping: Rayleigh damping of the whole model, or None.
     interfaces: facet groups that cut the blocks apart, each with its joint law. The mesh
@@ -376,6 +377,11 @@ class Model:
             raise MeshError(f"the mesh has {bad.size} node(s) with a coordinate that is not a "
                             f"finite number, the first node {int(bad[0])} at "
                             f"{mesh.points[bad[0]].tolist()}")  # fmt: skip
+        if not mesh.checked:
+            # a mesh built in Python: the gmsh reader's checks (a quadratic cell whose
+            # mid-side node sits past its quarter point, inverted at a corner, has a
+            # positive Jacobian at its quadrature points and a wrong stiffness)
+            mesh.check()
         if damping is not None and not isinstance(damping, Rayleigh):
             raise ModelError(f"damping: expected pfeie.Rayleigh(alpha, beta) (or "
                              f"Rayleigh.from_ratio(zeta, f1, f2)) or None, got "
@@ -398,7 +404,7 @@ class Model:
                                  "block's cells")  # fmt: skip
         owner = _disjoint_blocks(mesh, blocks)
         if check_units:  # before the split: its errors may follow from these
-            warn_implausible(mesh, blocks, interfaces)
+            warn_implausible(mesh, blocks, interfaces, plane)
             left = sum(int((own < 0).sum()) for own in owner.values()) + sum(
                 conn.shape[0] for ctype, conn in mesh.cells.items() if ctype not in owner
             )
@@ -478,7 +484,11 @@ class Model:
             if keep.size == 0:
                 continue
             b = which[keep]
-            sets.append(_CellSet(ctype, conn[keep], lame[b, 0], lame[b, 1], rho[b], b, keep))
+            kdeg = asm.stiffness_degree(
+                ctype, asm.curved_cells(self.mesh.points, ctype, conn[keep])
+            )
+            sets.append(_CellSet(ctype, conn[keep], lame[b, 0], lame[b, 1], rho[b], b, keep,
+                                 kdeg))  # fmt: skip
         return sets
 
     @cached_property
@@ -1414,11 +1424,7 @@ class Model:
 
     @cached_property
     def _stiffness(self) -> sp.csr_matrix:
-        return self._assemble(
-            lambda cs: asm.stiffness(
-                self._values(cs, asm.stiffness_degree(cs.cell_type)), cs.lam, cs.mu
-            )
-        )
+        return self._assemble(lambda cs: asm.stiffness(self._values(cs, cs.kdeg), cs.lam, cs.mu))
 
     def mass(self, lumped: bool = False, added: bool = True,
              full_reservoir: bool = False) -> sp.csr_matrix:  # fmt: skip
@@ -1988,7 +1994,7 @@ class Model:
         U = np.asarray(u, dtype=float).reshape(self.mesh.n_points, self.dim)
         out = {}
         for cs in self._cellsets:
-            cv = self._values(cs, asm.stiffness_degree(cs.cell_type))
+            cv = self._values(cs, cs.kdeg)
             sig = asm.stress(asm.strain(cv, U[cs.conn]), cs.lam, cs.mu, self.plane)
             out[cs.cell_type] = (sig, cv.x)
         return out
@@ -2013,7 +2019,7 @@ class Model:
         cnt = np.zeros(self.mesh.n_points)
         q0 = 0
         for cs in self._cellsets:
-            cv = self._values(cs, asm.stiffness_degree(cs.cell_type))
+            cv = self._values(cs, cs.kdeg)
             c, nen = cs.conn.shape
             nq = cv.dNdx.shape[1]
             qid = (q0 + np.arange(c * nq)).reshape(c, nq)
@@ -2030,7 +2036,7 @@ class Model:
             mu.append(np.repeat(cs.mu, nq))
             # the nodal stress: the corner fit of the point values, averaged over cells
             lin = reference(reference(cs.cell_type).linear)
-            xi, _ = quadrature(cs.cell_type, asm.stiffness_degree(cs.cell_type))
+            xi, _ = quadrature(cs.cell_type, cs.kdeg)
             Nq, _ = lin.shape_functions(xi)
             Nn, _ = lin.shape_functions(reference(cs.cell_type).nodes)
             fits.append((q0, c, np.ascontiguousarray((Nn @ np.linalg.pinv(Nq)).T)))

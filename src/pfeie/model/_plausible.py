@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
+from ..element import reference
 from ..interface import JointLaw
 from ..mesh import Mesh
 from ._physics import Block, Elastic, Interface
@@ -57,6 +58,12 @@ RADIANS_DECIMALS = 3
 #: kPa, concrete's tensile strength 1 to 5 MPa (a strength in MPa or kPa written without
 #: its factor falls below)
 STRENGTH_MIN = 100.0
+
+#: Poisson's ratios above this get a warning: a nearly incompressible material locks the
+#: first-order cells (T3, Q4, Tet4, Hex8) volumetrically (a plane-strain Q4 cantilever
+#: at ν = 0.4999 gave 8 to 24 % of its deflection; Q8 the exact one to 1e-3); concrete
+#: and rock have 0.1 to 0.35
+NU_LOCKING = 0.49
 #: joint spring stiffnesses (k_n, k_s) above 0 and below this (Pa/m) get a warning: rock
 #: and concrete joints have 1e9 to 1e12 Pa/m (1 to 1000 GPa/m), soft filled ones some
 #: 1e8; a stiffness in MPa/m or GPa/m written without its factor falls below
@@ -82,11 +89,22 @@ JOINT_KEYS = {
 }
 
 
-def implausible_materials(materials: Mapping[str, Elastic],
-                          prefix: Callable[[str], str]) -> list[str]:  # fmt: skip
+def locking_cells(mesh: Mesh, plane: str = "strain") -> bool:
+    """Whether the ``mesh`` has first-order cells (T3, Q4, Tet4, Hex8) that a nearly
+    incompressible material locks: not in 2D plane stress, where λ* stays finite."""
+    if mesh.dim == 2 and plane == "stress":
+        return False
+    return any(reference(t).degree == 1 for t, conn in mesh.cells.items() if len(conn))
+
+
+def implausible_materials(
+    materials: Mapping[str, Elastic], prefix: Callable[[str], str], locking: bool = True,
+) -> list[str]:  # fmt: skip
     """Warnings on the moduli and densities of ``materials`` (name → material) outside
-    :data:`E_RANGE` and :data:`RHO_RANGE`, and on tensile strengths below
-    :data:`STRENGTH_MIN`, with the value probably meant; ``prefix(name)``
+    :data:`E_RANGE` and :data:`RHO_RANGE`, on Poisson's ratios above :data:`NU_LOCKING`
+    where the mesh has cells that lock (``locking``: :func:`locking_cells`) and on tensile
+    strengths below :data:`STRENGTH_MIN`, with the value probably meant where there is
+    one; ``prefix(name)``
     starts a material's messages (its key path, before ``E`` and ``rho``).
 
     A density below the range beside a material of normal density is a practically
@@ -128,6 +146,13 @@ def implausible_materials(materials: Mapping[str, Elastic],
         elif rho > hi:
             out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies above {hi:g} kg/m³ (concrete "
                        "and rock: 1800 to 3200); pfeie takes SI units (kg/m³)")  # fmt: skip
+    for name, mt in materials.items():
+        if locking and float(mt.nu) > NU_LOCKING:
+            out.append(f"{prefix(name)}nu = {float(mt.nu):g} is nearly incompressible "
+                       "(concrete and rock: 0.1 to 0.35): the mesh's first-order cells (T3, "
+                       "Q4, Tet4, Hex8) lock and come out far too stiff; take quadratic "
+                       "cells (T6, Q8, Tet10), which lock far less, or the material's "
+                       "drained ratio")  # fmt: skip
     for name, mt in materials.items():
         ft = mt.tensile_strength
         if ft is not None and 0.0 < float(ft) < STRENGTH_MIN:  # f_t in MPa: DCR × 1e6
@@ -295,8 +320,8 @@ def implausible_mesh(mesh: Mesh, prefix: str = "") -> list[str]:
             "millimetres must be scaled by 1e-3: gmsh's Mesh.ScalingFactor = 0.001)"]  # fmt: skip
 
 
-def warn_implausible(mesh: Mesh, blocks: Sequence[Block],
-                     interfaces: Sequence[Interface]) -> list[str]:  # fmt: skip
+def warn_implausible(mesh: Mesh, blocks: Sequence[Block], interfaces: Sequence[Interface],
+                     plane: str = "strain") -> list[str]:  # fmt: skip
     """The checks of a model built in Python (:class:`pfeie.Model`), each a warning of
     this module's logger and a :class:`UserWarning` (shown by a plain script): the
     materials of ``blocks`` (one message per distinct material, naming the blocks that
@@ -307,7 +332,7 @@ def warn_implausible(mesh: Mesh, blocks: Sequence[Block],
         users.setdefault(b.material, []).append(repr(b.name))
     label = {f"block{'s' if len(n) > 1 else ''} {', '.join(n)}": m for m, n in users.items()}
     out = [
-        *implausible_materials(label, lambda name: f"{name}: "),
+        *implausible_materials(label, lambda name: f"{name}: ", locking_cells(mesh, plane)),
         *implausible_joints({i.group: i.joint for i in interfaces},
                             lambda name: f"interface {name!r}: "),
         *implausible_mesh(mesh),

@@ -204,7 +204,7 @@ def solve_pairs(
     # the crack alone, so reaching one again is a cycle
     unheld: tuple[float, ...] | None = None
     not_held: set[tuple[float, ...]] = set()
-    held: set[tuple[float, ...]] = set()
+    held: dict[tuple[float, ...], tuple[FloatArray, FloatArray, FloatArray, PairState]] = {}
     for _ in range(_CRACK_ITERATIONS if model.uplifts else 0):
         # the uplift follows the crack and the crack the uplift: full headwater in the part
         # open from the heel, until the crack settles
@@ -245,13 +245,22 @@ def solve_pairs(
                       _lengths(new))  # fmt: skip
             if not_held:
                 raise MechanismError(_runs_on(model, max(not_held)))
-            raise SolverError(
-                f"uplift: the crack from the heel alternates (at {_lengths(new, model)} m again) "
-                "between lengths that each hold under their full uplift: the joint is on "
-                "the verge of opening further"
-            )
+            # it alternates between lengths that each hold under their full uplift (the
+            # tip between two pairs, at the verge of opening further): the longest, with
+            # full headwater in it, is an equilibrium under more uplift than the tip's,
+            # and is taken (a dam engineer's section on stiff rock got no answer)
+            longest = max(held, key=sum)
+            p, f_up, u_free, st = held[longest]
+            cracks = list(longest)
+            log.warning("uplift: the crack from the heel alternates between lengths that "
+                        "each hold under their full uplift (%s m; its tip between two pairs, "
+                        "on the verge of opening further): the longest, %s m, is taken with "
+                        "full headwater in it (on the safe side)",
+                        "; ".join(_lengths(c, model) for c in sorted(held, key=sum)),
+                        _lengths(longest, model))  # fmt: skip
+            break
         else:
-            held.add(tuple(new))
+            held[tuple(new)] = (p_try, f_try, u_free, st)
         p, cracks, f_up = p_try, new, f_try
     else:
         if model.uplifts:
@@ -412,7 +421,10 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             "No static equilibrium was found for the floating block(s) (" + which + "), "
             "although rigid blocks with these joints' strengths can be balanced: the "
             "loads are at the limit of equilibrium (the elastic blocks may open or slide a "
-            "joint that rigid ones keep closed), or the pair solver failed on them."
+            "joint that rigid ones keep closed), blocks topple (the rigid check may put "
+            "the forces low on a column's face, where a toppling column bears on its "
+            "neighbour's top corner, or wedge a block against a step with friction), or "
+            "the pair solver failed on them."
         )  # fmt: skip
     else:
         head = ("No static equilibrium holds the floating block(s) (" + which + ") under "
@@ -470,6 +482,68 @@ def held(
             log.debug("%s: no equilibrium found (%s): %s", what,
                       "warm" if first is not None else "cold", exc)  # fmt: skip
     return None, count
+
+
+#: a limit search warns where, in its last state held, the pairs at junctions
+#: (:meth:`~pfeie.interface.PairGeometry.junctions`) carry more than this share of the
+#: governing joint's normal force and :data:`JUNCTION_RATIO` times their share of its
+#: area: node-to-node friction at a corner, which grows as the mesh is refined (a row of
+#: five toppling columns, φ = 50°: F = 1.386, 1.610, 1.744, 1.823 with 2, 4, 8, 16 cells
+#: across a column, their feet's pairs carrying 17 to 66 % of a side joint's normal
+#: force; with those pairs frictionless 1.332, 1.357, 1.362, 1.363; Goodman and Bray's
+#: limit equilibrium 1.2826; dynamic runs toppled just above each mesh's factor)
+JUNCTION_SHARE = 0.2
+JUNCTION_RATIO = 5.0
+
+
+def junction_share(model: Model, st: StaticResult, joint: str) -> tuple[float, float]:
+    """The share of ``joint``'s normal force (compression) that its pairs at junctions
+    carry in the static state ``st``, and their share of its area; (0, 0) without pairs
+    at junctions or without compression."""
+    pairs, P = model.pairs, st.pairs
+    if pairs is None or P is None or joint not in pairs.names:
+        return 0.0, 0.0
+    idx = pairs.of(joint)
+    at = pairs.junctions()[idx]
+    N = np.maximum(P.X[idx, -1], 0.0)
+    total = float(N.sum())
+    if not at.any() or not total > 0.0:
+        return 0.0, 0.0
+    return float(N[at].sum()) / total, float(pairs.area[idx][at].sum() / pairs.area[idx].sum())
+
+
+def warn_junctions(what: str, model: Model, st: StaticResult | None, joint: str | None,
+                   value: str) -> float | None:  # fmt: skip
+    """The warning of a limit search (``what``, its answer ``value``) whose governing
+    ``joint`` leans on its pairs at junctions in the last state held ``st``
+    (:data:`JUNCTION_SHARE`); returns their share of its normal force where warned, else
+    None."""
+    if st is None or joint is None:
+        return None
+    force, area = junction_share(model, st, joint)
+    if not (force > JUNCTION_SHARE and force > JUNCTION_RATIO * area):
+        return None
+    log.warning(
+        "%s: at %s the pairs of %r at junctions (a block's corner where joints meet) "
+        "carry %.0f %% of its normal force on %.1f %% of its area: the limit leans on "
+        "node-to-node friction at corners, which grows as the mesh is refined (a "
+        "loaded corner presses into the pair across it; a row of toppling columns "
+        "read F = 1.39, 1.61, 1.74, 1.82 as its cells were halved, against 1.36 with "
+        "its feet's pairs frictionless); refine the mesh to see whether it moves, or "
+        "give the joint's end facets a joint of their own without friction "
+        "(docs/theory.md, 'Two safety factors')",
+        what, value, joint, 100 * force, 100 * area)  # fmt: skip
+    return force
+
+
+def uplift_free(model: Model, st: StaticResult | None, free: np.ndarray) -> FloatArray:
+    """The nodal load of the uplift of the static state ``st`` on the free DOFs (zero
+    without uplift): the rigid-block and translational checks of a limit search take it
+    with the loads (a block on a joint with uplift: W tan φ / P = 6.29 without it, 5.24
+    with it, as the analyses)."""
+    if st is None or st.uplift is None:
+        return np.zeros(free.size)
+    return np.asarray(model.uplift_load(st.uplift)[free])
 
 
 def joint_factors(

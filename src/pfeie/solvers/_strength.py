@@ -54,7 +54,14 @@ from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
 from ..typing import FloatArray
-from ._static import StaticResult, held, joint_factors, solve_pairs
+from ._static import (
+    StaticResult,
+    held,
+    joint_factors,
+    solve_pairs,
+    uplift_free,
+    warn_junctions,
+)
 from ._yield import (
     SLIDING_FS,
     YIELD_REOPEN,
@@ -108,6 +115,8 @@ class StrengthReduction:
       ``factor`` more than 1 % above it is warned: the static analyses then lean on
       friction that the block's sliding does not mobilise (a block pinched between its
       planes), and the dynamic runs follow the lower factor.
+    - ``junction_share``: as :class:`~pfeie.YieldCoefficient`'s, where the governing joint
+      leans on its pairs at junctions (warned). None otherwise.
     """
 
     factor: float | None
@@ -119,6 +128,7 @@ class StrengthReduction:
     analyses: int
     rigid_factor: float | None = None
     translation_factor: float | None = None
+    junction_share: float | None = None
 
     def __repr__(self) -> str:
         """One line: the factor, the limit and its joint, the analyses."""
@@ -241,8 +251,10 @@ def strength_reduction(
                 or np.nanmin(fs_lo, initial=np.inf) <= 1 + SLIDING_FS):  # fmt: skip
             break
         if not rigid_done:
-            rigid, rigid_done = problem.rigid_factor(f0_free), True
-        bound = None if rigid is None else min(rigid, f_max)  # no analysis beyond f_max
+            rigid = problem.rigid_factor(f0_free + uplift_free(model, st_lo, problem.system.free))
+            rigid_done = True
+        # (not where the rigid blocks hold beyond f_max: wedged blocks, see _yield)
+        bound = rigid if rigid is not None and rigid < f_max else None
         if bound is None or not bound > hi * (1 + YIELD_RIGID_GAP):
             break
         beyond = probe_towards(partial(analyse, start=st_lo), hi, bound)
@@ -264,8 +276,17 @@ def strength_reduction(
         limit = ("sliding" if gov is not None and fs_lo[gov] <= 1 + SLIDING_FS
                  else "no equilibrium found")  # fmt: skip
         if limit != "sliding" and not rigid_done:
-            rigid, rigid_done = problem.rigid_factor(f0_free), True
-        if limit != "sliding" and rigid is not None and rigid > hi * (1 + YIELD_RIGID_GAP):
+            rigid = problem.rigid_factor(f0_free + uplift_free(model, st_lo, problem.system.free))
+            rigid_done = True
+        if limit != "sliding" and (rigid is None or rigid >= f_max):
+            log.warning(
+                "strength reduction: the static analyses fail from F = %.6g with no joint "
+                "sliding, while rigid blocks hold beyond f_max = %g: F = %.6g may lie below "
+                "the limit (a pair solver that failed short of it; factors beyond are not "
+                "tried, since blocks wedged by friction against a step or between planes "
+                "hold there whatever the strength), or the blocks topple or open; a dynamic "
+                "run with the strengths divided by a larger F tells", hi, f_max, lo)  # fmt: skip
+        elif limit != "sliding" and rigid is not None and rigid > hi * (1 + YIELD_RIGID_GAP):
             gap = (hi, rigid, lo)
     log.info("strength reduction: F = %.6g (%s), %d static analyses in %.1f s", lo, limit,
              count, time.perf_counter() - t0)  # fmt: skip
@@ -283,6 +304,7 @@ def _translated(
     warning of a ``gap`` (the first failure, the rigid blocks' factor, the last held)
     between the analyses and the rigid blocks' factor (an upper bound on static
     equilibrium, which a block pinched between its planes exceeds)."""
+    f0_free = f0_free + uplift_free(problem.model, out_.static, problem.system.free)
     found = [t for t in translations(problem, f0_free) if np.isfinite(t.factor)]
     t = min(found, key=lambda t: t.factor) if found else None
     held_f = out_.factor
@@ -292,6 +314,10 @@ def _translated(
                      "factor", t.factor)  # fmt: skip
     elif gap is not None:
         warn_gap("strength reduction", "factor", gap)
+    if held_f is not None:
+        share = warn_junctions("strength reduction", problem.model, out_.static, out_.joint,
+                               f"F = {held_f:.6g}")  # fmt: skip
+        out_ = dataclasses.replace(out_, junction_share=share)
     return out_ if t is None else dataclasses.replace(out_, translation_factor=t.factor)
 
 

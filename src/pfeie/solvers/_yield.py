@@ -58,7 +58,14 @@ from ..errors import ModelError, SolverError
 from ..interface import SolverSettings
 from ..model import Model
 from ..typing import BoolArray, FloatArray
-from ._static import StaticResult, held, joint_factors, solve_pairs
+from ._static import (
+    StaticResult,
+    held,
+    joint_factors,
+    solve_pairs,
+    uplift_free,
+    warn_junctions,
+)
 
 log = logging.getLogger(__name__)
 
@@ -148,6 +155,12 @@ class YieldCoefficient:
       it is warned: the static analyses then lean on friction that the block's sliding
       does not mobilise (a block pinched between its planes), and the dynamic runs
       follow the lower coefficient.
+    - ``junction_share``: where the governing joint leans on its pairs at junctions in
+      the last state held (:meth:`~pfeie.interface.PairGeometry.junctions`: more than
+      20 % of its normal force and five times their share of its area,
+      ``pfeie.solvers.JUNCTION_SHARE`` and ``JUNCTION_RATIO``; warned), that share: node
+      pairs at a block's corner where joints meet, whose friction grows as the mesh is
+      refined. None otherwise.
     """
 
     direction: FloatArray
@@ -161,6 +174,7 @@ class YieldCoefficient:
     analyses: int
     k_rigid: float | None = None
     k_translation: float | None = None
+    junction_share: float | None = None
 
     def __repr__(self) -> str:
         """One line: the coefficient, the limit and its joint, the analyses (the static
@@ -382,9 +396,14 @@ def yield_coefficient(
             # solver's (near a hinge mechanism): the rigid blocks' limit bounds the true
             # one from above; coefficients between the failure and it are tried
             if k_rigid is None and not rigid_done:
-                k_rigid, rigid_done = problem.rigid_limit(f0_free, f_h[free], k_max), True
-            # (towards k_max where the rigid blocks hold there: k_rigid = ∞)
-            bound = None if k_rigid is None else min(k_rigid, k_max)
+                up = uplift_free(model, st_lo, free)
+                k_rigid, rigid_done = problem.rigid_limit(f0_free + up, f_h[free], k_max), True
+            # not where the rigid blocks hold at k_max (k_rigid = ∞): frictional forces
+            # that wedge a block against a step (tan² φ > 1) or pinch it between its planes
+            # balance any load, so the check bounds nothing, and a probe towards k_max met
+            # such a wedged equilibrium (eight columns on a stepped base: k = 1.677 held
+            # after every analysis from 0.385 on had failed, the rigid row sliding at 0.47)
+            bound = k_rigid if k_rigid is not None and k_rigid < k_max else None
             if bound is not None and bound > hi * (1 + YIELD_RIGID_GAP):
                 beyond = probe_towards(partial(analyse, start=st_lo), hi, bound)
         if beyond is None:
@@ -418,9 +437,19 @@ def yield_coefficient(
                  else "no equilibrium found")  # fmt: skip
         joint = gov
         if limit != "sliding" and not rigid_done:
-            k_rigid = problem.rigid_limit(f0_free, f_h[free], k_max)
+            k_rigid = problem.rigid_limit(f0_free + uplift_free(model, st_lo, free), f_h[free],
+                                          k_max)  # fmt: skip
         if k_rigid is not None and not np.isfinite(k_rigid):
             k_rigid = None  # the rigid blocks hold at k_max: no bound below it
+            if limit != "sliding":
+                log.warning(
+                    "yield coefficient along %s: the static analyses fail from k = %.6g with "
+                    "no joint sliding, while rigid blocks hold up to k_max = %g: k_y = %.6g "
+                    "may lie below the limit (a pair solver that failed short of it; "
+                    "coefficients beyond are not tried, since blocks wedged by friction "
+                    "against a step or between planes hold there whatever the load), or "
+                    "the blocks topple or open; a dynamic run at a larger k tells",
+                    _direction(iota), hi, k_max, lo)  # fmt: skip
         if limit != "sliding" and k_rigid is not None and k_rigid > hi * (1 + YIELD_RIGID_GAP):
             gap = (hi, k_rigid, lo)
     log.info("yield coefficient along %s: k_y = %.6g (%s), %d static analyses in %.1f s",
@@ -439,6 +468,7 @@ def _translated(
     warning of a ``gap`` (the first failure, the rigid blocks' limit, the last held)
     between the analyses and the rigid blocks' limit (an upper bound on static
     equilibrium, which a block pinched between its planes exceeds)."""
+    f0 = f0 + uplift_free(problem.model, out_.static, problem.system.free)
     found = translation_limit(problem, f0, f1, k_max)
     ky = out_.k_y
     where = _direction(out_.direction)
@@ -449,6 +479,10 @@ def _translated(
                      "coefficient", k_t)  # fmt: skip
     elif gap is not None:
         warn_gap(f"yield coefficient along {where}", "limit k", gap)
+    if ky is not None:
+        share = warn_junctions(f"yield coefficient along {where}", problem.model, out_.static,
+                               out_.joint, f"k_y = {ky:.6g}")  # fmt: skip
+        out_ = dataclasses.replace(out_, junction_share=share)
     return out_ if found is None else dataclasses.replace(out_, k_translation=found[0])
 
 
@@ -461,8 +495,10 @@ def warn_gap(what: str, bound: str, gap: tuple[float, float, float]) -> None:
     log.warning(
         "%s: the static analyses fail from %s = %.6g, below the rigid blocks' %s = %.6g "
         "(limit equilibrium: no equilibrium exists beyond it): the pair solver may have "
-        "failed short of the limit (a hinge mechanism, an arch); static equilibrium ends "
-        "between %.6g and %.6g", what, sym, fail, bound, rigid, held_, rigid)  # fmt: skip
+        "failed short of the limit (a hinge mechanism, an arch), or a row of columns "
+        "topples, which the rigid blocks' check does not see (it may put the forces low "
+        "on a column's face); static equilibrium ends between %.6g and %.6g",
+        what, sym, fail, bound, rigid, held_, rigid)  # fmt: skip
 
 
 def warn_pinched(what: str, problem: StaticInterfaceProblem, t: Translation, at: str,
