@@ -1128,14 +1128,15 @@ def _per_thickness(s: dict[str, Any]) -> str:
 
 def _compression_text(j: dict[str, Any], per: str) -> str:
     """A static joint's compression, resultant and crack for the summary text."""
-    out = f", in compression {100 * j['compressed_share']:.0f} %"
+    out = f", in contact {100 * j['contact_share']:.0f} %"
     if j.get("mean_contact_stress_Pa") is not None:
         out += f" (mean {j['mean_contact_stress_Pa'] / 1e6:.3g} MPa there)"
     at = j.get("normal_resultant_at_m")
     if at is not None:
         out += ", normal resultant at (" + ", ".join(f"{v:.4g}" for v in at) + ") m"
     if "crack_m" in j:
-        out += f", crack at full uplift {j['crack_m']:.2f} m (normal: effective)"
+        crack = f"crack at full uplift {j['crack_m']:.2f} m" if j["crack_m"] > 0 else "no crack"
+        out += f", {crack} (normal: effective, the uplift apart)"
     return out + (f"; forces{per}" if per else "")
 
 
@@ -1599,13 +1600,14 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
     the normal and shear resultants (N; compression +), the mean normal stress (Pa), the
     largest opening (m) and the shares of the joint's area that slide, are open (by more
     than ``pfeie.plot.OPEN_CRACK_MIN_M``, 0.01 mm) and are broken; the share in
-    compression, the mean normal stress over it (Pa) and the point of the normal
-    resultant (m; None without compression), as a gravity-method stability check reads
+    contact (not open by more than the crack threshold), the mean normal stress over it
+    (Pa) and the point of the normal resultant (m; None where the normal forces sum to
+    tension), as a gravity-method stability check reads
     them (EM 1110-2-2100: the resultant's location, the base in compression); and for a
     joint with uplift its crack from the heel under full headwater (m)."""
     P, st = model.pairs, static.pairs
     assert P is not None and st is not None
-    cracks = {u.interface: float(c) for u, c in zip(model.uplifts, static.cracks, strict=False)}
+    cracks = {u.interface: float(c) for u, c in zip(model.uplifts, static.cracks, strict=True)}
     # a shear at the round-off of the joint's forces (FS_ROUNDOFF of their sum) is no shear
     noise = FS_ROUNDOFF * np.array([np.abs(st.X[P.of(name)]).sum() for name in P.names])
     fs = model.pair_laws.safety_factor(st.X, st.state == OPEN, st.broken, st.path, P.frame,
@@ -1633,11 +1635,14 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
             ),
             "broken_share": float(A[st.broken[idx]].sum() / A.sum()),
         }
-        pressed = X[:, -1] > 0.0
-        N, total = float(X[pressed, -1].sum()), float(X[:, -1].sum())
+        # in contact: not open by more than the crack threshold (as open_share: the corner
+        # pairs of quadratic facets carry little or nothing of a uniform pressure)
+        touch = ~((st.state[idx] == OPEN) & (st.w[idx, -1] > OPEN_CRACK_MIN_M))
+        total = float(X[:, -1].sum())
         out[name] |= {
-            "compressed_share": float(A[pressed].sum() / A.sum()),
-            "mean_contact_stress_Pa": N / float(A[pressed].sum()) if N > 0 else None,
+            "contact_share": float(A[touch].sum() / A.sum()),
+            "mean_contact_stress_Pa": (float(X[touch, -1].sum() / A[touch].sum())
+                                       if touch.any() else None),
             # (of the normal forces, tension included: none where they sum to tension)
             "normal_resultant_at_m": ([float(v) for v in X[:, -1] @ P.x[idx] / total]
                                       if total > 0 else None),

@@ -246,18 +246,26 @@ def solve_pairs(
             if not_held:
                 raise MechanismError(_runs_on(model, max(not_held)))
             # it alternates between lengths that each hold under their full uplift (the
-            # tip between two pairs, at the verge of opening further): the longest, with
-            # full headwater in it, is an equilibrium under more uplift than the tip's,
-            # and is taken (a dam engineer's section on stiff rock got no answer)
-            longest = max(held, key=sum)
+            # tip between two pairs, at the verge of opening further): the cycle's longest
+            # (on every joint with uplift), with full headwater in it, is an equilibrium
+            # under more uplift than the tip's, and is taken (a dam engineer's section on
+            # stiff rock got no answer); the cracks before the cycle are passing steps
+            order = list(held)
+            cycle = order[order.index(tuple(new)) :]
+            longest = tuple(max(c[i] for c in cycle) for i in range(len(new)))
+            if longest not in held:  # no state of the cycle is the longest on every joint
+                raise SolverError(
+                    f"uplift: the crack from the heel alternates between lengths that each "
+                    f"hold under their full uplift ({'; '.join(_lengths(c, model) for c in cycle)}"
+                    " m): the joints are on the verge of opening further")  # fmt: skip
             p, f_up, u_free, st = held[longest]
             cracks = list(longest)
-            log.warning("uplift: the crack from the heel alternates between lengths that "
-                        "each hold under their full uplift (%s m; its tip between two pairs, "
-                        "on the verge of opening further): the longest, %s m, is taken with "
-                        "full headwater in it (on the safe side)",
-                        "; ".join(_lengths(c, model) for c in sorted(held, key=sum)),
-                        _lengths(longest, model))  # fmt: skip
+            (log.warning if explain else log.debug)(
+                "uplift: the crack from the heel alternates between lengths that each hold "
+                "under their full uplift (%s m; its tip between two pairs, on the verge of "
+                "opening further): the longest, %s m, is taken with full headwater in it "
+                "(on the safe side)", "; ".join(_lengths(c, model) for c in sorted(cycle)),
+                _lengths(longest, model))  # fmt: skip
             break
         else:
             held[tuple(new)] = (p_try, f_try, u_free, st)
