@@ -286,7 +286,7 @@ def test_curved_tet10_cells_pass_the_patch_test(offset: float) -> None:
     at offsets of 0.02 and 0.04 m. Curved Tet10 cells now take a degree-3 rule (8
     points): exact to round-off (measured 3e-16 to 5e-16); straight ones keep theirs."""
     model, err = _tet10_patch(offset)
-    assert err < 5e-14
+    assert err < 5e-15  # (measured 3e-16 to 5e-16)
     cs = model._cellsets[0]
     assert cs.kdeg == (2 if offset == 0.0 else 3)
 
@@ -411,7 +411,8 @@ def test_a_crack_that_alternates_takes_the_longest(caplog: pytest.LogCaptureFixt
     heel went 13.5, 18, 16.5 and 18 m again, each held under its full uplift, and the
     static analysis stopped with no answer (a SolverError, exit 1). Now the longest is
     taken with full headwater in it, and warned. Its state balances the dam: the base's
-    normal forces and the uplift carry the weight, ρ g × 1462.5 m², to round-off."""
+    normal forces and the uplift carry the weight, ρ g × the section's area, to
+    round-off."""
     from pathlib import Path
 
     mesh = pf.read_mesh(Path(__file__).parent / "data" / "dam60_q8.msh")
@@ -433,23 +434,30 @@ def test_a_crack_that_alternates_takes_the_longest(caplog: pytest.LogCaptureFixt
     base = m.pairs.of("base")
     N = float(st.pairs.X[base, -1].sum())
     U = float((st.uplift[base] * m.pairs.area[base]).sum())
+    # the section (the mesh's README): x from 0 to B − 0.8 y up to the kink at y_k =
+    # 52.5 m, then the crest column 6 m wide up to 60 m; its area and first moment about
+    # the heel, ∫ x_r dy and ∫ x_r²/2 dy
+    B, y_k, crest, h = 48.0, 52.5, 6.0, 60.0
+    area = B * y_k - 0.4 * y_k**2 + crest * (h - y_k)
+    moment = (B**3 - (B - 0.8 * y_k) ** 3) / (6 * 0.8) + crest**2 / 2 * (h - y_k)
+    W = 2400.0 * 9.81 * area
     carried = N + U
-    assert carried == pytest.approx(2400.0 * 9.81 * 1462.5, rel=1e-9)
+    assert carried == pytest.approx(W, rel=1e-14)  # (measured 2e-16; the solve's round-off)
     # the summary's gravity-method quantities (EM 1110-2-2100), against the dam's
     # equilibrium by hand with this crack: N' = W − U, and the moments about the heel of
-    # the weight (first moment of the section 23,130 m³), the headwater (½γh² at h/3) and
-    # the uplift (γh over the crack c, then linear to the toe at B = 48 m)
+    # the weight, the headwater (½γh² at h/3) and the uplift (γh over the crack c, then
+    # linear to the toe)
     from pfeie._job import _compression_text, _static_joints
 
     j = _static_joints(m, st)["base"]
-    gh, B, c = 9810.0 * 60.0, 48.0, 18.0
-    W, H = 2400.0 * 9.81 * 1462.5, 0.5 * 9810.0 * 60.0**2
+    gh, c = 9810.0 * h, 18.0
+    H = 0.5 * 9810.0 * h**2
     U_hand = gh * c + 0.5 * gh * (B - c)
     x_U = (gh * c * c / 2 + 0.5 * gh * (B - c) * (c + (B - c) / 3)) / U_hand
-    x_R = (W * 23130.0 / 1462.5 + H * 20.0 - U_hand * x_U) / (W - U_hand)
+    x_R = (W * moment / area + H * h / 3 - U_hand * x_U) / (W - U_hand)
     uplift = U
-    assert j["crack_m"] == 18.0 and uplift == pytest.approx(U_hand, rel=1e-12)
-    assert j["normal_resultant_at_m"][0] == pytest.approx(x_R, rel=1e-9)
+    assert j["crack_m"] == 18.0 and uplift == pytest.approx(U_hand, rel=1e-14)
+    assert j["normal_resultant_at_m"][0] == pytest.approx(x_R, rel=1e-14)  # (measured 2e-16)
     assert abs(j["normal_resultant_at_m"][1]) < 1e-12
     # in contact: under the 18 m crack's full uplift the base opens over less than 18 m
     # (hence the cycle) and more than the first 13.5 m
