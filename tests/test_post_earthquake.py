@@ -169,6 +169,15 @@ def test_a_run_reports_the_post_earthquake_state(tmp_path: Path) -> None:
         assert not f["static/broken"][()].any()
     text = (tmp_path / "out" / "summary.txt").read_text()
     assert "post-EQ joint    FS ∞, normal" in text and "broken 100 %" in text
+    # the base in compression as the static line reads it: all of it in contact, the
+    # normal resultant under the block's centre of gravity, as before the record (no shear
+    # is left to move it)
+    line = next(x for x in text.splitlines() if x.strip().startswith("post-EQ joint"))
+    at = post["normal_resultant_at_m"]
+    assert post["contact_share"] == pytest.approx(1.0)
+    assert at == pytest.approx(s["static_joints"]["joint"]["normal_resultant_at_m"], abs=1e-9)
+    assert ("in contact 100 %" in line
+            and "normal resultant at (" + ", ".join(f"{v:.4g}" for v in at) + ") m" in line)
     # a run of 0.4 s extended to 1 s by --resume: the post-earthquake state of the
     # extension's last state (written over the 0.4 s one), the same bits
     parts = tmp_path / "parts"

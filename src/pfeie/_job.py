@@ -76,6 +76,7 @@ from .io import (
 )  # fmt: skip
 from .model import GroundMotion, Model
 from .plot import plot_run, solver_line
+from .plot._report import per_thickness
 from .solvers import (
     REDUCTION_F_MAX,
     YIELD_K_MAX,
@@ -1116,16 +1117,6 @@ def _yield_coefficients(
     return out
 
 
-def _per_thickness(s: dict[str, Any]) -> str:
-    """What the forces of a 2D model are for (" a metre" of its thickness, or of t m);
-    "" in 3D."""
-    m = s.get("model", {})
-    if m.get("dimension") != 2:
-        return ""
-    t = float(m.get("thickness", 1.0))
-    return " a metre" if t == 1.0 else f" for {t:g} m"
-
-
 def _compression_text(j: dict[str, Any], per: str) -> str:
     """A static joint's compression, resultant and crack for the summary text."""
     out = f", in contact {100 * j['contact_share']:.0f} %"
@@ -1134,9 +1125,13 @@ def _compression_text(j: dict[str, Any], per: str) -> str:
     at = j.get("normal_resultant_at_m")
     if at is not None:
         out += ", normal resultant at (" + ", ".join(f"{v:.4g}" for v in at) + ") m"
+    if "uplift_force_N" in j:
+        out += f", uplift {j['uplift_force_N'] / 1e3:.4g} kN"
     if "crack_m" in j:
         crack = f"crack at full uplift {j['crack_m']:.2f} m" if j["crack_m"] > 0 else "no crack"
         out += f", {crack} (normal: effective, the uplift apart)"
+    elif "uplift_force_N" in j:
+        out += " (normal: effective, the uplift apart)"
     return out + (f"; forces{per}" if per else "")
 
 
@@ -1618,6 +1613,7 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
         A = P.area[idx]
         X = st.X[idx]
         shear = float(np.linalg.norm(X[:, :-1].sum(axis=0)))
+        shear = shear if shear > noise[k] else 0.0  # (4e-13 N under a 47 kN block)
         out[name] = {  # no shear (or at the round-off of the forces): no FS, null (∞)
             "safety_factor": float(fs[k]) if np.isfinite(fs[k]) else None,
             "normal_force_N": float(X[:, -1].sum()),
@@ -1649,6 +1645,10 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
         }  # fmt: skip
         if name in cracks:
             out[name]["crack_m"] = cracks[name]
+        if static.uplift is not None and (up := static.uplift[idx]).any():
+            # the uplift's resultant on the joint (N; its pressures times the pairs'
+            # areas, as the model applies it): W − U is the effective normal force
+            out[name]["uplift_force_N"] = float(up @ A)
     return out
 
 
@@ -1663,7 +1663,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
 
     Per joint: slips (m; the magnitude of the tangential relative displacement since
     the start), ``max_opening_m``, ``broken_share`` (at the end) and
-    ``initially_broken_share`` (the pairs of ``initial = "broken"`` laws), shares of the
+    ``initially_broken_share`` (the pairs of ``initial = "broken"`` laws) and, for a run
+    from another run's state (its first row after t = 0), ``broken_at_start_share`` (at
+    that row: the cracks it started with), shares of the
     joint's area; ``cracked_length_m`` (2D) or ``cracked_area_m2`` (3D), the broken
     pairs at the end; ``max_open_length_m`` or ``max_open_area_m2``, the largest extent
     of the broken pairs that are open by more than ``pfeie.plot.OPEN_CRACK_MIN_M``
@@ -1738,6 +1740,12 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
                 "broken_share": float((res.broken[-1, idx] * area).sum() / area.sum()),
                 "initially_broken_share": float((at_start[idx] * area).sum() / area.sum()),
             }
+            if float(res.t[0]) > 0.0:
+                # a run from another run's state (an aftershock after its mainshock; a run
+                # from the static state starts at t = 0, its static cracks the static
+                # line's): broken at its first row
+                joints[name]["broken_at_start_share"] = float(
+                    (res.broken[0, idx] * area).sum() / area.sum())  # fmt: skip
             pieces = _joint_pieces(model, idx)
             if len(pieces) > 1:  # the joint's pieces between two blocks each
                 joints[name]["pieces"] = {
@@ -1935,6 +1943,11 @@ def _broken(j: dict[str, Any]) -> str:
     """The broken share of a joint, saying which part was broken from the start (a
     pre-existing joint, ``initial = "broken"``), so that it is not read as a failure."""
     now, start = 100 * j["broken_share"], 100 * j.get("initially_broken_share", 0.0)
+    before = 100 * j.get("broken_at_start_share", 0.0)
+    if before > start + 1e-9:  # a run from another run's state: broken before this one
+        law = f"; {start:.0f} % a pre-existing joint" if start > 0.0 else ""
+        return (f"broken {now:.0f} % ({before:.0f} % when this run started, from its start "
+                f"state{law})")  # fmt: skip
     if start <= 0.0:
         return f"broken {now:.0f} %"
     if start >= 100.0:
@@ -1986,7 +1999,7 @@ def format_summary(s: dict[str, Any]) -> str:
     if len(floating) > BODY_LINES:
         lines.append(f"  blocks       {len(floating) - BODY_LINES} more floating block(s) in "
                      "summary.json (bodies)")  # fmt: skip
-    per = _per_thickness(s)
+    per = per_thickness(s)
     for name, j in s.get("static_joints", {}).items():
         fs = j["safety_factor"]
         at_capacity = (fs is not None and fs <= 1 + AT_CAPACITY_FS
@@ -2103,8 +2116,9 @@ def format_summary(s: dict[str, Any]) -> str:
             f"  post-EQ {name:<8} FS {'∞' if fs is None else f'{fs:.2f}'}, normal "
             f"{j['normal_force_N'] / 1e3:.4g} kN, shear {j['shear_force_N'] / 1e3:.4g} kN, "
             f"broken {100 * j['broken_share']:.0f} %"
-            + ("" if crack is None else f", crack at full uplift {crack:.2f} m")
+            + ("" if crack is None or "crack_m" in j else f", crack at full uplift {crack:.2f} m")
             + f", sliding {100 * j['sliding_share']:.0f} %"
+            + (_compression_text(j, per) if "contact_share" in j else "")
         )
     if "stress" in s:
         st = s["stress"]

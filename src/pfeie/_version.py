@@ -1,3 +1,3 @@
 """The package version, the single place it is set."""
 
-__version__ = "0.3.24"
+__version__ = "0.3.25"

@@ -36,6 +36,7 @@ committed state of the next step (:meth:`PairState.committed`).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time as _time
 from collections.abc import Callable, Sequence
@@ -105,6 +106,11 @@ class StepState:
     # under the same records and step (``start=result.final``): event sub-steps moved
     # the supports off the grid's own recurrence (None: the grid from its origin)
     supports: tuple[str, float, FloatArray] | None = None
+    # the excitation the run that ended at this state was under (Excitation.key: its
+    # digest and wording; set on a run's final state and its checkpoints' states; None:
+    # unknown): a run started from the state under other records reads them from the
+    # state's time, and is told so where that skips their beginning (an aftershock)
+    records: tuple[str, str] | None = None
 
 
 @dataclass
@@ -355,6 +361,54 @@ class Dynamic:
                              f"{got_m} pairs; this analysis has {n} free DOFs and {m} pairs): "
                              "expected a state of a run of this analysis' model (its "
                              "result.final, or a checkpoint of it)")  # fmt: skip
+
+    def _records_from(self, start: StepState, ex: Excitation, n: int) -> None:
+        """The records of a run started from ``start``, a state at t₀ = ``start.kin.t``:
+        the run reads them at its own time, from t₀ on, so that a run under the records of
+        the state's own run continues it (after a record's end too: the ground at rest).
+        Where the state ended a run under other records (``start.records``): refused where
+        a record ends by t₀ (nothing of it would act: an aftershock whose times start at 0
+        after a mainshock that ended at 5 s ran with the ground at rest, silently), warned
+        where a record starts before t₀ (its beginning is skipped); where the state's
+        records are unknown (a state built or read elsewhere), a record that ends by t₀ is
+        warned. :meth:`~pfeie.GroundMotion.shifted` moves a record to start at t₀."""
+        t0 = float(start.kin.t)
+        if not t0 > 0.0 or (start.records is not None and start.records[0] == ex.key[0]):
+            return
+        tol = 1e-9 * max(1.0, t0)
+        known = start.records is not None
+        runs = f"a run under {start.records[1]}" if start.records is not None else "a run"
+        if ex.moves_supports and ex.ground:
+            # the supports would jump from the state's ground motion to the new records'
+            text = (f"start: this run's records move the supports (the absolute form) and "
+                    f"its start state ended {runs}: the supports would jump at t = {t0:g} "
+                    "s from where that run's ground left them to where these records put "
+                    "them; run a sequence of records (an aftershock after its mainshock) "
+                    "in the relative form, or as one record")  # fmt: skip
+            if known:
+                raise ModelError(text)
+            log.warning("%s", text)
+        for g in ex.ground:
+            first, last = float(g.time[0]), float(g.time[-1])
+            fix = (f"to apply it after that state (an aftershock), shift it to start there: "
+                   f"record.shifted({t0:g})")  # fmt: skip
+            if last <= t0 + tol:
+                text = (
+                    f"ground motion {g.name!r}: the record ends at {last:g} s, and this run "
+                    f"starts at t = {t0:g} s, the time of its start state, which ended "
+                    f"{runs} (a run from a state goes on at the state's time and reads its "
+                    f"records there): nothing of the record would act; {fix}"
+                )
+                if known:
+                    raise ModelError(text)
+                log.warning("%s", text)
+            elif known and first < t0 - tol:
+                end = t0 + n * self.dt
+                log.warning(
+                    "ground motion %r: this run starts at t = %g s, the time of its start "
+                    "state, which ended %s; it reads the record from there, from %g s to "
+                    "%g s, and skips its first %g s; %s",
+                    g.name, t0, runs, t0, min(end, last), t0 - first, fix)  # fmt: skip
 
     def _check_model(self) -> None:
         """Refuse a run of a model changed since this analysis was built (supports, loads,
@@ -1124,7 +1178,11 @@ class Dynamic:
         """Integrate over ``duration`` (s) or ``n_steps`` steps under the records
         ``ground`` (relative or absolute ``form``), recording the steps whose number is a
         multiple of ``every``, and the last step. ``start`` is a :class:`StepState`, a
-        static result or None.
+        static result or None. A run from a state (``start=result.final``) goes on at the
+        state's time t₀ and reads its records there: an aftershock recorded from t = 0 is
+        given as ``aftershock.shifted(t0)`` in the relative form (a record that ends by t₀
+        is refused after a run under other records, and so is the absolute form, whose
+        supports would jump).
         ``on_record`` receives every recorded row (probe, rigid, pair and energy values,
         and the full nodal u, v, a), e.g. to stream them to a results file.
 
@@ -1167,6 +1225,8 @@ class Dynamic:
             if fn is not None and not callable(fn):
                 raise ModelError(f"{arg}: expected a function (or None), got "
                                  f"{type(fn).__name__} {fn!r}")  # fmt: skip
+        if isinstance(start, StepState):
+            self._check_state(start, "start")  # (before its uplift is read)
         # the pre-earthquake uplift: that of the static result the run starts from (a
         # StepState's own, e.g. Dynamic.initial(static) or a previous run's final state)
         ex = self.excitation(ground, form, start.static if isinstance(start, StepState)
@@ -1176,6 +1236,8 @@ class Dynamic:
             if why is not None:
                 raise ModelError(f"ground motion {g.name!r}: {why}")
             self.model.warn_along_gravity(g.name, g.direction)
+        if isinstance(start, StepState) and resume is None:
+            self._records_from(start, ex, n)
         if resume is not None:
             if not isinstance(resume, Checkpoint):
                 raise ModelError(f"resume: expected a pfeie Checkpoint (from on_checkpoint), "
@@ -1204,7 +1266,6 @@ class Dynamic:
                 ex.follow(cur.pairs.state == OPEN)
         else:
             if isinstance(start, StepState):
-                self._check_state(start, "start")
                 cur = start
             else:
                 self._supports_on_grid(ex, 0.0, trial=True)  # (the start's trial step)
@@ -1259,7 +1320,10 @@ class Dynamic:
 
         def checkpoint() -> None:
             if on_checkpoint is not None:
-                on_checkpoint(rec.checkpoint(cur, row0 + j))
+                # (for a run from the checkpoint's state; not written on the caller's start)
+                state = dataclasses.replace(cur) if cur is start else cur
+                state.records = ex.key
+                on_checkpoint(rec.checkpoint(state, row0 + j))
 
         for i in range(1, n + 1):
             if stats is not None:
@@ -1332,8 +1396,11 @@ class Dynamic:
                 j += 1
                 rec.record(j, cur, solver=since(n))
         wall = _time.perf_counter() - t_wall
+        if cur is start:  # (no step taken: the caller's start state is not written on)
+            cur = dataclasses.replace(cur)
         if ex.moves_supports and (grid := ex.grid_rows(cur.kin.t)) is not None:
             cur.supports = (ex.key[0], self.dt, grid)  # (for a run from it: start=final)
+        cur.records = ex.key
         solver: dict[str, np.ndarray] = {"iterations": iters, "fallbacks": falls,
                                          "residual": resid, "newton": newton,
                                          "substeps": substeps}  # fmt: skip

@@ -143,7 +143,10 @@ def export_csv(results: str | Path, folder: str | Path) -> list[Path]:
                                 f"{A[k]:.9g}",
                                 f"{slip[-1, k]:.9g}",
                                 f"{pr['opening'][:, k].max():.9g}",
-                                *(f"{v:.9g}" for v in pr["w"][-1, k]),
+                                # since the start of the run, as residual_slip_m and
+                                # joints.csv's w_*_mean (not the springs' closure under
+                                # the static loads)
+                                *(f"{v:.9g}" for v in pr["w"][-1, k] - pr["w"][0, k]),
                                 names[int(pr["state"][-1, k])],
                                 int(pr["broken"][-1, k]),
                                 blocks[k],

@@ -576,8 +576,10 @@ def _plausibility(p: Path, cfg: Any, mesh: Mesh, mats: dict[str, Elastic],
     # the checks of a model built in Python (pfeie.model.warn_implausible), naming the
     # file and the keys: the model is built with check_units=False
     for text in [
-        *implausible_materials(mats, lambda name: f"{p}: materials.{name}.",
-                               locking_cells(mesh, cfg.plane)),
+        *implausible_materials(
+            mats, lambda name: f"{p}: materials.{name}.",
+            lambda name: locking_cells(mesh, cfg.plane,
+                                       [g for g, m in cfg.blocks.items() if m == name])),
         *implausible_joints({i.group: i.joint for i in interfaces},
                             lambda name: f"{p}: interfaces.{name}.", _JOINT_KEYS),
     ]:  # fmt: skip

@@ -14,8 +14,9 @@ them).
 
 ``interfaces.xdmf``: the interfaces as their own mesh (the side-a faces of each joint,
 whose nodes are the pairs) with, at every field output time, point data ``opening`` (m),
-``slip`` (m, tangential components in the pair's frame: t₁ in 2D, t₁ and t₂ in 3D),
-``normal_stress`` (Pa, compression +), ``shear_stress`` (Pa, the same components),
+``slip`` (m: in 2D the tangential component along the pair's t₁, signed; in 3D the
+magnitude, with the components along t₁ and t₂ as the scalars ``slip_t1``, ``slip_t2``),
+``normal_stress`` (Pa, compression +), ``shear_stress`` (Pa, the same way, on side b),
 ``slip_vector`` and ``shear_vector`` (the same two as 3-component vectors in global axes,
 through the pairs' frames, for glyphs and Warp By Vector), ``state`` (0 intact, 1 stick,
 2 slide, 3 open), ``broken`` (0/1)
@@ -90,9 +91,9 @@ def write_paraview(
                     j = int(np.argmin(np.abs(hist_t - t)))
                     data = {
                         "opening": pairs["opening"][j],
-                        "slip": pairs["slip"][j],
+                        **_tangential("slip", pairs["slip"][j]),
                         "normal_stress": pairs["normal_stress"][j],
-                        "shear_stress": pairs["shear_stress"][j],
+                        **_tangential("shear_stress", pairs["shear_stress"][j]),
                         "state": pairs["state"][j].astype(float),
                         "broken": pairs["broken"][j].astype(float),
                         "slip_vector": _global(tangent, pairs["slip"][j]),
@@ -460,6 +461,18 @@ def _interface_mesh(model: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]
     cells = merged
     order = np.concatenate([np.arange(P.n), np.full(len(extra), -1)])
     return mesh.points[nodes], cells, tags, order
+
+
+def _tangential(name: str, local: np.ndarray) -> dict[str, np.ndarray]:
+    """A tangential quantity's point data: in 2D its component along t₁ (``name``,
+    signed); in 3D its magnitude (``name``) and its components along t₁ and t₂ as scalars
+    (``name_t1``, ``name_t2``). Two components written as one array would be read by
+    ParaView as a vector (t₁, t₂, 0) in global axes, which it is not (a tester's slip
+    down a 20° plane along x read (0, −0.013, 0), towards −y)."""
+    v = local.reshape(local.shape[0], -1)
+    if v.shape[1] == 1:
+        return {name: local}  # (as it was written before 0.3.25: (m, 1))
+    return {name: np.linalg.norm(v, axis=1), f"{name}_t1": v[:, 0], f"{name}_t2": v[:, 1]}
 
 
 def _global(tangent: np.ndarray, local: np.ndarray) -> np.ndarray:

@@ -219,6 +219,26 @@ class GroundMotion:
         """a_g(t) in m/s² (linear interpolation, 0 outside the record)."""
         return float(np.interp(t, self.time, self.acceleration, left=0.0, right=0.0))
 
+    def shifted(self, t0: float) -> GroundMotion:
+        """The record delayed by ``t0`` s: its samples at t + t₀, the ground at rest
+        before them (:meth:`__call__` is 0 outside the record). A run started from a
+        state at t₀ (``Dynamic.run(start=result.final)``) goes on at the state's time and
+        reads its records there, so an aftershock recorded from t = 0 is applied after a
+        mainshock that ended at t₀ as ``aftershock.shifted(t0)``, in the relative form (in
+        the absolute form the supports would jump from where the mainshock's ground left
+        them to where the aftershock puts them: refused).
+
+        >>> gm = GroundMotion.from_samples([0.0, 1.0, 0.0], dt=0.5)
+        >>> gm.shifted(5.0).time.tolist(), gm.shifted(5.0)(5.5), gm.shifted(5.0)(0.5)
+        ([5.0, 5.5, 6.0], 1.0, 0.0)
+        """
+        shift = float(t0)
+        if not np.isfinite(shift):
+            raise ModelError(f"ground motion {self.name!r}: shifted: expected a finite time "
+                             f"in s, got {t0!r}")  # fmt: skip
+        done = ", ".join(x for x in (self.processing, f"shifted by {shift:g} s") if x)
+        return dataclasses.replace(self, time=self.time + shift, processing=done)
+
     def baseline_corrected(self) -> GroundMotion:
         """The record minus the constant acceleration that brings the final ground velocity
         to zero (the zeroth-order baseline correction), for the absolute form."""

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import logging
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -89,20 +89,28 @@ JOINT_KEYS = {
 }
 
 
-def locking_cells(mesh: Mesh, plane: str = "strain") -> bool:
-    """Whether the ``mesh`` has first-order cells (T3, Q4, Tet4, Hex8) that a nearly
-    incompressible material locks: not in 2D plane stress, where λ* stays finite."""
+def locking_cells(mesh: Mesh, plane: str = "strain", groups: Iterable[str] | None = None,
+                  ) -> bool:  # fmt: skip
+    """Whether the ``mesh`` (or its cell ``groups``, where given: the blocks of one
+    material) has first-order cells (T3, Q4, Tet4, Hex8) that a nearly incompressible
+    material locks: not in 2D plane stress, where λ* stays finite. A group the mesh lacks
+    counts as none (the model's own checks name it)."""
     if mesh.dim == 2 and plane == "stress":
         return False
-    return any(reference(t).degree == 1 for t, conn in mesh.cells.items() if len(conn))
+    if groups is None:
+        return any(reference(t).degree == 1 for t, conn in mesh.cells.items() if len(conn))
+    return any(reference(t).degree == 1 and len(idx)
+               for g in groups for t, idx in mesh.cell_groups.get(g, {}).items())  # fmt: skip
 
 
 def implausible_materials(
-    materials: Mapping[str, Elastic], prefix: Callable[[str], str], locking: bool = True,
+    materials: Mapping[str, Elastic], prefix: Callable[[str], str],
+    locking: bool | Callable[[str], bool] = True,
 ) -> list[str]:  # fmt: skip
     """Warnings on the moduli and densities of ``materials`` (name → material) outside
     :data:`E_RANGE` and :data:`RHO_RANGE`, on Poisson's ratios above :data:`NU_LOCKING`
-    where the mesh has cells that lock (``locking``: :func:`locking_cells`) and on tensile
+    where the mesh has cells that lock (``locking``: :func:`locking_cells`, for all
+    materials or, as a function of the name, for the cells of each) and on tensile
     strengths below :data:`STRENGTH_MIN`, with the value probably meant where there is
     one; ``prefix(name)``
     starts a material's messages (its key path, before ``E`` and ``rho``).
@@ -147,7 +155,8 @@ def implausible_materials(
             out.append(f"{prefix(name)}rho = {rho:g} kg/m³ lies above {hi:g} kg/m³ (concrete "
                        "and rock: 1800 to 3200); pfeie takes SI units (kg/m³)")  # fmt: skip
     for name, mt in materials.items():
-        if locking and float(mt.nu) > NU_LOCKING:
+        locks = locking(name) if callable(locking) else locking
+        if locks and float(mt.nu) > NU_LOCKING:
             out.append(f"{prefix(name)}nu = {float(mt.nu):g} is nearly incompressible "
                        "(concrete and rock: 0.1 to 0.35): the mesh's first-order cells (T3, "
                        "Q4, Tet4, Hex8) lock and come out far too stiff; take quadratic "
@@ -327,12 +336,14 @@ def warn_implausible(mesh: Mesh, blocks: Sequence[Block], interfaces: Sequence[I
     materials of ``blocks`` (one message per distinct material, naming the blocks that
     have it), the joint laws of ``interfaces``, the ``mesh``'s size. Returns the
     messages."""
-    users: dict[Elastic, list[str]] = {}
+    users: dict[Elastic, list[Block]] = {}
     for b in blocks:
-        users.setdefault(b.material, []).append(repr(b.name))
-    label = {f"block{'s' if len(n) > 1 else ''} {', '.join(n)}": m for m, n in users.items()}
+        users.setdefault(b.material, []).append(b)
+    label = {f"block{'s' if len(bs) > 1 else ''} {', '.join(repr(b.name) for b in bs)}":
+             (m, [b.cell_group for b in bs]) for m, bs in users.items()}  # fmt: skip
     out = [
-        *implausible_materials(label, lambda name: f"{name}: ", locking_cells(mesh, plane)),
+        *implausible_materials({k: m for k, (m, _) in label.items()}, lambda name: f"{name}: ",
+                               lambda name: locking_cells(mesh, plane, label[name][1])),
         *implausible_joints({i.group: i.joint for i in interfaces},
                             lambda name: f"interface {name!r}: "),
         *implausible_mesh(mesh),

@@ -189,11 +189,25 @@ def demand_capacity_rows(res: Results) -> list[tuple[str, str]]:
     ]  # fmt: skip
 
 
+def per_thickness(summary: dict[str, Any], job: Job | None = None) -> str:
+    """What a 2D model's forces are for: " a metre" (of its thickness) or " for t m"; ""
+    in 3D (the run's summary's ``model``, or the model of ``job``). The summary's text and
+    the report's columns say it alike."""
+    m = summary.get("model") or {}
+    dim = m.get("dimension", None if job is None else job.model.dim)
+    if dim != 2:
+        return ""
+    t = float(m.get("thickness", 1.0 if job is None else job.model.thickness))
+    return " a metre" if t == 1.0 else f" for {t:g} m"
+
+
 def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, Any]]:
     """Per joint, the static state: pairs, mean normal stress, largest opening, shares
     sliding, open and broken, the sliding safety factor (of the first recorded row, or
-    from the static pair forces and the model's joint laws, ``job``), the uplift (empty
-    without a static pair state); after the joints, a row "joint: A | B" for each piece
+    from the static pair forces and the model's joint laws, ``job``), the uplift, and from
+    the run's summary the normal and shear resultants, the share in contact, its mean
+    stress and the point of the normal resultant (empty without a static pair state);
+    after the joints, a row "joint: A | B" for each piece
     of a joint whose pairs join more than two blocks."""
     if "static/X" not in res.f:
         return []
@@ -245,15 +259,34 @@ def static_joint_table(res: Results, job: Job | None = None) -> list[dict[str, A
             cracks = json.loads(res.f["static"].attrs.get("cracks", "{}"))
             if name in cracks:
                 rows[-1]["crack from the heel (m)"] = float(cracks[name])
+    # the joint's resultants and its base in compression, as the summary gives them (the
+    # gravity method's reading, EM 1110-2-2100: the normal and shear resultants, the share
+    # in contact and its mean stress, the point of the normal resultant)
+    summ = res.meta.get("results_summary") or {}
+    per = per_thickness(summ, job)
+    for row in rows:
+        j = (summ.get("static_joints") or {}).get(row["joint"])
+        if not j:
+            continue
+        row[f"normal force (kN{per})"] = 1e-3 * float(j["normal_force_N"])
+        row[f"shear force (kN{per})"] = 1e-3 * float(j["shear_force_N"])
+        if "contact_share" in j:
+            row["in contact (%)"] = 100 * float(j["contact_share"])
+            mean = j.get("mean_contact_stress_Pa")
+            row["mean stress in contact (MPa)"] = "—" if mean is None else 1e-6 * float(mean)
+            at = j.get("normal_resultant_at_m")
+            row["normal resultant at (m)"] = (
+                "— (tension)" if at is None else "(" + ", ".join(f"{v:.4g}" for v in at) + ")"
+            )
     # the yield coefficient (analysis.yield_coefficient) on the joint that governs it
-    yields = (res.meta.get("results_summary") or {}).get("yield_coefficient") or {}
+    yields = summ.get("yield_coefficient") or {}
     for row in rows:
         for label, y in yields.items():
             if y.get("joint") == row["joint"] and y.get("k_y") is not None:
                 row[f"yield coefficient k_y along {label}"] = f"{y['k_y']:.4g} ({y['limit']})"
     # the factor of safety by strength reduction (analysis.strength_reduction), on the joint
     # that governs it
-    sr = (res.meta.get("results_summary") or {}).get("strength_reduction") or {}
+    sr = summ.get("strength_reduction") or {}
     for row in rows:
         if sr.get("joint") == row["joint"] and sr.get("factor") is not None:
             row["FS by strength reduction"] = f"{sr['factor']:.4g} ({sr['limit']})"

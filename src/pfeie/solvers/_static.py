@@ -446,9 +446,12 @@ def _floating(model: Model, found: bool = True, damaged: bool = False,
             head + " This is the post-earthquake state: the pairs the record broke carry "
             "their residual strength (residual cohesion and friction angle, no tension) "
             "and each uplift's crack, broken or open from the heel, takes the full "
-            "headwater; a joint broken through that its residual friction cannot hold "
-            "under the static loads leaves the structure unstable after the earthquake "
-            "(a post-earthquake sliding safety factor below 1)"
+            "headwater; a joint that its broken pairs' residual strength and its intact "
+            "ligament cannot hold under the static loads leaves the structure unstable "
+            "after the earthquake (a post-earthquake sliding safety factor below 1): "
+            "broken through, or with a crack from the heel that grows under its own "
+            "uplift until the ligament is gone (the effective normal resultant inside the "
+            "crack)"
         )  # fmt: skip
     soft = [f"{i.group!r}: {key} {float(v):g} Pa/m" for i in model.interfaces
             for key, v in (("normal_stiffness", i.joint.kn), ("shear_stiffness", i.joint.ks))

@@ -226,7 +226,7 @@ def horizontal(
                          "vertical)")  # fmt: skip
     iota = iota / norm
     if abs(float(iota @ up)) > 1e-9:
-        raise ModelError(f"yield coefficient: the direction {list(np.round(iota, 6))} is not "
+        raise ModelError(f"yield coefficient: the direction {np.round(iota, 6).tolist()} is not "
                          "horizontal (normal to gravity)")  # fmt: skip
     return g, iota
 
