@@ -434,3 +434,51 @@ def test_a_run_from_the_static_state_keeps_its_static_cracks_in_the_static_line(
     j = json.loads((tmp_path / "out" / "summary.json").read_text())["joints"]["base"]
     assert j["broken_share"] > 0.0 and "broken_at_start_share" not in j
     assert "when this run started" not in (tmp_path / "out" / "summary.txt").read_text()
+
+
+def test_a_checkpoint_read_from_a_file_knows_its_records(tmp_path: Path) -> None:
+    """A results file's checkpoint keeps the records of its run (the attribute ``records``
+    of ``/checkpoint``), so that a run started from its state under an aftershock that
+    ended by then is refused, as from the run's own final state (it was only warned: the
+    state's records were unknown). The run: tests/test_post_earthquake.py's block, 1 s of
+    a 2 Hz sine through ``pfeie run``."""
+    import h5py
+
+    from pfeie.io._checkpoint import read_checkpoint
+    from test_post_earthquake import _run
+
+    _run(tmp_path, 1.0)
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        state = read_checkpoint(f).state
+    assert state.records is not None and "'rec'" in state.records[1]
+    assert state.kin.t == pytest.approx(1.0)
+    job = load_job(tmp_path / "model.toml")
+    after = pf.GroundMotion.from_function(lambda t: 0.0 * t, 0.3, 0.005, name="after")
+    with pytest.raises(ModelError, match=r"ground motion 'after': the record ends at 0.3 s"):
+        pf.Dynamic(job.model, 0.005).run(0.3, ground=[after], start=state)
+
+
+def test_a_static_state_that_leans_on_junctions_is_warned() -> None:
+    """A plain static analysis of Goodman and Bray's three columns (2.5, 3.5, 3 m on a base
+    dipping 20°, φ = 50°; limit equilibrium: toppling, F = 0.61) held with four cells
+    across, by the friction of the node pairs at the columns' feet, and said nothing
+    (only the limit searches warned). Now the static joint records its junction share
+    where it passes the searches' thresholds (41 % of the normal force of 'sides' on
+    4.5 % of its area; the bases' 63 % on 17 % does not, 3.8 times its area), and the
+    summary warns; the dams, wedges and arches of these tests do not."""
+    from test_review34 import _monoliths
+    from test_review36 import _columns
+
+    from pfeie._job import _static_joints, reliability
+
+    model = _columns([2.5, 3.5, 3.0], 0.0, 20.0, 50.0, across=4)
+    joints = _static_joints(model, pf.solve_static(model))
+    assert "junction_share" not in joints["bases"]
+    assert 0.35 < joints["sides"]["junction_share"] < 0.5
+    assert joints["sides"]["junction_area_share"] == pytest.approx(1 / 22)
+    said = reliability({"static_joints": joints})
+    assert [w.label for w in said] == ["static"]
+    assert "joint 'sides' leans on its pairs at junctions" in said[0].text
+    calm = _monoliths()
+    assert not any("junction_share" in j for j in _static_joints(calm, pf.solve_static(calm))
+                   .values())  # fmt: skip

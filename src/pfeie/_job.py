@@ -78,11 +78,14 @@ from .model import GroundMotion, Model
 from .plot import plot_run, solver_line
 from .plot._report import per_thickness
 from .solvers import (
+    JUNCTION_RATIO,
+    JUNCTION_SHARE,
     REDUCTION_F_MAX,
     YIELD_K_MAX,
     YIELD_RIGID_GAP,
     StaticResult,
     horizontal,
+    junction_share,
     solve_static,
     strength_reduction,
     yield_coefficient,
@@ -1353,6 +1356,25 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
                 f"static: {what}: beyond small displacements, check the stiffness units",
             )
         )
+    for name, j in s.get("static_joints", {}).items():
+        if "junction_share" not in j:
+            continue
+        share, area = 100 * j["junction_share"], 100 * j["junction_area_share"]
+        out.append(
+            RunWarning(
+                "static",
+                f"the static state: joint {name!r} leans on its pairs at junctions, a "
+                f"block's corner where joints meet ({share:.0f} % of its normal force on "
+                f"{area:.1f} % of its area): the node-to-node friction there has no area to "
+                "bound it and grows as the mesh is refined (a row of three columns that "
+                "limit equilibrium has toppling, F = 0.61, held at F = 1 by it); the "
+                "equilibrium may hold only by that corner friction: refine the mesh and "
+                "compare, or give the joint's end facets a frictionless joint "
+                "(docs/theory.md, 'Two safety factors')",
+                f"static: {name!r} leans on its pairs at junctions ({share:.0f} % of its "
+                "normal force): refine the mesh and compare",
+            )
+        )
     # a summary written before the key (before version 0.3.12) is read as undamped
     beta = float((s.get("damping") or {}).get("beta_s", 0.0))
     for name, b in s.get("bodies", {}).items():
@@ -1645,6 +1667,13 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
         }  # fmt: skip
         if name in cracks:
             out[name]["crack_m"] = cracks[name]
+        force, area = junction_share(model, static, name)
+        if force > JUNCTION_SHARE and force > JUNCTION_RATIO * area:
+            # the joint leans on its pairs at junctions (a block's corner where joints
+            # meet), whose node-to-node friction grows as the mesh is refined: a row of
+            # toppling columns holds at F = 1 by it (reliability's "static" warning)
+            out[name]["junction_share"] = force
+            out[name]["junction_area_share"] = area
         if static.uplift is not None and (up := static.uplift[idx]).any():
             # the uplift's resultant on the joint (N; its pressures times the pairs'
             # areas, as the model applies it): W − U is the effective normal force

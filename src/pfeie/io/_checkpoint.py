@@ -242,6 +242,8 @@ class CheckpointWriter:
         )  # fmt: skip
         if st.origin is not None or st.step == 0:  # the time grid: step k at origin + k h
             g.attrs["time_origin"] = kin.t if st.origin is None else st.origin
+        if st.records is not None:  # the records of the run (for a run from the state)
+            g.attrs["records"] = json.dumps(list(st.records))
         data = {f"kin/{k}": getattr(kin, k) for k in _KIN}
         data.update({f"pairs/{k}": getattr(st.pairs, k) for k in _PAIRS})
         if kin.aux is not None:
@@ -328,8 +330,10 @@ def read_checkpoint(f: Any) -> Checkpoint:
     shift = np.asarray(g["kin/shift"]) if "kin/shift" in g else None
     ground = np.asarray(g["kin/ground"]) if "kin/ground" in g else None
     t0 = g.attrs.get("time_origin")  # (older files have none: t − step h)
+    records = g.attrs.get("records")  # (files written before 0.3.25 have none)
     st = StepState(kin, pairs, int(g.attrs["step"]), lam=lam, shift=shift,
-                   origin=None if t0 is None else float(t0), ground=ground)  # fmt: skip
+                   origin=None if t0 is None else float(t0), ground=ground,
+                   records=None if records is None else tuple(json.loads(records)))  # fmt: skip
     energy = {k: float(v) for k, v in json.loads(g.attrs["energy"]).items()}
     o0, o1 = json.loads(g.attrs["origin"])
     env = ({k: np.asarray(v) for k, v in g["envelope"].items()} if "envelope" in g
