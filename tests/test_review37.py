@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import pfeie as pf
-from pfeie.errors import ModelError
+from pfeie.errors import InputError, ModelError
 from pfeie.io import load_job
 from pfeie.mesh import Mesh
 from pfeie.model import locking_cells
@@ -466,10 +466,9 @@ def test_a_static_state_that_leans_on_junctions_is_warned() -> None:
     where it passes the searches' thresholds (41 % of the normal force of 'sides' on
     4.5 % of its area; the bases' 63 % on 17 % does not, 3.8 times its area), and the
     summary warns; the dams, wedges and arches of these tests do not."""
+    from pfeie._job import _static_joints, reliability
     from test_review34 import _monoliths
     from test_review36 import _columns
-
-    from pfeie._job import _static_joints, reliability
 
     model = _columns([2.5, 3.5, 3.0], 0.0, 20.0, 50.0, across=4)
     joints = _static_joints(model, pf.solve_static(model))
@@ -482,3 +481,23 @@ def test_a_static_state_that_leans_on_junctions_is_warned() -> None:
     calm = _monoliths()
     assert not any("junction_share" in j for j in _static_joints(calm, pf.solve_static(calm))
                    .values())  # fmt: skip
+
+
+def test_set_takes_a_blocks_pattern_and_refuses_one_that_would_do_nothing(tmp_path: Path) -> None:
+    """``--set blocks.d*=soft`` was refused as no key path, though [blocks] takes patterns.
+    Now taken: on a file whose [blocks] uses a pattern it replaces it (the dam's E is the
+    soft material's); on a file that names the groups outright it would change nothing
+    (a group named outright keeps its material), so it is refused with the key to set."""
+    from pfeie.io import parse_override
+    from test_cli import SMALL, _write
+
+    soft = SMALL.replace("[blocks]", '[materials.soft]\nE = 10e9\nnu = 0.2\nrho = 2400.0\n'
+                         "[blocks]")  # fmt: skip
+    named = _write(tmp_path, soft)
+    with pytest.raises(InputError, match=r"blocks\.d\* \(--set blocks\.d\*=soft\): the group "
+                       r"'dam' is named outright .* --set blocks\.dam=soft"):  # fmt: skip
+        load_job(named, [parse_override("blocks.d*=soft")])
+    pattern = _write(tmp_path, soft.replace('dam = "concrete"', '"d*" = "concrete"'))
+    job = load_job(pattern, [parse_override("blocks.d*=soft")])
+    E = {b.name: float(b.material.E) for b in job.model.blocks}
+    assert E == {"rock": 30e9, "dam": 10e9}

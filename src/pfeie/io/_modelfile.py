@@ -20,7 +20,7 @@ import json
 import logging
 import re
 import tomllib
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -111,13 +111,16 @@ def parse_override(text: str, source: str | None = None) -> Override:
     source = source or f"--set {text}"
     key, sep, value = text.partition("=")
     key = key.strip()
-    if not sep or not _KEY.fullmatch(key):
+    if not sep or not (_KEY.fullmatch(key) or _BLOCK_KEY.fullmatch(key)):
         raise InputError(f"{source}: expected KEY=VALUE with KEY a key path, e.g. "
-                         "analysis.alpha=-0.1")  # fmt: skip
+                         "analysis.alpha=-0.1 (or blocks.<group or pattern>, e.g. "
+                         "blocks.dam*=concrete)")  # fmt: skip
     return Override(key, parse_value(value.strip()), source)
 
 
 _KEY = re.compile(r"[A-Za-z_][\w-]*(\[\d+\])*(\.[A-Za-z_][\w-]*(\[\d+\])*)*")
+#: a block's key may be a pattern of its groups (``[blocks]``: ``"dam*" = "concrete"``)
+_BLOCK_KEY = re.compile(r"blocks\.[\w*?-]+")
 
 
 def _key_parts(key: str) -> list[str | int]:
@@ -478,13 +481,16 @@ def _pair_caches(M: int) -> int:
     return 2 * (cache + subs)
 
 
-def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, str]:
+def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh,
+                    set_by: Mapping[str, str] | None = None) -> dict[str, str]:  # fmt: skip
     """[blocks] with its patterns expanded: a key with ``*``, ``?`` or ``[...]`` (a shell
     pattern, :func:`fnmatch.fnmatchcase`) stands for every cell group of the mesh it
     matches, in the mesh's order (``"v*" = "stone"`` for the voussoirs v0 … v19 of an
     arch); a key that is a group's name is that group ("dam[1]"). A group named outright
     keeps its own material; one that two patterns give
-    different materials, and a pattern that matches no group, are errors naming the key.
+    different materials, and a pattern that matches no group, are errors naming the key;
+    so is a pattern set on the command line (``set_by``: key → its ``--set``) that matches
+    a group named outright, which would keep its own material.
 
     >>> from pfeie import rectangle
     >>> mesh = rectangle(2.0, 1.0, 2, 1)
@@ -495,6 +501,7 @@ def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, st
     """
     import fnmatch
 
+    set_by = set_by or {}
     groups = list(mesh.cell_groups)
     # a group's own name is never a pattern, whatever its characters ("dam[1]")
     out = {k: v for k, v in blocks.items() if k in mesh.cell_groups
@@ -510,6 +517,11 @@ def _block_patterns(p: Path, blocks: dict[str, str], mesh: Mesh) -> dict[str, st
                              f"{sorted(groups)}")  # fmt: skip
         for g in hits:
             if g in out and g not in given:
+                if key in set_by and g not in set_by:  # a --set pattern would do nothing
+                    raise InputError(
+                        f"{p}: blocks.{key} ({set_by[key]}): the group {g!r} is named "
+                        f"outright in [blocks] and keeps its material {out[g]!r}; set it "
+                        f"by its name: --set blocks.{g}={mat}")  # fmt: skip
                 continue  # named outright
             if g in given and given[g][1] != mat:
                 raise InputError(f"{p}: blocks: the group {g!r} matches the patterns "
@@ -944,7 +956,9 @@ def _load_job(p: Path, overrides: Sequence[Override], modal: bool = False,
     mats = {}
     for name, mt in cfg.materials.items():
         mats[name] = Elastic(mt.E, mt.nu, mt.rho, mt.tensile_strength)
-    cfg = cfg.model_copy(update={"blocks": _block_patterns(p, cfg.blocks, mesh)})
+    set_by = {ov.key.removeprefix("blocks."): ov.source for ov in overrides
+              if ov.key.startswith("blocks.")}  # fmt: skip
+    cfg = cfg.model_copy(update={"blocks": _block_patterns(p, cfg.blocks, mesh, set_by)})
     blocks = []
     for group, mat in cfg.blocks.items():
         if mat not in mats:
