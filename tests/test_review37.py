@@ -329,6 +329,9 @@ def test_pairs_final_csv_gives_the_relative_displacement_since_the_start(tmp_pat
     assert main(["export", str(out / "results.h5"), "--csv", str(tmp_path / "csv")]) == 0
     with (tmp_path / "csv" / "pairs_final.csv").open() as fh:
         rows = list(csv.DictReader(fh))
+    # (and no crack opened: no time for it, null, where 0.0 read as "at t = 0")
+    j = json.loads((out / "summary.json").read_text())["joints"]["joint"]
+    assert j["max_open_length_m"] == 0.0 and j["max_open_time_s"] is None
     w = np.array([[float(r[f"final_w_{a}_m"]) for a in ("t1", "n")] for r in rows])
     assert np.abs(w[:, 1]).max() < 1e-3 * closure  # (the motion since the start only)
     with Results(out / "results.h5") as res:

@@ -1800,7 +1800,9 @@ def summarize(job: Job, static: StaticResult | None, res: DynamicResult | None) 
             joints[name][f"cracked_{kind}"] = float(cracked[-1])
             k_open = int(np.argmax(opened))
             joints[name][f"max_open_{kind}"] = float(opened[k_open])
-            joints[name]["max_open_time_s"] = _time(res.t[k_open])
+            # (null where no crack opens: no time to give)
+            joints[name]["max_open_time_s"] = (_time(res.t[k_open]) if opened[k_open] > 0.0
+                                               else None)  # fmt: skip
             if res.safety_factor.size:
                 fs = res.safety_factor[:, model.pairs.names.index(name)]
                 # the first time within round-off of the minimum: a sliding joint sits at
