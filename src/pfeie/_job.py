@@ -39,6 +39,8 @@ from scipy.spatial import cKDTree
 from ._version import __version__
 from .coupling import StaticInterfaceProblem
 from .dynamics import (
+    CORRECTION_UNRESOLVED,
+    ENERGY_FLOOR,
     Checkpoint,
     Dynamic,
     DynamicResult,
@@ -75,8 +77,7 @@ from .io import (
     yield_label,
 )  # fmt: skip
 from .model import GroundMotion, Model
-from .plot import plot_run, solver_line
-from .plot._report import per_thickness
+from .plot import per_thickness, plot_run, solver_line
 from .solvers import (
     JUNCTION_RATIO,
     JUNCTION_SHARE,
@@ -98,13 +99,6 @@ log = logging.getLogger(__name__)
 #: energy (the Koyna demo's: 11.1, 2.4 and 0.49 % at Δt = 10, 5 and 2.5 ms)
 CORRECTION_SHARE = 0.01
 
-#: the share above which it says that the run is not converged in Δt. Measured (share at
-#: Δt = 10, 5, 2.5, 1.25 ms → the residual slip against the finest run): a 60 m dam whose
-#: upper block slides 135 mm on its lift joint, 46.6, 14.9, 3.9, 1.1 % → −27, −13, −7 %;
-#: a 3D Tet10 monolith rocking on a broken lift joint (El Centro at 0.3 g, ρ∞ = 0.5), 145,
-#: 18, 2.9 % → crest 23.1, 21.5, 20.4 mm and slips 3.42, 0.51, 0.97 mm; the Koyna demo
-#: 11.0, 2.4, 0.49 % → neck slip −5, +4, +2 % (docs/demo-convergence.md)
-CORRECTION_UNRESOLVED = 0.15
 
 #: the share of the energy that went through a run (the input, or what the joints and the
 #: damping took, the larger) beyond which energy *created* by the time scheme (a negative
@@ -142,17 +136,6 @@ NEAR_SLIDING = 0.02
 #: factor is 1.41): its line points to the factor against sliding, the strength reduction's
 AT_CAPACITY_FS = 0.05
 
-#: the share of the static strain energy below which the energy that went through a run
-#: is round-off, and neither the scheme's created energy nor the position corrections are
-#: judged against it (a share of nothing): the energy terms are sums over the steps of
-#: forces that carry the static loads times displacement increments, so the pair
-#: solver's tolerance and round-off leave terms of a tiny share of the static energy.
-#: A 60 m dam (T6) under an all-zero record: 3.2e-8 J through the run, 1.1e-8 J
-#: "created", against a static strain energy of 3.9e4 J (8e-13 of it); the same dam
-#: under El Centro scaled to 0.001 g for 4 s: 67 J (1.7e-3 of it; the input scales as
-#: the PGA², so the floor is reached at about 2e-5 g); a 1 m block on a 20° plane,
-#: stiff and light (3.8e-3 J): its warned 280 J lie 7e10 times above the floor
-ENERGY_FLOOR = 1e-6
 
 #: a joint whose slip exceeds this share of the spacing of its pairs (the distance from a
 #: pair to the nearest other pair of the joint) gets a line in the summary: the faces are
@@ -1480,7 +1463,8 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
             f"{100 * abs(share):.1f} % of the input: impacts this time step does not "
             "resolve (the share falls with Δt; docs/results.md)"
             + (f"\nmore than {100 * CORRECTION_UNRESOLVED:.0f} % of the input: the results "
-               "are not converged in Δt; run again with Δt halved and compare"
+               "are not converged in Δt; run again with Δt halved and compare (for drops, "
+               "rockfall and rocking impacts, analysis.scheme = \"moreau-jean\")"
                if unresolved else ""),
             f"corrections: the position corrections of penetrating pairs {verb} "
             f"{100 * abs(share):.1f} % of the input energy, impacts this Δt does not resolve"

@@ -13,7 +13,14 @@ interfaces through :mod:`pfeie.coupling`.
 """
 
 from ._corotation import Corotation
-from ._driver import Checkpoint, Dynamic, RunStopped, StepState
+from ._driver import (
+    CORRECTION_UNRESOLVED,
+    ENERGY_FLOOR,
+    Checkpoint,
+    Dynamic,
+    RunStopped,
+    StepState,
+)
 from ._excitation import Excitation, shorter_than_a_step
 from ._moreau import MoreauJean
 from ._newmark import (
@@ -42,9 +49,34 @@ from ._recorder import (
 from ._settings import DynamicSettings
 
 __all__ = [
-    "CID_LIMIT", "DCR_KEYS", "DCR_LIMIT", "ENVELOPE_KEYS", "OVERSTRESSED_LIMIT", "Checkpoint",
-    "Corotation", "Dynamic", "DynamicResult", "DynamicSettings", "EnergyAccount", "Excitation",
-    "History", "MatrixSystem", "MoreauJean", "Newmark", "NonsmoothAlpha", "Recorder", "RunStopped",
-    "SecondOrderSystem", "State", "StepState", "StressEnvelope", "damping_product",
-    "demand_capacity", "envelope_extremes", "factorize_step", "shorter_than_a_step",
+    "CID_LIMIT",
+    "CORRECTION_UNRESOLVED",
+    "DCR_KEYS",
+    "DCR_LIMIT",
+    "ENERGY_FLOOR",
+    "ENVELOPE_KEYS",
+    "OVERSTRESSED_LIMIT",
+    "Checkpoint",
+    "Corotation",
+    "Dynamic",
+    "DynamicResult",
+    "DynamicSettings",
+    "EnergyAccount",
+    "Excitation",
+    "History",
+    "MatrixSystem",
+    "MoreauJean",
+    "Newmark",
+    "NonsmoothAlpha",
+    "Recorder",
+    "RunStopped",
+    "SecondOrderSystem",
+    "State",
+    "StepState",
+    "StressEnvelope",
+    "damping_product",
+    "demand_capacity",
+    "envelope_extremes",
+    "factorize_step",
+    "shorter_than_a_step",
 ]  # fmt: skip

@@ -32,6 +32,10 @@ from ._newmark import scheme_parameters
 _SOLVER = SolverSettings()
 
 
+#: the Moreau-Jean scheme's default θ (fully implicit, the robust choice for impacts)
+_THETA = 1.0
+
+
 class DynamicSettings(Settings):
     """Options of a dynamic analysis (see the module docstring)."""
 
@@ -48,8 +52,9 @@ class DynamicSettings(Settings):
     theta: Annotated[float, Field(
         ge=0.5, le=1.0, allow_inf_nan=False,
         description="θ of the Moreau-Jean scheme in [0.5, 1] (with interfaces in [0.55, 1]: "
-        "θ = 1/2 lets blocks hop); algorithmic damping ratio ≈ (θ − 1/2) ω Δt",
-    )] = 1.0  # fmt: skip
+        "θ = 1/2 lets blocks hop); algorithmic damping ratio ≈ (θ − 1/2) ω Δt; only with "
+        "scheme = 'moreau-jean'",
+    )] = _THETA  # fmt: skip
     beta: Annotated[float | None, Field(
         gt=0.0, le=1.0, allow_inf_nan=False,
         description="Newmark β; default 1/4, or (1 − α)²/4 with HHT-α",
@@ -131,6 +136,13 @@ class DynamicSettings(Settings):
         ):
             raise ValueError("the nonsmooth-alpha scheme takes rho_inf, not alpha, beta or "
                              "gamma (those select scheme = 'newmark')")  # fmt: skip
+        if self.scheme != "moreau-jean" and self.theta != _THETA:
+            # (by value: settings copied whole carry the default θ, given or not)
+            raise ValueError(
+                f"theta = {self.theta:g} is the Moreau-Jean scheme's θ, and this analysis "
+                f"runs the {self.scheme} scheme, which takes no theta: set scheme = "
+                "'moreau-jean' to run it, or delete theta"
+            )
         if self.scheme == "moreau-jean" and (self.alpha != 0.0 or self.rho_inf is not None):
             name, value = ("rho_inf", self.rho_inf) if self.rho_inf is not None else (
                 "alpha", self.alpha)  # fmt: skip

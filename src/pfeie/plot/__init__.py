@@ -15,13 +15,15 @@ from ._plots import (
 from ._report import (
     joint_table,
     load_rows,
+    per_thickness,
     plot_run,
     solver_line,
     static_joint_table,
     write_report,
 )
 
-__all__ = ["OPEN_CRACK_MIN_M", "joint_table", "load_rows", "plot_all", "plot_energy",
+__all__ = ["OPEN_CRACK_MIN_M", "joint_table", "load_rows", "per_thickness", "plot_all",
+           "plot_energy",
            "plot_joint", "plot_probe", "plot_rigid", "plot_run", "plot_spectrum",
            "plot_states", "plot_static", "solver_line", "static_joint_table",
            "write_report"]  # fmt: skip
