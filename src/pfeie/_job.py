@@ -99,7 +99,6 @@ log = logging.getLogger(__name__)
 #: energy (the Koyna demo's: 11.1, 2.4 and 0.49 % at Δt = 10, 5 and 2.5 ms)
 CORRECTION_SHARE = 0.01
 
-
 #: the share of the energy that went through a run (the input, or what the joints and the
 #: damping took, the larger) beyond which energy *created* by the time scheme (a negative
 #: algorithmic term) makes the summary say that the run is not converged in Δt. A block
@@ -135,7 +134,6 @@ NEAR_SLIDING = 0.02
 #: holds (a wedge whose planes hold it by friction up their dip: 1.03 where Hoek and Bray's
 #: factor is 1.41): its line points to the factor against sliding, the strength reduction's
 AT_CAPACITY_FS = 0.05
-
 
 #: a joint whose slip exceeds this share of the spacing of its pairs (the distance from a
 #: pair to the nearest other pair of the joint) gets a line in the summary: the faces are

@@ -63,7 +63,9 @@ from ._settings import DynamicSettings
 
 log = logging.getLogger(__name__)
 
-#: the share above which it says that the run is not converged in Δt. Measured (share at
+#: the share of the input energy that the position corrections add above which the run is
+#: said not converged in Δt (``pfeie run``'s summary, and a warning of
+#: :meth:`Dynamic.run`). Measured (share at
 #: Δt = 10, 5, 2.5, 1.25 ms → the residual slip against the finest run): a 60 m dam whose
 #: upper block slides 135 mm on its lift joint, 46.6, 14.9, 3.9, 1.1 % → −27, −13, −7 %;
 #: a 3D Tet10 monolith rocking on a broken lift joint (El Centro at 0.3 g, ρ∞ = 0.5), 145,
@@ -433,8 +435,8 @@ class Dynamic:
     def _warn_corrections(self, rec: Recorder) -> None:
         """A warning where the position corrections of penetrating pairs added more than
         :data:`CORRECTION_UNRESOLVED` of the input energy over the run (``pfeie run``'s
-        summary says it too; a script's run said nothing): a block dropped 50 mm onto a
-        base at Δt = 4 ms took 3.1e5 J from them against the fall's 1,177 J and bounced
+        summary says it too; a script's run said nothing): on a block dropped 50 mm onto
+        a base at Δt = 4 ms they added 3.1e5 J against the fall's 1,177 J, and it bounced
         65 mm back."""
         acc = rec.account.acc
         work, corr = abs(acc.get("external_work", 0.0)), acc.get("correction", 0.0)
