@@ -289,6 +289,7 @@ class Dynamic:
         # the next step's free acceleration, computed ahead (nonsmooth-α): (state, excitation,
         # t_{n+1}, load, q̈_free)
         self._ahead: tuple[State, Excitation, float, FloatArray, FloatArray] | None = None
+        self._rigid: tuple[sp.csr_matrix, FloatArray, BoolArray] | None = None
         self.corot: Corotation | None = None
         self._mass_factor: tuple[IntArray, Factorization] | None = None  # full M (M_a)
         self._mass_blocks: sp.csr_matrix | None = None  # M⁻¹ by node (Westergaard's blocks)
@@ -432,6 +433,49 @@ class Dynamic:
                     "%g s, and skips its first %g s; %s",
                     g.name, t0, runs, t0, min(end, last), t0 - first, fix)  # fmt: skip
 
+    def _rigid_correction(self) -> tuple[sp.csr_matrix, FloatArray, BoolArray] | None:
+        """The rigid-body metric of the position correction (``position_correction =
+        'rigid'``; None for 'local'): Φ, the rigid modes of the floating blocks that have
+        mass and no support, on the free DOFs (n_free × r·B'), the inverse of their mass
+        matrix ΦᵀMΦ (block diagonal; M lumped), and the pairs that touch such a block (the
+        others keep the local correction). Built once."""
+        if self.settings.position_correction != "rigid":
+            return None
+        if self._rigid is None:
+            model, d = self.model, self.d
+            r = 3 if d == 2 else 6
+            Phi = sp.csr_matrix(model.rigid_modes()[self.system.free])
+            C = (Phi.T @ sp.diags(self.mass) @ Phi).toarray()
+            held = np.zeros(model.n_bodies, dtype=bool)
+            body = model.body_of_node[np.asarray(self.system.prescribed) // d]
+            held[body[body >= 0]] = True
+            mass = np.array([C[b * r, b * r] for b in range(model.n_bodies)])
+            free_body = ~held & (mass > 0.0)
+            keep = np.repeat(free_body, r)
+            Phi, C = Phi[:, keep], C[np.ix_(keep, keep)]
+            P = model.pairs
+            assert P is not None
+            touch = (free_body[model.body_of_node[P.node_a]]
+                     | free_body[model.body_of_node[P.node_b]])  # fmt: skip
+            self._rigid = (sp.csr_matrix(Phi), np.linalg.inv(C) if keep.any()
+                           else np.zeros((0, 0)), touch)  # fmt: skip
+        return self._rigid
+
+    def _rigid_shift(self, rigid: tuple[sp.csr_matrix, FloatArray, BoolArray],
+                     pen: BoolArray, gap: FloatArray) -> FloatArray:  # fmt: skip
+        """The position correction Δq = Φ C⁻¹ Bᵀν of the penetrating pairs ``pen`` moved
+        apart by rigid motions of their floating blocks, B = G_n Φ the pairs' normal rows
+        of the rigid modes and ν the least-squares solution of B C⁻¹ Bᵀ ν = −g (the
+        penetration removed where rigid motions can remove it; the smallest ν where
+        several pairs constrain the same motion): the least kinetic-metric motion that
+        closes the gaps, with no strain stored."""
+        Phi, Cinv, _ = rigid
+        rows = np.flatnonzero(pen) * self.d + (self.d - 1)
+        B = np.asarray((self.op.G[rows] @ Phi).todense())
+        A = B @ Cinv @ B.T
+        nu = np.linalg.lstsq(A, -gap[pen], rcond=1e-12)[0]
+        return np.asarray(Phi @ (Cinv @ (B.T @ nu)))
+
     def _warn_corrections(self, rec: Recorder) -> None:
         """A warning where the position corrections of penetrating pairs added more than
         :data:`CORRECTION_UNRESOLVED` of the input energy over the run (``pfeie run``'s
@@ -448,7 +492,7 @@ class Dynamic:
             "energy: impacts this time step does not resolve, and the results are not "
             "converged in Δt (a block dropped onto a base can bounce back higher than it "
             "fell): halve Δt and compare; for drops, rockfall and rocking impacts take "
-            "scheme = 'moreau-jean' (docs/theory.md)",
+            "position_correction = 'rigid' or scheme = 'moreau-jean' (docs/theory.md)",
             "added" if corr > 0 else "took", abs(corr), 100 * abs(corr) / work)  # fmt: skip
 
     def _check_model(self) -> None:
@@ -1031,9 +1075,14 @@ class Dynamic:
         dq: FloatArray | None = None
         pen = P.broken & (gap < 0.0) & (self._gmg > 0) & ~spring
         if pen.any():
+            metric = self._rigid_correction()
+            by_rigid = pen & metric[2] if metric is not None else np.zeros(m, dtype=bool)
             nu = np.zeros((m, d))
-            nu[pen, -1] = -gap[pen] / self._gmg[pen]
+            local = pen & ~by_rigid
+            nu[local, -1] = -gap[local] / self._gmg[local]
             dq = self.minv * (self.op.Gt @ nu.ravel())
+            if metric is not None and by_rigid.any():
+                dq = dq + self._rigid_shift(metric, by_rigid, gap)
             u1 = u1 + dq
         # the energy of the impulses, split so that each part has its sign (docs/theory.md,
         # "The signs of impact and interface"): the rigid pairs' dissipation −P·U⁺ (≥ 0 by

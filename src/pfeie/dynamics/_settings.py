@@ -78,6 +78,14 @@ class DynamicSettings(Settings):
         "(rocking, toppling); with either scheme, scheme = 'moreau-jean' the robust one "
         "where blocks land and impact repeatedly (see docs/theory.md)",
     )] = False  # fmt: skip
+    position_correction: Annotated[Literal["local", "rigid"], Field(
+        description="the nonsmooth-alpha scheme's position correction of penetrating pairs: "
+        "'local' (the pairs' nodes moved apart in the lumped-mass metric, the default) or "
+        "'rigid' (the floating blocks moved as rigid bodies, in the metric of their mass: "
+        "no strain stored; for drops and bouncing blocks, where 'local' stores the "
+        "landing's penetration as strain energy and throws the block back up at a coarse "
+        "dt; docs/theory.md, 'Drops and bounces'); not with large_rotation",
+    )] = "local"  # fmt: skip
     event_substeps: Annotated[int, Field(
         ge=1, le=16,
         description="a step in which a pair changes state (breaks, opens, closes, starts or "
@@ -136,6 +144,14 @@ class DynamicSettings(Settings):
         ):
             raise ValueError("the nonsmooth-alpha scheme takes rho_inf, not alpha, beta or "
                              "gamma (those select scheme = 'newmark')")  # fmt: skip
+        if self.position_correction != "local" and (
+                self.scheme != "nonsmooth-alpha" or self.large_rotation):  # fmt: skip
+            raise ValueError(
+                f"position_correction = {self.position_correction!r} is the nonsmooth-alpha "
+                "scheme's, without large_rotation (the rigid modes are the undeformed "
+                "geometry's); this analysis runs "
+                + ("large_rotation" if self.large_rotation else f"the {self.scheme} scheme")
+            )
         if self.scheme != "moreau-jean" and self.theta != _THETA:
             # (by value: settings copied whole carry the default θ, given or not)
             raise ValueError(

@@ -56,7 +56,8 @@ def run_key(job: Any, legacy: bool = False, stack: bool = True) -> str:
     when it is "float64", the precision of every file written before these keys (so
     their run keys stay the same), ``checkpoint_steps`` (when to checkpoint: a
     resumed run may checkpoint otherwise), and ``damping.deformation_only`` when false
-    (the default, as before the option existed). The scale factors that depend on the
+    and ``analysis.position_correction`` when "local" (the defaults, as before the
+    options existed). The scale factors that depend on the
     duration (a ``pga`` or ``target_sa`` met by the part of a record up to
     ``analysis.duration``, :attr:`Job.part_factors`) are in it: a run extended to another
     duration with another factor is not continued. The keys that change no value of the
@@ -117,6 +118,9 @@ def _keyed(spec: Any, legacy: bool = False) -> dict[str, Any]:
     damping = spec.get("damping", {})
     if damping.get("deformation_only") is False:  # the default: keys as before the option
         damping.pop("deformation_only")
+    analysis = spec.get("analysis", {})
+    if analysis.get("position_correction") == "local":  # the same (since 0.3.25)
+        analysis.pop("position_correction")
     return dict(spec)
 
 
