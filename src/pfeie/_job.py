@@ -1462,8 +1462,8 @@ def reliability(s: dict[str, Any]) -> list[RunWarning]:
             "resolve (the share falls with Δt; docs/results.md)"
             + (f"\nmore than {100 * CORRECTION_UNRESOLVED:.0f} % of the input: the results "
                "are not converged in Δt; run again with Δt halved and compare (for drops, "
-               "rockfall and rocking impacts, analysis.position_correction = \"rigid\" or "
-               "analysis.scheme = \"moreau-jean\")"
+               "rockfall and rocking impacts, analysis.scheme = \"moreau-jean\"; docs/theory.md, "
+               "'Drops and bounces')"
                if unresolved else ""),
             f"corrections: the position corrections of penetrating pairs {verb} "
             f"{100 * abs(share):.1f} % of the input energy, impacts this Δt does not resolve"

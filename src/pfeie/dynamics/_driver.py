@@ -487,13 +487,17 @@ class Dynamic:
         floor = ENERGY_FLOOR * abs(rec.origin[1] if rec.origin is not None else 0.0)
         if not (work > floor and abs(corr) > CORRECTION_UNRESOLVED * work):
             return
+        rigid = ("position_correction = 'rigid' (a block landing on a few pairs, not a "
+                 "structure resting on its joints) or " if
+                 self.settings.position_correction == "local" else "")  # fmt: skip
         log.warning(
             "the position corrections of penetrating pairs %s %.4g J, %.0f %% of the input "
             "energy: impacts this time step does not resolve, and the results are not "
             "converged in Δt (a block dropped onto a base can bounce back higher than it "
             "fell): halve Δt and compare; for drops, rockfall and rocking impacts take "
-            "position_correction = 'rigid' or scheme = 'moreau-jean' (docs/theory.md)",
-            "added" if corr > 0 else "took", abs(corr), 100 * abs(corr) / work)  # fmt: skip
+            "%sscheme = 'moreau-jean' (docs/theory.md, 'Drops and bounces')",
+            "added" if corr > 0 else "took", abs(corr), 100 * abs(corr) / work,
+            rigid)  # fmt: skip
 
     def _check_model(self) -> None:
         """Refuse a run of a model changed since this analysis was built (supports, loads,

@@ -82,9 +82,11 @@ class DynamicSettings(Settings):
         description="the nonsmooth-alpha scheme's position correction of penetrating pairs: "
         "'local' (the pairs' nodes moved apart in the lumped-mass metric, the default) or "
         "'rigid' (the floating blocks moved as rigid bodies, in the metric of their mass: "
-        "no strain stored; for drops and bouncing blocks, where 'local' stores the "
-        "landing's penetration as strain energy and throws the block back up at a coarse "
-        "dt; docs/theory.md, 'Drops and bounces'); not with large_rotation",
+        "no strain stored; for a block that lands on a few pairs, a drop or a rockfall, "
+        "where 'local' stores the landing's penetration as strain energy and throws the "
+        "block back up at a coarse dt; not for a structure resting on its joints, whose "
+        "other pairs it opens: docs/theory.md, 'Drops and bounces'); not with "
+        "large_rotation",
     )] = "local"  # fmt: skip
     event_substeps: Annotated[int, Field(
         ge=1, le=16,
