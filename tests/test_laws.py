@@ -63,6 +63,7 @@ def test_slip_weakening_friction_and_strength() -> None:
         pf.SlipWeakening(phi=40.0, phi_r=45.0, dc=0.01)
 
 
+@pytest.mark.slow
 def test_slip_weakening_block_against_the_closed_form() -> None:
     """A 1 m block (μ_s = 0.6 → μ_d = 0.4 over D_c = 5 cm) under A = 0.65 g for 0.8 s:
     the slip follows the closed form of the module docstring (δ(0.8 s) = 0.447515 m,

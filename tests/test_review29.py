@@ -445,6 +445,7 @@ def test_model_files_that_ran_something_else_are_refused(
     assert words in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_a_probe_named_with_a_slash_is_drawn(tmp_path: Path) -> None:
     """`pfeie plot` and `pfeie report` stopped with FileNotFoundError on a probe named
     "my crest/probe" (its figure's file name made a folder of it); `run` and `export`
@@ -531,6 +532,7 @@ def _block_held_by_a_stop(beta: float, phi: float) -> pf.Model:
     return m
 
 
+@pytest.mark.slow
 def test_the_yield_search_from_a_joint_at_its_capacity_at_rest() -> None:
     """The diff reviewer's cases against the first fix of the yield search. (a) A block on
     a 40° plane with φ = 10° held by a stop: the plane's joint slides from k = 0, and the

@@ -384,6 +384,7 @@ def test_a_run_stops_cleanly_when_its_disk_runs_short(
         np.testing.assert_array_equal(a.f["history/rigid"][()], b.f["history/rigid"][()])
 
 
+@pytest.mark.slow
 def test_run_to_folder_takes_its_records_from_a_generator(tmp_path: Path) -> None:
     """Records given as a generator were used up by the argument check, and the run went
     on without them, quietly (a reviewer's finding). The run of a generator is now the

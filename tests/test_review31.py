@@ -144,6 +144,7 @@ def test_a_study_stops_cleanly_when_its_disk_runs_short(
 # -- the command that resumes a stopped run ------------------------------------------------
 
 
+@pytest.mark.slow
 def test_a_stopped_run_names_the_command_that_resumes_it(tmp_path: Path) -> None:
     """A run stopped by Ctrl-C said "STOPPED" and nothing of how to go on; a plain
     ``--resume`` is refused for a run with ``--set`` options or an extension's own
@@ -330,6 +331,7 @@ def test_the_joint_figure_counts_the_open_share_as_the_csv(
     assert float(rows[-1]["value"]) == pytest.approx(want, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_the_report_of_a_stopped_run_and_of_a_run_without_its_model_file(
     tmp_path: Path,
 ) -> None:

@@ -389,6 +389,7 @@ def test_a_stack_of_two_floating_blocks_is_not_checked() -> None:
     assert translations(p, p.system.load(0.0)) == []
 
 
+@pytest.mark.slow
 def test_the_searches_warn_of_a_pinched_block_and_report_its_translation(
     caplog: pytest.LogCaptureFixture,
 ) -> None:  # fmt: skip
