@@ -79,14 +79,13 @@ from .io import (
 from .model import GroundMotion, Model
 from .plot import per_thickness, plot_run, solver_line
 from .solvers import (
-    JUNCTION_RATIO,
-    JUNCTION_SHARE,
     REDUCTION_F_MAX,
     YIELD_K_MAX,
     YIELD_RIGID_GAP,
     StaticResult,
     horizontal,
     junction_share,
+    leans_on_junctions,
     solve_static,
     strength_reduction,
     yield_coefficient,
@@ -1651,7 +1650,7 @@ def _static_joints(model: Model, static: StaticResult) -> dict[str, dict[str, An
         if name in cracks:
             out[name]["crack_m"] = cracks[name]
         force, area = junction_share(model, static, name)
-        if force > JUNCTION_SHARE and force > JUNCTION_RATIO * area:
+        if leans_on_junctions(force, area):
             # the joint leans on its pairs at junctions (a block's corner where joints
             # meet), whose node-to-node friction grows as the mesh is refined: a row of
             # toppling columns holds at F = 1 by it (reliability's "static" warning)

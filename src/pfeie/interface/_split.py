@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -98,6 +99,12 @@ class PairGeometry:
         out = np.zeros(m, dtype=bool)
         out[i[turned]] = True
         return out
+
+    @cached_property
+    def at_junction(self) -> BoolArray:
+        """:meth:`junctions` at the default angle, computed once (the static state's
+        summary asks it of every joint)."""
+        return self.junctions()
 
     @property
     def regularization(self) -> float:

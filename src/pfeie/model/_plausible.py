@@ -339,11 +339,13 @@ def warn_implausible(mesh: Mesh, blocks: Sequence[Block], interfaces: Sequence[I
     users: dict[Elastic, list[Block]] = {}
     for b in blocks:
         users.setdefault(b.material, []).append(b)
-    label = {f"block{'s' if len(bs) > 1 else ''} {', '.join(repr(b.name) for b in bs)}":
-             (m, [b.cell_group for b in bs]) for m, bs in users.items()}  # fmt: skip
+    mats, groups = {}, {}  # by the label "block(s) 'a', 'b'": the material, the cell groups
+    for m, bs in users.items():
+        label = f"block{'s' if len(bs) > 1 else ''} {', '.join(repr(b.name) for b in bs)}"
+        mats[label], groups[label] = m, [b.cell_group for b in bs]
     out = [
-        *implausible_materials({k: m for k, (m, _) in label.items()}, lambda name: f"{name}: ",
-                               lambda name: locking_cells(mesh, plane, label[name][1])),
+        *implausible_materials(mats, lambda name: f"{name}: ",
+                               lambda name: locking_cells(mesh, plane, groups[name])),
         *implausible_joints({i.group: i.joint for i in interfaces},
                             lambda name: f"interface {name!r}: "),
         *implausible_mesh(mesh),

@@ -3,7 +3,14 @@ the factor of safety by strength reduction."""
 
 from ..linalg import Factorization, available_backends, factorize
 from ._modal import ModalResult, modal
-from ._static import JUNCTION_RATIO, JUNCTION_SHARE, StaticResult, junction_share, solve_static
+from ._static import (
+    JUNCTION_RATIO,
+    JUNCTION_SHARE,
+    StaticResult,
+    junction_share,
+    leans_on_junctions,
+    solve_static,
+)
 from ._strength import (
     REDUCTION_F_MAX,
     REDUCTION_MAX_ANALYSES,
@@ -24,6 +31,6 @@ __all__ = [
     "JUNCTION_RATIO", "JUNCTION_SHARE", "REDUCTION_F_MAX", "REDUCTION_MAX_ANALYSES",
     "REDUCTION_TOL", "SLIDING_FS", "YIELD_K_MAX", "YIELD_RIGID_GAP", "Factorization",
     "ModalResult", "StaticResult", "StrengthReduction", "YieldCoefficient",
-    "available_backends", "factorize", "horizontal", "junction_share", "modal", "solve_static",
-    "strength_reduction", "yield_coefficient",
+    "available_backends", "factorize", "horizontal", "junction_share", "leans_on_junctions",
+    "modal", "solve_static", "strength_reduction", "yield_coefficient",
 ]  # fmt: skip

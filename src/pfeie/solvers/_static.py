@@ -507,6 +507,14 @@ JUNCTION_SHARE = 0.2
 JUNCTION_RATIO = 5.0
 
 
+def leans_on_junctions(force: float, area: float) -> bool:
+    """Whether a joint whose pairs at junctions carry the share ``force`` of its normal
+    force on the share ``area`` of its area leans on them (:data:`JUNCTION_SHARE`,
+    :data:`JUNCTION_RATIO`): the test of the limit searches' warning and of the static
+    state's (:func:`junction_share` gives the shares)."""
+    return force > JUNCTION_SHARE and force > JUNCTION_RATIO * area
+
+
 def junction_share(model: Model, st: StaticResult, joint: str) -> tuple[float, float]:
     """The share of ``joint``'s normal force (compression) that its pairs at junctions
     carry in the static state ``st``, and their share of its area; (0, 0) without pairs
@@ -515,7 +523,7 @@ def junction_share(model: Model, st: StaticResult, joint: str) -> tuple[float, f
     if pairs is None or P is None or joint not in pairs.names:
         return 0.0, 0.0
     idx = pairs.of(joint)
-    at = pairs.junctions()[idx]
+    at = pairs.at_junction[idx]
     N = np.maximum(P.X[idx, -1], 0.0)
     total = float(N.sum())
     if not at.any() or not total > 0.0:
@@ -532,7 +540,7 @@ def warn_junctions(what: str, model: Model, st: StaticResult | None, joint: str 
     if st is None or joint is None:
         return None
     force, area = junction_share(model, st, joint)
-    if not (force > JUNCTION_SHARE and force > JUNCTION_RATIO * area):
+    if not leans_on_junctions(force, area):
         return None
     log.warning(
         "%s: at %s the pairs of %r at junctions (a block's corner where joints meet) "
